@@ -1,0 +1,78 @@
+// Involute spur gear: specification (what a designer writes down) and the
+// derived circle radii and tooth-thickness function.
+//
+// Conventions (docs/derivation.md §1):
+//  * SI units throughout: lengths [m], angles [rad].
+//  * External gear: teeth point away from the axis. Internal (ring) gear: teeth
+//    point towards the axis; its tip circle is *inside* its reference circle.
+//  * Profile shift x [-] follows ISO 21771: for an external gear x > 0 moves the
+//    basic rack away from the axis (thicker tooth at the reference circle); for
+//    an internal gear x > 0 also moves the profile away from the axis, which
+//    makes the ring tooth *thinner* at the reference circle.
+//  * Tooth proportions from the ISO 53 basic rack: addendum h_a* m, dedendum
+//    h_f* m, root fillet radius rho_f* m (defaults 1, 1.25, 0.38).
+#pragma once
+
+namespace pw::geometry {
+
+enum class GearKind { External, Internal };
+
+/// Linear-elastic isotropic material of a gear body.
+struct Material {
+  double youngs_modulus_Pa = 206e9;  ///< E [Pa] (seed Table 1)
+  double shear_modulus_Pa = 79.4e9;  ///< G [Pa] (seed Table 1)
+  double poisson_ratio = 0.3;        ///< nu [-] (seed Table 1)
+  double density_kg_m3 = 7850.0;     ///< rho [kg/m^3], steel; seed leaves unstated
+};
+
+/// What a gear designer specifies for one spur gear.
+struct GearSpec {
+  int teeth = 21;                       ///< z [-], > 0 (internal: number of ring teeth)
+  double module_m = 3e-3;               ///< normal module m [m]
+  double pressure_angle_rad = 0.349066; ///< reference pressure angle alpha0 [rad] (seed: 20 deg)
+  double profile_shift = 0.0;           ///< x [-], ISO 21771 sign convention (see above)
+  double addendum_coef = 1.0;           ///< h_a* [-]
+  double dedendum_coef = 1.25;          ///< h_f* [-]
+  double root_fillet_coef = 0.38;       ///< rho_f* [-], tool tip radius / m
+  double face_width_m = 0.05;           ///< b [m] (seed: 50 mm)
+  GearKind kind = GearKind::External;
+  Material material{};
+};
+
+/// Circles of an involute gear, derived from a GearSpec.
+struct GearGeometry {
+  double reference_radius_m = 0; ///< r = m z / 2
+  double base_radius_m = 0;      ///< r_b = r cos(alpha0)
+  double tip_radius_m = 0;       ///< r_a (internal: the smallest radius of a tooth)
+  double root_radius_m = 0;      ///< r_f (internal: the largest radius of a tooth space)
+  double base_pitch_m = 0;       ///< p_b = pi m cos(alpha0)
+  /// Half the angular tooth thickness on the base circle [rad]; the tooth
+  /// flank's involute starts (for an external gear) this angle either side of
+  /// the tooth centreline.
+  double half_base_tooth_angle_rad = 0;
+};
+
+/// inv(alpha) = tan(alpha) - alpha.
+double involute(double alpha_rad);
+/// Inverse of involute() on [0, pi/2): Newton iteration, |error| < 1e-14 rad.
+double inverse_involute(double inv_alpha);
+
+/// Derives the circles; throws pw::InputError naming the offending GearSpec
+/// field for non-positive teeth/module/face width, pressure angle outside
+/// (0, pi/4], negative coefficients, or a tooth that comes to a point.
+GearGeometry make_geometry(const GearSpec& spec);
+
+/// Pressure angle of the involute at radius r (r >= r_b) [rad]: acos(r_b / r).
+double pressure_angle_at(const GearGeometry& g, double radius_m);
+
+/// Half angular tooth thickness at radius r on the involute part of the flank
+/// (r_b <= r) [rad]. External: pi/(2z) + 2x tan(a0)/z + inv(a0) - inv(a_r).
+/// Internal (ring tooth, thickening outwards): pi/(2z) - 2x tan(a0)/z
+/// - inv(a0) + inv(a_r).
+double half_tooth_angle_at(const GearSpec& spec, const GearGeometry& g, double radius_m);
+
+/// Roll angle of the involute at radius r: sqrt((r/r_b)^2 - 1) [rad]; the
+/// radius of curvature of the flank there is r_b * roll angle.
+double roll_angle_at(const GearGeometry& g, double radius_m);
+
+} // namespace pw::geometry

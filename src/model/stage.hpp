@@ -1,0 +1,137 @@
+// Everything that defines one planetary-stage simulation, as plain value
+// types. This is the contract between the configuration reader (io/), the
+// physics (src/) and the output writers: every field has a unit in its name or
+// doc comment and a default equal to the seed paper's case (Bai & Ning 2023,
+// Table 1) or, where the seed is silent, a documented assumption
+// (docs/derivation.md, "Assumptions").
+//
+// Validation of ranges happens once, in validate() (stage.cpp), which throws
+// pw::InputError naming the TOML key (section.key) that is wrong.
+#pragma once
+
+#include "geometry/gear.hpp"
+
+#include <string>
+#include <vector>
+
+namespace pw::model {
+
+/// Sun (external), planets (external, identical) and a fixed ring (internal).
+struct StageSpec {
+  geometry::GearSpec sun{21};
+  geometry::GearSpec planet{30};
+  geometry::GearSpec ring{81, 3e-3, 0.349066, 0.0, 1.0, 1.25, 0.38, 0.05, geometry::GearKind::Internal, {}};
+  int planet_count = 3;  ///< N [-]
+  /// Planet carrier angles psi_i [rad], counter-clockwise from planet 0.
+  /// Empty: equally spaced, psi_i = 2 pi i / N.
+  std::vector<double> planet_angles_rad{};
+  /// Carrier torsional inertia without the planets [kg m^2]. <= 0: derived
+  /// (docs/derivation.md: two steel side plates of radius 1.2 a, 10 mm thick).
+  double carrier_inertia_kgm2 = 0.0;
+  double carrier_mass_kg = 0.0;  ///< without planets [kg]; <= 0: derived as above
+  /// Gear body bore radius as a fraction of the root radius [-], used only for
+  /// the derived (solid-disc-with-bore) inertias and masses of sun and planets.
+  double bore_ratio = 0.3;
+};
+
+/// Where and how fast the stage runs. Constant input power on the sun; the
+/// carrier carries the matching constant load torque (seed section 5).
+struct OperatingPoint {
+  double input_speed_rpm = 100.0;  ///< sun speed [rpm] (seed: 100, 200, 400)
+  double input_power_W = 1000.0;   ///< sun power [W] (seed: 1 kW)
+};
+
+/// Mesh stiffness model (potential energy method, docs/derivation.md §2).
+struct StiffnessSettings {
+  int samples_per_pair = 200;      ///< roll positions sampled over one pair's contact [-]
+  bool include_fillet_foundation = true;  ///< Sainsot et al. 2004 body term
+  /// Multiplies every computed mesh stiffness [-]. 1 = as computed; the seed's
+  /// Table 2 level corresponds to about 0.01 (docs/validation.md).
+  double scale = 1.0;
+};
+
+/// Mesh contact physics.
+struct ContactSettings {
+  double friction_coefficient = 0.1;     ///< mu [-] (seed Table 1)
+  /// Sliding speed [m/s] over which sgn(v) is smoothed as tanh(v / v_eps).
+  double friction_smoothing_m_s = 1e-3;
+  /// Viscous mesh damping ratio zeta [-]: c = 2 zeta sqrt(k_mean m_eq) per
+  /// mesh (seed silent; 0.05 is mid-range of published 0.03-0.1).
+  double mesh_damping_ratio = 0.05;
+  double backlash_sun_planet_m = 0.0;    ///< initial circumferential backlash along the LOA [m] (seed assumption 4: zero)
+  double backlash_planet_ring_m = 0.0;   ///< [m]
+  double mesh_error_sun_planet_m = 0.0;  ///< seed's e_sp: constant profile error along the LOA [m]
+  double mesh_error_planet_ring_m = 0.0; ///< seed's e_pr [m]
+};
+
+/// One gear body a tooth modification applies to.
+enum class Body { Sun, Planet, Ring };
+
+/// A damaged or modified tooth (crack, chip, local pitting): its mesh stiffness
+/// is multiplied by stiffness_factor and its flank carries an extra profile
+/// deviation (positive = material removed) on its loaded flank.
+struct ToothModifier {
+  Body body = Body::Sun;
+  int planet = 0;                  ///< which planet (Body::Planet only), 0-based
+  int tooth = 0;                   ///< tooth index, 0-based, counted as in docs/derivation.md §1.4
+  double stiffness_factor = 1.0;   ///< (0, 1] [-]
+  double profile_deviation_m = 0;  ///< [m], >= 0 removes material
+};
+
+/// Manufacturing and assembly errors; all zero by default.
+struct Imperfections {
+  /// Tangential position error of each planet pin [m] (positive = advanced in
+  /// the carrier's direction of rotation). Empty = all zero.
+  std::vector<double> pin_error_m{};
+  double sun_eccentricity_m = 0.0;       ///< sun runout [m]
+  double sun_eccentricity_phase_rad = 0.0;
+  double carrier_eccentricity_m = 0.0;   ///< carrier runout [m]
+  double carrier_eccentricity_phase_rad = 0.0;
+  double torque_ripple_fraction = 0.0;   ///< input torque ripple amplitude / mean torque [-]
+  double torque_ripple_order = 1.0;      ///< ripple frequency in orders of the sun speed [-]
+  std::vector<ToothModifier> teeth{};
+};
+
+enum class ModelLevel { Torsional, LateralTorsional };
+
+/// Bearing supports of the lateral-torsional model (Lin & Parker 1999).
+struct BearingSettings {
+  double sun_N_m = 1e8;       ///< k_s [N/m]
+  double carrier_N_m = 1e8;   ///< k_c [N/m]
+  double ring_N_m = 1e8;      ///< k_r [N/m]
+  double planet_N_m = 1e8;    ///< k_p [N/m]
+  double ring_torsional_N_m = 1e9;  ///< k_ru [N/m] on u_r = r_br theta_r (Lin & Parker 1999 form); ring held torsionally
+};
+
+/// Time integration and output.
+struct SolverSettings {
+  ModelLevel level = ModelLevel::Torsional;
+  /// Time step [s]. <= 0: automatic, the smaller of (mesh period /
+  /// min_steps_per_mesh) and (shortest natural period / steps_per_mode_period).
+  double time_step_s = 0.0;
+  int min_steps_per_mesh = 64;
+  int steps_per_mode_period = 32;  ///< average-acceleration period error ~ (2pi/n)^2/12 = 0.3 % at 32
+  double newmark_beta = 0.25;      ///< average acceleration, unconditionally stable
+  double newmark_gamma = 0.5;
+  double newton_tolerance = 1e-10; ///< relative residual [-]
+  int newton_max_iterations = 30;
+  int warmup_max_mesh_cycles = 400; ///< limit on reaching the periodic steady state
+  double periodicity_tolerance = 1e-6; ///< relative change of the state over one mesh period [-]
+  int record_mesh_cycles = 24;     ///< mesh periods stored after the warm-up [-]
+};
+
+/// One complete simulation case.
+struct SimulationConfig {
+  StageSpec stage{};
+  OperatingPoint operating{};
+  StiffnessSettings stiffness{};
+  ContactSettings contact{};
+  Imperfections imperfections{};
+  BearingSettings bearings{};
+  SolverSettings solver{};
+};
+
+/// Range checks of everything above; throws pw::InputError naming the TOML key.
+void validate(const SimulationConfig& config);
+
+} // namespace pw::model
