@@ -1,0 +1,123 @@
+// Lumped-parameter planetary stage, assembled from rigid-body kinematics.
+//
+// Every body (sun, ring, carrier, planets) moves in the plane; its small
+// displacement (dx, dy, dtheta) is a linear map of the generalized coordinates
+// q: d_b = B_b q (3 x n). Coordinates are perturbations about the nominal
+// motion, expressed in the frame rotating with the carrier at its nominal speed
+// (Lin & Parker 1999; Coriolis and centripetal terms neglected, as there).
+//
+// From the maps alone we get, for any model level:
+//   mass matrix        M = sum_b B_b^T diag(m_b, m_b, I_b) B_b,
+//   mesh deflection    delta = n . (u_A(C) - u_B(C)) = g . q            (1)
+//   sliding speed      v_s = t . (v_A(C) - v_B(C)) = (h0 + xi h1) . qdot (2)
+// with C = T_A + xi n the contact point, n the unit normal along which A pushes
+// B and t = z x n. (1) does not depend on xi because a rotation moves every
+// point of the line of action by the same amount along n; (2) is linear in xi
+// because the friction moment arms are the flank radii of curvature (the
+// seed's rho terms). Generalized forces then follow by virtual work:
+//   Q = -F g  (normal force F >= 0 compressing the mesh),
+//   Q = -mu F sgn(v_s) (h0 + xi h1)  (friction opposing A's sliding on B).
+// The torsional model (seed Eq. 1) and the lateral-torsional model (Lin &
+// Parker 1999) differ only in the maps B_b and the bearing springs.
+// Derivation and sign conventions: docs/derivation.md §3.
+#pragma once
+
+#include <Eigen/Dense>
+
+#include <string>
+#include <vector>
+
+namespace pw::dynamics {
+
+/// Planar rigid body: mass properties and the map from q to its displacement.
+struct Body {
+  std::string name;
+  double mass_kg = 0;
+  double inertia_kgm2 = 0;            ///< about its own centre
+  Eigen::Vector2d centre_m{0, 0};     ///< nominal centre in the carrier frame [m]
+  Eigen::MatrixXd map;                ///< 3 x n: (dx [m], dy [m], dtheta [rad]) per unit q
+};
+
+/// One gear mesh between driving body A and driven body B.
+struct MeshCoupling {
+  std::string name;                  ///< e.g. "sun_planet/0"
+  int body_a = -1, body_b = -1;
+  Eigen::Vector2d normal{0, 1};      ///< n: direction A pushes B (unit)
+  Eigen::Vector2d tangent_point_a{0, 0};  ///< T_A in the carrier frame [m]
+  Eigen::VectorXd g;                 ///< delta = g . q, Eq. (1)
+  Eigen::VectorXd h0, h1;            ///< sliding speed = (h0 + xi h1) . qdot, Eq. (2)
+  /// Mesh roll distance s = s_nominal(t) + roll . q [m] (pairs advance with s).
+  Eigen::VectorXd roll;
+  double nominal_roll_rate_m_s = 0;  ///< ds/dt of the nominal motion [m/s]
+  /// Sliding speed of the nominal motion in the carrier frame [m/s]:
+  /// v_s0(xi) = nominal_slide0 + xi nominal_slide1. Zero at the pitch point.
+  double nominal_slide0_m_s = 0, nominal_slide1_1_s = 0;
+  /// Nominal speeds of A and B relative to the carrier [rad/s], CCW positive.
+  double nominal_speed_a_rad_s = 0, nominal_speed_b_rad_s = 0;
+};
+
+/// Linear spring between a body point and ground (body_b < 0) or another body.
+struct Spring {
+  std::string name;
+  int body_a = -1, body_b = -1;
+  Eigen::Vector2d point_m{0, 0};   ///< where it acts (carrier frame) [m]
+  Eigen::Vector2d direction{1, 0}; ///< for translational springs (unit)
+  bool torsional = false;          ///< torsional: acts on dtheta_a - dtheta_b [N m/rad]
+  double stiffness = 0;            ///< [N/m] or [N m/rad]
+};
+
+struct LumpedStructure {
+  int dofs = 0;
+  std::vector<std::string> dof_names;
+  std::vector<Body> bodies;
+  std::vector<MeshCoupling> meshes;  ///< sun-planet i at 2i, planet-ring i at 2i+1
+  std::vector<Spring> springs;
+  Eigen::MatrixXd mass;              ///< assembled M
+  Eigen::MatrixXd support_stiffness; ///< assembled bearing / support springs
+  int sun_body = 0, carrier_body = 0, ring_body = 0;
+  std::vector<int> planet_bodies;
+};
+
+/// Velocity (or displacement) of the material point p of body b per unit q:
+/// 2 x n matrix P with v(p) = P qdot. Pure function of the map.
+Eigen::MatrixXd point_map(const Body& body, const Eigen::Vector2d& point_m);
+
+/// Assembles M, support stiffness and the mesh vectors g, h0, h1 from the
+/// bodies, springs and each mesh's geometry (normal, T_A). Call after filling
+/// bodies/springs/meshes' geometric fields.
+void assemble(LumpedStructure& s);
+
+/// Geometry and inertia needed to build either model level (all SI).
+struct StageLayout {
+  double sun_base_radius_m = 0, planet_base_radius_m = 0, ring_base_radius_m = 0;
+  double carrier_radius_m = 0;                 ///< planet centre radius a' [m]
+  double sun_planet_pressure_angle_rad = 0;    ///< working alpha' of the external mesh
+  double planet_ring_pressure_angle_rad = 0;   ///< working alpha' of the internal mesh
+  std::vector<double> planet_angles_rad;
+  double sun_mass_kg = 0, sun_inertia_kgm2 = 0;
+  double planet_mass_kg = 0, planet_inertia_kgm2 = 0;
+  double carrier_mass_kg = 0, carrier_inertia_kgm2 = 0;
+  double ring_mass_kg = 0, ring_inertia_kgm2 = 0;
+  /// Nominal speeds relative to the carrier frame [rad/s], CCW positive:
+  /// sun and ring; planets follow from rolling.
+  double sun_speed_rel_rad_s = 0, ring_speed_rel_rad_s = 0;
+};
+
+/// Bearing supports of the lateral-torsional model (Lin & Parker 1999).
+struct Bearings {
+  double sun_N_m = 0, ring_N_m = 0, carrier_N_m = 0, planet_N_m = 0;
+  double sun_torsional_N_m = 0;      ///< k_su on u = r_bs theta [N/m] (0: free)
+  double ring_torsional_N_m = 0;     ///< k_ru on u = r_br theta [N/m]
+  double carrier_torsional_N_m = 0;  ///< k_cu on u = a theta [N/m]
+};
+
+/// Purely torsional model (seed Eq. 1 re-derived): q = (theta_s, theta_c,
+/// theta_p1..N) [rad]; ring fixed; planet pins rigid on the carrier.
+LumpedStructure build_torsional(const StageLayout& layout);
+
+/// Lateral-torsional model (Lin & Parker 1999): q = (x, y, theta) of sun,
+/// ring, carrier, then per planet (zeta, eta, theta) with zeta radial and eta
+/// tangential translations in the planet's own carrier-fixed frame.
+LumpedStructure build_lateral_torsional(const StageLayout& layout, const Bearings& bearings);
+
+} // namespace pw::dynamics

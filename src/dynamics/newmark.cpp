@@ -1,0 +1,69 @@
+#include "dynamics/newmark.hpp"
+
+#include "core/error.hpp"
+
+#include <cmath>
+
+namespace pw::dynamics {
+
+NewmarkSolver::NewmarkSolver(SecondOrderSystem& system, double dt_s, NewmarkScheme scheme, NewtonSettings newton)
+    : sys_(system), dt_(dt_s), scheme_(scheme), newton_(newton) {
+  require(dt_s > 0 && std::isfinite(dt_s), "solver.time_step_s", "must be > 0 [s], got ", dt_s);
+  require(scheme.beta > 0 && scheme.beta <= 0.5, "solver.newmark_beta", "must be in (0, 0.5], got ", scheme.beta);
+  require(scheme.gamma >= 0.5 && scheme.gamma <= 1.0, "solver.newmark_gamma", "must be in [0.5, 1], got ",
+          scheme.gamma);
+  const int n = sys_.size();
+  for (Eigen::VectorXd* w : {&q_pred_, &v_pred_, &q_, &v_, &a_, &g_, &r_, &da_}) w->setZero(n);
+  K_.setZero(n, n);
+  C_.setZero(n, n);
+  J_.setZero(n, n);
+  lu_ = Eigen::PartialPivLU<Eigen::MatrixXd>(n);
+}
+
+void NewmarkSolver::initialize(NewmarkState& s) {
+  sys_.force(s.t, s.q, s.v, g_, nullptr, nullptr);
+  lu_.compute(sys_.mass());
+  s.a = lu_.solve(g_);
+}
+
+int NewmarkSolver::step(NewmarkState& s) {
+  const double dt = dt_;
+  const double b = scheme_.beta, gm = scheme_.gamma;
+  const double t1 = s.t + dt;
+  q_pred_ = s.q + dt * s.v + (dt * dt * (0.5 - b)) * s.a;
+  v_pred_ = s.v + (dt * (1.0 - gm)) * s.a;
+  a_ = s.a;  // previous acceleration is the initial guess
+  const Eigen::MatrixXd& M = sys_.mass();
+  for (int it = 1; it <= newton_.max_iterations; ++it) {
+    q_ = q_pred_ + (b * dt * dt) * a_;
+    v_ = v_pred_ + (gm * dt) * a_;
+    sys_.force(t1, q_, v_, g_, &K_, &C_);
+    r_.noalias() = M * a_;
+    const double scale = r_.lpNorm<Eigen::Infinity>() + g_.lpNorm<Eigen::Infinity>() + 1e-300;
+    r_ -= g_;
+    const double res = r_.lpNorm<Eigen::Infinity>();
+    if (!std::isfinite(res))
+      throw SolverError(detail::concat("Newmark step at t = ", t1,
+                                       " s produced a non-finite force; the response diverged (reduce "
+                                       "solver.time_step_s or check stiffness/damping inputs)"));
+    if (res <= newton_.relative_tolerance * scale) {
+      s.t = t1;
+      s.q = q_;
+      s.v = v_;
+      s.a = a_;
+      return it;
+    }
+    J_ = M;
+    J_.noalias() += (gm * dt) * C_;
+    J_.noalias() += (b * dt * dt) * K_;
+    lu_.compute(J_);
+    da_ = lu_.solve(r_);
+    a_ -= da_;
+  }
+  throw SolverError(detail::concat("Newton iteration of the Newmark step at t = ", t1, " s did not converge in ",
+                                   newton_.max_iterations,
+                                   " iterations (set solver.time_step_s smaller or raise "
+                                   "solver.newton_max_iterations)"));
+}
+
+} // namespace pw::dynamics

@@ -1,0 +1,74 @@
+// Newmark-beta time integration of M a + f_int(t, q, v) = f_ext(t, q, v) with
+// Newton iterations on the new acceleration.
+//
+// The integrator knows nothing of gears (cf. mfem::NewmarkSolver): a model
+// implements SecondOrderSystem and supplies the net force g = f_ext - f_int
+// and, for Newton, its tangents K = -dg/dq and C = -dg/dv.
+//
+// Scheme (Newmark 1959): with predictors
+//   q* = q_n + dt v_n + dt^2 (1/2 - beta) a_n,   v* = v_n + dt (1 - gamma) a_n
+// the step solves R(a) = M a - g(t_{n+1}, q* + beta dt^2 a, v* + gamma dt a) = 0
+// by Newton: J = M + gamma dt C + beta dt^2 K. beta = 1/4, gamma = 1/2
+// (average acceleration) is unconditionally stable for linear systems,
+// conserves the energy of undamped linear systems exactly and is 2nd order.
+#pragma once
+
+#include <Eigen/Dense>
+
+namespace pw::dynamics {
+
+struct NewmarkScheme {
+  double beta = 0.25;
+  double gamma = 0.5;
+  static constexpr NewmarkScheme average_acceleration() { return {0.25, 0.5}; }
+  static constexpr NewmarkScheme linear_acceleration() { return {1.0 / 6.0, 0.5}; }
+};
+
+struct NewtonSettings {
+  double relative_tolerance = 1e-10;  ///< on the residual, relative to the force scale
+  int max_iterations = 30;
+};
+
+/// A second-order ODE system M a = g(t, q, v) with constant mass matrix.
+class SecondOrderSystem {
+public:
+  virtual ~SecondOrderSystem() = default;
+  virtual int size() const = 0;
+  virtual const Eigen::MatrixXd& mass() const = 0;
+  /// Net generalized force g = f_ext - f_int at (t, q, v). When K and C are
+  /// non-null, also writes K = -dg/dq and C = -dg/dv (may be approximate:
+  /// only Newton's convergence rate depends on them).
+  virtual void force(double t, const Eigen::VectorXd& q, const Eigen::VectorXd& v, Eigen::VectorXd& g,
+                     Eigen::MatrixXd* K, Eigen::MatrixXd* C) = 0;
+};
+
+struct NewmarkState {
+  double t = 0;
+  Eigen::VectorXd q, v, a;
+};
+
+/// Fixed-step Newmark integrator. All work arrays are allocated once in the
+/// constructor: step() does not allocate.
+class NewmarkSolver {
+public:
+  NewmarkSolver(SecondOrderSystem& system, double dt_s, NewmarkScheme scheme = {}, NewtonSettings newton = {});
+
+  /// Sets state.a from M a = g(t, q, v).
+  void initialize(NewmarkState& state);
+  /// Advances one step; returns the Newton iterations used. Throws
+  /// pw::SolverError if Newton does not converge or the state is not finite.
+  int step(NewmarkState& state);
+
+  double time_step() const { return dt_; }
+
+private:
+  SecondOrderSystem& sys_;
+  double dt_;
+  NewmarkScheme scheme_;
+  NewtonSettings newton_;
+  Eigen::VectorXd q_pred_, v_pred_, q_, v_, a_, g_, r_, da_;
+  Eigen::MatrixXd K_, C_, J_;
+  Eigen::PartialPivLU<Eigen::MatrixXd> lu_;
+};
+
+} // namespace pw::dynamics
