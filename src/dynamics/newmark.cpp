@@ -13,7 +13,7 @@ NewmarkSolver::NewmarkSolver(SecondOrderSystem& system, double dt_s, NewmarkSche
   require(scheme.gamma >= 0.5 && scheme.gamma <= 1.0, "solver.newmark_gamma", "must be in [0.5, 1], got ",
           scheme.gamma);
   const int n = sys_.size();
-  for (Eigen::VectorXd* w : {&q_pred_, &v_pred_, &q_, &v_, &a_, &g_, &r_, &da_}) w->setZero(n);
+  for (Eigen::VectorXd* w : {&q_pred_, &v_pred_, &q_, &v_, &a_, &a_prev_, &g_, &r_, &da_}) w->setZero(n);
   K_.setZero(n, n);
   C_.setZero(n, n);
   J_.setZero(n, n);
@@ -26,6 +26,22 @@ void NewmarkSolver::initialize(NewmarkState& s) {
   s.a = lu_.solve(g_);
 }
 
+double NewmarkSolver::residual(double t1, double& scale) {
+  const double b = scheme_.beta, gm = scheme_.gamma, dt = dt_;
+  q_ = q_pred_ + (b * dt * dt) * a_;
+  v_ = v_pred_ + (gm * dt) * a_;
+  sys_.force(t1, q_, v_, g_, &K_, &C_);
+  r_.noalias() = sys_.mass() * a_;
+  scale = r_.lpNorm<Eigen::Infinity>() + g_.lpNorm<Eigen::Infinity>() + sys_.force_scale() + 1e-300;
+  r_ -= g_;
+  const double res = r_.lpNorm<Eigen::Infinity>();
+  if (!std::isfinite(res))
+    throw SolverError(detail::concat("Newmark step at t = ", t1,
+                                     " s produced a non-finite force; the response diverged (reduce "
+                                     "solver.time_step_s or check stiffness/damping inputs)"));
+  return res;
+}
+
 int NewmarkSolver::step(NewmarkState& s) {
   const double dt = dt_;
   const double b = scheme_.beta, gm = scheme_.gamma;
@@ -33,19 +49,9 @@ int NewmarkSolver::step(NewmarkState& s) {
   q_pred_ = s.q + dt * s.v + (dt * dt * (0.5 - b)) * s.a;
   v_pred_ = s.v + (dt * (1.0 - gm)) * s.a;
   a_ = s.a;  // previous acceleration is the initial guess
-  const Eigen::MatrixXd& M = sys_.mass();
+  double scale = 0;
+  double res = residual(t1, scale);
   for (int it = 1; it <= newton_.max_iterations; ++it) {
-    q_ = q_pred_ + (b * dt * dt) * a_;
-    v_ = v_pred_ + (gm * dt) * a_;
-    sys_.force(t1, q_, v_, g_, &K_, &C_);
-    r_.noalias() = M * a_;
-    const double scale = r_.lpNorm<Eigen::Infinity>() + g_.lpNorm<Eigen::Infinity>() + 1e-300;
-    r_ -= g_;
-    const double res = r_.lpNorm<Eigen::Infinity>();
-    if (!std::isfinite(res))
-      throw SolverError(detail::concat("Newmark step at t = ", t1,
-                                       " s produced a non-finite force; the response diverged (reduce "
-                                       "solver.time_step_s or check stiffness/damping inputs)"));
     if (res <= newton_.relative_tolerance * scale) {
       s.t = t1;
       s.q = q_;
@@ -53,12 +59,25 @@ int NewmarkSolver::step(NewmarkState& s) {
       s.a = a_;
       return it;
     }
-    J_ = M;
+    J_ = sys_.mass();
     J_.noalias() += (gm * dt) * C_;
     J_.noalias() += (b * dt * dt) * K_;
     lu_.compute(J_);
     da_ = lu_.solve(r_);
-    a_ -= da_;
+    // Backtracking on the residual norm: the smoothed Coulomb friction
+    // (tanh of the sliding speed) makes the full Newton step overshoot near
+    // the pitch point, where the sliding speed changes sign.
+    a_prev_ = a_;
+    double lambda = 1.0;
+    for (int ls = 0; ls < 12; ++ls) {
+      a_ = a_prev_ - lambda * da_;
+      const double trial = residual(t1, scale);
+      if (trial < (1.0 - 1e-4 * lambda) * res || ls == 11) {
+        res = trial;
+        break;
+      }
+      lambda *= 0.5;
+    }
   }
   throw SolverError(detail::concat("Newton iteration of the Newmark step at t = ", t1, " s did not converge in ",
                                    newton_.max_iterations,

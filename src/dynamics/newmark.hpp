@@ -35,6 +35,11 @@ public:
   virtual ~SecondOrderSystem() = default;
   virtual int size() const = 0;
   virtual const Eigen::MatrixXd& mass() const = 0;
+  /// Typical magnitude of the generalized forces that balance each other
+  /// (e.g. the applied torques). Newton's tolerance is relative to it: near
+  /// equilibrium the net force and M a are both tiny, and a tolerance
+  /// relative to them alone would ask for accuracy below round-off.
+  virtual double force_scale() const { return 0.0; }
   /// Net generalized force g = f_ext - f_int at (t, q, v). When K and C are
   /// non-null, also writes K = -dg/dq and C = -dg/dv (may be approximate:
   /// only Newton's convergence rate depends on them).
@@ -62,11 +67,14 @@ public:
   double time_step() const { return dt_; }
 
 private:
+  /// Evaluates R(a_) into r_ (and K_, C_); returns |R|_inf, sets the force scale.
+  double residual(double t1, double& scale);
+
   SecondOrderSystem& sys_;
   double dt_;
   NewmarkScheme scheme_;
   NewtonSettings newton_;
-  Eigen::VectorXd q_pred_, v_pred_, q_, v_, a_, g_, r_, da_;
+  Eigen::VectorXd q_pred_, v_pred_, q_, v_, a_, a_prev_, g_, r_, da_;
   Eigen::MatrixXd K_, C_, J_;
   Eigen::PartialPivLU<Eigen::MatrixXd> lu_;
 };

@@ -1,0 +1,155 @@
+#include "commands.hpp"
+
+#include "core/error.hpp"
+#include "io/atomic_output.hpp"
+#include "io/config_toml.hpp"
+#include "io/csv_writer.hpp"
+#include "io/hdf5_file.hpp"
+#include "io/io_error.hpp"
+#include "io/result_writer.hpp"
+#include "model/simulation.hpp"
+#include "signal/spectrum.hpp"
+#include "stiffness/iso6336.hpp"
+
+#include <chrono>
+#include <cstdio>
+#include <iostream>
+
+namespace pw::app {
+namespace {
+
+model::SimulationConfig load(const CommonOptions& o, std::vector<std::string> extra = {}) {
+  model::SimulationConfig c = o.config.empty() ? model::SimulationConfig{} : io::read_config(o.config);
+  std::vector<std::string> all = o.assignments;
+  all.insert(all.end(), extra.begin(), extra.end());
+  io::apply_overrides(c, all);  // validates once
+  return c;
+}
+
+/// Progress on stderr, at most every 0.5 s: phase, percent, elapsed, ETA.
+class ProgressPrinter {
+public:
+  explicit ProgressPrinter(bool quiet) : quiet_(quiet), start_(clock::now()), last_(start_) {}
+  void operator()(double f, const std::string& phase) {
+    if (quiet_) return;
+    const auto now = clock::now();
+    if (f < 1.0 && now - last_ < std::chrono::milliseconds(500)) return;
+    last_ = now;
+    const double el = std::chrono::duration<double>(now - start_).count();
+    const double eta = f > 1e-3 ? el * (1 - f) / f : 0.0;
+    std::fprintf(stderr, "\r[%-9s] %5.1f %%  elapsed %7.1f s  ETA %7.1f s", phase.c_str(), 100 * f, el, eta);
+    if (f >= 1.0) std::fprintf(stderr, "\n");
+    std::fflush(stderr);
+  }
+
+private:
+  using clock = std::chrono::steady_clock;
+  bool quiet_;
+  clock::time_point start_, last_;
+};
+
+/// Spectra of every mesh-line acceleration and deflection and of the
+/// transmission error: Hann window, peak-amplitude scaling (docs/spectra.md).
+std::vector<io::SpectrumRecord> spectra_of(const model::SimulationResult& r) {
+  std::vector<io::SpectrumRecord> out;
+  for (const auto& ch : r.channels) {
+    const bool wanted = ch.name.ends_with("/acceleration") || ch.name.ends_with("/deflection") ||
+                        ch.name == "transmission_error";
+    if (!wanted) continue;
+    const signal::Spectrum s = signal::amplitude_spectrum(ch.values, r.time_step_s, signal::Window::Hann);
+    out.push_back({ch.name, ch.unit, s.window, s.scaling, s.frequency_Hz, s.amplitude});
+  }
+  return out;
+}
+
+const model::Scalar* find_scalar(const model::SimulationResult& r, const std::string& name) {
+  for (const auto& s : r.scalars)
+    if (s.name == name) return &s;
+  return nullptr;
+}
+
+} // namespace
+
+std::string version_string() { return std::string("planetwear ") + std::string(io::software_version()); }
+
+int run_simulate(const SimulateOptions& o) {
+  std::vector<std::string> extra;
+  if (o.speed_rpm) extra.push_back("operating.input_speed_rpm=" + std::to_string(*o.speed_rpm));
+  if (o.power_W) extra.push_back("operating.input_power_W=" + std::to_string(*o.power_W));
+  const model::SimulationConfig config = load(o.common, extra);
+
+  // Output names are checked before the (possibly long) run.
+  io::AtomicOutput h5(o.output);
+  ProgressPrinter progress(o.common.quiet);
+  const auto t0 = std::chrono::steady_clock::now();
+  const model::SimulationResult result = model::simulate(config, std::ref(progress));
+  const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  {
+    io::H5File f = io::H5File::create(h5.temp_path());
+    io::write_simulation(f, config, result, spectra_of(result));
+    f.close();
+  }
+  if (!o.csv.empty()) io::write_csv(o.csv, result);
+  h5.commit();
+  if (!o.common.quiet) {
+    const auto* fm = find_scalar(result, "mesh_frequency");
+    const auto* dt = find_scalar(result, "time_step");
+    std::fprintf(stderr, "wrote %s: %zu samples, dt = %.3g s, mesh frequency %.4g Hz, wall time %.2f s\n",
+                 o.output.c_str(), result.time_s.size(), dt ? dt->value : 0.0, fm ? fm->value : 0.0, wall);
+  }
+  return 0;
+}
+
+int run_stiffness(const StiffnessOptions& o) {
+  const model::SimulationConfig config = load(o.common);
+  const model::PreparedStage stage = model::prepare(config);
+  std::printf("%-34s %14s %14s\n", "quantity [unit]", "sun-planet", "planet-ring");
+  const auto sc = model::stiffness_scalars(stage);
+  const std::size_t per = sc.size() / 2;
+  for (std::size_t i = 0; i < per; ++i) {
+    const std::string label = sc[i].name.substr(sc[i].name.find('/') + 1) + " [" + sc[i].unit + "]";
+    std::printf("%-34s %14.5g %14.5g\n", label.c_str(), sc[i].value, sc[i + per].value);
+  }
+  const auto& st = config.stage;
+  const auto iso_sp = stiffness::iso6336_stiffness(st.sun, st.planet, stage.geometry.sun_planet.contact_ratio);
+  const auto iso_pr = stiffness::iso6336_stiffness(st.planet, st.ring, stage.geometry.planet_ring.contact_ratio);
+  std::printf("%-34s %14.5g %14.5g\n", "ISO 6336-1 c' b [N/m]", iso_sp.c_prime_N_m, iso_pr.c_prime_N_m);
+  std::printf("%-34s %14.5g %14.5g\n", "ISO 6336-1 c_gamma_alpha b [N/m]", iso_sp.c_gamma_alpha_N_m,
+              iso_pr.c_gamma_alpha_N_m);
+  model::SimulationResult r;
+  r.curves = model::stiffness_curves(stage);
+  r.scalars = sc;
+  if (!o.output.empty()) {
+    io::AtomicOutput out(o.output);
+    {
+      io::H5File f = io::H5File::create(out.temp_path());
+      io::write_simulation(f, config, r, {});
+      f.close();
+    }
+    out.commit();
+  }
+  if (!o.csv.empty()) {
+    // One CSV of all curves: name, x, y.
+    io::AtomicOutput out(o.csv);
+    {
+      std::FILE* f = std::fopen(out.temp_path().c_str(), "w");
+      if (!f) throw io::IoError("cannot write " + o.csv);
+      std::fprintf(f, "curve,x_name,x,x_unit,stiffness_N_m\n");
+      for (const auto& c : r.curves)
+        for (std::size_t i = 0; i < c.x.size(); ++i)
+          std::fprintf(f, "%s,%s,%.17g,%s,%.17g\n", c.name.c_str(), c.x_name.c_str(), c.x[i], c.x_unit.c_str(),
+                       c.y[i]);
+      if (std::fclose(f) != 0) throw io::IoError("cannot write " + o.csv);
+    }
+    out.commit();
+  }
+  return 0;
+}
+
+int run_keys() {
+  for (const auto& k : io::config_keys())
+    std::printf("%-48s %-16s %-22s %s\n", k.path.c_str(), k.type.c_str(), k.default_value.c_str(), k.doc.c_str());
+  return 0;
+}
+
+} // namespace pw::app

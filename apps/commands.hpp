@@ -1,0 +1,34 @@
+// The subcommands of the planetwear executable. Each run_* validates its
+// options, calls the library and returns the process exit code; errors
+// propagate as pw::InputError / pw::SolverError / pw::io::IoError.
+#pragma once
+
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace pw::app {
+
+struct CommonOptions {
+  std::string config;                    ///< TOML file; empty = defaults (seed case)
+  std::vector<std::string> assignments;  ///< "section.key=value"
+  bool quiet = false;
+};
+
+struct SimulateOptions {
+  CommonOptions common;
+  std::optional<double> speed_rpm, power_W;
+  std::string output, csv;
+};
+
+struct StiffnessOptions {
+  CommonOptions common;
+  std::string output, csv;
+};
+
+std::string version_string();
+int run_simulate(const SimulateOptions& options);
+int run_stiffness(const StiffnessOptions& options);
+int run_keys();
+
+} // namespace pw::app

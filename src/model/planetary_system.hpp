@@ -1,0 +1,126 @@
+// The planetary stage as a second-order system for the Newmark integrator:
+// nonlinear tooth-pair contact forces with profile deviations and backlash,
+// viscous mesh damping, Coulomb tooth friction that reverses at the pitch
+// point, constant input power on the sun and a load torque on the carrier.
+//
+// Contact law (docs/derivation.md §3.3), for each mesh m with deflection
+// delta = g . q + delta_err(t) (Eq. 1 of lumped_model.hpp plus imposed
+// errors) and each tooth pair j in contact at roll coordinate xi_j:
+//   F_j = k_j(xi_j) max(0, delta - e_j)            drive flanks
+//   e_j = d_A(tooth, xi_j) + d_B(tooth, xi_j) + e_mesh   profile deviations
+//   F_back = K(t) min(0, delta + b)                coast flanks, backlash b
+//   F_d = c delta_dot while any flank is in contact, c = 2 zeta sqrt(k_mean m_eq)
+// The seed's single dead zone (its Eq. 2-4) is the special case of one pair
+// and e_j = e. Per-pair forces give the load sharing between pairs (the seed's
+// load ratio, Eq. 19) without assuming it, and let worn profiles act pair by
+// pair. Friction on pair j: mu (F_j + F_d k_j/K) tanh(v_s / v_eps), v_s the
+// sliding speed at xi_j (lumped_model.hpp Eq. 2).
+#pragma once
+
+#include "dynamics/lumped_model.hpp"
+#include "dynamics/newmark.hpp"
+#include "geometry/mesh.hpp"
+#include "model/stage.hpp"
+#include "model/tooth_surfaces.hpp"
+#include "stiffness/mesh_stiffness.hpp"
+
+#include <array>
+#include <vector>
+
+namespace pw::model {
+
+/// What one mesh did at the last force evaluation (all SI).
+struct MeshState {
+  static constexpr int kMaxPairs = 4;
+  double roll_m = 0;            ///< mesh roll distance s [m]
+  double deflection_m = 0;      ///< delta along the LOA (incl. imposed errors) [m]
+  double velocity_m_s = 0;      ///< d delta / dt [m/s]
+  double force_N = 0;           ///< total normal force: elastic + damping [N]
+  double damping_force_N = 0;   ///< [N]
+  double stiffness_N_m = 0;     ///< sum of k_j over the pairs geometrically in mesh [N/m]
+  double friction_N = 0;        ///< sum of signed friction forces [N]
+  int pairs = 0;                ///< pairs geometrically in mesh
+  std::array<geometry::ContactPair, kMaxPairs> pair{};
+  std::array<double, kMaxPairs> pair_force_N{};    ///< normal force incl. its damping share [N]
+  std::array<double, kMaxPairs> sliding_m_s{};     ///< sliding speed of A on B [m/s]
+};
+
+/// One mesh family (sun-planet or planet-ring): geometry and stiffness, shared
+/// by every planet.
+struct MeshFamily {
+  geometry::MeshGeometry geometry;
+  stiffness::PairStiffnessCurve stiffness;
+  double mean_stiffness_N_m = 0;  ///< time-averaged combined mesh stiffness [N/m]
+  int teeth_a = 0, teeth_b = 0;
+};
+
+class PlanetaryDynamics final : public dynamics::SecondOrderSystem {
+public:
+  /// `structure` from dynamics::build_torsional / build_lateral_torsional;
+  /// `phases` from geometry::mesh_phases; `surfaces` sized to the meshes.
+  PlanetaryDynamics(const SimulationConfig& config, dynamics::LumpedStructure structure, MeshFamily sun_planet,
+                    MeshFamily planet_ring, std::vector<geometry::PlanetPhases> phases, ToothSurfaces surfaces,
+                    double sun_speed_abs_rad_s, double carrier_speed_abs_rad_s);
+
+  int size() const override { return structure_.dofs; }
+  const Eigen::MatrixXd& mass() const override { return structure_.mass; }
+  /// Applied torques [N m] set the scale of the generalized forces.
+  double force_scale() const override { return nominal_input_torque_Nm() + load_torque_; }
+  void force(double t, const Eigen::VectorXd& q, const Eigen::VectorXd& v, Eigen::VectorXd& g, Eigen::MatrixXd* K,
+             Eigen::MatrixXd* C) override;
+
+  /// Fixes the state that sets the mesh roll distances (which tooth pairs are
+  /// in contact, and where) for the next step. The roll is thus lagged by one
+  /// step (an error of r w dt^2, far below a microelement) so that the pair
+  /// set does not change inside Newton's iterations, where the jump of a pair
+  /// entering contact would stall convergence. Call after every accepted step.
+  void set_roll_reference(const Eigen::VectorXd& q) { q_roll_ = q; }
+
+  const dynamics::LumpedStructure& structure() const { return structure_; }
+  const MeshFamily& family(int mesh) const { return mesh % 2 == 0 ? sun_planet_ : planet_ring_; }
+  /// States of all 2N meshes at the last force evaluation (sun-planet i at
+  /// 2i, planet-ring i at 2i+1).
+  const std::vector<MeshState>& mesh_states() const { return states_; }
+  ToothSurfaces& surfaces() { return surfaces_; }
+  const ToothSurfaces& surfaces() const { return surfaces_; }
+
+  /// Load torque on the carrier [N m], acting against the carrier's rotation.
+  double load_torque_Nm() const { return load_torque_; }
+  void set_load_torque_Nm(double t) { load_torque_ = t; }
+  /// Input torque on the sun [N m]: P / w_s (1 + r sin(order theta_s)), with
+  /// the actual sun speed w_s and angle theta_s (absolute).
+  double input_torque_Nm(double t, const Eigen::VectorXd& q, const Eigen::VectorXd& v) const;
+  /// Mean input torque P / Omega_s at the nominal speed [N m].
+  double nominal_input_torque_Nm() const { return power_ / sun_speed_; }
+  double mesh_damping_N_s_m(int mesh) const { return damping_[mesh]; }
+  /// Backlash of mesh m [m] (initial; grows with wear).
+  double backlash_m(int mesh) const { return backlash_[mesh]; }
+  void set_backlash_m(int mesh, double b) { backlash_[mesh] = b; }
+  /// Absolute sun angle perturbation row: theta_s = Omega_s t + row . q.
+  const Eigen::RowVectorXd& sun_theta_row() const { return sun_row_; }
+  const Eigen::RowVectorXd& carrier_theta_row() const { return carrier_row_; }
+
+private:
+  const FlankSet& flank_a(int mesh) const;
+  const FlankSet& flank_b(int mesh) const;
+  double imposed_deflection(int mesh, double t) const;
+
+  dynamics::LumpedStructure structure_;
+  MeshFamily sun_planet_, planet_ring_;
+  std::vector<geometry::PlanetPhases> phases_;
+  ToothSurfaces surfaces_;
+  std::vector<MeshState> states_;
+  std::vector<geometry::ContactPair> pairs_;  // work array, capacity reserved
+  std::vector<double> damping_, backlash_, mesh_error_, static_offset_;
+  std::vector<Eigen::Vector2d> normals_;
+  Eigen::RowVectorXd sun_row_, carrier_row_;
+  Eigen::VectorXd supp_force_, h_;  // work vectors, sized once
+  Eigen::VectorXd q_roll_;          // state that fixes the roll distances
+  double power_ = 0, sun_speed_ = 0, carrier_speed_ = 0, sun_speed_rel_ = 0;
+  double load_torque_ = 0;
+  double mu_ = 0, v_eps_ = 1;
+  double ripple_ = 0, ripple_order_ = 1;
+  double sun_ecc_ = 0, sun_ecc_phase_ = 0;
+};
+
+} // namespace pw::model

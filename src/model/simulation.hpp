@@ -1,0 +1,60 @@
+// One simulation case, from configuration to results:
+//   1. geometry and assembly checks           (geometry/mesh.hpp)
+//   2. single-pair mesh stiffness curves       (stiffness/mesh_stiffness.hpp)
+//   3. lumped model of the chosen level        (dynamics/lumped_model.hpp)
+//   4. time step from the mesh period and the highest natural frequency
+//   5. warm-up to the steady periodic state (seed Fig. 7): integrate whole
+//      mesh periods, set the carrier load torque that holds the nominal speed
+//      against the friction losses, stop when the mesh deflections repeat
+//   6. record whole mesh periods into named channels (model/result.hpp).
+#pragma once
+
+#include "model/planetary_system.hpp"
+#include "model/result.hpp"
+#include "model/stage.hpp"
+
+#include <functional>
+#include <memory>
+#include <string>
+
+namespace pw::model {
+
+/// Progress callback: fraction done in [0, 1] and a short phase label.
+using ProgressFn = std::function<void(double fraction, const std::string& phase)>;
+
+/// Mass properties derived from the gear bodies where the config leaves them
+/// unset (docs/derivation.md, "Assumptions").
+struct MassProperties {
+  double sun_mass_kg = 0, sun_inertia_kgm2 = 0;
+  double planet_mass_kg = 0, planet_inertia_kgm2 = 0;
+  double carrier_mass_kg = 0, carrier_inertia_kgm2 = 0;  ///< without planets
+  double ring_mass_kg = 0, ring_inertia_kgm2 = 0;
+};
+MassProperties mass_properties(const SimulationConfig& config, const geometry::StageGeometry& geo);
+
+/// Everything derived from a configuration before time integration.
+struct PreparedStage {
+  geometry::StageGeometry geometry;
+  MassProperties masses;
+  double sun_speed_rad_s = 0;      ///< nominal absolute sun speed Omega_s [rad/s]
+  double carrier_speed_rad_s = 0;  ///< nominal carrier speed Omega_c = Omega_s Zs/(Zs+Zr) [rad/s]
+  double mesh_frequency_Hz = 0;    ///< Zs (Omega_s - Omega_c) / 2 pi [Hz]
+  std::unique_ptr<PlanetaryDynamics> dynamics;
+  Eigen::VectorXd natural_frequencies_Hz;  ///< linearized at the mean mesh stiffness
+  double time_step_s = 0;
+  int steps_per_mesh = 0;
+};
+
+/// Steps 1-4; throws pw::InputError for impossible geometry or an unusable
+/// time step (naming solver.time_step_s and the limit).
+PreparedStage prepare(const SimulationConfig& config);
+
+/// Mesh stiffness curves of both mesh families (single pair vs distance from
+/// the pitch point; combined vs time in mesh periods) and their summary.
+std::vector<Curve> stiffness_curves(const PreparedStage& stage);
+std::vector<Scalar> stiffness_scalars(const PreparedStage& stage);
+
+/// Steps 1-6.
+SimulationResult simulate(const SimulationConfig& config, const ProgressFn& progress = {});
+
+} // namespace pw::model

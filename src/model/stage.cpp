@@ -1,0 +1,220 @@
+// Range checks of a SimulationConfig: the single place where user input is
+// validated (the configuration reader and the command-line overrides both end
+// here). Every failure throws pw::InputError whose parameter() is the TOML key
+// path ("operating.input_speed_rpm", "stage.sun.module_m",
+// "imperfections.teeth[2].tooth") and whose message gives the value and the
+// allowed range. The ranges are listed in docs/config.md.
+//
+// Not checked here (they need the mesh geometry): interference, contact ratio,
+// the assembly condition and planet tip-circle clearance. Those are checked by
+// geometry::make_stage_geometry() when the model is built.
+#include "model/stage.hpp"
+
+#include "core/error.hpp"
+#include "geometry/gear.hpp"
+
+#include <cmath>
+#include <limits>
+#include <numbers>
+#include <string>
+#include <string_view>
+
+namespace pw::model {
+namespace {
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+/// Which ends of [lo, hi] belong to the allowed interval.
+enum class Ends { Closed, Open, OpenLow, OpenHigh };
+
+/// "> 0", ">= 0", "(0, 0.5]", "[0.5, 1]" ... for a message.
+std::string describe(double lo, double hi, Ends ends) {
+  const bool lo_open = ends == Ends::Open || ends == Ends::OpenLow;
+  const bool hi_open = ends == Ends::Open || ends == Ends::OpenHigh;
+  if (hi == kInf) return detail::concat(lo_open ? "> " : ">= ", lo);
+  return detail::concat(lo_open ? "(" : "[", lo, ", ", hi, hi_open ? ")" : "]");
+}
+
+/// A finite double inside the interval; NaN and +-inf always fail.
+void check(double value, const std::string& key, double lo, double hi, Ends ends, std::string_view unit) {
+  const bool lo_open = ends == Ends::Open || ends == Ends::OpenLow;
+  const bool hi_open = ends == Ends::Open || ends == Ends::OpenHigh;
+  const bool ok = std::isfinite(value) && (lo_open ? value > lo : value >= lo) &&
+                  (hi == kInf || (hi_open ? value < hi : value <= hi));
+  require(ok, key, "must be a finite number ", describe(lo, hi, ends), " [", unit, "], got ", value);
+}
+
+/// Any finite double (angles, signed errors).
+void check_finite(double value, const std::string& key, std::string_view unit) {
+  require(std::isfinite(value), key, "must be a finite number [", unit, "], got ", value);
+}
+
+void check_int(int value, const std::string& key, int lo, int hi) {
+  require(value >= lo && value <= hi, key, "must be an integer in [", lo, ", ", hi, "], got ", value);
+}
+
+/// Message of an InputError without its "parameter: " prefix.
+std::string bare_message(const InputError& e) {
+  const std::string what = e.what();
+  const std::string prefix = e.parameter() + ": ";
+  if (!e.parameter().empty() && what.rfind(prefix, 0) == 0) return what.substr(prefix.size());
+  return what;
+}
+
+void validate_gear(const geometry::GearSpec& gear, const std::string& section, geometry::GearKind kind) {
+  require(gear.kind == kind, section, "must be ",
+          kind == geometry::GearKind::External ? "an external" : "an internal", " gear");
+  try {
+    (void)geometry::make_geometry(gear);
+  } catch (const InputError& e) {
+    // make_geometry names the GearSpec field; the user wrote it under [stage.<gear>].
+    throw InputError(section + "." + e.parameter(), bare_message(e));
+  }
+}
+
+void validate_stage(const StageSpec& s) {
+  validate_gear(s.sun, "stage.sun", geometry::GearKind::External);
+  validate_gear(s.planet, "stage.planet", geometry::GearKind::External);
+  validate_gear(s.ring, "stage.ring", geometry::GearKind::Internal);
+
+  check_int(s.planet_count, "stage.planet_count", 1, 32);
+  const auto n = static_cast<std::size_t>(s.planet_count);
+  require(s.planet_angles_rad.empty() || s.planet_angles_rad.size() == n, "stage.planet_angles_rad",
+          "must be empty (equal spacing) or list one angle per planet (stage.planet_count = ", s.planet_count,
+          "), got ", s.planet_angles_rad.size(), " angles");
+  for (std::size_t i = 0; i < s.planet_angles_rad.size(); ++i) {
+    const double psi = s.planet_angles_rad[i];
+    const std::string key = detail::concat("stage.planet_angles_rad[", i, "]");
+    if (i == 0) {
+      require(psi == 0.0, key, "planet angles are measured from planet 0, so the first must be 0 [rad], got ", psi);
+    } else {
+      check(psi, key, s.planet_angles_rad[i - 1], 2 * std::numbers::pi, Ends::Open,
+            "rad; increasing, below 2 pi");
+    }
+  }
+  check(s.carrier_inertia_kgm2, "stage.carrier_inertia_kgm2", 0, kInf, Ends::Closed, "kg m^2; 0 = derived");
+  check(s.carrier_mass_kg, "stage.carrier_mass_kg", 0, kInf, Ends::Closed, "kg; 0 = derived");
+  check(s.bore_ratio, "stage.bore_ratio", 0, 0.9, Ends::Closed, "-");
+}
+
+void validate_operating(const OperatingPoint& op) {
+  check(op.input_speed_rpm, "operating.input_speed_rpm", 0, 1e5, Ends::OpenLow, "rpm");
+  check(op.input_power_W, "operating.input_power_W", 0, 1e9, Ends::OpenLow, "W");
+}
+
+void validate_stiffness(const StiffnessSettings& st) {
+  check_int(st.samples_per_pair, "stiffness.samples_per_pair", 16, 100000);
+  check(st.scale, "stiffness.scale", 0, 1e3, Ends::OpenLow, "-");
+}
+
+void validate_contact(const ContactSettings& c, double module_m) {
+  check(c.friction_coefficient, "contact.friction_coefficient", 0, 1, Ends::OpenHigh, "-");
+  check(c.friction_smoothing_m_s, "contact.friction_smoothing_m_s", 0, 1, Ends::OpenLow, "m/s");
+  check(c.mesh_damping_ratio, "contact.mesh_damping_ratio", 0, 1, Ends::Closed, "-");
+  // Backlash and profile errors are fractions of a tooth; a module or more is
+  // a unit mistake (mm typed as m), not a gear.
+  check(c.backlash_sun_planet_m, "contact.backlash_sun_planet_m", 0, module_m, Ends::OpenHigh, "m; below module");
+  check(c.backlash_planet_ring_m, "contact.backlash_planet_ring_m", 0, module_m, Ends::OpenHigh, "m; below module");
+  check(c.mesh_error_sun_planet_m, "contact.mesh_error_sun_planet_m", -module_m, module_m, Ends::Open,
+        "m; |e| below module");
+  check(c.mesh_error_planet_ring_m, "contact.mesh_error_planet_ring_m", -module_m, module_m, Ends::Open,
+        "m; |e| below module");
+}
+
+const char* body_name(Body b) {
+  switch (b) {
+  case Body::Sun: return "sun";
+  case Body::Planet: return "planet";
+  case Body::Ring: return "ring";
+  }
+  return "?";
+}
+
+void validate_imperfections(const Imperfections& im, const StageSpec& stage) {
+  const double module_m = stage.sun.module_m;
+  require(im.pin_error_m.empty() || im.pin_error_m.size() == static_cast<std::size_t>(stage.planet_count),
+          "imperfections.pin_error_m", "must be empty (no pin errors) or list one error per planet (",
+          "stage.planet_count = ", stage.planet_count, "), got ", im.pin_error_m.size(), " values");
+  for (std::size_t i = 0; i < im.pin_error_m.size(); ++i)
+    check(im.pin_error_m[i], detail::concat("imperfections.pin_error_m[", i, "]"), -module_m, module_m, Ends::Open,
+          "m; |e| below module");
+  check(im.sun_eccentricity_m, "imperfections.sun_eccentricity_m", 0, module_m, Ends::OpenHigh, "m; below module");
+  check_finite(im.sun_eccentricity_phase_rad, "imperfections.sun_eccentricity_phase_rad", "rad");
+  check(im.carrier_eccentricity_m, "imperfections.carrier_eccentricity_m", 0, module_m, Ends::OpenHigh,
+        "m; below module");
+  check_finite(im.carrier_eccentricity_phase_rad, "imperfections.carrier_eccentricity_phase_rad", "rad");
+  check(im.torque_ripple_fraction, "imperfections.torque_ripple_fraction", 0, 1, Ends::OpenHigh, "-");
+  check(im.torque_ripple_order, "imperfections.torque_ripple_order", 0, 1e3, Ends::OpenLow, "-");
+
+  for (std::size_t i = 0; i < im.teeth.size(); ++i) {
+    const ToothModifier& t = im.teeth[i];
+    const std::string key = detail::concat("imperfections.teeth[", i, "]");
+    const geometry::GearSpec* gear = nullptr;
+    switch (t.body) {
+    case Body::Sun: gear = &stage.sun; break;
+    case Body::Planet: gear = &stage.planet; break;
+    case Body::Ring: gear = &stage.ring; break;
+    }
+    require(gear != nullptr, key + ".body", "must be \"sun\", \"planet\" or \"ring\"");
+    if (t.body == Body::Planet) {
+      check_int(t.planet, key + ".planet", 0, stage.planet_count - 1);
+    } else {
+      require(t.planet == 0, key + ".planet", "only applies to body = \"planet\"; must be 0 for body = \"",
+              body_name(t.body), "\", got ", t.planet);
+    }
+    check_int(t.tooth, key + ".tooth", 0, gear->teeth - 1);
+    check(t.stiffness_factor, key + ".stiffness_factor", 0, 1, Ends::OpenLow, "-");
+    check(t.profile_deviation_m, key + ".profile_deviation_m", 0, gear->module_m, Ends::OpenHigh,
+          "m; below the module of that gear");
+    for (std::size_t j = 0; j < i; ++j) {
+      const ToothModifier& u = im.teeth[j];
+      require(!(u.body == t.body && u.planet == t.planet && u.tooth == t.tooth), key,
+              "modifies the same tooth as imperfections.teeth[", j, "] (body = \"", body_name(t.body),
+              "\", planet = ", t.planet, ", tooth = ", t.tooth, "); merge them into one entry");
+    }
+  }
+}
+
+void validate_bearings(const BearingSettings& b) {
+  check(b.sun_N_m, "bearings.sun_N_m", 0, kInf, Ends::OpenLow, "N/m");
+  check(b.carrier_N_m, "bearings.carrier_N_m", 0, kInf, Ends::OpenLow, "N/m");
+  check(b.ring_N_m, "bearings.ring_N_m", 0, kInf, Ends::OpenLow, "N/m");
+  check(b.planet_N_m, "bearings.planet_N_m", 0, kInf, Ends::OpenLow, "N/m");
+  check(b.ring_torsional_N_m, "bearings.ring_torsional_N_m", 0, kInf, Ends::OpenLow, "N/m");
+}
+
+void validate_solver(const SolverSettings& s, const SimulationConfig& c) {
+  require(s.level == ModelLevel::Torsional || s.level == ModelLevel::LateralTorsional, "solver.level",
+          "must be \"torsional\" or \"lateral_torsional\"");
+  // Mesh frequency with the ring fixed: f_m = Zs Zr / (Zs + Zr) * n_s / 60.
+  const double zs = c.stage.sun.teeth;
+  const double zr = c.stage.ring.teeth;
+  const double mesh_period_s = 60.0 / (zs * zr / (zs + zr) * c.operating.input_speed_rpm);
+  check(s.time_step_s, "solver.time_step_s", 0, mesh_period_s / 8, Ends::Closed,
+        detail::concat("s; 0 = automatic, else at most 1/8 of the mesh period ", mesh_period_s, " s"));
+  check_int(s.min_steps_per_mesh, "solver.min_steps_per_mesh", 8, 1000000);
+  check_int(s.steps_per_mode_period, "solver.steps_per_mode_period", 8, 1000000);
+  check(s.newmark_beta, "solver.newmark_beta", 0, 0.5, Ends::OpenLow, "-");
+  check(s.newmark_gamma, "solver.newmark_gamma", 0.5, 1, Ends::Closed, "-");
+  check(s.newton_tolerance, "solver.newton_tolerance", 0, 1e-2, Ends::OpenLow, "-");
+  check_int(s.newton_max_iterations, "solver.newton_max_iterations", 1, 1000);
+  check_int(s.warmup_max_mesh_cycles, "solver.warmup_max_mesh_cycles", 1, 1000000);
+  check(s.periodicity_tolerance, "solver.periodicity_tolerance", 0, 1e-1, Ends::OpenLow, "-");
+  check_int(s.record_mesh_cycles, "solver.record_mesh_cycles", 1, 1000000);
+}
+
+} // namespace
+
+void validate(const SimulationConfig& c) {
+  // Order matters only for which error a config with several mistakes reports
+  // first: gears before everything that depends on their teeth and module.
+  validate_stage(c.stage);
+  validate_operating(c.operating);
+  validate_stiffness(c.stiffness);
+  validate_contact(c.contact, c.stage.sun.module_m);
+  validate_imperfections(c.imperfections, c.stage);
+  validate_bearings(c.bearings);
+  validate_solver(c.solver, c);
+}
+
+} // namespace pw::model

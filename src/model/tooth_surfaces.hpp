@@ -1,0 +1,65 @@
+// State of every loaded tooth flank: its profile deviation (material removed
+// by wear or damage, [m] along the flank normal = along the line of action)
+// and its stiffness factor. This is the one place where tooth-level state
+// lives; the dynamics reads it, the wear model (and diagnosis fits) write it.
+//
+// A flank set belongs to one gear flank family: the sun's drive flanks (met by
+// every planet's sun mesh), each planet's sun-side and ring-side flanks (two
+// different flanks of the same teeth) and the ring's flanks (met by every
+// planet's ring mesh). Deviations are sampled on a uniform grid of microelements
+// over the mesh's active roll range [xi_min, xi_max] (mesh.hpp), so that the
+// grid is the same for every tooth of the family.
+#pragma once
+
+#include <cstddef>
+#include <vector>
+
+namespace pw::model {
+
+class FlankSet {
+public:
+  FlankSet() = default;
+  /// `teeth` teeth, `elements` >= 2 microelements per flank over [xi_min, xi_max].
+  FlankSet(int teeth, int elements, double xi_min_m, double xi_max_m);
+
+  int teeth() const { return teeth_; }
+  int elements() const { return elements_; }
+  double xi_min_m() const { return xi_min_; }
+  double xi_max_m() const { return xi_max_; }
+  /// Roll coordinate of element e's centre [m].
+  double element_xi_m(int e) const { return xi_min_ + (e + 0.5) * dxi_; }
+  double element_width_m() const { return dxi_; }
+
+  /// Deviation of `tooth` at roll coordinate xi [m], linear between element
+  /// centres, constant beyond the end centres. O(1), no allocation.
+  double deviation_m(int tooth, double xi_m) const;
+  /// Element index containing xi (clamped to [0, elements - 1]).
+  int element_at(double xi_m) const;
+
+  double* tooth_deviation(int tooth) { return deviation_.data() + static_cast<std::size_t>(tooth) * elements_; }
+  const double* tooth_deviation(int tooth) const {
+    return deviation_.data() + static_cast<std::size_t>(tooth) * elements_;
+  }
+  std::vector<double>& deviations() { return deviation_; }  ///< teeth x elements, row-major
+  const std::vector<double>& deviations() const { return deviation_; }
+  double stiffness_factor(int tooth) const { return factor_[tooth]; }
+  void set_stiffness_factor(int tooth, double f) { factor_[tooth] = f; }
+  /// Adds a uniform deviation to every element of one tooth [m].
+  void add_uniform(int tooth, double deviation_m);
+  double max_deviation_m() const;
+
+private:
+  int teeth_ = 0, elements_ = 0;
+  double xi_min_ = 0, xi_max_ = 0, dxi_ = 0;
+  std::vector<double> deviation_;
+  std::vector<double> factor_;
+};
+
+struct ToothSurfaces {
+  FlankSet sun;                            ///< sun drive flanks (sun-planet roll grid)
+  std::vector<FlankSet> planet_sun_side;   ///< per planet (sun-planet roll grid)
+  std::vector<FlankSet> planet_ring_side;  ///< per planet (planet-ring roll grid)
+  FlankSet ring;                           ///< ring flanks (planet-ring roll grid)
+};
+
+} // namespace pw::model
