@@ -1,0 +1,35 @@
+#!/bin/sh
+# Usage: test_cli.sh <planetwear> <workdir>
+set -u
+PW=$1; W=$2
+rm -rf "$W"; mkdir -p "$W"; cd "$W" || exit 1
+fail=0
+check() {  # check <name> <expected exit> <expected substring in stderr> <output that must not exist> -- cmd...
+  name=$1; code=$2; text=$3; out=$4; shift 5
+  "$@" >stdout.txt 2>stderr.txt; got=$?
+  # code "nz" means any non-zero exit (CLI11's parse errors have their own codes)
+  if { [ "$code" = nz ] && [ "$got" -eq 0 ]; } || { [ "$code" != nz ] && [ "$got" -ne "$code" ]; }; then
+    echo "FAIL $name: exit $got, expected $code"; cat stderr.txt; fail=1; fi
+  if [ -n "$text" ] && ! grep -q -- "$text" stderr.txt stdout.txt; then
+    echo "FAIL $name: message lacks '$text'"; cat stderr.txt; fail=1; fi
+  if [ -n "$out" ] && ls "$out"* >/dev/null 2>&1; then echo "FAIL $name: left $out behind"; fail=1; fi
+}
+for sub in "" simulate stiffness keys; do
+  check "help $sub" 0 "Usage" "" -- "$PW" $sub --help
+done
+check negative-speed 1 "operating.input_speed_rpm" bad.h5 -- "$PW" simulate --speed-rpm -5 -o bad.h5
+check nan-power 1 "operating.input_power_W" bad.h5 -- "$PW" simulate --power-w nan -o bad.h5
+printf '[operating]\nspeed = 3\n' > unknown.toml
+check unknown-key 1 "speed" bad.h5 -- "$PW" simulate -c unknown.toml -o bad.h5
+printf '[stage.ring]\nteeth = 80\n' > geom.toml
+check impossible-geometry 1 "teeth" bad.h5 -- "$PW" simulate -c geom.toml -o bad.h5
+check coarse-time-step 1 "solver.time_step_s" bad.h5 -- "$PW" simulate --set solver.time_step_s=1e-3 -o bad.h5
+check unknown-set-key 1 "nonsense" bad.h5 -- "$PW" simulate --set operating.nonsense=1 -o bad.h5
+check missing-output nz "output" "" -- "$PW" simulate
+# A failing run must not touch an existing file at the destination.
+echo keep > existing.h5
+check keeps-existing 1 "operating.input_speed_rpm" "" -- "$PW" simulate --speed-rpm 0 -o existing.h5
+[ "$(cat existing.h5)" = keep ] || { echo "FAIL existing output damaged"; fail=1; }
+ls ./*partial* >/dev/null 2>&1 && { echo "FAIL partial files left"; fail=1; }
+[ $fail -eq 0 ] && echo "all CLI checks passed"
+exit $fail

@@ -1,0 +1,151 @@
+// End-to-end physics of model::simulate on the seed stage: statics, torque
+// balance, and each imperfection on its own. 400 rpm keeps the runs short.
+#include "model/simulation.hpp"
+#include "signal/spectrum.hpp"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <numeric>
+
+using namespace pw::model;
+
+namespace {
+
+SimulationConfig fast_seed(int record_cycles = 6) {
+  SimulationConfig c;
+  c.operating.input_speed_rpm = 400;
+  c.solver.record_mesh_cycles = record_cycles;
+  return c;
+}
+
+double scalar(const SimulationResult& r, const std::string& name) {
+  for (const auto& s : r.scalars)
+    if (s.name == name) return s.value;
+  ADD_FAILURE() << "no scalar " << name;
+  return NAN;
+}
+
+const std::vector<double>& channel(const SimulationResult& r, const std::string& name) {
+  const Channel* c = r.find(name);
+  if (!c) throw std::runtime_error("no channel " + name);
+  return c->values;
+}
+
+double mean(const std::vector<double>& v) {
+  return std::accumulate(v.begin(), v.end(), 0.0) / static_cast<double>(v.size());
+}
+
+double stddev(const std::vector<double>& v) {
+  const double m = mean(v);
+  double s = 0;
+  for (double x : v) s += (x - m) * (x - m);
+  return std::sqrt(s / static_cast<double>(v.size()));
+}
+
+constexpr double kRbs = 0.5 * 3e-3 * 21 * 0.9396926207859084;  // sun base radius [m]
+
+} // namespace
+
+TEST(Simulation, EqualPlanetsShareLoadEquallyAndMeshForceIsTsOverNrbs) {
+  // Without friction the mean sun-planet force is T_s / (N r_bs) (statics of
+  // the sun) within 0.5 % (the tolerance; the damping force averages
+  // out over whole mesh periods), and the planets share equally.
+  SimulationConfig c = fast_seed();
+  c.contact.friction_coefficient = 0;
+  const SimulationResult r = simulate(c);
+  const double Ts = 1000.0 / (400 * 2 * std::numbers::pi / 60);
+  for (int i = 0; i < 3; ++i) {
+    EXPECT_NEAR(mean(channel(r, "sun_planet/" + std::to_string(i) + "/force")), Ts / (3 * kRbs), 5e-3 * Ts / (3 * kRbs));
+    EXPECT_NEAR(scalar(r, "load_sharing_factor/" + std::to_string(i)), 1.0, 1e-6);
+  }
+  // Torque balance of the whole stage: carrier torque = T_s (Zs + Zr)/Zs.
+  EXPECT_NEAR(scalar(r, "load_torque"), Ts * 102.0 / 21.0, 1e-3 * Ts * 102.0 / 21.0);
+  EXPECT_NEAR(scalar(r, "efficiency"), 1.0, 1e-3);
+}
+
+TEST(Simulation, ToothFrictionCostsEfficiencyOfOrderMuTimesSliding) {
+  // With mu = 0.1 a planetary stage of this ratio loses ~1-3 % (Anderson &
+  // Loewenthal's mesh-loss estimate mu (1/z1 +- 1/z2) pi eps-ish per mesh).
+  const SimulationResult r = simulate(fast_seed());
+  const double eta = scalar(r, "efficiency");
+  EXPECT_LT(eta, 0.995);
+  EXPECT_GT(eta, 0.95);
+}
+
+TEST(Simulation, ConstantMeshErrorShiftsMeanDeflectionByTheError) {
+  SimulationConfig c = fast_seed();
+  c.contact.friction_coefficient = 0;
+  const SimulationResult r0 = simulate(c);
+  c.contact.mesh_error_sun_planet_m = 2e-6;
+  const SimulationResult r1 = simulate(c);
+  const double d0 = mean(channel(r0, "sun_planet/0/deflection"));
+  const double d1 = mean(channel(r1, "sun_planet/0/deflection"));
+  EXPECT_NEAR(d1 - d0, 2e-6, 2e-8);  // load unchanged, so the elastic part is too
+}
+
+TEST(Simulation, AdvancedPlanetPinUnloadsThatPlanet) {
+  // A pin advanced by e along the carrier's rotation shortens both meshes of
+  // that planet by e cos(alpha'); with k ~ 1e9 N/m, 0.3 um moves ~300 N.
+  SimulationConfig c = fast_seed();
+  c.imperfections.pin_error_m = {0.3e-6, 0.0, 0.0};
+  const SimulationResult r = simulate(c);
+  const double l0 = scalar(r, "load_sharing_factor/0"), l1 = scalar(r, "load_sharing_factor/1"),
+               l2 = scalar(r, "load_sharing_factor/2");
+  EXPECT_LT(l0, 0.9);
+  EXPECT_GT(l1, 1.03);
+  EXPECT_NEAR(l1, l2, 1e-6);
+  EXPECT_NEAR(l0 + l1 + l2, 3.0, 1e-9);
+}
+
+TEST(Simulation, CrackedSunToothLowersMeshStiffnessOnlyWhileItMeshes) {
+  SimulationConfig c = fast_seed(30);  // > one sun revolution relative to the carrier (21 mesh periods)
+  const SimulationResult healthy = simulate(c);
+  c.imperfections.teeth.push_back({Body::Sun, 0, 0, 0.5, 0.0});
+  const SimulationResult cracked = simulate(c);
+  const auto& kh = channel(healthy, "sun_planet/0/stiffness");
+  const auto& kc = channel(cracked, "sun_planet/0/stiffness");
+  const double kh_min = *std::min_element(kh.begin(), kh.end());
+  const double kc_min = *std::min_element(kc.begin(), kc.end());
+  EXPECT_LT(kc_min, 0.75 * kh_min);
+  // Stiffness below the healthy minimum occurs only while tooth 0 is in
+  // mesh: at most epsilon_alpha = 1.61 of every 21 mesh periods.
+  std::size_t low = 0;
+  for (double k : kc) low += k < 0.999 * kh_min;
+  const double fraction = static_cast<double>(low) / static_cast<double>(kc.size());
+  EXPECT_GT(fraction, 0.2 / 21.0);
+  EXPECT_LT(fraction, 1.62 / 21.0);
+}
+
+TEST(Simulation, InputTorqueRippleShowsInSunSpeedAtItsOrder) {
+  SimulationConfig c = fast_seed(60);
+  const SimulationResult smooth = simulate(c);
+  c.imperfections.torque_ripple_fraction = 0.05;
+  c.imperfections.torque_ripple_order = 2;
+  const SimulationResult rip = simulate(c);
+  const auto& w = channel(rip, "sun/speed");
+  EXPECT_GT(stddev(w), 10 * stddev(channel(smooth, "sun/speed")));
+  const auto s = pw::signal::amplitude_spectrum(w, rip.time_step_s, pw::signal::Window::Hann);
+  const auto peaks = pw::signal::dominant_peaks(s, 1, 1.0);
+  const double f_ripple = 2 * 400.0 / 60;  // 2nd order of the sun speed [Hz]
+  EXPECT_NEAR(peaks.at(0).frequency_Hz, f_ripple, 0.5 * s.frequency_Hz[1]);
+}
+
+TEST(Simulation, SunRunoutModulatesSunMeshForceOncePerSunTurnRelativeToCarrier) {
+  // Runout e rotates with the sun; against each planet it changes the mesh
+  // deflection by e cos(.) at f_s - f_c. The three planets' errors sum to
+  // zero, so the torsional sun cannot relieve them: force ~ k_mean e.
+  SimulationConfig c = fast_seed(63);  // 3 sun turns relative to the carrier
+  c.imperfections.sun_eccentricity_m = 1e-6;
+  const SimulationResult r = simulate(c);
+  const auto s = pw::signal::amplitude_spectrum(channel(r, "sun_planet/0/force"), r.time_step_s,
+                                                pw::signal::Window::Hann);
+  const double f_rel = 400.0 / 60 * (1 - 21.0 / 102.0);
+  // amplitude at the bin closest to f_rel
+  std::size_t k = static_cast<std::size_t>(std::lround(f_rel / s.frequency_Hz[1]));
+  const double k_mean = scalar(r, "sun_planet/mean_stiffness");
+  EXPECT_GT(s.amplitude[k], 0.3 * k_mean * 1e-6);
+  EXPECT_LT(s.amplitude[k], 1.5 * k_mean * 1e-6);
+}
