@@ -10,16 +10,23 @@ namespace pw::geometry {
 double involute(double alpha_rad) { return std::tan(alpha_rad) - alpha_rad; }
 
 double inverse_involute(double inv_alpha) {
-  // Cheng's initial guess (error < 1e-3 for inv <= 1) refined by Newton on
-  // f(a) = tan a - a - inv, f'(a) = tan^2 a.
+  // Newton on f(a) = tan a - a - inv, f'(a) = tan^2 a, from Cheng's guess,
+  // safeguarded by bisection on the bracket [lo, hi] of (0, pi/2): f is
+  // increasing and convex there, so a Newton step that leaves the bracket
+  // is replaced by the midpoint (without it Newton overshoots past pi/2 for
+  // angles above ~1.28 rad).
   if (inv_alpha <= 0.0) return 0.0;
-  double a = std::cbrt(3.0 * inv_alpha) - 0.4 * inv_alpha;
-  a = std::fmin(a, 1.5);
-  for (int it = 0; it < 60; ++it) {
+  double lo = 0.0, hi = 0.5 * std::numbers::pi;
+  double a = std::fmin(std::cbrt(3.0 * inv_alpha) - 0.4 * inv_alpha, 1.5);
+  if (!(a > lo && a < hi)) a = 0.5 * (lo + hi);
+  for (int it = 0; it < 200; ++it) {
     const double t = std::tan(a);
-    const double da = (t - a - inv_alpha) / (t * t);
-    a -= da;
-    if (std::fabs(da) < 1e-15) break;
+    const double f = t - a - inv_alpha;
+    if (f > 0) hi = a; else lo = a;
+    double next = a - f / (t * t);
+    if (!(next > lo && next < hi)) next = 0.5 * (lo + hi);
+    if (std::fabs(next - a) < 1e-15 * std::fmax(1.0, a)) return next;
+    a = next;
   }
   return a;
 }

@@ -5,10 +5,11 @@
 //  * SI units throughout: lengths [m], angles [rad].
 //  * External gear: teeth point away from the axis. Internal (ring) gear: teeth
 //    point towards the axis; its tip circle is *inside* its reference circle.
-//  * Profile shift x [-] follows ISO 21771: for an external gear x > 0 moves the
-//    basic rack away from the axis (thicker tooth at the reference circle); for
-//    an internal gear x > 0 also moves the profile away from the axis, which
-//    makes the ring tooth *thinner* at the reference circle.
+//  * Profile shift x [-]: for an external gear x > 0 moves the basic rack away
+//    from the axis (thicker tooth at the reference circle, ISO 21771); for an
+//    internal gear x > 0 also moves the profile away from the axis, which makes
+//    the ring tooth *thinner* at the reference circle (the convention of KHK's
+//    internal-gear tables; ISO 21771 signs internal shifts the other way).
 //  * Tooth proportions from the ISO 53 basic rack: addendum h_a* m, dedendum
 //    h_f* m, root fillet radius rho_f* m (defaults 1, 1.25, 0.38).
 #pragma once
@@ -54,7 +55,7 @@ struct GearGeometry {
 
 /// inv(alpha) = tan(alpha) - alpha.
 double involute(double alpha_rad);
-/// Inverse of involute() on [0, pi/2): Newton iteration, |error| < 1e-14 rad.
+/// Inverse of involute() on [0, pi/2): safeguarded Newton, |error| < 1e-14 rad.
 double inverse_involute(double inv_alpha);
 
 /// Derives the circles; throws pw::InputError naming the offending GearSpec

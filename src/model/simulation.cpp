@@ -281,6 +281,7 @@ SimulationResult simulate(const SimulationConfig& c, const ProgressFn& progress)
   std::vector<double> prev_defl(nm, 0.0);
   int warm = 0;
   double residual = 1.0;
+  double warm_progress = 0.0;
   long newton_total = 0, steps_total = 0;
   for (warm = 1; warm <= max_warm; ++warm) {
     double mean_ws = 0;
@@ -300,7 +301,14 @@ SimulationResult simulate(const SimulationConfig& c, const ProgressFn& progress)
       prev_defl[m] = d;
     }
     residual = std::max(dchange / std::max(dmax, 1e-30), std::fabs(mean_ws / p.sun_speed_rad_s - 1.0));
-    report(0.3 * std::min(1.0, static_cast<double>(warm) / std::min(max_warm, settle_cycles * 4)), "warm-up");
+    // Progress of the warm-up: how far the periodicity residual has fallen
+    // towards its tolerance on a log scale (or the share of the fixed settle
+    // time), never moving backwards.
+    const double frac = periodic_per_mesh
+                            ? std::log(std::max(residual, 1e-300)) / std::log(c.solver.periodicity_tolerance)
+                            : static_cast<double>(warm) / settle_cycles;
+    warm_progress = std::clamp(frac, warm_progress, 1.0);
+    report(0.3 * warm_progress, "warm-up");
     if (warm >= 3 && periodic_per_mesh && residual < c.solver.periodicity_tolerance) break;
     if (!periodic_per_mesh && warm >= settle_cycles) break;
   }

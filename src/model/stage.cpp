@@ -32,7 +32,7 @@ std::string describe(double lo, double hi, Ends ends) {
   const bool lo_open = ends == Ends::Open || ends == Ends::OpenLow;
   const bool hi_open = ends == Ends::Open || ends == Ends::OpenHigh;
   if (hi == kInf) return detail::concat(lo_open ? "> " : ">= ", lo);
-  return detail::concat(lo_open ? "(" : "[", lo, ", ", hi, hi_open ? ")" : "]");
+  return detail::concat("in ", lo_open ? "(" : "[", lo, ", ", hi, hi_open ? ")" : "]");
 }
 
 /// A finite double inside the interval; NaN and +-inf always fail.

@@ -25,10 +25,10 @@ struct StageSpec {
   /// Planet carrier angles psi_i [rad], counter-clockwise from planet 0.
   /// Empty: equally spaced, psi_i = 2 pi i / N.
   std::vector<double> planet_angles_rad{};
-  /// Carrier torsional inertia without the planets [kg m^2]. <= 0: derived
+  /// Carrier torsional inertia without the planets [kg m^2]. 0: derived
   /// (docs/derivation.md: two steel side plates of radius 1.2 a, 10 mm thick).
   double carrier_inertia_kgm2 = 0.0;
-  double carrier_mass_kg = 0.0;  ///< without planets [kg]; <= 0: derived as above
+  double carrier_mass_kg = 0.0;  ///< without planets [kg]; 0: derived as above
   /// Gear body bore radius as a fraction of the root radius [-], used only for
   /// the derived (solid-disc-with-bore) inertias and masses of sun and planets.
   double bore_ratio = 0.3;
@@ -106,7 +106,7 @@ struct BearingSettings {
 /// Time integration and output.
 struct SolverSettings {
   ModelLevel level = ModelLevel::Torsional;
-  /// Time step [s]. <= 0: automatic, the smaller of (mesh period /
+  /// Time step [s]. 0: automatic, the smaller of (mesh period /
   /// min_steps_per_mesh) and (shortest natural period / steps_per_mode_period).
   double time_step_s = 0.0;
   int min_steps_per_mesh = 64;

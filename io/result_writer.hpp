@@ -1,0 +1,57 @@
+// HDF5 layout of one simulation (documented in docs/output-format.md):
+//
+//   /                        attrs: format, format_version, software_version,
+//                                   build_flags, created_utc, units_convention
+//   /config/toml             resolved configuration (to_toml), UTF-8 string
+//   /time_history/time       [s]             attrs: unit, description
+//   /time_history/<channel>  e.g. sun_planet/0/deflection; attrs: unit, description
+//   /scalars/<name>          0-d double;     attrs: unit, description
+//   /curves/<name>/x, /y     attrs on the group: x_name, x_unit, y_name, y_unit,
+//                            description; on x and y: unit, description
+//   /spectra/<name>/frequency [Hz], /amplitude [signal unit];
+//                            attrs on the group: unit, window, scaling
+//
+// In Python: h5py.File(p)["time_history/sun_planet/0/deflection"][:]
+#pragma once
+
+#include "io/hdf5_file.hpp"
+
+#include "model/result.hpp"
+#include "model/stage.hpp"
+
+#include <cstdint>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace pw::io {
+
+/// One amplitude spectrum to store under /spectra/<name>.
+struct SpectrumRecord {
+  std::string name;     ///< '/'-separated, e.g. "sun_planet/0/deflection"
+  std::string unit;     ///< unit of the amplitude (= of the analysed signal)
+  std::string window;   ///< e.g. "hann" (signal::to_string(Window))
+  std::string scaling;  ///< e.g. signal::kPeakAmplitudeScaling
+  std::vector<double> frequency_Hz, amplitude;
+};
+
+/// Value of the root attribute "format" and "format_version"; the version
+/// grows when the layout changes incompatibly.
+inline constexpr std::string_view kOutputFormat = "planetwear.simulation";
+inline constexpr std::int64_t kOutputFormatVersion = 1;
+
+/// Writes the whole layout above into an empty (newly created) file. Time
+/// histories with 4096 or more samples are stored chunked with shuffle +
+/// deflate. Throws std::invalid_argument for an inconsistent result (a channel
+/// not as long as time_s, x/y or frequency/amplitude of different lengths,
+/// names that are empty, absolute, contain "." or ".." components, or a
+/// channel named "time") and pw::io::IoError for HDF5 failures (including two
+/// objects of the same name).
+void write_simulation(H5File& file, const model::SimulationConfig& config, const model::SimulationResult& result,
+                      const std::vector<SpectrumRecord>& spectra);
+
+/// PLANETWEAR_VERSION and PLANETWEAR_BUILD_FLAGS as compiled into pw::io.
+std::string_view software_version();
+std::string_view build_flags();
+
+} // namespace pw::io

@@ -1,0 +1,198 @@
+// model::validate(): every range check names the TOML key, the value and the
+// allowed range; NaN and infinity never pass.
+#include "model/stage.hpp"
+
+#include "core/error.hpp"
+#include "io/test_support.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <functional>
+#include <limits>
+
+namespace pw::model {
+namespace {
+
+using pw::test::contains;
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+/// The InputError validate() throws for the defaults changed by `edit`.
+std::optional<InputError> error_after(const std::function<void(SimulationConfig&)>& edit) {
+  SimulationConfig c;
+  edit(c);
+  return test::thrown<InputError>([&] { validate(c); });
+}
+
+/// validate() rejects the edit and names `key`.
+::testing::AssertionResult rejected_naming(const std::function<void(SimulationConfig&)>& edit,
+                                           const std::string& key) {
+  const auto e = error_after(edit);
+  if (!e) return ::testing::AssertionFailure() << "accepted; expected an error naming " << key;
+  if (e->parameter() != key)
+    return ::testing::AssertionFailure() << "named '" << e->parameter() << "' instead of '" << key << "': " << e->what();
+  return ::testing::AssertionSuccess();
+}
+
+::testing::AssertionResult accepted(const std::function<void(SimulationConfig&)>& edit) {
+  const auto e = error_after(edit);
+  if (e) return ::testing::AssertionFailure() << e->what();
+  return ::testing::AssertionSuccess();
+}
+
+TEST(Validate, DefaultConfigurationIsValid) { EXPECT_NO_THROW(validate(SimulationConfig{})); }
+
+TEST(Validate, NonPositiveSpeedIsRejectedWithKeyValueAndRange) {
+  const auto e = error_after([](auto& c) { c.operating.input_speed_rpm = -5; });
+  ASSERT_TRUE(e);
+  EXPECT_EQ(e->parameter(), "operating.input_speed_rpm");
+  EXPECT_TRUE(contains(e->what(), "got -5"));
+  EXPECT_TRUE(contains(e->what(), "(0, 100000]"));
+  EXPECT_TRUE(contains(e->what(), "rpm"));
+  EXPECT_TRUE(rejected_naming([](auto& c) { c.operating.input_speed_rpm = 0; }, "operating.input_speed_rpm"));
+}
+
+TEST(Validate, NaNAndInfinityAreRejectedInEveryKindOfField) {
+  EXPECT_TRUE(rejected_naming([](auto& c) { c.operating.input_speed_rpm = kNaN; }, "operating.input_speed_rpm"));
+  EXPECT_TRUE(rejected_naming([](auto& c) { c.operating.input_power_W = kInf; }, "operating.input_power_W"));
+  EXPECT_TRUE(rejected_naming([](auto& c) { c.stiffness.scale = kNaN; }, "stiffness.scale"));
+  EXPECT_TRUE(rejected_naming([](auto& c) { c.solver.newmark_beta = kNaN; }, "solver.newmark_beta"));
+  EXPECT_TRUE(rejected_naming([](auto& c) { c.bearings.sun_N_m = kInf; }, "bearings.sun_N_m"));
+  EXPECT_TRUE(rejected_naming([](auto& c) { c.imperfections.sun_eccentricity_phase_rad = kNaN; },
+                              "imperfections.sun_eccentricity_phase_rad"));
+  EXPECT_TRUE(rejected_naming([](auto& c) { c.stage.carrier_mass_kg = kNaN; }, "stage.carrier_mass_kg"));
+  EXPECT_TRUE(rejected_naming([](auto& c) { c.solver.time_step_s = kNaN; }, "solver.time_step_s"));
+  EXPECT_TRUE(rejected_naming([](auto& c) { c.stage.ring.material.poisson_ratio = kNaN; },
+                              "stage.ring.poisson_ratio"));
+}
+
+TEST(Validate, GearErrorsCarryTheirSectionPrefix) {
+  const auto e = error_after([](auto& c) { c.stage.sun.module_m = 0; });
+  ASSERT_TRUE(e);
+  EXPECT_EQ(e->parameter(), "stage.sun.module_m");
+  EXPECT_TRUE(contains(e->what(), "got 0"));
+  EXPECT_EQ(std::string(e->what()).find("stage.sun.module_m: module_m"), std::string::npos)
+      << "inner prefix kept: " << e->what();
+  EXPECT_TRUE(rejected_naming([](auto& c) { c.stage.ring.teeth = 2; }, "stage.ring.teeth"));
+  EXPECT_TRUE(rejected_naming([](auto& c) { c.stage.planet.material.youngs_modulus_Pa = -1; },
+                              "stage.planet.youngs_modulus_Pa"));
+  EXPECT_TRUE(rejected_naming([](auto& c) { c.stage.planet.pressure_angle_rad = 1.0; },
+                              "stage.planet.pressure_angle_rad"));
+}
+
+TEST(Validate, GearKindsAreFixedBySection) {
+  EXPECT_TRUE(rejected_naming([](auto& c) { c.stage.ring.kind = geometry::GearKind::External; }, "stage.ring"));
+  EXPECT_TRUE(rejected_naming([](auto& c) { c.stage.sun.kind = geometry::GearKind::Internal; }, "stage.sun"));
+}
+
+TEST(Validate, PlanetCountAndAnglesMustAgree) {
+  EXPECT_TRUE(rejected_naming([](auto& c) { c.stage.planet_count = 0; }, "stage.planet_count"));
+  EXPECT_TRUE(rejected_naming([](auto& c) { c.stage.planet_angles_rad = {0.0, 2.0}; }, "stage.planet_angles_rad"));
+  EXPECT_TRUE(rejected_naming([](auto& c) { c.stage.planet_angles_rad = {0.1, 2.0, 4.0}; },
+                              "stage.planet_angles_rad[0]"));
+  EXPECT_TRUE(rejected_naming([](auto& c) { c.stage.planet_angles_rad = {0.0, 4.0, 2.0}; },
+                              "stage.planet_angles_rad[2]"));
+  EXPECT_TRUE(rejected_naming([](auto& c) { c.stage.planet_angles_rad = {0.0, 2.0, 7.0}; },
+                              "stage.planet_angles_rad[2]"));
+  EXPECT_TRUE(accepted([](auto& c) { c.stage.planet_angles_rad = {0.0, 2.0, 4.0}; }));
+}
+
+TEST(Validate, ZeroMeansDerivedButNegativeInertiaIsRejected) {
+  EXPECT_TRUE(accepted([](auto& c) { c.stage.carrier_inertia_kgm2 = 0.0; }));
+  EXPECT_TRUE(accepted([](auto& c) { c.stage.carrier_inertia_kgm2 = 0.05; }));
+  EXPECT_TRUE(rejected_naming([](auto& c) { c.stage.carrier_inertia_kgm2 = -1; }, "stage.carrier_inertia_kgm2"));
+}
+
+TEST(Validate, ToothModifierIndicesMustExist) {
+  EXPECT_TRUE(rejected_naming([](auto& c) { c.imperfections.teeth = {{Body::Sun, 0, 21, 0.5, 0}}; },
+                              "imperfections.teeth[0].tooth"));
+  EXPECT_TRUE(accepted([](auto& c) { c.imperfections.teeth = {{Body::Sun, 0, 20, 0.5, 0}}; }));
+  EXPECT_TRUE(accepted([](auto& c) { c.imperfections.teeth = {{Body::Ring, 0, 80, 0.5, 0}}; }));
+  EXPECT_TRUE(rejected_naming([](auto& c) { c.imperfections.teeth = {{Body::Ring, 0, 81, 0.5, 0}}; },
+                              "imperfections.teeth[0].tooth"));
+  EXPECT_TRUE(rejected_naming([](auto& c) { c.imperfections.teeth = {{Body::Planet, 3, 0, 0.5, 0}}; },
+                              "imperfections.teeth[0].planet"));
+  EXPECT_TRUE(rejected_naming([](auto& c) { c.imperfections.teeth = {{Body::Planet, -1, 0, 0.5, 0}}; },
+                              "imperfections.teeth[0].planet"));
+  EXPECT_TRUE(rejected_naming([](auto& c) { c.imperfections.teeth = {{Body::Sun, 1, 0, 0.5, 0}}; },
+                              "imperfections.teeth[0].planet"));
+  EXPECT_TRUE(rejected_naming(
+      [](auto& c) { c.imperfections.teeth = {{Body::Sun, 0, 3, 0.5, 0}, {Body::Sun, 0, 4, 0.5, 0}, {Body::Sun, 0, 3, 0.9, 0}}; },
+      "imperfections.teeth[2]"));
+}
+
+TEST(Validate, StiffnessFactorIsInZeroExclusiveToOne) {
+  auto with_factor = [](double f) { return [f](SimulationConfig& c) { c.imperfections.teeth = {{Body::Sun, 0, 0, f, 0}}; }; };
+  EXPECT_TRUE(rejected_naming(with_factor(0.0), "imperfections.teeth[0].stiffness_factor"));
+  EXPECT_TRUE(rejected_naming(with_factor(1.5), "imperfections.teeth[0].stiffness_factor"));
+  EXPECT_TRUE(rejected_naming(with_factor(kNaN), "imperfections.teeth[0].stiffness_factor"));
+  EXPECT_TRUE(accepted(with_factor(1.0)));
+  EXPECT_TRUE(accepted(with_factor(1e-3)));
+}
+
+TEST(Validate, ProfileDeviationIsNonNegativeAndBelowTheModule) {
+  auto with_deviation = [](double d) {
+    return [d](SimulationConfig& c) { c.imperfections.teeth = {{Body::Planet, 2, 5, 1.0, d}}; };
+  };
+  EXPECT_TRUE(rejected_naming(with_deviation(-1e-6), "imperfections.teeth[0].profile_deviation_m"));
+  EXPECT_TRUE(rejected_naming(with_deviation(3e-3), "imperfections.teeth[0].profile_deviation_m"));
+  EXPECT_TRUE(accepted(with_deviation(0.0)));
+  EXPECT_TRUE(accepted(with_deviation(2.9e-3)));
+}
+
+TEST(Validate, PinErrorsAreNoneOrOnePerPlanet) {
+  EXPECT_TRUE(accepted([](auto& c) { c.imperfections.pin_error_m = {1e-5, 0.0, -1e-5}; }));
+  const auto e = error_after([](auto& c) { c.imperfections.pin_error_m = {1e-5, 0.0}; });
+  ASSERT_TRUE(e);
+  EXPECT_EQ(e->parameter(), "imperfections.pin_error_m");
+  EXPECT_TRUE(contains(e->what(), "got 2 values"));
+  EXPECT_TRUE(rejected_naming([](auto& c) { c.imperfections.pin_error_m = {1e-5, kNaN, 0.0}; },
+                              "imperfections.pin_error_m[1]"));
+}
+
+TEST(Validate, SolverSettingsHaveSensibleRanges) {
+  EXPECT_TRUE(rejected_naming([](auto& c) { c.solver.newmark_beta = 0.0; }, "solver.newmark_beta"));
+  EXPECT_TRUE(rejected_naming([](auto& c) { c.solver.newmark_beta = 0.6; }, "solver.newmark_beta"));
+  EXPECT_TRUE(accepted([](auto& c) { c.solver.newmark_beta = 0.5; }));
+  EXPECT_TRUE(rejected_naming([](auto& c) { c.solver.newmark_gamma = 0.49; }, "solver.newmark_gamma"));
+  EXPECT_TRUE(accepted([](auto& c) { c.solver.newmark_gamma = 1.0; }));
+  EXPECT_TRUE(rejected_naming([](auto& c) { c.solver.min_steps_per_mesh = 7; }, "solver.min_steps_per_mesh"));
+  EXPECT_TRUE(accepted([](auto& c) { c.solver.min_steps_per_mesh = 8; }));
+  EXPECT_TRUE(rejected_naming([](auto& c) { c.solver.record_mesh_cycles = 0; }, "solver.record_mesh_cycles"));
+  EXPECT_TRUE(rejected_naming([](auto& c) { c.solver.newton_tolerance = 0; }, "solver.newton_tolerance"));
+  EXPECT_TRUE(rejected_naming([](auto& c) { c.solver.newton_max_iterations = 0; }, "solver.newton_max_iterations"));
+  EXPECT_TRUE(rejected_naming([](auto& c) { c.solver.periodicity_tolerance = -1e-6; },
+                              "solver.periodicity_tolerance"));
+  EXPECT_TRUE(rejected_naming([](auto& c) { c.solver.level = static_cast<ModelLevel>(7); }, "solver.level"));
+}
+
+TEST(Validate, ExplicitTimeStepMustResolveTheMeshPeriod) {
+  // 100 rpm, Zs = 21, Zr = 81: f_mesh = 21*81/102 * 100/60 = 27.79 Hz, T = 36.0 ms.
+  const auto e = error_after([](auto& c) { c.solver.time_step_s = 5e-3; });
+  ASSERT_TRUE(e);
+  EXPECT_EQ(e->parameter(), "solver.time_step_s");
+  EXPECT_TRUE(contains(e->what(), "0.035978")) << "mesh period not stated";
+  EXPECT_TRUE(accepted([](auto& c) { c.solver.time_step_s = 4e-3; }));
+  EXPECT_TRUE(rejected_naming([](auto& c) { c.solver.time_step_s = -1e-5; }, "solver.time_step_s"));
+}
+
+TEST(Validate, ContactAndImperfectionMagnitudesAreChecked) {
+  EXPECT_TRUE(rejected_naming([](auto& c) { c.contact.friction_coefficient = -0.1; }, "contact.friction_coefficient"));
+  EXPECT_TRUE(rejected_naming([](auto& c) { c.contact.friction_coefficient = 1.0; }, "contact.friction_coefficient"));
+  EXPECT_TRUE(rejected_naming([](auto& c) { c.contact.mesh_damping_ratio = 1.5; }, "contact.mesh_damping_ratio"));
+  EXPECT_TRUE(rejected_naming([](auto& c) { c.contact.backlash_sun_planet_m = -1e-6; }, "contact.backlash_sun_planet_m"));
+  // 3 mm of backlash with a 3 mm module is a unit slip (mm typed as m).
+  EXPECT_TRUE(rejected_naming([](auto& c) { c.contact.backlash_planet_ring_m = 3e-3; }, "contact.backlash_planet_ring_m"));
+  EXPECT_TRUE(accepted([](auto& c) { c.contact.mesh_error_sun_planet_m = -5e-6; }));
+  EXPECT_TRUE(rejected_naming([](auto& c) { c.imperfections.torque_ripple_fraction = 1.0; },
+                              "imperfections.torque_ripple_fraction"));
+  EXPECT_TRUE(rejected_naming([](auto& c) { c.imperfections.sun_eccentricity_m = -1e-6; },
+                              "imperfections.sun_eccentricity_m"));
+  EXPECT_TRUE(rejected_naming([](auto& c) { c.stiffness.samples_per_pair = 4; }, "stiffness.samples_per_pair"));
+  EXPECT_TRUE(rejected_naming([](auto& c) { c.bearings.planet_N_m = 0; }, "bearings.planet_N_m"));
+}
+
+} // namespace
+} // namespace pw::model
