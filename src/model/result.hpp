@@ -32,12 +32,45 @@ struct Curve {
   std::vector<double> x, y;
 };
 
+/// Wear of one flank family (sun drive flanks, planet i sun-side or
+/// ring-side flanks, ring flanks) at every wear update.
+struct FlankWearHistory {
+  std::string name;                    ///< "sun", "planet_0/sun_side", "planet_0/ring_side", "ring"
+  int teeth = 0, elements = 0;
+  /// Signed distance of each element centre from the pitch point along the
+  /// line of action [m], positive towards this gear's tip (seed Fig. 9 axis).
+  std::vector<double> distance_from_pitch_point_m;
+  /// Wear depth [m], updates x teeth x elements, row-major (update 0 = start).
+  std::vector<double> depth_m;
+};
+
+/// The dynamic state at one wear update, kept for output.
+struct WearSnapshot {
+  double mesh_cycles = 0;
+  std::vector<double> time_s;
+  std::vector<Channel> channels;
+  /// Amplitude spectra of the channels (x: frequency [Hz], y: amplitude in
+  /// the channel's unit; Hann window, peak-amplitude scaling).
+  std::vector<Curve> spectra;
+};
+
+struct WearHistory {
+  std::vector<double> mesh_cycles;      ///< at each update [-] (0 first)
+  std::vector<FlankWearHistory> flanks;
+  /// Backlash of each mesh family at each update [m]: rows = updates,
+  /// columns = (sun_planet, planet_ring).
+  std::vector<double> backlash_m;
+  std::vector<WearSnapshot> snapshots;
+  std::string stop_reason;              ///< empty if mesh_cycles was reached
+};
+
 struct SimulationResult {
   double time_step_s = 0;
   std::vector<double> time_s;       ///< sample times of every channel [s]
   std::vector<Channel> channels;    ///< all equally long as time_s
   std::vector<Scalar> scalars;
   std::vector<Curve> curves;
+  WearHistory wear;                 ///< empty unless wear.mesh_cycles > 0
 
   const Channel* find(const std::string& name) const {
     for (const auto& c : channels)

@@ -2,8 +2,11 @@
 
 #include "core/error.hpp"
 #include "dynamics/modal.hpp"
+#include "signal/spectrum.hpp"
+#include "wear/flank_wear.hpp"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <numbers>
 
@@ -11,9 +14,6 @@ namespace pw::model {
 namespace {
 
 constexpr double kPi = std::numbers::pi;
-/// Microelements per flank for the profile-deviation grid (wear issue makes
-/// it configurable; 64 resolves a tip-relief-like deviation to ~0.2 mm).
-constexpr int kDefaultElements = 64;
 
 double annulus_mass(double rho, double r_out, double r_in, double width) {
   return rho * kPi * (r_out * r_out - r_in * r_in) * width;
@@ -166,11 +166,11 @@ PreparedStage prepare(const SimulationConfig& c) {
   const int N = c.stage.planet_count;
   const auto& gs = geo.sun_planet;
   const auto& gr = geo.planet_ring;
-  surf.sun = FlankSet(c.stage.sun.teeth, kDefaultElements, gs.start_active_m, gs.end_active_m);
-  surf.ring = FlankSet(c.stage.ring.teeth, kDefaultElements, gr.start_active_m, gr.end_active_m);
+  surf.sun = FlankSet(c.stage.sun.teeth, c.wear.elements_per_flank, gs.start_active_m, gs.end_active_m);
+  surf.ring = FlankSet(c.stage.ring.teeth, c.wear.elements_per_flank, gr.start_active_m, gr.end_active_m);
   for (int i = 0; i < N; ++i) {
-    surf.planet_sun_side.emplace_back(c.stage.planet.teeth, kDefaultElements, gs.start_active_m, gs.end_active_m);
-    surf.planet_ring_side.emplace_back(c.stage.planet.teeth, kDefaultElements, gr.start_active_m, gr.end_active_m);
+    surf.planet_sun_side.emplace_back(c.stage.planet.teeth, c.wear.elements_per_flank, gs.start_active_m, gs.end_active_m);
+    surf.planet_ring_side.emplace_back(c.stage.planet.teeth, c.wear.elements_per_flank, gr.start_active_m, gr.end_active_m);
   }
   apply_tooth_modifiers(c.imperfections, surf);
 
@@ -230,43 +230,60 @@ std::vector<Scalar> stiffness_scalars(const PreparedStage& p) {
   return out;
 }
 
-SimulationResult simulate(const SimulationConfig& c, const ProgressFn& progress) {
-  PreparedStage p = prepare(c);
-  PlanetaryDynamics& sys = *p.dynamics;
-  const auto& S = sys.structure();
-  const int n = S.dofs;
-  const int nm = static_cast<int>(S.meshes.size());
-  const int N = c.stage.planet_count;
-  const double dt = p.time_step_s;
-  const int spm = p.steps_per_mesh;
-  const auto report = [&](double f, const std::string& phase) {
-    if (progress) progress(f, phase);
-  };
+namespace {
 
-  dynamics::NewmarkSolver solver(sys, dt, {c.solver.newmark_beta, c.solver.newmark_gamma},
-                                 {c.solver.newton_tolerance, c.solver.newton_max_iterations});
-
-  // Static start (seed Fig. 7 starts from the periodic state; the static
-  // solution at the mean stiffness is the closest cheap guess). The rigid
-  // rotation is free, so shift K by a tiny multiple of M.
+/// Integration state of one case: the solver, its state and statistics.
+struct Run {
+  PreparedStage& p;
+  const SimulationConfig& c;
+  dynamics::NewmarkSolver solver;
   dynamics::NewmarkState st;
-  st.t = 0;
-  st.v = Eigen::VectorXd::Zero(n);
-  {
-    std::vector<double> kbar;
-    for (int m = 0; m < nm; ++m) kbar.push_back(sys.family(m).mean_stiffness_N_m);
-    Eigen::MatrixXd K = S.support_stiffness + dynamics::mesh_stiffness_matrix(S, kbar);
-    K += 1e-9 * K.diagonal().maxCoeff() / S.mass.diagonal().maxCoeff() * S.mass;
-    const Eigen::VectorXd f = sys.nominal_input_torque_Nm() * sys.sun_theta_row().transpose() -
-                              sys.load_torque_Nm() * sys.carrier_theta_row().transpose();
-    st.q = K.ldlt().solve(f);
-  }
-  sys.set_roll_reference(st.q);
-  solver.initialize(st);
+  long newton = 0, steps = 0;
 
-  // Warm-up: whole mesh periods until the deflections repeat and the load
-  // torque holds the nominal speed (steady state w_s ~ 1/T_L at constant
-  // power, so T_L <- T_L * mean(w_s)/Omega_s converges in a few periods).
+  Run(PreparedStage& prep, const SimulationConfig& cfg)
+      : p(prep), c(cfg), solver(*prep.dynamics, prep.time_step_s, {cfg.solver.newmark_beta, cfg.solver.newmark_gamma},
+                                {cfg.solver.newton_tolerance, cfg.solver.newton_max_iterations}) {}
+  PlanetaryDynamics& sys() { return *p.dynamics; }
+  void step() {
+    newton += solver.step(st);
+    p.dynamics->set_roll_reference(st.q);
+    ++steps;
+  }
+};
+
+/// Static start (seed Fig. 7 starts from the periodic state; the static
+/// solution at the mean stiffness is the closest cheap guess). The rigid
+/// rotation is free, so K is shifted by a tiny multiple of M.
+void start_static(Run& r) {
+  PlanetaryDynamics& sys = r.sys();
+  const auto& S = sys.structure();
+  std::vector<double> kbar;
+  for (std::size_t m = 0; m < S.meshes.size(); ++m) kbar.push_back(sys.family(static_cast<int>(m)).mean_stiffness_N_m);
+  Eigen::MatrixXd K = S.support_stiffness + dynamics::mesh_stiffness_matrix(S, kbar);
+  K += 1e-9 * K.diagonal().maxCoeff() / S.mass.diagonal().maxCoeff() * S.mass;
+  const Eigen::VectorXd f = sys.nominal_input_torque_Nm() * sys.sun_theta_row().transpose() -
+                            sys.load_torque_Nm() * sys.carrier_theta_row().transpose();
+  r.st.t = 0;
+  r.st.v = Eigen::VectorXd::Zero(S.dofs);
+  r.st.q = K.ldlt().solve(f);
+  sys.set_roll_reference(r.st.q);
+  r.solver.initialize(r.st);
+}
+
+struct WarmupStats {
+  int cycles = 0;
+  double residual = 1.0;
+};
+
+/// Whole mesh periods until the deflections repeat and the load torque holds
+/// the nominal speed (steady state w_s ~ 1/T_L at constant power, so
+/// T_L <- T_L mean(w_s)/Omega_s converges in a few periods).
+WarmupStats warm_up(Run& r, const ProgressFn& report, double f0, double f1) {
+  const SimulationConfig& c = r.c;
+  PreparedStage& p = r.p;
+  PlanetaryDynamics& sys = r.sys();
+  const int nm = static_cast<int>(sys.mesh_states().size());
+  const int spm = p.steps_per_mesh;
   const bool periodic_per_mesh = !has_tooth_level_features(c);
   double f_low = 0;
   for (int i = 0; i < p.natural_frequencies_Hz.size(); ++i)
@@ -278,18 +295,14 @@ SimulationResult simulate(const SimulationConfig& c, const ProgressFn& progress)
   const int settle_cycles =
       std::max(3, static_cast<int>(std::ceil(10.0 / (zeta * 2 * kPi * f_low) * p.mesh_frequency_Hz)));
   const int max_warm = c.solver.warmup_max_mesh_cycles;
-  std::vector<double> prev_defl(nm, 0.0);
-  int warm = 0;
-  double residual = 1.0;
-  double warm_progress = 0.0;
-  long newton_total = 0, steps_total = 0;
-  for (warm = 1; warm <= max_warm; ++warm) {
+  std::vector<double> prev(nm, 0.0);
+  WarmupStats w;
+  double progress = 0;
+  for (w.cycles = 1; w.cycles <= max_warm; ++w.cycles) {
     double mean_ws = 0;
     for (int k = 0; k < spm; ++k) {
-      newton_total += solver.step(st);
-      sys.set_roll_reference(st.q);
-      ++steps_total;
-      mean_ws += p.sun_speed_rad_s + sys.sun_theta_row().dot(st.v);
+      r.step();
+      mean_ws += p.sun_speed_rad_s + sys.sun_theta_row().dot(r.st.v);
     }
     mean_ws /= spm;
     sys.set_load_torque_Nm(sys.load_torque_Nm() * mean_ws / p.sun_speed_rad_s);
@@ -297,33 +310,37 @@ SimulationResult simulate(const SimulationConfig& c, const ProgressFn& progress)
     for (int m = 0; m < nm; ++m) {
       const double d = sys.mesh_states()[m].deflection_m;
       dmax = std::max(dmax, std::fabs(d));
-      dchange = std::max(dchange, std::fabs(d - prev_defl[m]));
-      prev_defl[m] = d;
+      dchange = std::max(dchange, std::fabs(d - prev[m]));
+      prev[m] = d;
     }
-    residual = std::max(dchange / std::max(dmax, 1e-30), std::fabs(mean_ws / p.sun_speed_rad_s - 1.0));
-    // Progress of the warm-up: how far the periodicity residual has fallen
-    // towards its tolerance on a log scale (or the share of the fixed settle
-    // time), never moving backwards.
+    w.residual = std::max(dchange / std::max(dmax, 1e-30), std::fabs(mean_ws / p.sun_speed_rad_s - 1.0));
+    // Progress: how far the residual has fallen towards its tolerance on a
+    // log scale (or the share of the fixed settle time), never backwards.
     const double frac = periodic_per_mesh
-                            ? std::log(std::max(residual, 1e-300)) / std::log(c.solver.periodicity_tolerance)
-                            : static_cast<double>(warm) / settle_cycles;
-    warm_progress = std::clamp(frac, warm_progress, 1.0);
-    report(0.3 * warm_progress, "warm-up");
-    if (warm >= 3 && periodic_per_mesh && residual < c.solver.periodicity_tolerance) break;
-    if (!periodic_per_mesh && warm >= settle_cycles) break;
+                            ? std::log(std::max(w.residual, 1e-300)) / std::log(c.solver.periodicity_tolerance)
+                            : static_cast<double>(w.cycles) / settle_cycles;
+    progress = std::clamp(frac, progress, 1.0);
+    if (report) report(f0 + (f1 - f0) * progress, "warm-up");
+    if (w.cycles >= 3 && periodic_per_mesh && w.residual < c.solver.periodicity_tolerance) break;
+    if (!periodic_per_mesh && w.cycles >= settle_cycles) break;
   }
-  warm = std::min(warm, max_warm);
+  w.cycles = std::min(w.cycles, max_warm);
+  return w;
+}
 
-  // Recording: preallocate every channel, then integrate.
-  const int nrec = c.solver.record_mesh_cycles * spm;
-  SimulationResult r;
-  r.time_step_s = dt;
-  r.time_s.resize(nrec);
-  struct MeshChannels {
-    std::vector<double> *defl, *force, *acc, *stiff, *pairs, *fric;
-  };
+/// Recording of `cycles` mesh periods into the named channels of `r_out`.
+void record(Run& r, int cycles, SimulationResult& out, const ProgressFn& report, double f0, double f1) {
+  PreparedStage& p = r.p;
+  PlanetaryDynamics& sys = r.sys();
+  const auto& S = sys.structure();
+  const int nm = static_cast<int>(S.meshes.size());
+  const int N = r.c.stage.planet_count;
+  const int spm = p.steps_per_mesh;
+  const int nrec = cycles * spm;
+  out.time_step_s = p.time_step_s;
+  out.time_s.resize(nrec);
   auto add = [&](std::string name, std::string unit, std::string desc) {
-    r.channels.push_back({std::move(name), std::move(unit), std::move(desc), std::vector<double>(nrec)});
+    out.channels.push_back({std::move(name), std::move(unit), std::move(desc), std::vector<double>(nrec)});
   };
   for (int m = 0; m < nm; ++m) {
     const std::string b = S.meshes[m].name + "/";
@@ -343,46 +360,265 @@ SimulationResult simulate(const SimulationConfig& c, const ProgressFn& progress)
   add("sun/input_torque", "N m", "input torque on the sun");
   for (int i = 0; i < N; ++i)
     add("load_sharing/" + std::to_string(i), "1", "N F_sp,i / sum_k F_sp,k: instantaneous load share of planet i");
-  std::vector<MeshChannels> mch(nm);
-  for (int m = 0; m < nm; ++m) {
-    auto* base = &r.channels[6 * m];
-    mch[m] = {&base[0].values, &base[1].values, &base[2].values, &base[3].values, &base[4].values, &base[5].values};
-  }
-  auto& ch_ws = r.channels[6 * nm].values;
-  auto& ch_wc = r.channels[6 * nm + 1].values;
-  auto& ch_te = r.channels[6 * nm + 2].values;
-  auto& ch_ts = r.channels[6 * nm + 3].values;
-  const double ratio = (c.stage.sun.teeth + c.stage.ring.teeth) / static_cast<double>(c.stage.sun.teeth);
+  std::vector<double*> col(out.channels.size());
+  for (std::size_t k = 0; k < out.channels.size(); ++k) col[k] = out.channels[k].values.data();
+  const double ratio = (r.c.stage.sun.teeth + r.c.stage.ring.teeth) / static_cast<double>(r.c.stage.sun.teeth);
   const double rbs = p.geometry.sun.base_radius_m;
-  const double t0 = st.t;
+  const double t0 = r.st.t;
+  const std::size_t g0 = 6 * static_cast<std::size_t>(nm);
   for (int k = 0; k < nrec; ++k) {
-    newton_total += solver.step(st);
-    sys.set_roll_reference(st.q);
-    ++steps_total;
-    r.time_s[k] = st.t - t0;
+    r.step();
+    out.time_s[k] = r.st.t - t0;
     const auto& ms = sys.mesh_states();
     double fsum = 0;
     for (int m = 0; m < nm; ++m) {
-      (*mch[m].defl)[k] = ms[m].deflection_m;
-      (*mch[m].force)[k] = ms[m].force_N;
-      (*mch[m].acc)[k] = S.meshes[m].g.dot(st.a);
-      (*mch[m].stiff)[k] = ms[m].stiffness_N_m;
-      (*mch[m].pairs)[k] = ms[m].pairs;
-      (*mch[m].fric)[k] = ms[m].friction_N;
+      double** c6 = &col[6 * static_cast<std::size_t>(m)];
+      c6[0][k] = ms[m].deflection_m;
+      c6[1][k] = ms[m].force_N;
+      c6[2][k] = S.meshes[m].g.dot(r.st.a);
+      c6[3][k] = ms[m].stiffness_N_m;
+      c6[4][k] = ms[m].pairs;
+      c6[5][k] = ms[m].friction_N;
       if (m % 2 == 0) fsum += ms[m].force_N;
     }
-    const double ws = p.sun_speed_rad_s + sys.sun_theta_row().dot(st.v);
-    ch_ws[k] = ws;
-    ch_wc[k] = p.carrier_speed_rad_s + sys.carrier_theta_row().dot(st.v);
-    ch_te[k] = rbs * (sys.sun_theta_row().dot(st.q) - ratio * sys.carrier_theta_row().dot(st.q));
-    ch_ts[k] = sys.input_torque_Nm(st.t, st.q, st.v);
-    for (int i = 0; i < N; ++i)
-      r.channels[6 * nm + 4 + i].values[k] = fsum != 0 ? N * ms[2 * i].force_N / fsum : 0.0;
-    if (k % spm == 0) report(0.3 + 0.7 * k / nrec, "recording");
+    col[g0][k] = p.sun_speed_rad_s + sys.sun_theta_row().dot(r.st.v);
+    col[g0 + 1][k] = p.carrier_speed_rad_s + sys.carrier_theta_row().dot(r.st.v);
+    col[g0 + 2][k] = rbs * (sys.sun_theta_row().dot(r.st.q) - ratio * sys.carrier_theta_row().dot(r.st.q));
+    col[g0 + 3][k] = sys.input_torque_Nm(r.st.t, r.st.q, r.st.v);
+    for (int i = 0; i < N; ++i) col[g0 + 4 + i][k] = fsum != 0 ? N * ms[2 * i].force_N / fsum : 0.0;
+    if (report && k % spm == 0) report(f0 + (f1 - f0) * k / nrec, "recording");
   }
-  report(1.0, "done");
+}
 
-  // Scalars.
+/// Chordal tooth thickness on the reference circle [m] (external gears
+/// m(pi/2 + 2x tan a); the ring tooth m(pi/2 - 2x tan a)).
+double reference_thickness(const geometry::GearSpec& g) {
+  const double sgn = g.kind == geometry::GearKind::External ? 1.0 : -1.0;
+  return g.module_m * (kPi / 2 + sgn * 2 * g.profile_shift * std::tan(g.pressure_angle_rad));
+}
+
+/// Minimum number of wear updates, so that the wear history and the
+/// wear-dynamics coupling are resolved even when wear is small compared
+/// with the elastic deflection.
+constexpr int kMinWearUpdates = 8;
+/// Mesh cycles each window runs before booking wear, to let the dynamics
+/// settle on the updated profiles (the transient decays in < 1 mesh period
+/// for the default damping, see warm-up).
+constexpr int kWindowSettleCycles = 2;
+/// Mesh cycles of each stored snapshot.
+constexpr int kSnapshotCycles = 8;
+
+/// Snapshot channels: penetration depth and mesh-line acceleration of
+/// planet 0's two meshes (seed Figs. 10-12).
+WearSnapshot record_snapshot(Run& r, double mesh_cycles, wear::FlankWearAccumulator* acc) {
+  const int spm = r.p.steps_per_mesh;
+  const int n = kSnapshotCycles * spm;
+  WearSnapshot s;
+  s.mesh_cycles = mesh_cycles;
+  s.time_s.resize(n);
+  const char* names[] = {"sun_planet/0/deflection", "sun_planet/0/acceleration", "planet_ring/0/deflection",
+                         "planet_ring/0/acceleration"};
+  for (const char* nm : names) {
+    const std::string name(nm);
+    const bool acc_ch = name.ends_with("acceleration");
+    s.channels.push_back({name, acc_ch ? "m/s^2" : "m",
+                          acc_ch ? "relative acceleration along the line of action" : "mesh deflection (penetration depth)",
+                          std::vector<double>(n)});
+  }
+  const auto& S = r.sys().structure();
+  const double t0 = r.st.t;
+  for (int k = 0; k < n; ++k) {
+    r.step();
+    if (acc) acc->accumulate(r.p.time_step_s);
+    s.time_s[k] = r.st.t - t0;
+    const auto& ms = r.sys().mesh_states();
+    s.channels[0].values[k] = ms[0].deflection_m;
+    s.channels[1].values[k] = S.meshes[0].g.dot(r.st.a);
+    s.channels[2].values[k] = ms[1].deflection_m;
+    s.channels[3].values[k] = S.meshes[1].g.dot(r.st.a);
+  }
+  for (const Channel& ch : s.channels) {
+    const signal::Spectrum sp = signal::amplitude_spectrum(ch.values, r.p.time_step_s, signal::Window::Hann);
+    s.spectra.push_back({ch.name, "frequency", "Hz", "amplitude", ch.unit,
+                         "amplitude spectrum, Hann window, " + sp.scaling, sp.frequency_Hz, sp.amplitude});
+  }
+  return s;
+}
+
+/// The coupled wear loop (docs/derivation.md §5): dynamic window -> wear
+/// rate per element -> extrapolate over dN cycles (bounded increment) ->
+/// update profiles and backlash -> repeat.
+WearHistory run_wear(Run& r, const ProgressFn& report, double f0, double f1) {
+  const SimulationConfig& c = r.c;
+  const WearSettings& ws = c.wear;
+  PlanetaryDynamics& sys = r.sys();
+  const int N = c.stage.planet_count;
+  const double kappa = ws.archard_K > 0 ? ws.archard_K / ws.hardness_Pa : ws.coefficient_m2_N;
+  wear::FlankWearAccumulator acc(sys, c, kappa);
+  const int F = acc.families();
+  const int window = ws.window_mesh_cycles > 0
+                         ? ws.window_mesh_cycles
+                         : std::max({c.stage.planet.teeth, (c.stage.ring.teeth + N - 1) / N,
+                                     (c.stage.sun.teeth + N - 1) / N}) + 1;
+  const int spm = r.p.steps_per_mesh;
+  const double dt = r.p.time_step_s;
+  // Increment bound: a fraction of the static sun-mesh deflection.
+  const double delta_static = sys.nominal_input_torque_Nm() / (N * r.p.geometry.sun.base_radius_m) /
+                              sys.family(0).mean_stiffness_N_m;
+  const double bound = ws.max_increment_fraction * delta_static;
+  const double limit = ws.max_wear_fraction_of_thickness *
+                       std::min({reference_thickness(c.stage.sun), reference_thickness(c.stage.planet),
+                                 reference_thickness(c.stage.ring)});
+  const double total = ws.mesh_cycles;
+  std::vector<double> targets = ws.snapshot_mesh_cycles;
+  if (targets.empty()) targets = {0.0, total};
+  std::sort(targets.begin(), targets.end());
+  std::vector<bool> taken(targets.size(), false);
+
+  WearHistory h;
+  std::vector<model::FlankSet*> sets;
+  for (int f = 0; f < F; ++f) sets.push_back(&acc.flank_set(sys.surfaces(), f));
+  for (int f = 0; f < F; ++f) {
+    FlankWearHistory fh;
+    const int i = f <= N ? f - 1 : f - 1 - N;
+    fh.name = f == 0 ? "sun" : f == F - 1 ? "ring"
+                                          : "planet_" + std::to_string(i) + (f <= N ? "/sun_side" : "/ring_side");
+    fh.teeth = sets[f]->teeth();
+    fh.elements = sets[f]->elements();
+    // Distance from the pitch point, positive towards this gear's tip:
+    // xi - xi_P on the driver (sun, planet ring side), xi_P - xi otherwise.
+    const bool driver = (f == 0) || (f > N && f < F - 1);
+    const double xp = sys.family(f == 0 || (f >= 1 && f <= N) ? 0 : 1).geometry.pitch_point_m;
+    for (int e = 0; e < fh.elements; ++e)
+      fh.distance_from_pitch_point_m.push_back(driver ? sets[f]->element_xi_m(e) - xp : xp - sets[f]->element_xi_m(e));
+    h.flanks.push_back(std::move(fh));
+  }
+  const double b_sp0 = c.contact.backlash_sun_planet_m, b_pr0 = c.contact.backlash_planet_ring_m;
+  auto push_state = [&](double cycles) {
+    h.mesh_cycles.push_back(cycles);
+    for (int f = 0; f < F; ++f) {
+      const auto& d = sets[f]->deviations();
+      h.flanks[f].depth_m.insert(h.flanks[f].depth_m.end(), d.begin(), d.end());
+    }
+    h.backlash_m.push_back(sys.backlash_m(0));
+    h.backlash_m.push_back(sys.backlash_m(1));
+  };
+  // Profile deviations present before wear (damage) are not wear: record
+  // wear as the change since the start.
+  std::vector<std::vector<double>> initial(F);
+  for (int f = 0; f < F; ++f) initial[f] = sets[f]->deviations();
+  push_state(0.0);
+
+  std::vector<std::vector<double>> rate(F);
+  double done = 0;
+  int updates = 0;
+  const auto clock0 = std::chrono::steady_clock::now();
+  while (done < total) {
+    for (int k = 0; k < kWindowSettleCycles * spm; ++k) r.step();
+    acc.begin_window();
+    int booked = 0;
+    for (std::size_t s = 0; s < targets.size(); ++s)
+      if (!taken[s] && targets[s] <= done + 0.5) {
+        h.snapshots.push_back(record_snapshot(r, done, &acc));
+        for (std::size_t u = s; u < targets.size(); ++u)
+          if (targets[u] <= done + 0.5) taken[u] = true;
+        booked = kSnapshotCycles;
+        break;
+      }
+    for (int k = booked * spm; k < window * spm; ++k) {
+      r.step();
+      acc.accumulate(dt);
+    }
+    double max_rate = 0;
+    for (int f = 0; f < F; ++f) {
+      if (!acc.wear_rate_per_cycle(f, rate[f]))
+        throw InputError("wear.window_mesh_cycles",
+                         detail::concat(window, " mesh cycles let no tooth of flank family ", h.flanks[f].name,
+                                        " complete a contact pass; use a longer window"));
+      for (double x : rate[f]) max_rate = std::max(max_rate, x);
+    }
+    double dN = total - done;
+    dN = std::min(dN, total / kMinWearUpdates);
+    if (max_rate > 0) dN = std::min(dN, bound / max_rate);
+    dN = std::min(std::max(dN, 1.0), total - done);
+    // Microelement update: independent per element, so any thread count
+    // gives the same numbers (each element is written by one thread, with
+    // the same arithmetic).
+    for (int f = 0; f < F; ++f) {
+      double* d = sets[f]->deviations().data();
+      const double* rf = rate[f].data();
+      const long n = static_cast<long>(rate[f].size());
+#pragma omp parallel for schedule(static)
+      for (long e = 0; e < n; ++e) d[e] += rf[e] * dN;
+    }
+    // Backlash grows by the flank material removed on both gears of a mesh
+    // (mean over teeth and profile; derivation §5).
+    auto mean_wear = [&](int f) {
+      const auto& d = sets[f]->deviations();
+      double s = 0;
+      for (std::size_t k = 0; k < d.size(); ++k) s += d[k] - initial[f][k];
+      return s / static_cast<double>(d.size());
+    };
+    double w_sun = mean_wear(0), w_ring = mean_wear(F - 1), w_ps = 0, w_pr = 0;
+    for (int i = 0; i < N; ++i) {
+      w_ps += mean_wear(1 + i) / N;
+      w_pr += mean_wear(1 + N + i) / N;
+    }
+    for (int m = 0; m < 2 * N; ++m) sys.set_backlash_m(m, m % 2 == 0 ? b_sp0 + w_sun + w_ps : b_pr0 + w_pr + w_ring);
+    done += dN;
+    ++updates;
+    push_state(done);
+    double wmax = 0;
+    for (int f = 0; f < F; ++f) wmax = std::max(wmax, sets[f]->max_deviation_m());
+    if (report) {
+      const double el = std::chrono::duration<double>(std::chrono::steady_clock::now() - clock0).count();
+      report(f0 + (f1 - f0) * done / total,
+             detail::concat("wear ", static_cast<long>(done), "/", static_cast<long>(total), " cycles, update ",
+                            updates, ", max ", wmax * 1e6, " um, ", el, " s"));
+    }
+    if (wmax > limit) {
+      h.stop_reason = detail::concat("wear stopped after ", done, " mesh cycles: maximum flank wear ", wmax,
+                                     " m exceeds wear.max_wear_fraction_of_thickness = ",
+                                     ws.max_wear_fraction_of_thickness, " of the tooth thickness (", limit, " m)");
+      break;
+    }
+  }
+  // Remaining snapshot targets (typically the last one) at the final state.
+  for (std::size_t s = 0; s < targets.size(); ++s)
+    if (!taken[s]) {
+      h.snapshots.push_back(record_snapshot(r, done, nullptr));
+      break;
+    }
+  // Report wear, not pre-existing deviations.
+  for (int f = 0; f < F; ++f) {
+    auto& d = h.flanks[f].depth_m;
+    const std::size_t per = initial[f].size();
+    for (std::size_t k = 0; k < d.size(); ++k) d[k] -= initial[f][k % per];
+  }
+  return h;
+}
+
+} // namespace
+
+SimulationResult simulate(const SimulationConfig& c, const ProgressFn& progress) {
+  PreparedStage p = prepare(c);
+  PlanetaryDynamics& sys = *p.dynamics;
+  const auto& S = sys.structure();
+  const int nm = static_cast<int>(S.meshes.size());
+  const int N = c.stage.planet_count;
+  const bool wear_on = c.wear.mesh_cycles > 0;
+  const double f_warm = wear_on ? 0.05 : 0.3, f_wear = wear_on ? 0.9 : f_warm;
+
+  Run run(p, c);
+  start_static(run);
+  const WarmupStats warm = warm_up(run, progress, 0.0, f_warm);
+  SimulationResult r;
+  if (wear_on) r.wear = run_wear(run, progress, f_warm, f_wear);
+  record(run, c.solver.record_mesh_cycles, r, progress, f_wear, 1.0);
+  if (progress) progress(1.0, "done");
+
+  const double dt = p.time_step_s;
+  const int spm = p.steps_per_mesh;
   auto scalar = [&](std::string name, std::string unit, std::string desc, double v) {
     r.scalars.push_back({std::move(name), std::move(unit), std::move(desc), v});
   };
@@ -395,11 +631,13 @@ SimulationResult simulate(const SimulationConfig& c, const ProgressFn& progress)
   scalar("load_torque", "N m", "carrier load torque that holds the nominal speed", sys.load_torque_Nm());
   scalar("efficiency", "1", "T_load Omega_c / P: mesh efficiency of the stage (friction losses)",
          sys.load_torque_Nm() * p.carrier_speed_rad_s / c.operating.input_power_W);
-  scalar("warmup_mesh_cycles", "1", "mesh periods integrated before recording", warm);
+  scalar("warmup_mesh_cycles", "1", "mesh periods integrated before recording", warm.cycles);
   scalar("periodicity_residual", "1", "relative change of mesh deflections over the last warm-up mesh period",
-         residual);
+         warm.residual);
+  scalar("time_steps", "1", "time steps integrated in total (warm-up, wear windows, recording)",
+         static_cast<double>(run.steps));
   scalar("mean_newton_iterations", "1", "Newton iterations per time step, averaged",
-         static_cast<double>(newton_total) / static_cast<double>(std::max(1L, steps_total)));
+         static_cast<double>(run.newton) / static_cast<double>(std::max(1L, run.steps)));
   for (int i = 0; i < p.natural_frequencies_Hz.size(); ++i)
     scalar("natural_frequency/" + std::to_string(i), "Hz", "natural frequency of the linearized time-averaged model",
            p.natural_frequencies_Hz(i));
@@ -408,14 +646,24 @@ SimulationResult simulate(const SimulationConfig& c, const ProgressFn& progress)
   // Load-sharing factor per planet: N mean(F_sp,i) / sum_k mean(F_sp,k).
   std::vector<double> mean_f(N, 0.0);
   for (int i = 0; i < N; ++i) {
-    const auto& v = *mch[2 * i].force;
-    for (double x : v) mean_f[i] += x / nrec;
+    const auto& v = r.channels[6 * static_cast<std::size_t>(2 * i) + 1].values;
+    for (double x : v) mean_f[i] += x / static_cast<double>(v.size());
   }
   double tot = 0;
   for (double x : mean_f) tot += x;
   for (int i = 0; i < N; ++i)
     scalar("load_sharing_factor/" + std::to_string(i), "1", "N mean(F_sp,i) / sum_k mean(F_sp,k)",
            tot != 0 ? N * mean_f[i] / tot : 0.0);
+  if (wear_on) {
+    for (const auto& fh : r.wear.flanks) {
+      const std::size_t per = static_cast<std::size_t>(fh.teeth) * fh.elements;
+      double mx = 0;
+      for (std::size_t k = fh.depth_m.size() - per; k < fh.depth_m.size(); ++k) mx = std::max(mx, fh.depth_m[k]);
+      scalar("max_wear/" + fh.name, "m", "maximum wear depth of this flank family at the end", mx);
+    }
+    scalar("wear_updates", "1", "number of wear updates", static_cast<double>(r.wear.mesh_cycles.size() - 1));
+    scalar("worn_mesh_cycles", "1", "mesh cycles worn through", r.wear.mesh_cycles.back());
+  }
   for (auto& s : stiffness_scalars(p)) r.scalars.push_back(std::move(s));
   r.curves = stiffness_curves(p);
   return r;

@@ -23,6 +23,8 @@ namespace pw::model {
 namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
+constexpr double kMaxWearMeshCycles = 1e12;   ///< [-]
+constexpr double kMaxWearCoefficient = 1e-10;  ///< kappa [m^2/N], exclusive
 
 /// Which ends of [lo, hi] belong to the allowed interval.
 enum class Ends { Closed, Open, OpenLow, OpenHigh };
@@ -203,6 +205,33 @@ void validate_solver(const SolverSettings& s, const SimulationConfig& c) {
   check_int(s.record_mesh_cycles, "solver.record_mesh_cycles", 1, 1000000);
 }
 
+void validate_wear(const WearSettings& w) {
+  // mesh_cycles first: 0 is a meaning (no wear), not a lower bound to report as a range.
+  require(std::isfinite(w.mesh_cycles), "wear.mesh_cycles", "must be a finite number of mesh cycles [-], got ",
+          w.mesh_cycles);
+  require(w.mesh_cycles >= 0, "wear.mesh_cycles", "must be >= 0 (0 = no wear) [-], got ", w.mesh_cycles);
+  require(w.mesh_cycles <= kMaxWearMeshCycles, "wear.mesh_cycles", "must be at most ", kMaxWearMeshCycles,
+          " [-], got ", w.mesh_cycles);
+  // kappa = K/H: mild-wear steel is 1e-18..1e-14 m^2/N; 1e-10 and above is a
+  // unit mistake (mm^2/N typed as m^2/N is a factor 1e6 too large).
+  check(w.coefficient_m2_N, "wear.coefficient_m2_N", 0, kMaxWearCoefficient, Ends::OpenHigh, "m^2/N");
+  check(w.archard_K, "wear.archard_K", 0, 1, Ends::OpenHigh, "-");
+  check(w.hardness_Pa, "wear.hardness_Pa", 0, kInf, Ends::OpenLow, "Pa");
+  require(w.archard_K / w.hardness_Pa < kMaxWearCoefficient, "wear.archard_K",
+          "gives kappa = archard_K / hardness_Pa = ", w.archard_K / w.hardness_Pa, " m^2/N, must be below ",
+          kMaxWearCoefficient, " m^2/N (the limit of wear.coefficient_m2_N); got archard_K = ", w.archard_K,
+          ", hardness_Pa = ", w.hardness_Pa);
+  require(w.elements_per_flank >= 2 && w.elements_per_flank <= 10000, "wear.elements_per_flank",
+          "must be an integer in [2, 10000], got ", w.elements_per_flank,
+          " (element counts < 2 cannot resolve a wear profile)");
+  check_int(w.window_mesh_cycles, "wear.window_mesh_cycles", 0, 1000000);
+  check(w.max_increment_fraction, "wear.max_increment_fraction", 0, 1, Ends::OpenLow, "-");
+  check(w.max_wear_fraction_of_thickness, "wear.max_wear_fraction_of_thickness", 0, 0.5, Ends::OpenLow, "-");
+  for (std::size_t i = 0; i < w.snapshot_mesh_cycles.size(); ++i)
+    check(w.snapshot_mesh_cycles[i], detail::concat("wear.snapshot_mesh_cycles[", i, "]"), 0, w.mesh_cycles,
+          Ends::Closed, "-; at most wear.mesh_cycles");
+}
+
 } // namespace
 
 void validate(const SimulationConfig& c) {
@@ -215,6 +244,7 @@ void validate(const SimulationConfig& c) {
   validate_imperfections(c.imperfections, c.stage);
   validate_bearings(c.bearings);
   validate_solver(c.solver, c);
+  validate_wear(c.wear);
 }
 
 } // namespace pw::model

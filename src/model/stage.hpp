@@ -120,6 +120,36 @@ struct SolverSettings {
   int record_mesh_cycles = 24;     ///< mesh periods stored after the warm-up [-]
 };
 
+/// Archard wear on every tooth flank, coupled to the dynamics (seed §4-5;
+/// docs/derivation.md §5). Off while mesh_cycles == 0.
+struct WearSettings {
+  /// Mesh cycles to wear the stage through [-] (seed: 2e5). 0: no wear.
+  double mesh_cycles = 0.0;
+  /// Dimensional wear coefficient kappa = K/H [m^2/N] (dh = kappa p ds).
+  /// The seed's "K = 5e-11" reproduces its wear depths read as
+  /// 5e-11 mm^2/N = 5e-17 m^2/N. Ignored when archard_K > 0.
+  double coefficient_m2_N = 5e-17;
+  /// Alternative input: dimensionless Archard K [-] with hardness_Pa; used
+  /// when > 0, then kappa = archard_K / hardness_Pa.
+  double archard_K = 0.0;
+  double hardness_Pa = 6e9;  ///< H of the softer flank [Pa] (~ 600 HV case-hardened steel)
+  int elements_per_flank = 64;  ///< microelements over each active flank [-], >= 2
+  /// Dynamic window per wear update [mesh cycles]; 0: automatic, the number
+  /// that lets every planet tooth mesh on both flanks (Zp) and every ring
+  /// tooth at least once.
+  int window_mesh_cycles = 0;
+  /// Bound on the wear increment of any element per update, as a fraction of
+  /// the static sun-mesh deflection (a proxy for the change in contact
+  /// pressure: dp/p ~ dh/delta) [-].
+  double max_increment_fraction = 0.1;
+  /// Stop (keeping what was computed) when any flank's wear exceeds this
+  /// fraction of the tooth's reference-circle chordal thickness [-].
+  double max_wear_fraction_of_thickness = 0.1;
+  /// Mesh-cycle counts at which dynamic snapshots (time histories and
+  /// spectra) are stored; the nearest update is used. Empty: first and last.
+  std::vector<double> snapshot_mesh_cycles{};
+};
+
 /// One complete simulation case.
 struct SimulationConfig {
   StageSpec stage{};
@@ -129,6 +159,7 @@ struct SimulationConfig {
   Imperfections imperfections{};
   BearingSettings bearings{};
   SolverSettings solver{};
+  WearSettings wear{};
 };
 
 /// Range checks of everything above; throws pw::InputError naming the TOML key.

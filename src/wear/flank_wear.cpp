@@ -1,0 +1,153 @@
+#include "wear/flank_wear.hpp"
+
+#include "core/error.hpp"
+#include "wear/archard.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace pw::wear {
+
+FlankWearAccumulator::FlankWearAccumulator(const model::PlanetaryDynamics& sys, const model::SimulationConfig& c,
+                                           double kappa)
+    : sys_(sys), kappa_(kappa) {
+  const auto& st = c.stage;
+  planets_ = st.planet_count;
+  width_sp_m_ = std::min(st.sun.face_width_m, st.planet.face_width_m);
+  width_pr_m_ = std::min(st.planet.face_width_m, st.ring.face_width_m);
+  const auto& gsp = sys.family(0).geometry;
+  const auto& gpr = sys.family(1).geometry;
+  const model::ToothSurfaces& s = sys.surfaces();
+  // rho(xi) of each family's flank: rho = c0 + sgn xi (mesh.hpp).
+  auto make = [&](const model::FlankSet& fs, double rb, double c0, double sgn, double per_cycle) {
+    Family f;
+    f.teeth = fs.teeth();
+    f.elements = fs.elements();
+    for (int e = 0; e < f.elements; ++e) {
+      const double x0 = fs.xi_min_m() + e * fs.element_width_m(), x1 = x0 + fs.element_width_m();
+      f.arc_length_m.push_back(involute_arc_length(rb, c0 + sgn * x0, c0 + sgn * x1));
+    }
+    f.wear_m.assign(static_cast<std::size_t>(f.teeth) * f.elements, 0.0);
+    f.passes.assign(f.teeth, 0);
+    f.passes_per_cycle = per_cycle;
+    fam_.push_back(std::move(f));
+  };
+  const double N = planets_;
+  make(s.sun, gsp.base_radius_a_m, 0.0, 1.0, N / st.sun.teeth);
+  for (int i = 0; i < planets_; ++i)
+    make(s.planet_sun_side[i], gsp.base_radius_b_m, gsp.tangent_distance_m, -1.0, 1.0 / st.planet.teeth);
+  for (int i = 0; i < planets_; ++i) make(s.planet_ring_side[i], gpr.base_radius_a_m, 0.0, 1.0, 1.0 / st.planet.teeth);
+  make(s.ring, gpr.base_radius_b_m, gpr.tangent_distance_m, 1.0, N / st.ring.teeth);
+  const int E = c.wear.elements_per_flank;
+  pending_.resize(sys.mesh_states().size());
+  for (auto& slots : pending_) {
+    slots.resize(model::MeshState::kMaxPairs + 2);
+    for (auto& p : slots) {
+      p.wa.assign(E, 0.0);
+      p.wb.assign(E, 0.0);
+    }
+  }
+}
+
+model::FlankSet& FlankWearAccumulator::flank_set(model::ToothSurfaces& s, int f) const {
+  if (f == 0) return s.sun;
+  if (f <= planets_) return s.planet_sun_side[f - 1];
+  if (f <= 2 * planets_) return s.planet_ring_side[f - 1 - planets_];
+  return s.ring;
+}
+
+void FlankWearAccumulator::begin_window() {
+  for (auto& f : fam_) {
+    std::fill(f.wear_m.begin(), f.wear_m.end(), 0.0);
+    std::fill(f.passes.begin(), f.passes.end(), 0);
+  }
+  for (auto& slots : pending_)
+    for (auto& p : slots) p.used = false;
+  window_start_ = true;
+}
+
+void FlankWearAccumulator::book(int fi, int tooth, const std::vector<double>& w) {
+  Family& f = fam_[fi];
+  double* dst = f.wear_m.data() + static_cast<std::size_t>(tooth) * f.elements;
+  for (int e = 0; e < f.elements; ++e) dst[e] += w[e];
+  ++f.passes[tooth];
+}
+
+void FlankWearAccumulator::accumulate(double dt) {
+  const auto& states = sys_.mesh_states();
+  const model::ToothSurfaces& surf = sys_.surfaces();
+  for (std::size_t m = 0; m < states.size(); ++m) {
+    const model::MeshState& ms = states[m];
+    const bool sp = (m % 2 == 0);
+    const int i = static_cast<int>(m / 2);
+    const int fa = sp ? 0 : 1 + planets_ + i;
+    const int fb = sp ? 1 + i : 2 * planets_ + 1;
+    const model::FlankSet& sa = sp ? surf.sun : surf.planet_ring_side[i];
+    const model::FlankSet& sb = sp ? surf.planet_sun_side[i] : surf.ring;
+    const double width = sp ? width_sp_m_ : width_pr_m_;
+    auto& slots = pending_[m];
+    for (auto& p : slots) p.seen = false;
+    for (int j = 0; j < ms.pairs; ++j) {
+      const auto& pr = ms.pair[j];
+      Pending* slot = nullptr;
+      for (auto& p : slots)
+        if (p.used && p.tooth_a == pr.tooth_a && p.tooth_b == pr.tooth_b) slot = &p;
+      if (!slot) {
+        for (auto& p : slots)
+          if (!p.used) {
+            slot = &p;
+            break;
+          }
+        if (!slot) throw SolverError("wear bookkeeping: more tooth pairs in contact than slots");
+        slot->used = true;
+        slot->partial = window_start_;
+        slot->tooth_a = pr.tooth_a;
+        slot->tooth_b = pr.tooth_b;
+        std::fill(slot->wa.begin(), slot->wa.end(), 0.0);
+        std::fill(slot->wb.begin(), slot->wb.end(), 0.0);
+      }
+      slot->seen = true;
+      const double F = ms.pair_force_N[j];
+      if (F <= 0) continue;
+      // (W2): dh_e = kappa F' |v_s| dt / l_e on each flank.
+      const double base = kappa_ * (F / width) * std::fabs(ms.sliding_m_s[j]) * dt;
+      const int ea = sa.element_at(pr.xi_m), eb = sb.element_at(pr.xi_m);
+      slot->wa[ea] += base / fam_[fa].arc_length_m[ea];
+      slot->wb[eb] += base / fam_[fb].arc_length_m[eb];
+    }
+    // Pairs that left contact complete their pass.
+    for (auto& p : slots) {
+      if (!p.used || p.seen) continue;
+      if (!p.partial) {
+        book(fa, p.tooth_a, p.wa);
+        book(fb, p.tooth_b, p.wb);
+      }
+      p.used = false;
+    }
+  }
+  window_start_ = false;
+}
+
+bool FlankWearAccumulator::wear_rate_per_cycle(int fi, std::vector<double>& out) const {
+  const Family& f = fam_[fi];
+  out.assign(f.wear_m.size(), 0.0);
+  std::vector<double> mean(f.elements, 0.0);
+  int visited = 0;
+  for (int t = 0; t < f.teeth; ++t) {
+    if (f.passes[t] == 0) continue;
+    ++visited;
+    for (int e = 0; e < f.elements; ++e) {
+      const double r = f.wear_m[static_cast<std::size_t>(t) * f.elements + e] / f.passes[t] * f.passes_per_cycle;
+      out[static_cast<std::size_t>(t) * f.elements + e] = r;
+      mean[e] += r;
+    }
+  }
+  if (visited == 0) return false;
+  for (int t = 0; t < f.teeth; ++t) {
+    if (f.passes[t] != 0) continue;
+    for (int e = 0; e < f.elements; ++e) out[static_cast<std::size_t>(t) * f.elements + e] = mean[e] / visited;
+  }
+  return true;
+}
+
+} // namespace pw::wear
