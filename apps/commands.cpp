@@ -11,7 +11,10 @@
 #include "signal/spectrum.hpp"
 #include "stiffness/iso6336.hpp"
 
+#include <array>
+#include <charconv>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <iostream>
 
@@ -62,6 +65,15 @@ std::vector<io::SpectrumRecord> spectra_of(const model::SimulationResult& r) {
   return out;
 }
 
+/// A double as TOML text that parses back to the same value ("2e+05", "nan").
+std::string toml_float(double v) {
+  if (std::isnan(v)) return "nan";
+  if (std::isinf(v)) return v > 0 ? "inf" : "-inf";
+  std::array<char, 64> buf{};
+  const auto end = std::to_chars(buf.data(), buf.data() + buf.size(), v).ptr;
+  return std::string(buf.data(), end);
+}
+
 const model::Scalar* find_scalar(const model::SimulationResult& r, const std::string& name) {
   for (const auto& s : r.scalars)
     if (s.name == name) return &s;
@@ -73,9 +85,12 @@ const model::Scalar* find_scalar(const model::SimulationResult& r, const std::st
 std::string version_string() { return std::string("planetwear ") + std::string(io::software_version()); }
 
 int run_simulate(const SimulateOptions& o) {
+  // Shortcut options are --set overrides applied after the user's own.
   std::vector<std::string> extra;
-  if (o.speed_rpm) extra.push_back("operating.input_speed_rpm=" + std::to_string(*o.speed_rpm));
-  if (o.power_W) extra.push_back("operating.input_power_W=" + std::to_string(*o.power_W));
+  if (o.speed_rpm) extra.push_back("operating.input_speed_rpm=" + toml_float(*o.speed_rpm));
+  if (o.power_W) extra.push_back("operating.input_power_W=" + toml_float(*o.power_W));
+  if (o.mesh_cycles) extra.push_back("wear.mesh_cycles=" + toml_float(*o.mesh_cycles));
+  if (o.kappa_m2_N) extra.push_back("wear.coefficient_m2_N=" + toml_float(*o.kappa_m2_N));
   const model::SimulationConfig config = load(o.common, extra);
 
   // Output names are checked before the (possibly long) run.
@@ -96,6 +111,10 @@ int run_simulate(const SimulateOptions& o) {
     const auto* dt = find_scalar(result, "time_step");
     std::fprintf(stderr, "wrote %s: %zu samples, dt = %.3g s, mesh frequency %.4g Hz, wall time %.2f s\n",
                  o.output.c_str(), result.time_s.size(), dt ? dt->value : 0.0, fm ? fm->value : 0.0, wall);
+    const model::WearHistory& w = result.wear;
+    if (!w.mesh_cycles.empty())
+      std::fprintf(stderr, "wear: %zu updates to %.6g mesh cycles%s%s\n", w.mesh_cycles.size(), w.mesh_cycles.back(),
+                   w.stop_reason.empty() ? "" : "; stopped early: ", w.stop_reason.c_str());
   }
   return 0;
 }

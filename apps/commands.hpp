@@ -18,6 +18,8 @@ struct CommonOptions {
 struct SimulateOptions {
   CommonOptions common;
   std::optional<double> speed_rpm, power_W;
+  std::optional<double> mesh_cycles;  ///< wear.mesh_cycles
+  std::optional<double> kappa_m2_N;   ///< wear.coefficient_m2_N
   std::string output, csv;
 };
 

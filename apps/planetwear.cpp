@@ -3,7 +3,9 @@
 // writes one output file atomically (nothing is left behind on error).
 //
 //   planetwear simulate [--config FILE] [--speed-rpm X] [--power-w P]
+//                       [--mesh-cycles N] [--kappa K]
 //                       [--set key=value ...] -o out.h5 [--csv out.csv]
+//   e.g. the seed's wear run: planetwear simulate --mesh-cycles 2e5 -o wear.h5
 //   planetwear stiffness [--config FILE] [--set ...] [-o stiffness.h5]
 //   planetwear keys     (every configuration key with unit and default)
 //
@@ -25,11 +27,17 @@ int main(int argc, char** argv) {
 
   pw::app::SimulateOptions sim;
   CLI::App* s = app.add_subcommand("simulate", "Simulate one operating point; write time histories, stiffness "
-                                               "curves and spectra to one HDF5 file");
+                                               "curves and spectra (and, with --mesh-cycles, the flank wear "
+                                               "history) to one HDF5 file");
   s->add_option("-c,--config", sim.common.config, "TOML configuration (default: the seed paper's case)")
       ->check(CLI::ExistingFile);
   s->add_option("--speed-rpm", sim.speed_rpm, "input (sun) speed [rpm]; overrides operating.input_speed_rpm");
   s->add_option("--power-w", sim.power_W, "input power [W]; overrides operating.input_power_W");
+  s->add_option("--mesh-cycles", sim.mesh_cycles,
+                "wear the flanks through N mesh cycles (e.g. 2e5, the seed's run; 0 = no wear); overrides "
+                "wear.mesh_cycles");
+  s->add_option("--kappa", sim.kappa_m2_N,
+                "Archard wear coefficient kappa = K/H [m^2/N] (default 5e-17); overrides wear.coefficient_m2_N");
   s->add_option("--set", sim.common.assignments, "override any configuration key: --set section.key=value")
       ->take_all();
   s->add_option("-o,--output", sim.output, "output HDF5 file")->required();

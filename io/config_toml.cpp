@@ -318,6 +318,22 @@ void visit_config(V& v, Config& c) {
   v.field("warmup_max_mesh_cycles", c.solver.warmup_max_mesh_cycles, "warm-up limit [mesh periods]");
   v.field("periodicity_tolerance", c.solver.periodicity_tolerance, "steady-state criterion [-]");
   v.field("record_mesh_cycles", c.solver.record_mesh_cycles, "recorded mesh periods after warm-up [-]");
+
+  v.section("wear");
+  v.field("mesh_cycles", c.wear.mesh_cycles, "mesh cycles to wear the stage through [-]; 0 = no wear (seed: 2e5)");
+  v.field("coefficient_m2_N", c.wear.coefficient_m2_N,
+          "dimensional wear coefficient kappa = K/H [m^2/N]; ignored when archard_K > 0");
+  v.field("archard_K", c.wear.archard_K, "dimensionless Archard K [-]; > 0: kappa = archard_K / hardness_Pa");
+  v.field("hardness_Pa", c.wear.hardness_Pa, "hardness H of the softer flank [Pa] (used with archard_K)");
+  v.field("elements_per_flank", c.wear.elements_per_flank, "microelements over each active flank [-]");
+  v.field("window_mesh_cycles", c.wear.window_mesh_cycles,
+          "dynamic window per wear update [mesh cycles]; 0 = automatic");
+  v.field("max_increment_fraction", c.wear.max_increment_fraction,
+          "largest wear increment per update / static sun-mesh deflection [-]");
+  v.field("max_wear_fraction_of_thickness", c.wear.max_wear_fraction_of_thickness,
+          "stop when a flank's wear exceeds this fraction of the chordal tooth thickness [-]");
+  v.field("snapshot_mesh_cycles", c.wear.snapshot_mesh_cycles,
+          "mesh cycles at which dynamic snapshots are stored [-]; [] = first and last");
 }
 
 constexpr std::string_view kTeethElement = "imperfections.teeth[]";
@@ -731,7 +747,7 @@ void apply_overrides(model::SimulationConfig& config, const std::vector<std::str
   try {
     model::validate(updated);
   } catch (const InputError& e) {
-    throw InputError(e.parameter(), bare_message(e) + " (after --set overrides)");
+    throw InputError(e.parameter(), bare_message(e) + " (after the command-line overrides)");
   }
   config = std::move(updated);
 }

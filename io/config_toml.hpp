@@ -4,8 +4,9 @@
 // Key names are the C++ field names of model::SimulationConfig, grouped in the
 // sections [stage], [stage.sun], [stage.planet], [stage.ring], [operating],
 // [stiffness], [contact], [imperfections] (+ [[imperfections.teeth]]),
-// [bearings] and [solver]; docs/config.md lists every key with its type, unit,
-// default and range, and config/seed.toml is a complete commented sample.
+// [bearings], [solver] and [wear]; docs/config.md lists every key with its
+// type, unit, default and range, and config/seed.toml is a complete commented
+// sample.
 //
 // Rules:
 //  * Every key is optional; a missing key keeps its default (the seed case).

@@ -5,6 +5,7 @@
 #include <hdf5.h>
 
 #include <algorithm>
+#include <limits>
 #include <sstream>
 #include <type_traits>
 #include <utility>
@@ -200,12 +201,16 @@ void H5File::write_array(std::string_view dataset_path, const void* data, std::i
 
   if (options.compress && !h5dims.empty() && count > 0 && count >= options.min_compressed_elements &&
       H5Zfilter_avail(H5Z_FILTER_DEFLATE) > 0) {
-    // Chunks of about 128 KiB: whole rows, as many as fit.
-    constexpr std::size_t target_elements = 16384;
-    std::vector<hsize_t> chunk(h5dims);
-    std::size_t inner = 1;
-    for (std::size_t i = 1; i < chunk.size(); ++i) inner *= static_cast<std::size_t>(chunk[i]);
-    chunk[0] = std::clamp<hsize_t>(target_elements / std::max<std::size_t>(inner, 1), 1, h5dims[0]);
+    // Chunks of about 128 KiB: whole trailing dimensions (rows, rows of
+    // matrices, ...) as far as they fit, the innermost one split only if a
+    // single row is larger than that.
+    constexpr hsize_t target_elements = 16384;
+    std::vector<hsize_t> chunk(h5dims.size());
+    hsize_t remaining = target_elements;
+    for (std::size_t i = chunk.size(); i-- > 0;) {
+      chunk[i] = std::clamp<hsize_t>(remaining, 1, h5dims[i]);
+      remaining = std::max<hsize_t>(remaining / chunk[i], 1);
+    }
     if (H5Pset_chunk(dcpl.get(), static_cast<int>(chunk.size()), chunk.data()) < 0 || H5Pset_shuffle(dcpl.get()) < 0 ||
         H5Pset_deflate(dcpl.get(), static_cast<unsigned>(std::clamp(options.deflate_level, 1, 9))) < 0)
       fail(path, "set compression of dataset");
@@ -226,13 +231,27 @@ void H5File::write(std::string_view dataset_path, std::span<const double> values
 
 void H5File::write_2d(std::string_view dataset_path, std::span<const double> row_major, std::size_t rows,
                       std::size_t cols, const DatasetOptions& options) {
-  if (row_major.size() != rows * cols) {
+  const std::size_t dims[] = {rows, cols};
+  write_nd(dataset_path, row_major, dims, options);
+}
+
+void H5File::write_nd(std::string_view dataset_path, std::span<const double> row_major,
+                      std::span<const std::size_t> dims, const DatasetOptions& options) {
+  // The element count, refusing a product that overflows (it could wrap to row_major.size()).
+  std::size_t count = 1;
+  bool overflow = false;
+  for (const std::size_t d : dims) {
+    if (d != 0 && count > std::numeric_limits<std::size_t>::max() / d) overflow = true;
+    count *= d;
+  }
+  if (overflow || row_major.size() != count) {
     std::ostringstream msg;
     msg << path_.string() << ": cannot write dataset '" << absolute(dataset_path) << "': " << row_major.size()
-        << " values do not fill " << rows << " x " << cols;
+        << " values do not fill ";
+    if (dims.empty()) msg << "a scalar (1 value)";
+    for (std::size_t i = 0; i < dims.size(); ++i) msg << (i ? " x " : "") << dims[i];
     throw IoError(msg.str());
   }
-  const std::size_t dims[] = {rows, cols};
   write_array(dataset_path, row_major.data(), H5T_NATIVE_DOUBLE, H5T_IEEE_F64LE, dims, options);
 }
 

@@ -3,8 +3,8 @@
 // created on demand), read them back.
 //
 // Conventions:
-//  * Doubles are stored as IEEE little-endian 64-bit, ints as 32-bit; 2-D
-//    arrays are row-major (C order), as numpy/h5py expect.
+//  * Doubles are stored as IEEE little-endian 64-bit, ints as 32-bit; 2-D and
+//    N-D arrays are row-major (C order), as numpy/h5py expect.
 //  * Strings (datasets and attributes) are variable-length UTF-8 scalars, so
 //    h5py returns attributes as `str` and datasets via `.asstr()[()]`.
 //  * Every failure throws pw::io::IoError naming the file and object path,
@@ -63,6 +63,13 @@ public:
   /// 2-D dataset, `row_major` holds rows * cols values.
   void write_2d(std::string_view dataset_path, std::span<const double> row_major, std::size_t rows,
                 std::size_t cols, const DatasetOptions& options = {});
+  /// Dataset of any rank: `dims` = {d0, d1, ...} (empty = 0-d scalar) and
+  /// `row_major` holds d0 * d1 * ... values, the last index varying fastest
+  /// (numpy's C order). Compressed chunks (about 128 KiB) span whole trailing
+  /// dimensions where these fit.
+  /// Example: write_nd("/wear/sun/depth", depth, std::array<std::size_t, 3>{updates, teeth, elements}).
+  void write_nd(std::string_view dataset_path, std::span<const double> row_major, std::span<const std::size_t> dims,
+                const DatasetOptions& options = {});
   /// 1-D dataset of 32-bit ints.
   void write(std::string_view dataset_path, std::span<const int> values, const DatasetOptions& options = {});
   /// 0-d (scalar) double dataset: h5py's f[path][()] is a float.

@@ -2,9 +2,12 @@
 
 #include "io/config_toml.hpp"
 
+#include <algorithm>
 #include <array>
 #include <chrono>
+#include <cmath>
 #include <ctime>
+#include <limits>
 #include <stdexcept>
 
 #ifndef PLANETWEAR_VERSION
@@ -32,6 +35,155 @@ void check_name(const std::string& name, std::string_view what) {
                                 "' must be a relative path of non-empty components other than '.' and '..'");
 }
 
+/// Names directly below /wear that flank names may not take.
+constexpr std::array<std::string_view, 3> kWearReserved{"mesh_cycles", "backlash", "snapshots"};
+
+void check_channels(const std::vector<model::Channel>& channels, std::size_t samples, std::string_view where) {
+  for (const auto& c : channels) {
+    check_name(c.name, std::string(where) + "channel");
+    if (c.name == "time")
+      throw std::invalid_argument(std::string(where) + "channel name 'time' is reserved for the time base");
+    if (c.values.size() != samples)
+      throw std::invalid_argument(std::string(where) + "channel '" + c.name + "' has " +
+                                  std::to_string(c.values.size()) + " samples but time_s has " +
+                                  std::to_string(samples));
+  }
+}
+
+/// Sizes and names of a wear history, checked before anything is written.
+void check_wear(const model::WearHistory& w) {
+  const std::size_t updates = w.mesh_cycles.size();
+  if (updates == 0) {
+    if (!w.flanks.empty() || !w.backlash_m.empty() || !w.snapshots.empty())
+      throw std::invalid_argument("wear history has no updates (mesh_cycles is empty) but " +
+                                  std::to_string(w.flanks.size()) + " flanks, " + std::to_string(w.backlash_m.size()) +
+                                  " backlash values and " + std::to_string(w.snapshots.size()) + " snapshots");
+    return;
+  }
+  if (w.backlash_m.size() != 2 * updates)
+    throw std::invalid_argument("wear backlash has " + std::to_string(w.backlash_m.size()) + " values, expected " +
+                                std::to_string(updates) + " updates x 2 meshes = " + std::to_string(2 * updates));
+  std::vector<std::string_view> seen;
+  for (const auto& flank : w.flanks) {
+    check_name(flank.name, "wear flank");
+    const std::string_view first = std::string_view(flank.name).substr(0, flank.name.find('/'));
+    if (std::find(kWearReserved.begin(), kWearReserved.end(), first) != kWearReserved.end())
+      throw std::invalid_argument("wear flank name '" + flank.name + "' collides with /wear/" + std::string(first));
+    if (std::find(seen.begin(), seen.end(), flank.name) != seen.end())
+      throw std::invalid_argument("wear flank name '" + flank.name + "' is used twice");
+    seen.push_back(flank.name);
+    const std::string what = "wear flank '" + flank.name + "'";
+    if (flank.teeth < 1 || flank.elements < 1)
+      throw std::invalid_argument(what + " has " + std::to_string(flank.teeth) + " teeth and " +
+                                  std::to_string(flank.elements) + " elements; both must be >= 1");
+    const auto teeth = static_cast<std::size_t>(flank.teeth);
+    const auto elements = static_cast<std::size_t>(flank.elements);
+    if (flank.distance_from_pitch_point_m.size() != elements)
+      throw std::invalid_argument(what + " has " + std::to_string(flank.distance_from_pitch_point_m.size()) +
+                                  " element positions but " + std::to_string(elements) + " elements");
+    if (flank.depth_m.size() != updates * teeth * elements)
+      throw std::invalid_argument(what + " has " + std::to_string(flank.depth_m.size()) + " depths, expected " +
+                                  std::to_string(updates) + " updates x " + std::to_string(teeth) + " teeth x " +
+                                  std::to_string(elements) + " elements = " +
+                                  std::to_string(updates * teeth * elements));
+  }
+  for (std::size_t k = 0; k < w.snapshots.size(); ++k) {
+    const std::string where = "wear snapshot " + std::to_string(k) + ": ";
+    check_channels(w.snapshots[k].channels, w.snapshots[k].time_s.size(), where);
+    for (const auto& c : w.snapshots[k].spectra) {
+      check_name(c.name, where + "spectrum");
+      if (c.x.size() != c.y.size())
+        throw std::invalid_argument(where + "spectrum '" + c.name + "' has " + std::to_string(c.x.size()) +
+                                    " frequencies but " + std::to_string(c.y.size()) + " amplitudes");
+    }
+  }
+}
+
+/// Largest depth of each update over all teeth and elements; NaN if any is NaN.
+std::vector<double> max_depth_per_update(const model::FlankWearHistory& flank, std::size_t updates) {
+  const std::size_t per_update = flank.depth_m.size() / updates;
+  std::vector<double> out(updates, -std::numeric_limits<double>::infinity());
+  for (std::size_t u = 0; u < updates; ++u) {
+    for (std::size_t i = 0; i < per_update; ++i) {
+      const double d = flank.depth_m[u * per_update + i];
+      if (std::isnan(d)) {
+        out[u] = d;
+        break;
+      }
+      out[u] = std::max(out[u], d);
+    }
+  }
+  return out;
+}
+
+void write_dataset_attributes(H5File& file, const std::string& path, std::string_view unit,
+                              std::string_view description) {
+  file.set_attribute(path, "unit", unit);
+  file.set_attribute(path, "description", description);
+}
+
+/// /wear (docs/output-format.md, "Wear"); `w` has been checked by check_wear().
+void write_wear(H5File& file, const model::WearHistory& w, const DatasetOptions& large) {
+  const std::size_t updates = w.mesh_cycles.size();
+  file.create_group("/wear");
+  file.set_attribute("/wear", "stop_reason", w.stop_reason);
+  file.set_attribute("/wear", "description",
+                     "Archard wear of every flank family at each wear update (update 0 = unworn); stop_reason is "
+                     "empty if wear.mesh_cycles was reached");
+
+  file.write("/wear/mesh_cycles", w.mesh_cycles);
+  write_dataset_attributes(file, "/wear/mesh_cycles", "1", "mesh cycles run at each wear update");
+
+  const std::size_t backlash_dims[] = {updates, 2};
+  file.write_nd("/wear/backlash", w.backlash_m, backlash_dims);
+  write_dataset_attributes(file, "/wear/backlash", "m",
+                           "backlash along the line of action at each update; columns sun_planet, planet_ring");
+  file.set_attribute("/wear/backlash", "columns", "sun_planet,planet_ring");
+
+  for (const auto& flank : w.flanks) {
+    const std::string group = "/wear/" + flank.name;
+    const std::size_t depth_dims[] = {updates, static_cast<std::size_t>(flank.teeth),
+                                      static_cast<std::size_t>(flank.elements)};
+    file.write_nd(group + "/depth", flank.depth_m, depth_dims, large);
+    write_dataset_attributes(file, group + "/depth", "m", "wear depth, shape (updates, teeth, elements)");
+    file.write(group + "/distance_from_pitch_point", flank.distance_from_pitch_point_m);
+    write_dataset_attributes(file, group + "/distance_from_pitch_point", "m",
+                             "signed distance of each element centre from the pitch point along the line of action, "
+                             "positive towards this gear's tip");
+    file.write(group + "/max_depth", max_depth_per_update(flank, updates));
+    write_dataset_attributes(file, group + "/max_depth", "m", "largest wear depth over all teeth and elements");
+    file.set_attribute(group, "teeth", std::int64_t{flank.teeth});
+    file.set_attribute(group, "elements", std::int64_t{flank.elements});
+  }
+
+  file.create_group("/wear/snapshots");
+  for (std::size_t k = 0; k < w.snapshots.size(); ++k) {
+    const model::WearSnapshot& snapshot = w.snapshots[k];
+    const std::string group = "/wear/snapshots/" + std::to_string(k);
+    file.create_group(group);
+    file.set_attribute(group, "mesh_cycles", snapshot.mesh_cycles);
+    file.set_attribute(group, "description", "dynamic state at the wear update nearest to mesh_cycles");
+    file.write(group + "/time_history/time", snapshot.time_s, large);
+    write_dataset_attributes(file, group + "/time_history/time", "s", "sample time");
+    for (const auto& c : snapshot.channels) {
+      const std::string path = group + "/time_history/" + c.name;
+      file.write(path, c.values, large);
+      write_dataset_attributes(file, path, c.unit, c.description);
+    }
+    // As /spectra, with the window and scaling stated in the description.
+    file.create_group(group + "/spectra");
+    for (const auto& c : snapshot.spectra) {
+      const std::string spectrum = group + "/spectra/" + c.name;
+      file.write(spectrum + "/frequency", c.x, large);
+      file.write(spectrum + "/amplitude", c.y, large);
+      file.set_attribute(spectrum, "unit", c.y_unit);
+      file.set_attribute(spectrum, "description", c.description);
+      write_dataset_attributes(file, spectrum + "/frequency", c.x_unit, c.x_name);
+      write_dataset_attributes(file, spectrum + "/amplitude", c.y_unit, c.y_name);
+    }
+  }
+}
+
 std::string utc_now() {
   const std::time_t now = std::chrono::system_clock::to_time_t(std::chrono::system_clock::now());
   std::tm tm{};
@@ -49,13 +201,8 @@ std::string_view build_flags() { return PLANETWEAR_BUILD_FLAGS; }
 void write_simulation(H5File& file, const model::SimulationConfig& config, const model::SimulationResult& result,
                       const std::vector<SpectrumRecord>& spectra) {
   // Check the whole result before writing anything.
-  for (const auto& c : result.channels) {
-    check_name(c.name, "channel");
-    if (c.name == "time") throw std::invalid_argument("channel name 'time' is reserved for /time_history/time");
-    if (c.values.size() != result.time_s.size())
-      throw std::invalid_argument("channel '" + c.name + "' has " + std::to_string(c.values.size()) +
-                                  " samples but time_s has " + std::to_string(result.time_s.size()));
-  }
+  check_channels(result.channels, result.time_s.size(), "");
+  check_wear(result.wear);
   for (const auto& s : result.scalars) check_name(s.name, "scalar");
   for (const auto& c : result.curves) {
     check_name(c.name, "curve");
@@ -135,6 +282,8 @@ void write_simulation(H5File& file, const model::SimulationConfig& config, const
     file.set_attribute(group + "/amplitude", "unit", s.unit);
     file.set_attribute(group + "/amplitude", "description", s.scaling);
   }
+
+  if (!result.wear.mesh_cycles.empty()) write_wear(file, result.wear, large);
   file.flush();
 }
 

@@ -10,6 +10,14 @@
 //                            description; on x and y: unit, description
 //   /spectra/<name>/frequency [Hz], /amplitude [signal unit];
 //                            attrs on the group: unit, window, scaling
+//   /wear                    only if result.wear has updates; attrs: stop_reason, description
+//   /wear/mesh_cycles        [1]  (updates)
+//   /wear/backlash           [m]  (updates, 2); attr columns = "sun_planet,planet_ring"
+//   /wear/<flank>/depth      [m]  (updates, teeth, elements), compressed; flank e.g.
+//                            sun, planet_0/sun_side; attrs on the group: teeth, elements
+//   /wear/<flank>/distance_from_pitch_point [m] (elements), /max_depth [m] (updates)
+//   /wear/snapshots/<k>/     attr mesh_cycles; time_history/time [s], time_history/<channel>,
+//                            spectra/<name>/frequency [Hz], /amplitude (as /spectra)
 //
 // In Python: h5py.File(p)["time_history/sun_planet/0/deflection"][:]
 #pragma once
@@ -41,12 +49,17 @@ inline constexpr std::string_view kOutputFormat = "planetwear.simulation";
 inline constexpr std::int64_t kOutputFormatVersion = 1;
 
 /// Writes the whole layout above into an empty (newly created) file. Time
-/// histories with 4096 or more samples are stored chunked with shuffle +
-/// deflate. Throws std::invalid_argument for an inconsistent result (a channel
-/// not as long as time_s, x/y or frequency/amplitude of different lengths,
-/// names that are empty, absolute, contain "." or ".." components, or a
-/// channel named "time") and pw::io::IoError for HDF5 failures (including two
-/// objects of the same name).
+/// histories and wear depths with 4096 or more values are stored chunked with
+/// shuffle + deflate. Throws std::invalid_argument, before writing anything,
+/// for an inconsistent result (a channel not as long as its time base, x/y or
+/// frequency/amplitude of different lengths, names that are empty, absolute,
+/// contain "." or ".." components, a channel named "time"; wear: backlash not
+/// updates x 2, a flank with < 1 tooth or element, positions not one per
+/// element, depths not updates x teeth x elements, a flank name used twice or
+/// starting with mesh_cycles/backlash/snapshots, flanks or snapshots without
+/// updates, a snapshot spectrum with frequencies and amplitudes of different
+/// lengths) and pw::io::IoError for HDF5 failures (including two objects of
+/// the same name).
 void write_simulation(H5File& file, const model::SimulationConfig& config, const model::SimulationResult& result,
                       const std::vector<SpectrumRecord>& spectra);
 

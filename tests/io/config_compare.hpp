@@ -89,6 +89,16 @@ inline void expect_config_eq(const model::SimulationConfig& a, const model::Simu
   EXPECT_EQ(a.solver.warmup_max_mesh_cycles, b.solver.warmup_max_mesh_cycles);
   EXPECT_EQ(a.solver.periodicity_tolerance, b.solver.periodicity_tolerance);
   EXPECT_EQ(a.solver.record_mesh_cycles, b.solver.record_mesh_cycles);
+
+  EXPECT_EQ(a.wear.mesh_cycles, b.wear.mesh_cycles);
+  EXPECT_EQ(a.wear.coefficient_m2_N, b.wear.coefficient_m2_N);
+  EXPECT_EQ(a.wear.archard_K, b.wear.archard_K);
+  EXPECT_EQ(a.wear.hardness_Pa, b.wear.hardness_Pa);
+  EXPECT_EQ(a.wear.elements_per_flank, b.wear.elements_per_flank);
+  EXPECT_EQ(a.wear.window_mesh_cycles, b.wear.window_mesh_cycles);
+  EXPECT_EQ(a.wear.max_increment_fraction, b.wear.max_increment_fraction);
+  EXPECT_EQ(a.wear.max_wear_fraction_of_thickness, b.wear.max_wear_fraction_of_thickness);
+  EXPECT_EQ(a.wear.snapshot_mesh_cycles, b.wear.snapshot_mesh_cycles);
 }
 
 /// Valid, and every field differs from its default (doubles chosen to need all
@@ -155,6 +165,16 @@ inline model::SimulationConfig nondefault_config() {
   c.solver.warmup_max_mesh_cycles = 300;
   c.solver.periodicity_tolerance = 1e-7;
   c.solver.record_mesh_cycles = 12;
+
+  c.wear.mesh_cycles = 2e5 + 0.1;
+  c.wear.coefficient_m2_N = (0.1 + 0.2) * 1e-16;
+  c.wear.archard_K = 1e-4 / 3;
+  c.wear.hardness_Pa = 5.5e9;
+  c.wear.elements_per_flank = 48;
+  c.wear.window_mesh_cycles = 30;
+  c.wear.max_increment_fraction = 0.05;
+  c.wear.max_wear_fraction_of_thickness = 0.2;
+  c.wear.snapshot_mesh_cycles = {0.0, 1e5 / 3, 2e5};
   return c;
 }
 

@@ -90,6 +90,12 @@ TEST(ConfigToml, ConfigStructsHaveNoFieldsUnknownToTheSchema) {
     EXPECT_EQ(sizeof(model::Imperfections), 96u);
     EXPECT_EQ(sizeof(model::BearingSettings), 40u);
     EXPECT_EQ(sizeof(model::SolverSettings), 72u);
+    EXPECT_EQ(sizeof(model::WearSettings), 80u);
+    EXPECT_EQ(sizeof(model::SimulationConfig), sizeof(model::StageSpec) + sizeof(model::OperatingPoint) +
+                                                   sizeof(model::StiffnessSettings) + sizeof(model::ContactSettings) +
+                                                   sizeof(model::Imperfections) + sizeof(model::BearingSettings) +
+                                                   sizeof(model::SolverSettings) + sizeof(model::WearSettings))
+        << "a new section in SimulationConfig";
   } else {
     GTEST_SKIP() << "sizes recorded for LP64 only";
   }
@@ -251,6 +257,53 @@ tooth = 80
   EXPECT_EQ(c.imperfections.teeth[1].stiffness_factor, 1.0);
 }
 
+TEST(ConfigToml, WearSectionIsReadWithTheFileTypeRules) {
+  const auto c = parse_config(R"(
+[wear]
+mesh_cycles = 2e5
+coefficient_m2_N = 5e-17
+elements_per_flank = 32
+window_mesh_cycles = 30
+snapshot_mesh_cycles = [0, 1e5, 200000]
+)");
+  EXPECT_EQ(c.wear.mesh_cycles, 2e5);
+  EXPECT_EQ(c.wear.coefficient_m2_N, 5e-17);
+  EXPECT_EQ(c.wear.elements_per_flank, 32);
+  EXPECT_EQ(c.wear.window_mesh_cycles, 30);
+  EXPECT_EQ(c.wear.snapshot_mesh_cycles, (std::vector<double>{0.0, 1e5, 2e5}));
+  EXPECT_EQ(c.wear.hardness_Pa, model::WearSettings{}.hardness_Pa) << "missing key must keep its default";
+
+  auto e = parse_error("[wear]\nelements_per_flank = 64.0\n");
+  ASSERT_TRUE(e) << "float accepted for an integer";
+  EXPECT_EQ(e->parameter(), "wear.elements_per_flank");
+  EXPECT_TRUE(contains(e->what(), "expected an integer, got a float"));
+
+  e = parse_error("[wear]\nmesh_cycle = 2e5\n");
+  ASSERT_TRUE(e) << "typo accepted";
+  EXPECT_TRUE(contains(e->what(), "did you mean 'wear.mesh_cycles'"));
+
+  e = parse_error("[solver]\nmesh_cycles = 2e5\n");
+  ASSERT_TRUE(e);
+  EXPECT_TRUE(contains(e->what(), "did you mean 'wear.mesh_cycles'"));
+}
+
+TEST(ConfigToml, WearRangeErrorNamesTheKeyAndLine) {
+  auto e = parse_error("[wear]\n\nmesh_cycles = -2e5\n");
+  ASSERT_TRUE(e) << "negative mesh cycles accepted";
+  EXPECT_EQ(e->parameter(), "wear.mesh_cycles");
+  EXPECT_TRUE(contains(e->what(), "must be >= 0 (0 = no wear)"));
+  EXPECT_TRUE(contains(e->what(), "case.toml:3:"));
+
+  e = parse_error("[wear]\ncoefficient_m2_N = -5e-17\n");
+  ASSERT_TRUE(e) << "negative kappa accepted";
+  EXPECT_EQ(e->parameter(), "wear.coefficient_m2_N");
+  EXPECT_TRUE(contains(e->what(), "case.toml:2:"));
+
+  e = parse_error("[wear]\nmesh_cycles = 100.0\nsnapshot_mesh_cycles = [0.0, 50.0, 150.0]\n");
+  ASSERT_TRUE(e);
+  EXPECT_EQ(e->parameter(), "wear.snapshot_mesh_cycles[2]");
+}
+
 TEST(ConfigToml, MissingFileIsAnIoErrorNamingThePath) {
   const auto e = thrown<IoError>([] { (void)read_config("/nonexistent/planetwear.toml"); });
   ASSERT_TRUE(e);
@@ -299,6 +352,12 @@ TEST(ConfigToml, OverrideSetsTheKeyWithTheFileTypeRules) {
   EXPECT_EQ(c.stage.planet_angles_rad, (std::vector<double>{0.0, 2.0, 4.0}));
   apply_override(c, "stiffness.include_fillet_foundation", "false");
   EXPECT_FALSE(c.stiffness.include_fillet_foundation);
+  apply_override(c, "wear.mesh_cycles", "2e5");
+  EXPECT_EQ(c.wear.mesh_cycles, 2e5);
+  apply_override(c, "wear.coefficient_m2_N", "3e-17");
+  EXPECT_EQ(c.wear.coefficient_m2_N, 3e-17);
+  apply_override(c, "wear.snapshot_mesh_cycles", "[0, 1e5]");
+  EXPECT_EQ(c.wear.snapshot_mesh_cycles, (std::vector<double>{0.0, 1e5}));
   EXPECT_NO_THROW(model::validate(c));
 }
 

@@ -7,9 +7,13 @@
 
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
+#include <filesystem>
 #include <limits>
 #include <numeric>
+#include <span>
+#include <vector>
 
 namespace pw::io {
 namespace {
@@ -109,6 +113,82 @@ TEST(H5File, LargeDatasetsAreCompressedAndReadBackExactly) {
   const auto compressed_size = std::filesystem::file_size(dir / "compressed.h5");
   const auto plain_size = std::filesystem::file_size(dir / "plain.h5");
   EXPECT_LT(compressed_size, plain_size / 2) << "deflate not applied";
+}
+
+TEST(H5File, NDimensionalDatasetsKeepTheirShapeAndCOrder) {
+  test::TempDir dir;
+  const auto path = dir / "nd.h5";
+  // value = 100 i + 10 j + k at [i][j][k]: C order puts k fastest.
+  const std::array<std::size_t, 3> dims{2, 3, 4};
+  std::vector<double> cube;
+  for (std::size_t i = 0; i < dims[0]; ++i)
+    for (std::size_t j = 0; j < dims[1]; ++j)
+      for (std::size_t k = 0; k < dims[2]; ++k) cube.push_back(static_cast<double>(100 * i + 10 * j + k));
+  {
+    auto f = H5File::create(path);
+    f.write_nd("/cube", cube, dims);
+    f.write_nd("/rank4", std::vector<double>(2 * 1 * 3 * 2, 0.5), std::array<std::size_t, 4>{2, 1, 3, 2});
+    f.write_nd("/scalar", std::vector<double>{7.25}, std::span<const std::size_t>{});
+    f.write_nd("/empty", std::vector<double>{}, std::array<std::size_t, 3>{0, 3, 4});
+    f.close();
+  }
+  const auto f = H5File::open(path);
+  EXPECT_EQ(f.shape("/cube"), (std::vector<std::size_t>{2, 3, 4}));
+  const auto back = f.read_doubles("/cube");
+  EXPECT_EQ(back, cube);
+  EXPECT_EQ(back.at(1 * 12 + 2 * 4 + 3), 123.0) << "[1][2][3] not at its row-major position";
+  EXPECT_EQ(f.shape("/rank4"), (std::vector<std::size_t>{2, 1, 3, 2}));
+  EXPECT_TRUE(f.shape("/scalar").empty());
+  EXPECT_EQ(f.read_scalar("/scalar"), 7.25);
+  EXPECT_EQ(f.shape("/empty"), (std::vector<std::size_t>{0, 3, 4}));
+  EXPECT_TRUE(f.read_doubles("/empty").empty());
+}
+
+TEST(H5File, LargeNDimensionalDatasetsAreCompressedAndReadBackExactly) {
+  test::TempDir dir;
+  DatasetOptions options;
+  options.compress = true;
+  // (updates, teeth, elements) as for wear depths, and a row longer than one chunk.
+  const std::array<std::size_t, 3> depth_dims{40, 81, 64};
+  std::vector<double> depth(40 * 81 * 64);
+  for (std::size_t n = 0; n < depth.size(); ++n) depth[n] = 1e-6 * static_cast<double>((n % 64) * (n / (81 * 64)));
+  const std::array<std::size_t, 2> wide_dims{3, 50000};
+  std::vector<double> wide(3 * 50000);
+  std::iota(wide.begin(), wide.end(), 0.0);
+  {
+    auto compressed = H5File::create(dir / "compressed.h5");
+    compressed.write_nd("/depth", depth, depth_dims, options);
+    compressed.write_nd("/wide", wide, wide_dims, options);
+    compressed.close();
+    auto plain = H5File::create(dir / "plain.h5");
+    plain.write_nd("/depth", depth, depth_dims);
+    plain.write_nd("/wide", wide, wide_dims);
+    plain.close();
+  }
+  const auto f = H5File::open(dir / "compressed.h5");
+  EXPECT_EQ(f.shape("/depth"), (std::vector<std::size_t>{40, 81, 64}));
+  EXPECT_EQ(f.read_doubles("/depth"), depth);
+  EXPECT_EQ(f.shape("/wide"), (std::vector<std::size_t>{3, 50000}));
+  EXPECT_EQ(f.read_doubles("/wide"), wide);
+  EXPECT_LT(std::filesystem::file_size(dir / "compressed.h5"), std::filesystem::file_size(dir / "plain.h5") / 2)
+      << "deflate not applied";
+}
+
+TEST(H5File, NDimensionalWriteRejectsAShapeTheValuesDoNotFill) {
+  test::TempDir dir;
+  auto f = H5File::create(dir / "nd-errors.h5");
+  auto e = thrown<IoError>([&] { f.write_nd("/cube", std::vector<double>(23), std::array<std::size_t, 3>{2, 3, 4}); });
+  ASSERT_TRUE(e) << "23 values written as 2 x 3 x 4";
+  EXPECT_TRUE(contains(e->what(), "'/cube'"));
+  EXPECT_TRUE(contains(e->what(), "23 values do not fill 2 x 3 x 4"));
+  e = thrown<IoError>([&] { f.write_nd("/s", std::vector<double>{}, std::span<const std::size_t>{}); });
+  ASSERT_TRUE(e);
+  EXPECT_TRUE(contains(e->what(), "scalar"));
+  // A product that wraps around to the number of values given.
+  const std::size_t half = std::size_t{1} << (sizeof(std::size_t) * 4);
+  e = thrown<IoError>([&] { f.write_nd("/wrap", std::vector<double>{}, std::array<std::size_t, 2>{half, half}); });
+  ASSERT_TRUE(e) << "overflowing shape accepted";
+  EXPECT_FALSE(f.exists("/cube") || f.exists("/s") || f.exists("/wrap")) << "dataset created despite the error";
 }
 
 TEST(H5File, ErrorsNameTheFileAndTheObject) {

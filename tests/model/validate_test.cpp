@@ -10,6 +10,7 @@
 #include <cmath>
 #include <functional>
 #include <limits>
+#include <vector>
 
 namespace pw::model {
 namespace {
@@ -192,6 +193,110 @@ TEST(Validate, ContactAndImperfectionMagnitudesAreChecked) {
                               "imperfections.sun_eccentricity_m"));
   EXPECT_TRUE(rejected_naming([](auto& c) { c.stiffness.samples_per_pair = 4; }, "stiffness.samples_per_pair"));
   EXPECT_TRUE(rejected_naming([](auto& c) { c.bearings.planet_N_m = 0; }, "bearings.planet_N_m"));
+}
+
+// --- [wear] -------------------------------------------------------------------
+
+TEST(Validate, WearMeshCyclesIsZeroForNoWearOrPositiveUpToTenToTheTwelve) {
+  EXPECT_EQ(SimulationConfig{}.wear.mesh_cycles, 0.0) << "wear must be off by default";
+  const auto e = error_after([](auto& c) { c.wear.mesh_cycles = -1; });
+  ASSERT_TRUE(e) << "negative mesh cycles accepted";
+  EXPECT_EQ(e->parameter(), "wear.mesh_cycles");
+  EXPECT_TRUE(contains(e->what(), "wear.mesh_cycles: must be >= 0 (0 = no wear)"));
+  EXPECT_TRUE(contains(e->what(), "got -1"));
+  EXPECT_TRUE(rejected_naming([](auto& c) { c.wear.mesh_cycles = kNaN; }, "wear.mesh_cycles"));
+  EXPECT_TRUE(rejected_naming([](auto& c) { c.wear.mesh_cycles = kInf; }, "wear.mesh_cycles"));
+  EXPECT_TRUE(rejected_naming([](auto& c) { c.wear.mesh_cycles = 2e12; }, "wear.mesh_cycles"));
+  EXPECT_TRUE(accepted([](auto& c) { c.wear.mesh_cycles = 2e5; }));
+  EXPECT_TRUE(accepted([](auto& c) { c.wear.mesh_cycles = 1e12; }));
+}
+
+TEST(Validate, WearCoefficientIsNonNegativeAndBelowTenToTheMinusTen) {
+  const auto e = error_after([](auto& c) { c.wear.coefficient_m2_N = -5e-17; });
+  ASSERT_TRUE(e) << "negative kappa accepted";
+  EXPECT_EQ(e->parameter(), "wear.coefficient_m2_N");
+  EXPECT_TRUE(contains(e->what(), "wear.coefficient_m2_N: "));
+  EXPECT_TRUE(contains(e->what(), "got -5e-17"));
+  EXPECT_TRUE(contains(e->what(), "m^2/N"));
+  EXPECT_TRUE(rejected_naming([](auto& c) { c.wear.coefficient_m2_N = 1e-10; }, "wear.coefficient_m2_N"));
+  EXPECT_TRUE(rejected_naming([](auto& c) { c.wear.coefficient_m2_N = kNaN; }, "wear.coefficient_m2_N"));
+  EXPECT_TRUE(accepted([](auto& c) { c.wear.coefficient_m2_N = 0.0; }));
+  EXPECT_TRUE(accepted([](auto& c) { c.wear.coefficient_m2_N = 9.9e-11; }));
+}
+
+TEST(Validate, ArchardKIsNonNegativeAndHardnessPositive) {
+  EXPECT_TRUE(rejected_naming([](auto& c) { c.wear.archard_K = -1e-4; }, "wear.archard_K"));
+  EXPECT_TRUE(rejected_naming([](auto& c) { c.wear.archard_K = kNaN; }, "wear.archard_K"));
+  EXPECT_TRUE(rejected_naming([](auto& c) { c.wear.hardness_Pa = 0.0; }, "wear.hardness_Pa"));
+  EXPECT_TRUE(rejected_naming([](auto& c) { c.wear.hardness_Pa = -6e9; }, "wear.hardness_Pa"));
+  EXPECT_TRUE(rejected_naming([](auto& c) { c.wear.hardness_Pa = kInf; }, "wear.hardness_Pa"));
+  EXPECT_TRUE(accepted([](auto& c) { c.wear.archard_K = 1e-4; }));
+  EXPECT_TRUE(accepted([](auto& c) { c.wear.archard_K = 0.0; }));
+}
+
+TEST(Validate, ArchardKOverHardnessObeysTheLimitOfTheWearCoefficient) {
+  // K = 0.9, H = 6e9 Pa: kappa = 1.5e-10 m^2/N, as absurd as coefficient_m2_N = 1.5e-10.
+  const auto e = error_after([](auto& c) { c.wear.archard_K = 0.9; });
+  ASSERT_TRUE(e);
+  EXPECT_EQ(e->parameter(), "wear.archard_K");
+  EXPECT_TRUE(contains(e->what(), "1.5e-10"));
+  EXPECT_TRUE(contains(e->what(), "hardness_Pa = 6000000000"));
+}
+
+TEST(Validate, ElementsPerFlankIsAtLeastTwoAndAtMostTenThousand) {
+  const auto e = error_after([](auto& c) { c.wear.elements_per_flank = 1; });
+  ASSERT_TRUE(e) << "one element per flank accepted";
+  EXPECT_EQ(e->parameter(), "wear.elements_per_flank");
+  EXPECT_TRUE(contains(e->what(), "wear.elements_per_flank: "));
+  EXPECT_TRUE(contains(e->what(), "element counts < 2"));
+  EXPECT_TRUE(contains(e->what(), "got 1"));
+  EXPECT_TRUE(rejected_naming([](auto& c) { c.wear.elements_per_flank = 0; }, "wear.elements_per_flank"));
+  EXPECT_TRUE(rejected_naming([](auto& c) { c.wear.elements_per_flank = 10001; }, "wear.elements_per_flank"));
+  EXPECT_TRUE(accepted([](auto& c) { c.wear.elements_per_flank = 2; }));
+  EXPECT_TRUE(accepted([](auto& c) { c.wear.elements_per_flank = 10000; }));
+}
+
+TEST(Validate, WindowMeshCyclesIsZeroForAutomaticOrPositive) {
+  EXPECT_TRUE(rejected_naming([](auto& c) { c.wear.window_mesh_cycles = -1; }, "wear.window_mesh_cycles"));
+  EXPECT_TRUE(accepted([](auto& c) { c.wear.window_mesh_cycles = 0; }));
+  EXPECT_TRUE(accepted([](auto& c) { c.wear.window_mesh_cycles = 30; }));
+}
+
+TEST(Validate, MaxIncrementFractionIsInZeroExclusiveToOne) {
+  EXPECT_TRUE(rejected_naming([](auto& c) { c.wear.max_increment_fraction = 0.0; }, "wear.max_increment_fraction"));
+  EXPECT_TRUE(rejected_naming([](auto& c) { c.wear.max_increment_fraction = 1.01; }, "wear.max_increment_fraction"));
+  EXPECT_TRUE(rejected_naming([](auto& c) { c.wear.max_increment_fraction = kNaN; }, "wear.max_increment_fraction"));
+  EXPECT_TRUE(accepted([](auto& c) { c.wear.max_increment_fraction = 1.0; }));
+  EXPECT_TRUE(accepted([](auto& c) { c.wear.max_increment_fraction = 1e-3; }));
+}
+
+TEST(Validate, MaxWearFractionOfThicknessIsInZeroExclusiveToOneHalf) {
+  const auto e = error_after([](auto& c) { c.wear.max_wear_fraction_of_thickness = 0.6; });
+  ASSERT_TRUE(e);
+  EXPECT_EQ(e->parameter(), "wear.max_wear_fraction_of_thickness");
+  EXPECT_TRUE(contains(e->what(), "(0, 0.5]"));
+  EXPECT_TRUE(rejected_naming([](auto& c) { c.wear.max_wear_fraction_of_thickness = 0.0; },
+                              "wear.max_wear_fraction_of_thickness"));
+  EXPECT_TRUE(accepted([](auto& c) { c.wear.max_wear_fraction_of_thickness = 0.5; }));
+}
+
+TEST(Validate, SnapshotMeshCyclesAreFiniteNonNegativeAndWithinTheRun) {
+  auto with = [](double cycles, std::vector<double> snapshots) {
+    return [=](SimulationConfig& c) {
+      c.wear.mesh_cycles = cycles;
+      c.wear.snapshot_mesh_cycles = snapshots;
+    };
+  };
+  EXPECT_TRUE(accepted(with(2e5, {0.0, 1e5, 2e5})));
+  EXPECT_TRUE(accepted(with(2e5, {})));
+  const auto e = error_after(with(2e5, {0.0, 3e5}));
+  ASSERT_TRUE(e) << "snapshot beyond the end of the run accepted";
+  EXPECT_EQ(e->parameter(), "wear.snapshot_mesh_cycles[1]");
+  EXPECT_TRUE(contains(e->what(), "got 300000"));
+  EXPECT_TRUE(contains(e->what(), "wear.mesh_cycles"));
+  EXPECT_TRUE(rejected_naming(with(2e5, {-1.0}), "wear.snapshot_mesh_cycles[0]"));
+  EXPECT_TRUE(rejected_naming(with(2e5, {1e5, kNaN}), "wear.snapshot_mesh_cycles[1]"));
+  EXPECT_TRUE(rejected_naming(with(0.0, {1.0}), "wear.snapshot_mesh_cycles[0]"));
 }
 
 } // namespace
