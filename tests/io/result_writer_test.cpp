@@ -192,8 +192,9 @@ TEST(ResultWriter, WearHistoryIsWrittenWithShapesUnitsAndAttributes) {
   for (const auto& flank : w.flanks) {
     SCOPED_TRACE(flank.name);
     const std::string g = "/wear/" + flank.name;
-    EXPECT_EQ(f.shape(g + "/depth"),
-              (std::vector<std::size_t>{3, static_cast<std::size_t>(flank.teeth), static_cast<std::size_t>(flank.elements)}));
+    const std::vector<std::size_t> shape{3, static_cast<std::size_t>(flank.teeth),
+                                         static_cast<std::size_t>(flank.elements)};
+    EXPECT_EQ(f.shape(g + "/depth"), shape);
     EXPECT_EQ(f.read_doubles(g + "/depth"), flank.depth_m);
     EXPECT_EQ(f.read_string_attribute(g + "/depth", "unit"), "m");
     EXPECT_EQ(f.read_doubles(g + "/distance_from_pitch_point"), flank.distance_from_pitch_point_m);
@@ -269,7 +270,8 @@ TEST(ResultWriter, InconsistentWearHistoryIsRejectedBeforeAnythingIsWritten) {
     if (!e) return ::testing::AssertionFailure() << "accepted; expected an error mentioning " << part;
     return contains(e->what(), part);
   };
-  EXPECT_TRUE(rejected([](auto& w) { w.flanks[0].depth_m.pop_back(); }, "wear flank 'sun' has 17 depths, expected 3 updates x 2 teeth x 3 elements = 18"));
+  EXPECT_TRUE(rejected([](auto& w) { w.flanks[0].depth_m.pop_back(); },
+                       "wear flank 'sun' has 17 depths, expected 3 updates x 2 teeth x 3 elements = 18"));
   EXPECT_TRUE(rejected([](auto& w) { w.flanks[1].distance_from_pitch_point_m.push_back(0); }, "planet_0/sun_side"));
   EXPECT_TRUE(rejected([](auto& w) { w.flanks[0].teeth = 0; }, "wear flank 'sun'"));
   EXPECT_TRUE(rejected([](auto& w) { w.backlash_m.pop_back(); }, "backlash"));
@@ -277,7 +279,8 @@ TEST(ResultWriter, InconsistentWearHistoryIsRejectedBeforeAnythingIsWritten) {
   EXPECT_TRUE(rejected([](auto& w) { w.flanks[1].name = "sun"; }, "used twice"));
   EXPECT_TRUE(rejected([](auto& w) { w.flanks[1].name = "snapshots/0"; }, "collides"));
   EXPECT_TRUE(rejected([](auto& w) { w.flanks[1].name = "../x"; }, "wear flank name"));
-  EXPECT_TRUE(rejected([](auto& w) { w.snapshots[1].channels[1].values.pop_back(); }, "wear snapshot 1: channel 'sun/acceleration'"));
+  EXPECT_TRUE(rejected([](auto& w) { w.snapshots[1].channels[1].values.pop_back(); },
+                       "wear snapshot 1: channel 'sun/acceleration'"));
   EXPECT_TRUE(rejected([](auto& w) { w.snapshots[0].channels[0].name = "time"; }, "wear snapshot 0"));
   EXPECT_TRUE(rejected([](auto& w) { w.snapshots[0].spectra[0].y.pop_back(); }, "wear snapshot 0: spectrum"));
   EXPECT_TRUE(rejected([](auto& w) { w.snapshots[0].spectra[0].name = ""; }, "wear snapshot 0: spectrum"));
