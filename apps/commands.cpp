@@ -113,8 +113,13 @@ int run_simulate(const SimulateOptions& o) {
                  o.output.c_str(), result.time_s.size(), dt ? dt->value : 0.0, fm ? fm->value : 0.0, wall);
     const model::WearHistory& w = result.wear;
     if (!w.mesh_cycles.empty())
-      std::fprintf(stderr, "wear: %zu updates to %.6g mesh cycles%s%s\n", w.mesh_cycles.size(), w.mesh_cycles.back(),
-                   w.stop_reason.empty() ? "" : "; stopped early: ", w.stop_reason.c_str());
+      std::fprintf(stderr, "wear: %zu updates to %.6g mesh cycles\n", w.mesh_cycles.size() - 1, w.mesh_cycles.back());
+  }
+  if (!result.wear.stop_reason.empty()) {
+    // Kept what was computed (written above); tell scripts it is incomplete.
+    std::fprintf(stderr, "planetwear: %s; results up to then are in %s\n", result.wear.stop_reason.c_str(),
+                 o.output.c_str());
+    return 4;
   }
   return 0;
 }

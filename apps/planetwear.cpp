@@ -10,7 +10,8 @@
 //   planetwear keys     (every configuration key with unit and default)
 //
 // Exit codes: 0 success, 1 bad input (the message names the parameter),
-// 2 solver failure, 3 I/O failure.
+// 2 solver failure, 3 I/O failure, 4 wear stopped early at the safe wear limit
+// (results up to then are written).
 #include "commands.hpp"
 
 #include "core/error.hpp"

@@ -33,5 +33,9 @@ echo keep > existing.h5
 check keeps-existing 1 "operating.input_speed_rpm" "" -- "$PW" simulate --speed-rpm 0 -o existing.h5
 [ "$(cat existing.h5)" = keep ] || { echo "FAIL existing output damaged"; fail=1; }
 ls ./*partial* >/dev/null 2>&1 && { echo "FAIL partial files left"; fail=1; }
+# Wear beyond the safe limit: stop, say why, keep the results, exit 4.
+check wear-limit 4 "wear.max_wear_fraction_of_thickness" "" -- "$PW" simulate -q --speed-rpm 400 --mesh-cycles 2e5 \
+  --set wear.max_wear_fraction_of_thickness=1e-6 --set solver.record_mesh_cycles=1 -o stopped.h5
+[ -f stopped.h5 ] || { echo "FAIL wear-limit: results not kept"; fail=1; }
 [ $fail -eq 0 ] && echo "all CLI checks passed"
 exit $fail
