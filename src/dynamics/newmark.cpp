@@ -24,13 +24,17 @@ void NewmarkSolver::initialize(NewmarkState& s) {
   sys_.force(s.t, s.q, s.v, g_, nullptr, nullptr);
   lu_.compute(sys_.mass());
   s.a = lu_.solve(g_);
+  have_lu_ = false;  // lu_ now holds M, not the iteration matrix
 }
 
-double NewmarkSolver::residual(double t1, double& scale) {
+double NewmarkSolver::residual(double t1, double& scale, bool tangents) {
   const double b = scheme_.beta, gm = scheme_.gamma, dt = dt_;
   q_ = q_pred_ + (b * dt * dt) * a_;
   v_ = v_pred_ + (gm * dt) * a_;
-  sys_.force(t1, q_, v_, g_, &K_, &C_);
+  if (tangents)
+    sys_.force(t1, q_, v_, g_, &K_, &C_);
+  else
+    sys_.force(t1, q_, v_, g_, nullptr, nullptr);
   r_.noalias() = sys_.mass() * a_;
   scale = r_.lpNorm<Eigen::Infinity>() + g_.lpNorm<Eigen::Infinity>() + sys_.force_scale() + 1e-300;
   r_ -= g_;
@@ -42,6 +46,15 @@ double NewmarkSolver::residual(double t1, double& scale) {
   return res;
 }
 
+void NewmarkSolver::factor_jacobian() {
+  const double dt = dt_;
+  J_ = sys_.mass();
+  J_.noalias() += (scheme_.gamma * dt) * C_;
+  J_.noalias() += (scheme_.beta * dt * dt) * K_;
+  lu_.compute(J_);
+  have_lu_ = true;
+}
+
 int NewmarkSolver::step(NewmarkState& s) {
   const double dt = dt_;
   const double b = scheme_.beta, gm = scheme_.gamma;
@@ -50,7 +63,13 @@ int NewmarkSolver::step(NewmarkState& s) {
   v_pred_ = s.v + (dt * (1.0 - gm)) * s.a;
   a_ = s.a;  // previous acceleration is the initial guess
   double scale = 0;
-  double res = residual(t1, scale);
+  // Chord (modified Newton) iterations reuse the factorized iteration matrix
+  // of an earlier step while they contract fast (residual / 10 per
+  // iteration); the tangents are refreshed, and a damped full Newton step
+  // taken, as soon as they do not -- e.g. when a tooth pair enters contact.
+  double res = residual(t1, scale, !have_lu_);
+  if (!have_lu_) factor_jacobian();
+  bool fresh = !newton_.reuse_jacobian;  // the factorization belongs to this state
   for (int it = 1; it <= newton_.max_iterations; ++it) {
     if (res <= newton_.relative_tolerance * scale) {
       s.t = t1;
@@ -59,25 +78,39 @@ int NewmarkSolver::step(NewmarkState& s) {
       s.a = a_;
       return it;
     }
-    J_ = sys_.mass();
-    J_.noalias() += (gm * dt) * C_;
-    J_.noalias() += (b * dt * dt) * K_;
-    lu_.compute(J_);
+    a_prev_ = a_;
+    if (!fresh && newton_.reuse_jacobian) {
+      da_ = lu_.solve(r_);
+      a_ = a_prev_ - da_;
+      const double trial = residual(t1, scale, false);
+      if (trial < 0.1 * res) {
+        res = trial;
+        continue;
+      }
+      a_ = a_prev_;
+      res = residual(t1, scale, true);
+      factor_jacobian();
+      fresh = true;
+      if (res <= newton_.relative_tolerance * scale) continue;
+    } else if (!fresh) {
+      res = residual(t1, scale, true);
+      factor_jacobian();
+    }
     da_ = lu_.solve(r_);
     // Backtracking on the residual norm: the smoothed Coulomb friction
     // (tanh of the sliding speed) makes the full Newton step overshoot near
     // the pitch point, where the sliding speed changes sign.
-    a_prev_ = a_;
     double lambda = 1.0;
     for (int ls = 0; ls < 12; ++ls) {
       a_ = a_prev_ - lambda * da_;
-      const double trial = residual(t1, scale);
+      const double trial = residual(t1, scale, false);
       if (trial < (1.0 - 1e-4 * lambda) * res || ls == 11) {
         res = trial;
         break;
       }
       lambda *= 0.5;
     }
+    fresh = false;
   }
   throw SolverError(detail::concat("Newton iteration of the Newmark step at t = ", t1, " s did not converge in ",
                                    newton_.max_iterations,

@@ -27,6 +27,9 @@ struct NewmarkScheme {
 struct NewtonSettings {
   double relative_tolerance = 1e-10;  ///< on the residual, relative to the force scale
   int max_iterations = 30;
+  /// Reuse the iteration matrix across iterations and steps while the chord
+  /// iteration contracts by 10x per iteration (modified Newton).
+  bool reuse_jacobian = true;
 };
 
 /// A second-order ODE system M a = g(t, q, v) with constant mass matrix.
@@ -67,8 +70,11 @@ public:
   double time_step() const { return dt_; }
 
 private:
-  /// Evaluates R(a_) into r_ (and K_, C_); returns |R|_inf, sets the force scale.
-  double residual(double t1, double& scale);
+  /// Evaluates R(a_) into r_ (and K_, C_ when `tangents`); returns |R|_inf,
+  /// sets the force scale.
+  double residual(double t1, double& scale, bool tangents);
+  /// Factorizes J = M + gamma dt C + beta dt^2 K from the current K_, C_.
+  void factor_jacobian();
 
   SecondOrderSystem& sys_;
   double dt_;
@@ -77,6 +83,7 @@ private:
   Eigen::VectorXd q_pred_, v_pred_, q_, v_, a_, a_prev_, g_, r_, da_;
   Eigen::MatrixXd K_, C_, J_;
   Eigen::PartialPivLU<Eigen::MatrixXd> lu_;
+  bool have_lu_ = false;
 };
 
 } // namespace pw::dynamics
