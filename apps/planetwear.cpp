@@ -8,11 +8,22 @@
 //   e.g. the seed's wear run: planetwear simulate --mesh-cycles 2e5 -o wear.h5
 //   planetwear stiffness [--config FILE] [--set ...] [-o stiffness.h5]
 //   planetwear keys     (every configuration key with unit and default)
+//   planetwear synth [--config FILE] [--set ...] [--seconds S] [--noise F] [--dc-offset F]
+//                    [--seed N] [--sensor-angle-deg A] [--decimate K] [--tacho] -o rec.csv
+//                       (a synthetic recording + rec.json sidecar, docs/recordings.md)
+//   planetwear diagnose [--config FILE] [--set ...] --recording rec.csv [--meta rec.json] -o report/
+//                       (where a recording and the model differ, the missing physics, docs/diagnose.md)
+//   [mpirun -np P] planetwear sweep CAMPAIGN.toml -o results.h5 [--resume|--force]
+//                       (a design-of-experiments campaign, docs/campaigns.md)
 //
 // Exit codes: 0 success, 1 bad input (the message names the parameter),
 // 2 solver failure, 3 I/O failure, 4 wear stopped early at the safe wear limit
-// (results up to then are written).
+// (results up to then are written); sweep: 4 = the campaign finished but some
+// cases failed (their reasons are in the archive).
 #include "commands.hpp"
+#include "diagnose_command.hpp"
+#include "sweep_command.hpp"
+#include "synth_command.hpp"
 
 #include "core/error.hpp"
 #include "io/io_error.hpp"
@@ -20,6 +31,7 @@
 #include <CLI/CLI.hpp>
 
 #include <iostream>
+#include <string>
 
 int main(int argc, char** argv) {
   CLI::App app{"planetwear: dynamics and wear of planetary gear stages (SI units throughout)"};
@@ -54,6 +66,15 @@ int main(int argc, char** argv) {
   k->add_option("-o,--output", stf.output, "write the curves to this HDF5 file");
   k->add_option("--csv", stf.csv, "write the curves to this CSV file");
 
+  pw::app::SweepCommandOptions swp;
+  CLI::App* sw = pw::app::add_sweep_command(app, swp);
+
+  pw::app::SynthOptions syn;
+  CLI::App* sy = pw::app::add_synth_command(app, syn);
+
+  pw::app::DiagnoseCommandOptions dgn;
+  CLI::App* dg = pw::app::add_diagnose_command(app, dgn);
+
   CLI::App* keys = app.add_subcommand("keys", "List every configuration key with its type, default and unit");
 
   try {
@@ -65,6 +86,13 @@ int main(int argc, char** argv) {
     if (*s) return pw::app::run_simulate(sim);
     if (*k) return pw::app::run_stiffness(stf);
     if (*keys) return pw::app::run_keys();
+    if (*sw) return pw::app::run_sweep(swp);
+    if (*sy) return pw::app::run_synth(syn);
+    if (*dg) {
+      std::string line;
+      for (int i = 0; i < argc; ++i) line += (i ? " " : "") + std::string(argv[i]);
+      return pw::app::run_diagnose(dgn, line);
+    }
   } catch (const pw::InputError& e) {
     std::cerr << "planetwear: error: " << e.what() << "\n";
     return 1;

@@ -38,6 +38,7 @@ namespace {
 
 using model::Body;
 using model::ModelLevel;
+using model::SensorWindow;
 using model::SimulationConfig;
 using model::ToothModifier;
 
@@ -55,6 +56,12 @@ template <>
 struct EnumNames<Body> {
   static constexpr std::array<std::pair<Body, std::string_view>, 3> values{
       {{Body::Sun, "sun"}, {Body::Planet, "planet"}, {Body::Ring, "ring"}}};
+};
+
+template <>
+struct EnumNames<SensorWindow> {
+  static constexpr std::array<std::pair<SensorWindow, std::string_view>, 2> values{
+      {{SensorWindow::Gaussian, "gaussian"}, {SensorWindow::Hann, "hann"}}};
 };
 
 template <class E>
@@ -296,6 +303,8 @@ void visit_config(V& v, Config& c) {
           "carrier runout phase [rad]");
   v.field("torque_ripple_fraction", c.imperfections.torque_ripple_fraction, "input torque ripple / mean [-]");
   v.field("torque_ripple_order", c.imperfections.torque_ripple_order, "ripple frequency / sun speed [-]");
+  v.field("worn_profile_depth_m", c.imperfections.worn_profile_depth_m,
+          "pre-existing Archard-shaped worn profile on every flank, largest depth [m]; 0 = none");
   // Last in its section: Writer emits [[imperfections.teeth]] tables here.
   v.teeth("teeth", c.imperfections.teeth, "damaged or modified teeth; [] = none");
 
@@ -334,6 +343,12 @@ void visit_config(V& v, Config& c) {
           "stop when a flank's wear exceeds this fraction of the chordal tooth thickness [-]");
   v.field("snapshot_mesh_cycles", c.wear.snapshot_mesh_cycles,
           "mesh cycles at which dynamic snapshots are stored [-]; [] = first and last");
+
+  v.section("sensor");
+  v.field("angle_rad", c.sensor.angle_rad, "housing accelerometer angle phi_s, CCW from planet 0 at t = 0 [rad]");
+  v.field("gain_m_s2_per_N", c.sensor.gain_m_s2_per_N, "transfer gain mesh force -> housing acceleration [m/s^2/N]");
+  v.field("window_width_rad", c.sensor.window_width_rad, "transfer-path window width sigma [rad]");
+  v.field("window", c.sensor.window, "window shape: \"gaussian\" or \"hann\"");
 }
 
 constexpr std::string_view kTeethElement = "imperfections.teeth[]";

@@ -2,6 +2,7 @@
 
 #include "core/error.hpp"
 #include "dynamics/modal.hpp"
+#include "model/sensor.hpp"
 #include "signal/spectrum.hpp"
 #include "wear/flank_wear.hpp"
 
@@ -9,6 +10,7 @@
 #include <chrono>
 #include <cmath>
 #include <numbers>
+#include <span>
 
 namespace pw::model {
 namespace {
@@ -35,6 +37,40 @@ void apply_tooth_modifiers(const Imperfections& imp, ToothSurfaces& s) {
       apply(s.planet_ring_side[t.planet]);
       break;
     }
+  }
+}
+
+/// Slide-to-roll ratio |v_A - v_B| / v_flank of one flank of a mesh at roll
+/// coordinate xi (docs/derivation.md §5, W1): the Archard depth per pass at
+/// uniform load. Rolling speeds of the contact over the flanks, with
+/// |omega| proportional to 1 / r_b (zero sliding at the pitch point), are
+/// v_A = rho_A / r_bA and v_B = rho_B / r_bB, rho_A = xi,
+/// rho_B = rho_B(xi_P) -+ (xi - xi_P) (external / internal B).
+double slide_to_roll(const geometry::MeshGeometry& g, double xi, bool flank_of_a) {
+  const double tan_a = std::tan(g.working_pressure_angle_rad);
+  const double rho_bp = g.base_radius_b_m * tan_a;
+  const double rho_b = g.kind == geometry::GearKind::External ? rho_bp - (xi - g.pitch_point_m)
+                                                               : rho_bp + (xi - g.pitch_point_m);
+  const double va = xi / g.base_radius_a_m, vb = rho_b / g.base_radius_b_m;
+  return std::fabs(va - vb) / (flank_of_a ? va : vb);
+}
+
+/// Pre-existing worn profile (imperfections.worn_profile_depth_m): adds
+/// depth * s(xi) / max_e s(xi_e) to every element of every tooth of the flank
+/// family, s the flank's slide-to-roll ratio, so the family's largest depth
+/// is `depth` (at the element centre nearest the flank's root end).
+void apply_worn_profile(double depth, const geometry::MeshGeometry& g, bool flank_of_a, FlankSet& f) {
+  if (depth == 0) return;
+  std::vector<double> shape(f.elements());
+  double smax = 0;
+  for (int e = 0; e < f.elements(); ++e) {
+    shape[e] = slide_to_roll(g, f.element_xi_m(e), flank_of_a);
+    smax = std::max(smax, shape[e]);
+  }
+  if (!(smax > 0)) return;
+  for (int t = 0; t < f.teeth(); ++t) {
+    double* d = f.tooth_deviation(t);
+    for (int e = 0; e < f.elements(); ++e) d[e] += depth * shape[e] / smax;
   }
 }
 
@@ -173,6 +209,13 @@ PreparedStage prepare(const SimulationConfig& c) {
     surf.planet_ring_side.emplace_back(c.stage.planet.teeth, c.wear.elements_per_flank, gr.start_active_m, gr.end_active_m);
   }
   apply_tooth_modifiers(c.imperfections, surf);
+  const double worn = c.imperfections.worn_profile_depth_m;
+  apply_worn_profile(worn, gs, true, surf.sun);
+  apply_worn_profile(worn, gr, false, surf.ring);
+  for (int i = 0; i < N; ++i) {
+    apply_worn_profile(worn, gs, false, surf.planet_sun_side[i]);
+    apply_worn_profile(worn, gr, true, surf.planet_ring_side[i]);
+  }
 
   p.dynamics = std::make_unique<PlanetaryDynamics>(c, std::move(structure), std::move(sp), std::move(pr),
                                                    geometry::mesh_phases(c.stage, geo), std::move(surf),
@@ -360,6 +403,13 @@ void record(Run& r, int cycles, SimulationResult& out, const ProgressFn& report,
   add("sun/input_torque", "N m", "input torque on the sun");
   for (int i = 0; i < N; ++i)
     add("load_sharing/" + std::to_string(i), "1", "N F_sp,i / sum_k F_sp,k: instantaneous load share of planet i");
+  const std::size_t g_angle = out.channels.size();
+  add("sun/angle", "rad", "absolute sun angle Omega_s t + perturbation (t = simulation time, 0 at the start)");
+  add("carrier/angle", "rad",
+      "absolute carrier angle Omega_c t + perturbation; planet i is at psi_i + carrier/angle in the housing frame");
+  add("housing/acceleration", "m/s^2",
+      "housing accelerometer at sensor.angle_rad: planet-ring mesh force fluctuations through the transfer-path "
+      "window (model/sensor.hpp)");
   std::vector<double*> col(out.channels.size());
   for (std::size_t k = 0; k < out.channels.size(); ++k) col[k] = out.channels[k].values.data();
   const double ratio = (r.c.stage.sun.teeth + r.c.stage.ring.teeth) / static_cast<double>(r.c.stage.sun.teeth);
@@ -386,8 +436,19 @@ void record(Run& r, int cycles, SimulationResult& out, const ProgressFn& report,
     col[g0 + 2][k] = rbs * (sys.sun_theta_row().dot(r.st.q) - ratio * sys.carrier_theta_row().dot(r.st.q));
     col[g0 + 3][k] = sys.input_torque_Nm(r.st.t, r.st.q, r.st.v);
     for (int i = 0; i < N; ++i) col[g0 + 4 + i][k] = fsum != 0 ? N * ms[2 * i].force_N / fsum : 0.0;
+    col[g_angle][k] = p.sun_speed_rad_s * r.st.t + sys.sun_theta_row().dot(r.st.q);
+    col[g_angle + 1][k] = p.carrier_speed_rad_s * r.st.t + sys.carrier_theta_row().dot(r.st.q);
     if (report && k % spm == 0) report(f0 + (f1 - f0) * k / nrec, "recording");
   }
+  // Housing accelerometer (needs each planet's mean ring-mesh force over the record).
+  std::vector<std::span<const double>> ring_force;
+  for (int i = 0; i < N; ++i) ring_force.emplace_back(out.find("planet_ring/" + std::to_string(i) + "/force")->values);
+  out.channels[g_angle + 2].values = housing_acceleration_history(r.c.sensor, p.geometry.planet_angles_rad,
+                                                                  out.channels[g_angle + 1].values, ring_force);
+  out.scalars.push_back({"record_start_time", "s",
+                         "simulation time at which the recording starts: time_history/time + record_start_time is "
+                         "the time of the absolute angles (sun/angle, carrier/angle)",
+                         t0});
 }
 
 /// Chordal tooth thickness on the reference circle [m] (external gears
@@ -525,10 +586,18 @@ WearHistory run_wear(Run& r, const ProgressFn& report, double f0, double f1) {
         booked = kSnapshotCycles;
         break;
       }
+    double mean_ws = 0;
     for (int k = booked * spm; k < window * spm; ++k) {
       r.step();
       acc.accumulate(dt);
+      mean_ws += sys.sun_theta_row().dot(r.st.v);
     }
+    // Friction losses change as the profiles wear: keep the load torque at
+    // the value that holds the nominal speed (as in the warm-up), so that
+    // windows and snapshots stay at the recording's operating point.
+    if (window > booked)
+      sys.set_load_torque_Nm(sys.load_torque_Nm() *
+                             (1.0 + mean_ws / ((window - booked) * spm) / r.p.sun_speed_rad_s));
     double max_rate = 0;
     for (int f = 0; f < F; ++f) {
       if (!acc.wear_rate_per_cycle(f, rate[f]))

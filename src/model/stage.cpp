@@ -25,6 +25,8 @@ namespace {
 constexpr double kInf = std::numeric_limits<double>::infinity();
 constexpr double kMaxWearMeshCycles = 1e12;   ///< [-]
 constexpr double kMaxWearCoefficient = 1e-10;  ///< kappa [m^2/N], exclusive
+/// sqrt(2 pi) sigma <= pi: the Hann window spans at most the whole ring [rad].
+constexpr double kMaxSensorWindowWidth = 1.25;
 
 /// Which ends of [lo, hi] belong to the allowed interval.
 enum class Ends { Closed, Open, OpenLow, OpenHigh };
@@ -147,6 +149,8 @@ void validate_imperfections(const Imperfections& im, const StageSpec& stage) {
   check_finite(im.carrier_eccentricity_phase_rad, "imperfections.carrier_eccentricity_phase_rad", "rad");
   check(im.torque_ripple_fraction, "imperfections.torque_ripple_fraction", 0, 1, Ends::OpenHigh, "-");
   check(im.torque_ripple_order, "imperfections.torque_ripple_order", 0, 1e3, Ends::OpenLow, "-");
+  check(im.worn_profile_depth_m, "imperfections.worn_profile_depth_m", 0, module_m, Ends::OpenHigh,
+        "m; below module");
 
   for (std::size_t i = 0; i < im.teeth.size(); ++i) {
     const ToothModifier& t = im.teeth[i];
@@ -175,6 +179,17 @@ void validate_imperfections(const Imperfections& im, const StageSpec& stage) {
               "\", planet = ", t.planet, ", tooth = ", t.tooth, "); merge them into one entry");
     }
   }
+}
+
+void validate_sensor(const SensorSettings& s) {
+  check_finite(s.angle_rad, "sensor.angle_rad", "rad");
+  // A gain of 1 m/s^2 per N or more would be a housing lighter than 1 kg.
+  check(s.gain_m_s2_per_N, "sensor.gain_m_s2_per_N", 0, 1, Ends::OpenLow, "m/s^2 per N");
+  require(s.window == SensorWindow::Gaussian || s.window == SensorWindow::Hann, "sensor.window",
+          "must be \"gaussian\" or \"hann\"");
+  // Above ~1.25 rad the Hann window (half-width sqrt(2 pi) sigma) would
+  // overlap itself around the ring, and a Gaussian no longer localizes.
+  check(s.window_width_rad, "sensor.window_width_rad", 0, kMaxSensorWindowWidth, Ends::OpenLow, "rad");
 }
 
 void validate_bearings(const BearingSettings& b) {
@@ -245,6 +260,7 @@ void validate(const SimulationConfig& c) {
   validate_bearings(c.bearings);
   validate_solver(c.solver, c);
   validate_wear(c.wear);
+  validate_sensor(c.sensor);
 }
 
 } // namespace pw::model

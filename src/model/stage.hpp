@@ -90,6 +90,12 @@ struct Imperfections {
   double torque_ripple_fraction = 0.0;   ///< input torque ripple amplitude / mean torque [-]
   double torque_ripple_order = 1.0;      ///< ripple frequency in orders of the sun speed [-]
   std::vector<ToothModifier> teeth{};
+  /// Pre-existing worn profile on every flank of every tooth [m]: the largest
+  /// depth of an Archard-shaped deviation, depth(xi) proportional to the
+  /// flank's slide-to-roll ratio |v_A - v_B| / v_flank (docs/derivation.md
+  /// §5, W1 at uniform load), which is zero at the pitch point. Each flank
+  /// family's maximum over its active flank equals this value. 0 = none.
+  double worn_profile_depth_m = 0.0;
 };
 
 enum class ModelLevel { Torsional, LateralTorsional };
@@ -150,6 +156,31 @@ struct WearSettings {
   std::vector<double> snapshot_mesh_cycles{};
 };
 
+/// Shape of the transfer-path window of a housing accelerometer.
+enum class SensorWindow {
+  Gaussian,  ///< wrapped Gaussian, w(d) = sum_k exp(-(d + 2 pi k)^2 / (2 sigma^2)), sigma = window_width_rad
+  Hann,      ///< w(d) = cos^2(pi d / (2 h)) for |d| < h, else 0; half-width h = sqrt(2 pi) sigma (same area)
+};
+
+/// Accelerometer fixed on the ring/housing (McFadden & Smith 1985; Inalpolat
+/// & Kahraman 2009): it sees each planet's planet-ring mesh force through a
+/// window of the planet's angular distance from the sensor,
+///   a_s(t) = G sum_i w(wrap(psi_i + theta_c(t) - phi_s)) (F_pr,i(t) - mean_t F_pr,i)
+/// (model/sensor.hpp; docs/recordings.md). Output channel housing/acceleration.
+struct SensorSettings {
+  /// Sensor angle phi_s [rad], counter-clockwise in the fixed (housing) frame
+  /// from the position of planet 0 at simulation time 0 (carrier angle 0).
+  double angle_rad = 0.0;
+  /// Transfer gain G [m/s^2 per N] from mesh force to housing acceleration.
+  /// Assumption (the seed has no housing): 1e-3, i.e. an effective housing
+  /// mass of 1000 kg; only the shape of the signal is meaningful.
+  double gain_m_s2_per_N = 1e-3;
+  /// Window width sigma [rad]: the Gaussian's standard deviation (the Hann
+  /// window has the same area, half-width sqrt(2 pi) sigma).
+  double window_width_rad = 0.5;
+  SensorWindow window = SensorWindow::Gaussian;
+};
+
 /// One complete simulation case.
 struct SimulationConfig {
   StageSpec stage{};
@@ -160,6 +191,7 @@ struct SimulationConfig {
   BearingSettings bearings{};
   SolverSettings solver{};
   WearSettings wear{};
+  SensorSettings sensor{};
 };
 
 /// Range checks of everything above; throws pw::InputError naming the TOML key.

@@ -62,6 +62,7 @@ inline void expect_config_eq(const model::SimulationConfig& a, const model::Simu
   EXPECT_EQ(ia.carrier_eccentricity_phase_rad, ib.carrier_eccentricity_phase_rad);
   EXPECT_EQ(ia.torque_ripple_fraction, ib.torque_ripple_fraction);
   EXPECT_EQ(ia.torque_ripple_order, ib.torque_ripple_order);
+  EXPECT_EQ(ia.worn_profile_depth_m, ib.worn_profile_depth_m);
   ASSERT_EQ(ia.teeth.size(), ib.teeth.size());
   for (std::size_t i = 0; i < ia.teeth.size(); ++i) {
     SCOPED_TRACE("imperfections.teeth[" + std::to_string(i) + "]");
@@ -99,6 +100,11 @@ inline void expect_config_eq(const model::SimulationConfig& a, const model::Simu
   EXPECT_EQ(a.wear.max_increment_fraction, b.wear.max_increment_fraction);
   EXPECT_EQ(a.wear.max_wear_fraction_of_thickness, b.wear.max_wear_fraction_of_thickness);
   EXPECT_EQ(a.wear.snapshot_mesh_cycles, b.wear.snapshot_mesh_cycles);
+
+  EXPECT_EQ(a.sensor.angle_rad, b.sensor.angle_rad);
+  EXPECT_EQ(a.sensor.gain_m_s2_per_N, b.sensor.gain_m_s2_per_N);
+  EXPECT_EQ(a.sensor.window_width_rad, b.sensor.window_width_rad);
+  EXPECT_EQ(a.sensor.window, b.sensor.window);
 }
 
 /// Valid, and every field differs from its default (doubles chosen to need all
@@ -150,6 +156,7 @@ inline model::SimulationConfig nondefault_config() {
   c.imperfections.carrier_eccentricity_phase_rad = -1.0;
   c.imperfections.torque_ripple_fraction = 0.05;
   c.imperfections.torque_ripple_order = 2.0;
+  c.imperfections.worn_profile_depth_m = (0.1 + 0.2) * 1e-5;
   c.imperfections.teeth = {{model::Body::Planet, 1, 3, 0.5, 1e-5}, {model::Body::Ring, 0, 76, 0.9, 0.0}};
 
   c.bearings = {2e8, 3e8, 4e8, 5e8, 6e9};
@@ -175,6 +182,11 @@ inline model::SimulationConfig nondefault_config() {
   c.wear.max_increment_fraction = 0.05;
   c.wear.max_wear_fraction_of_thickness = 0.2;
   c.wear.snapshot_mesh_cycles = {0.0, 1e5 / 3, 2e5};
+
+  c.sensor.angle_rad = 1.0 / 3;
+  c.sensor.gain_m_s2_per_N = 2e-3 / 3;
+  c.sensor.window_width_rad = 0.1 + 0.2;
+  c.sensor.window = model::SensorWindow::Hann;
   return c;
 }
 

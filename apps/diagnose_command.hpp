@@ -1,0 +1,39 @@
+// planetwear diagnose: where do a recording and the model differ, which
+// physics is missing, fitted and checked on held-out data (docs/diagnose.md).
+//
+//   planetwear diagnose --config gearset.toml --recording rec.csv [--meta rec.json] -o report/
+//       [--set key=value ...] [--threads N] [--alpha 0.01] [--max-candidates 4]
+//       [--candidates a,b,...] [--no-plots] [--quiet]
+//
+// Writes report/report.{md,html,json}, report/data/*.csv and, through
+// scripts/plot_diagnosis.py (Debian's /usr/bin/python3 + matplotlib), the PNGs.
+// Exit codes as for every subcommand: 0 ok (whatever the verdict), 1 bad input,
+// 2 solver failure, 3 I/O failure.
+#pragma once
+
+#include "commands.hpp"
+
+#include <string>
+#include <vector>
+
+namespace CLI {
+class App;
+}
+
+namespace pw::app {
+
+struct DiagnoseCommandOptions {
+  CommonOptions common;
+  std::string recording, meta, output;
+  int threads = 0;
+  double alpha = 0.01;
+  int max_candidates = 4;
+  std::vector<std::string> candidates;
+  bool no_plots = false;
+  bool always_fit = false;
+};
+
+CLI::App* add_diagnose_command(CLI::App& app, DiagnoseCommandOptions& options);
+int run_diagnose(const DiagnoseCommandOptions& options, const std::string& command_line);
+
+} // namespace pw::app

@@ -1,0 +1,292 @@
+#!/usr/bin/env python3
+"""Build a corpus of synthetic test recordings for `planetwear diagnose`.
+
+Each recording is made by `planetwear synth`: the stage of GEARSET (default
+config/seed.toml) at one operating point, with one concealed effect (or none,
+for the control cases), measurement noise of 5-10 % of each channel's RMS and
+a DC offset on the accelerometers. The answers are kept apart from the
+recordings:
+
+    OUT/gearset.toml              the nominal gear set the diagnosis is given
+    OUT/recordings/rec_NN.csv     samples (time [s], speeds, accelerations, tacho)
+    OUT/recordings/rec_NN.json    sidecar: operating point and columns only
+    OUT/truth.json                per recording: effect, its parameters, the
+                                  --set overrides, noise, offsets, sensor angle
+    OUT/corpus.log                the synth commands and their wall times
+
+Give the diagnosis OUT/gearset.toml and OUT/recordings/ only.
+
+Effects (two variants each, differing in parameters and operating point):
+damaged sun / planet / ring tooth (stiffness factor 0.55-0.8), planet pin
+error, sun and carrier eccentricity (runout), mesh-stiffness level
+(stiffness.scale 0.8 / 1.25), mesh damping (0.02 / 0.1), friction (0.05 /
+0.15), input torque ripple, pre-existing worn profile (0.5 / 2 um), backlash
+(light load near the 1800-2200 rpm ring-mesh resonance), housing transfer path
+(window width / gain off by 2x); plus five control cases without effect.
+Magnitudes of the geometric errors are kept below the static mesh deflection
+at their load (2.7-7 um at 10-20 kW): larger errors with zero backlash jam
+the unloaded planet against its coast flanks, which no real gearbox does
+(docs/recordings.md, "Corpus").
+
+Usage:
+    scripts/make_corpus.py -o corpus            # full corpus (~31 recordings)
+    scripts/make_corpus.py -o corpus-quick --quick   # 6 short recordings (ctest)
+    scripts/make_corpus.py -o corpus --planetwear build/apps/planetwear --jobs 2 --seed 7
+
+Runs with Debian's /usr/bin/python3 (standard library only).
+"""
+
+import os
+import sys
+
+
+def ensure_system_python():
+    """Re-exec under Debian's /usr/bin/python3 (like scripts/pwplot.py) so the
+    script behaves the same whichever python3 is first on PATH."""
+    system_python = "/usr/bin/python3"
+    if os.path.realpath(sys.executable) != os.path.realpath(system_python) and os.path.exists(system_python) \
+            and not os.environ.get("PW_CORPUS_REEXEC"):
+        os.environ["PW_CORPUS_REEXEC"] = "1"
+        os.execv(system_python, [system_python] + sys.argv)
+
+
+ensure_system_python()
+
+import argparse  # noqa: E402
+import json  # noqa: E402
+import random  # noqa: E402
+import shutil  # noqa: E402
+import subprocess  # noqa: E402
+import time  # noqa: E402
+import tomllib  # noqa: E402
+from concurrent.futures import ThreadPoolExecutor  # noqa: E402
+from pathlib import Path  # noqa: E402
+
+REPO = Path(__file__).resolve().parent.parent
+
+# Operating points (input speed [rpm], input power [W]). Every effect and the
+# controls share them, so the operating point says nothing about the effect.
+# 10-20 kW load the seed gears to 2.7-7 um static deflection; 1800/2200 rpm at
+# 1 kW is a light load near a ring-mesh resonance, where the ring-mesh force
+# briefly reverses (the only regime in which backlash shows).
+OPERATING = {
+    "A": (400.0, 10000.0),
+    "B": (200.0, 10000.0),
+    "C": (300.0, 20000.0),
+    "D": (1800.0, 1000.0),
+    "E": (2200.0, 1000.0),
+}
+QUICK_OPERATING = {"Q1": (800.0, 20000.0), "Q2": (1200.0, 20000.0)}
+
+# Recording settings per operating point (not effects; also in truth.json):
+#  * a fixed time step, so the sample rate depends on the speed only (the
+#    automatic step follows the highest natural frequency, i.e. the stiffness);
+#  * a common start time (--start-mesh-cycle W), so the start of the time
+#    axis does not tell how long the warm-up took;
+#  * at 200-1200 rpm a short warm-up (periodicity 0.05: the mesh transients
+#    decay within a mesh period, the mean speed is within 3e-4 of nominal);
+#  * at 1800/2200 rpm and 1 kW the load-torque update of the warm-up settles
+#    slowly (a speed transient with a 0.2 s time constant): warm up for up to
+#    380 mesh cycles and start the file at mesh cycle 1500, when the
+#    transient has died out (the mean speed then sits 0.1-0.4 % off nominal).
+SLOW = {"sets": ["solver.time_step_s=2.5e-6", "solver.periodicity_tolerance=0.05"], "start_mesh_cycle": 20}
+FAST = {"sets": ["solver.time_step_s=2.5e-6", "solver.warmup_max_mesh_cycles=380"], "start_mesh_cycle": 1500}
+SETTINGS = {"A": SLOW, "B": SLOW, "C": SLOW, "D": FAST, "E": FAST, "Q1": SLOW, "Q2": SLOW}
+
+
+BACKLASH_NOTE = "weak: with zero backlash the ring-mesh force reverses only briefly at this speed"
+RIPPLE_NOTE = ("the simulator's warm-up fixes the load torque after 3 mesh cycles, biased by the ripple: the mean "
+               "speed settles 4-9 % below nominal")
+
+
+def teeth(body, tooth, factor, planet=0):
+    t = f'{{body="{body}",tooth={tooth},stiffness_factor={factor}' + (f",planet={planet}" if body == "planet" else "")
+    return f"imperfections.teeth=[{t}}}]"
+
+
+# (effect, operating point, --set overrides, parameters for truth.json)
+CASES = [
+    ("sun_tooth_damage", "A", [teeth("sun", 5, 0.6)], {"tooth": 5, "stiffness_factor": 0.6}),
+    ("sun_tooth_damage", "B", [teeth("sun", 14, 0.75)], {"tooth": 14, "stiffness_factor": 0.75}),
+    ("planet_tooth_damage", "C", [teeth("planet", 7, 0.55, planet=1)],
+     {"planet": 1, "tooth": 7, "stiffness_factor": 0.55}),
+    ("planet_tooth_damage", "A", [teeth("planet", 20, 0.8, planet=2)],
+     {"planet": 2, "tooth": 20, "stiffness_factor": 0.8}),
+    ("ring_tooth_damage", "B", [teeth("ring", 30, 0.6)], {"tooth": 30, "stiffness_factor": 0.6}),
+    ("ring_tooth_damage", "C", [teeth("ring", 61, 0.7)], {"tooth": 61, "stiffness_factor": 0.7}),
+    ("planet_pin_error", "B", ["imperfections.pin_error_m=[0,3e-6,0]"], {"pin_error_m": [0, 3e-6, 0]}),
+    ("planet_pin_error", "C", ["imperfections.pin_error_m=[0,0,5e-6]"], {"pin_error_m": [0, 0, 5e-6]}),
+    ("sun_eccentricity", "A", ["imperfections.sun_eccentricity_m=1.5e-6",
+                               "imperfections.sun_eccentricity_phase_rad=0.7"],
+     {"sun_eccentricity_m": 1.5e-6, "sun_eccentricity_phase_rad": 0.7}),
+    ("sun_eccentricity", "C", ["imperfections.sun_eccentricity_m=5e-6",
+                               "imperfections.sun_eccentricity_phase_rad=2.0"],
+     {"sun_eccentricity_m": 5e-6, "sun_eccentricity_phase_rad": 2.0}),
+    ("carrier_eccentricity", "B", ["imperfections.carrier_eccentricity_m=2e-6",
+                                   "imperfections.carrier_eccentricity_phase_rad=1.0"],
+     {"carrier_eccentricity_m": 2e-6, "carrier_eccentricity_phase_rad": 1.0}),
+    ("carrier_eccentricity", "C", ["imperfections.carrier_eccentricity_m=3e-6",
+                                   "imperfections.carrier_eccentricity_phase_rad=4.0"],
+     {"carrier_eccentricity_m": 3e-6, "carrier_eccentricity_phase_rad": 4.0}),
+    ("mesh_stiffness_level", "A", ["stiffness.scale=0.8"], {"stiffness_scale": 0.8}),
+    ("mesh_stiffness_level", "C", ["stiffness.scale=1.25"], {"stiffness_scale": 1.25}),
+    ("mesh_damping_level", "A", ["contact.mesh_damping_ratio=0.02"], {"mesh_damping_ratio": 0.02}),
+    ("mesh_damping_level", "B", ["contact.mesh_damping_ratio=0.1"], {"mesh_damping_ratio": 0.1}),
+    ("friction_coefficient", "B", ["contact.friction_coefficient=0.05"], {"friction_coefficient": 0.05}),
+    ("friction_coefficient", "A", ["contact.friction_coefficient=0.15"], {"friction_coefficient": 0.15}),
+    ("input_torque_ripple", "C", ["imperfections.torque_ripple_fraction=0.05", "imperfections.torque_ripple_order=1"],
+     {"torque_ripple_fraction": 0.05, "torque_ripple_order": 1, "note": RIPPLE_NOTE}),
+    ("input_torque_ripple", "A", ["imperfections.torque_ripple_fraction=0.1", "imperfections.torque_ripple_order=2"],
+     {"torque_ripple_fraction": 0.1, "torque_ripple_order": 2, "note": RIPPLE_NOTE}),
+    ("worn_profile", "A", ["imperfections.worn_profile_depth_m=0.5e-6"], {"worn_profile_depth_m": 0.5e-6}),
+    ("worn_profile", "B", ["imperfections.worn_profile_depth_m=2e-6"], {"worn_profile_depth_m": 2e-6}),
+    ("backlash", "D", ["contact.backlash_sun_planet_m=2e-5", "contact.backlash_planet_ring_m=2e-5"],
+     {"backlash_sun_planet_m": 2e-5, "backlash_planet_ring_m": 2e-5, "note": BACKLASH_NOTE}),
+    ("backlash", "E", ["contact.backlash_sun_planet_m=5e-5", "contact.backlash_planet_ring_m=5e-5"],
+     {"backlash_sun_planet_m": 5e-5, "backlash_planet_ring_m": 5e-5, "note": BACKLASH_NOTE}),
+    ("sensor_transfer_path", "C", ["sensor.window_width_rad=1.0"],
+     {"window_width_rad": 1.0, "nominal_window_width_rad": 0.5}),
+    ("sensor_transfer_path", "B", ["sensor.gain_m_s2_per_N=0.0005"],
+     {"gain_m_s2_per_N": 5e-4, "nominal_gain_m_s2_per_N": 1e-3}),
+] + [("none", op, [], {}) for op in "ABCDE"]
+
+QUICK_CASES = [
+    ("none", "Q1", [], {}),
+    ("none", "Q2", [], {}),
+    ("sun_tooth_damage", "Q1", [teeth("sun", 5, 0.6)], {"tooth": 5, "stiffness_factor": 0.6}),
+    ("planet_pin_error", "Q2", ["imperfections.pin_error_m=[0,1e-6,0]"], {"pin_error_m": [0, 1e-6, 0]}),
+    ("mesh_stiffness_level", "Q2", ["stiffness.scale=0.8"], {"stiffness_scale": 0.8}),
+    ("worn_profile", "Q1", ["imperfections.worn_profile_depth_m=1e-6"], {"worn_profile_depth_m": 1e-6}),
+]
+
+# Decimation by 40: ~10 kHz, far above 7.5 x the mesh frequency (4.6 kHz at 2200 rpm).
+DECIMATE = 40
+CARRIER_REVOLUTIONS = 3.5  # the reader needs >= 3
+QUICK_CARRIER_REVOLUTIONS = 3.2
+
+
+def find_planetwear(given):
+    if given:
+        return str(Path(given).resolve())
+    for candidate in sorted(REPO.glob("build*/apps/planetwear")):
+        if os.access(candidate, os.X_OK):
+            return str(candidate)
+    found = shutil.which("planetwear")
+    if found:
+        return found
+    sys.exit("make_corpus: no planetwear executable; build it (cmake --build build) or pass --planetwear PATH")
+
+
+def carrier_revolution_s(gearset, rpm):
+    zs = gearset.get("stage", {}).get("sun", {}).get("teeth", 21)
+    zr = gearset.get("stage", {}).get("ring", {}).get("teeth", 81)
+    return 60.0 / (rpm * zs / (zs + zr))
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0],
+                                 formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("-o", "--output", required=True, help="corpus directory (created; must not hold recordings yet)")
+    ap.add_argument("--gearset", default=str(REPO / "config" / "seed.toml"),
+                    help="nominal gear set (TOML); copied to OUTPUT/gearset.toml")
+    ap.add_argument("--planetwear", help="the planetwear executable (default: build*/apps/planetwear, then PATH)")
+    ap.add_argument("--quick", action="store_true", help="6 short recordings (for ctest)")
+    ap.add_argument("--jobs", type=int, default=2, help="synth runs in parallel (default 2)")
+    ap.add_argument("--seed", type=int, default=1, help="seed of noise levels, offsets, angles and naming")
+    ap.add_argument("--force", action="store_true", help="replace an existing corpus in OUTPUT")
+    args = ap.parse_args()
+
+    out = Path(args.output)
+    rec_dir = out / "recordings"
+    if rec_dir.exists() and any(rec_dir.iterdir()):
+        if not args.force:
+            sys.exit(f"make_corpus: {rec_dir} is not empty; use --force to replace it")
+        shutil.rmtree(rec_dir)
+    rec_dir.mkdir(parents=True, exist_ok=True)
+    planetwear = find_planetwear(args.planetwear)
+    gearset_text = Path(args.gearset).read_text()
+    gearset = tomllib.loads(gearset_text)
+    (out / "gearset.toml").write_text(gearset_text)
+
+    cases = QUICK_CASES if args.quick else CASES
+    operating = QUICK_OPERATING if args.quick else OPERATING
+    revolutions = QUICK_CARRIER_REVOLUTIONS if args.quick else CARRIER_REVOLUTIONS
+    rng = random.Random(args.seed)
+    order = list(range(len(cases)))
+    rng.shuffle(order)  # recording names say nothing about the effect
+    jobs = []
+    for number, index in enumerate(order, start=1):
+        effect, op, sets, parameters = cases[index]
+        rpm, power = operating[op]
+        name = f"rec_{number:02d}"
+        job = {
+            "name": name,
+            "effect": effect,
+            "parameters": parameters,
+            "set": sets,
+            "speed_rpm": rpm,
+            "power_W": power,
+            "seconds": round(revolutions * carrier_revolution_s(gearset, rpm), 6),
+            "noise_fraction_of_rms": round(rng.uniform(0.05, 0.10), 4),
+            "dc_offset_fraction_of_rms": round(rng.choice([-1, 1]) * rng.uniform(0.1, 0.5), 4),
+            "sensor_angle_deg": float(rng.randrange(0, 360, 5)),
+            "noise_seed": rng.randrange(1, 2**31),
+            "tacho": rng.random() < 0.5,
+        }
+        job["command"] = [planetwear, "synth", "-q", "-c", str(out / "gearset.toml"),
+                          "--speed-rpm", repr(rpm), "--power-w", repr(power),
+                          "--seconds", repr(job["seconds"]), "--noise", repr(job["noise_fraction_of_rms"]),
+                          "--dc-offset", repr(job["dc_offset_fraction_of_rms"]), "--seed", str(job["noise_seed"]),
+                          "--sensor-angle-deg", repr(job["sensor_angle_deg"]), "--decimate", str(DECIMATE),
+                          "--start-mesh-cycle", str(SETTINGS[op]["start_mesh_cycle"])]
+        job["command"] += ["--tacho"] if job["tacho"] else []
+        job["recording_settings"] = SETTINGS[op]
+        for s in SETTINGS[op]["sets"] + sets:
+            job["command"] += ["--set", s]
+        job["command"] += ["-o", str(rec_dir / f"{name}.csv")]
+        jobs.append(job)
+
+    def run(job):
+        t0 = time.monotonic()
+        p = subprocess.run(job["command"], capture_output=True, text=True)
+        job["wall_s"] = round(time.monotonic() - t0, 2)
+        job["returncode"] = p.returncode
+        job["stderr"] = p.stderr.strip()
+        print(f"{job['name']}: {job['wall_s']:6.2f} s  {'ok' if p.returncode == 0 else 'FAILED'}", flush=True)
+        return job
+
+    t0 = time.monotonic()
+    with ThreadPoolExecutor(max_workers=max(1, args.jobs)) as pool:
+        done = list(pool.map(run, jobs))
+    wall = time.monotonic() - t0
+
+    with open(out / "corpus.log", "w") as log:
+        for job in done:
+            log.write(" ".join(job["command"]) + f"\n  -> exit {job['returncode']}, {job['wall_s']} s\n")
+            if job["stderr"]:
+                log.write("  " + job["stderr"].replace("\n", "\n  ") + "\n")
+    failed = [j for j in done if j["returncode"] != 0]
+    truth = {
+        "description": "answers for the recordings in recordings/ (keep away from the diagnosis)",
+        "gearset": "gearset.toml",
+        "settings": {"decimate": DECIMATE, "carrier_revolutions": revolutions, "seed": args.seed,
+                     "quick": args.quick},
+        "recordings": {
+            j["name"]: {k: j[k] for k in ("effect", "parameters", "set", "speed_rpm", "power_W", "seconds",
+                                          "noise_fraction_of_rms", "dc_offset_fraction_of_rms", "sensor_angle_deg",
+                                          "noise_seed", "tacho", "recording_settings", "wall_s")}
+            for j in sorted(done, key=lambda j: j["name"])
+        },
+    }
+    (out / "truth.json").write_text(json.dumps(truth, indent=2) + "\n")
+    print(f"make_corpus: {len(done) - len(failed)}/{len(done)} recordings in {rec_dir}, truth in "
+          f"{out / 'truth.json'}, {wall:.1f} s wall with {args.jobs} jobs")
+    if failed:
+        for j in failed:
+            print(f"make_corpus: {j['name']} ({j['effect']}) failed:\n{j['stderr']}", file=sys.stderr)
+        return 1
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,242 @@
+#!/usr/bin/env python3
+"""Run `planetwear diagnose` on every recording of a corpus (scripts/make_corpus.py)
+and score it against the corpus's truth.json.
+
+Prints, and writes to OUT/summary.json:
+  * the confusion matrix (true effect x named effect);
+  * for every correctly named effect, the relative error of its main fitted
+    parameter (the requirement is <= 20 %);
+  * the control cases (no effect): the verdict must be "no missing physics";
+  * wall time per recording.
+
+How a diagnosis is read as a named effect (the mapping is fixed, not tuned):
+  * verdict missing_physics_found -> the winning candidate, mapped to the
+    corpus's effect names (pin_error -> planet_pin_error, sun_runout ->
+    sun_eccentricity, carrier_runout -> carrier_eccentricity, torque_ripple ->
+    input_torque_ripple, friction -> friction_coefficient);
+  * otherwise, if a nuisance parameter moved from its nominal value by more
+    than 3 standard errors, that recalibration is the named effect
+    (stiffness.scale -> mesh_stiffness_level, mesh_damping_ratio ->
+    mesh_damping_level, sensor gain -> sensor_transfer_path);
+  * otherwise "none" (no missing physics), or "unexplained".
+
+Usage:
+    scripts/run_corpus.py CORPUS [-o OUT] [--planetwear PATH] [--jobs 1] [--threads 2]
+        [--min-accuracy 0] [--require-controls]
+Exit status 1 if a diagnosis crashed, or the accuracy / control requirements
+given on the command line are not met.
+"""
+
+import os
+import sys
+
+
+def ensure_system_python():
+    system_python = "/usr/bin/python3"
+    if os.path.realpath(sys.executable) != os.path.realpath(system_python) and os.path.exists(system_python) \
+            and not os.environ.get("PW_RUNCORPUS_REEXEC"):
+        os.environ["PW_RUNCORPUS_REEXEC"] = "1"
+        os.execv(system_python, [system_python] + sys.argv)
+
+
+ensure_system_python()
+
+import argparse  # noqa: E402
+import json  # noqa: E402
+import shutil  # noqa: E402
+import subprocess  # noqa: E402
+import time  # noqa: E402
+from concurrent.futures import ThreadPoolExecutor  # noqa: E402
+from pathlib import Path  # noqa: E402
+
+REPO = Path(__file__).resolve().parent.parent
+
+CANDIDATE_TO_EFFECT = {
+    "pin_error": "planet_pin_error",
+    "sun_runout": "sun_eccentricity",
+    "carrier_runout": "carrier_eccentricity",
+    "torque_ripple": "input_torque_ripple",
+    "friction": "friction_coefficient",
+}
+NUISANCE_TO_EFFECT = {
+    "stiffness.scale": "mesh_stiffness_level",
+    "contact.mesh_damping_ratio": "mesh_damping_level",
+    "sensor.gain_m_s2_per_N": "sensor_transfer_path",
+}
+# truth parameter -> (report parameter name, how to compare)
+MAIN_PARAMETER = {
+    "sun_tooth_damage": ("stiffness_factor", "stiffness_factor"),
+    "planet_tooth_damage": ("stiffness_factor", "stiffness_factor"),
+    "ring_tooth_damage": ("stiffness_factor", "stiffness_factor"),
+    "mesh_stiffness_level": ("stiffness_scale", "stiffness.scale"),
+    "mesh_damping_level": ("mesh_damping_ratio", "contact.mesh_damping_ratio"),
+    "friction_coefficient": ("friction_coefficient", "contact.friction_coefficient"),
+    "input_torque_ripple": ("torque_ripple_fraction", "torque_ripple_fraction"),
+    "worn_profile": ("worn_profile_depth_m", "worn_profile_depth_m"),
+    "backlash": ("backlash_sun_planet_m", "contact.backlash_sun_planet_m"),
+}
+
+
+def find_planetwear(given):
+    if given:
+        return str(Path(given).resolve())
+    for c in sorted(REPO.glob("build*/apps/planetwear")):
+        if os.access(c, os.X_OK):
+            return str(c)
+    found = shutil.which("planetwear")
+    if found:
+        return found
+    sys.exit("run_corpus: no planetwear executable (pass --planetwear)")
+
+
+def named_effect(report, nominal):
+    if report.get("verdict") == "missing_physics_found":
+        name = report.get("missing_physics")
+        return CANDIDATE_TO_EFFECT.get(name, name)
+    for p in report.get("nuisance", {}).get("parameters", []):
+        start, se = nominal.get(p["name"]), p.get("std_error")
+        if start is None or se is None or not se or se != se:
+            continue
+        if abs(p["value"] - start) > 3 * se and abs(p["value"] - start) > 0.05 * abs(start):
+            return NUISANCE_TO_EFFECT.get(p["name"], p["name"])
+    return "none" if report.get("verdict") == "no_missing_physics" else "unexplained"
+
+
+def fitted_parameters(report):
+    out = {}
+    src = report.get("fitted_parameters") or report.get("nuisance", {}).get("parameters", [])
+    for p in src:
+        out[p["name"]] = (p["value"], p.get("std_error"))
+    for p in report.get("nuisance", {}).get("parameters", []):
+        out.setdefault(p["name"], (p["value"], p.get("std_error")))
+    return out
+
+
+def parameter_error(effect, truth_params, report):
+    fitted = fitted_parameters(report)
+    if effect in MAIN_PARAMETER:
+        tkey, rkey = MAIN_PARAMETER[effect]
+        if tkey in truth_params and rkey in fitted:
+            t, (f, se) = truth_params[tkey], fitted[rkey]
+            return tkey, t, f, se
+    if effect == "planet_pin_error":
+        t = truth_params["pin_error_m"]
+        i = max(range(len(t)), key=lambda k: abs(t[k]))
+        rkey = f"pin_error_m[{i}]"
+        if rkey in fitted:
+            return rkey, t[i] - t[0], fitted[rkey][0], fitted[rkey][1]
+    if effect in ("sun_eccentricity", "carrier_eccentricity"):
+        key = "sun_eccentricity" if effect == "sun_eccentricity" else "carrier_eccentricity"
+        if f"{key}_x_m" in fitted:
+            x, y = fitted[f"{key}_x_m"][0], fitted[f"{key}_y_m"][0]
+            return f"{key}_m", truth_params[f"{key}_m"], (x * x + y * y) ** 0.5, None
+    if effect == "sensor_transfer_path":
+        if "window_width_rad" in truth_params and "sensor.window_width_rad" in fitted:
+            return "window_width_rad", truth_params["window_width_rad"], fitted["sensor.window_width_rad"][0], None
+        if "gain_m_s2_per_N" in truth_params and "sensor.gain_m_s2_per_N" in fitted:
+            return "gain_m_s2_per_N", truth_params["gain_m_s2_per_N"], fitted["sensor.gain_m_s2_per_N"][0], None
+    return None
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("corpus")
+    ap.add_argument("-o", "--output", help="reports go to OUTPUT/<recording>/ (default CORPUS/diagnoses)")
+    ap.add_argument("--planetwear")
+    ap.add_argument("--jobs", type=int, default=1, help="recordings diagnosed at once (default 1)")
+    ap.add_argument("--threads", type=int, default=2, help="OpenMP threads per diagnosis (default 2)")
+    ap.add_argument("--plots", action="store_true", help="draw the PNGs too")
+    ap.add_argument("--min-accuracy", type=float, default=0.0, help="fail below this fraction of correct names")
+    ap.add_argument("--require-controls", action="store_true", help="fail unless every control says 'none'")
+    args = ap.parse_args()
+    corpus = Path(args.corpus)
+    truth = json.loads((corpus / "truth.json").read_text())["recordings"]
+    out = Path(args.output) if args.output else corpus / "diagnoses"
+    out.mkdir(parents=True, exist_ok=True)
+    pw = find_planetwear(args.planetwear)
+    nominal = {"stiffness.scale": 1.0, "contact.mesh_damping_ratio": 0.05, "sensor.gain_m_s2_per_N": 1e-3}
+
+    def run(name):
+        rec = corpus / "recordings" / f"{name}.csv"
+        cmd = [pw, "diagnose", "-q", "-c", str(corpus / "gearset.toml"), "--recording", str(rec),
+               "--meta", str(rec.with_suffix(".json")), "-o", str(out / name), "--threads", str(args.threads)]
+        if not args.plots:
+            cmd.append("--no-plots")
+        t0 = time.monotonic()
+        p = subprocess.run(cmd, capture_output=True, text=True)
+        wall = time.monotonic() - t0
+        report = None
+        if p.returncode == 0 and (out / name / "report.json").exists():
+            report = json.loads((out / name / "report.json").read_text())
+        print(f"{name}: {wall:6.1f} s  exit {p.returncode}  truth {truth[name]['effect']:<22} -> "
+              f"{named_effect(report, nominal) if report else 'FAILED: ' + p.stderr.strip()[:200]}", flush=True)
+        return name, report, wall, p
+
+    names = sorted(truth)
+    with ThreadPoolExecutor(max_workers=max(1, args.jobs)) as pool:
+        results = list(pool.map(run, names))
+
+    rows, crashed = [], []
+    for name, report, wall, p in results:
+        t = truth[name]
+        if report is None:
+            crashed.append(name)
+            rows.append({"recording": name, "truth": t["effect"], "named": "crashed", "wall_s": wall})
+            continue
+        named = named_effect(report, nominal)
+        row = {"recording": name, "truth": t["effect"], "named": named, "verdict": report["verdict"],
+               "wall_s": round(wall, 1), "speed_rpm": t["speed_rpm"], "power_W": t["power_W"],
+               "summary": report["summary"]}
+        if named == t["effect"] and t["effect"] != "none":
+            pe = parameter_error(t["effect"], t["parameters"], report)
+            if pe:
+                key, tv, fv, se = pe
+                row["parameter"] = {"name": key, "truth": tv, "fitted": fv, "std_error": se,
+                                    "relative_error": abs(fv - tv) / abs(tv) if tv else None}
+        rows.append(row)
+
+    effects = sorted({r["truth"] for r in rows} | {r["named"] for r in rows})
+    print("\nConfusion matrix (rows: truth, columns: named)")
+    width = max(len(e) for e in effects) + 1
+    print(" " * width + " ".join(f"{e[:8]:>8}" for e in effects))
+    for te in sorted({r["truth"] for r in rows}):
+        counts = [sum(1 for r in rows if r["truth"] == te and r["named"] == ne) for ne in effects]
+        print(f"{te:<{width}}" + " ".join(f"{c:>8}" for c in counts))
+    effect_rows = [r for r in rows if r["truth"] != "none"]
+    control_rows = [r for r in rows if r["truth"] == "none"]
+    correct = sum(1 for r in effect_rows if r["named"] == r["truth"])
+    accuracy = correct / len(effect_rows) if effect_rows else 1.0
+    controls_ok = sum(1 for r in control_rows if r["named"] == "none")
+    print(f"\nNamed the right effect: {correct}/{len(effect_rows)} = {100 * accuracy:.0f} %")
+    print(f"Controls answered 'no missing physics': {controls_ok}/{len(control_rows)}")
+    print("\nParameter errors (correctly named effects):")
+    within = 0
+    with_param = [r for r in rows if "parameter" in r]
+    for r in with_param:
+        p = r["parameter"]
+        ok = p["relative_error"] is not None and p["relative_error"] <= 0.2
+        within += ok
+        print(f"  {r['recording']} {r['truth']:<22} {p['name']:<24} truth {p['truth']:.4g} fitted {p['fitted']:.4g}"
+              f"  error {100 * p['relative_error']:.1f} % {'ok' if ok else '> 20 %'}")
+    print(f"  within 20 %: {within}/{len(with_param)}")
+    wall = sum(r["wall_s"] for r in rows)
+    print(f"\nWall time: {wall:.0f} s for {len(rows)} recordings ({wall / max(1, len(rows)):.0f} s each)")
+    summary = {"rows": rows, "accuracy": accuracy, "correct": correct, "effects": len(effect_rows),
+               "controls_ok": controls_ok, "controls": len(control_rows), "parameters_within_20pct": within,
+               "parameters_checked": len(with_param), "crashed": crashed}
+    (out / "summary.json").write_text(json.dumps(summary, indent=2) + "\n")
+    status = 0
+    if crashed:
+        print(f"run_corpus: {len(crashed)} diagnoses failed: {crashed}", file=sys.stderr)
+        status = 1
+    if accuracy < args.min_accuracy:
+        print(f"run_corpus: accuracy {accuracy:.2f} below --min-accuracy {args.min_accuracy}", file=sys.stderr)
+        status = 1
+    if args.require_controls and controls_ok < len(control_rows):
+        print("run_corpus: a control was not answered 'no missing physics'", file=sys.stderr)
+        status = 1
+    return status
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,84 @@
+// The library of candidate model extensions (docs/diagnose.md §4). Each
+// candidate is real physics the model already knows how to simulate, with a
+// few parameters that the diagnosis fits; it declares
+//   * its name and one sentence of physics,
+//   * the line families (kinematics.hpp) it can explain,
+//   * its parameters: name, unit, bounds, natural scale (log or linear), start,
+//   * its discrete variants (which tooth, which planet, which ripple order),
+//     proposed from the located evidence,
+//   * how it writes a parameter vector into a SimulationConfig, with the
+//     equivalent `--set key=value` overrides for the report.
+// Adding a candidate = one new file in this folder defining a Candidate and
+// one line in the table of registry.cpp.
+#pragma once
+
+#include "diagnose/kinematics.hpp"
+#include "model/stage.hpp"
+
+#include <memory>
+#include <span>
+#include <string>
+#include <vector>
+
+namespace pw::diagnose {
+
+/// One continuous parameter of a candidate.
+struct ParameterSpec {
+  std::string name;   ///< e.g. "stiffness_factor"
+  std::string unit;   ///< SI unit or "1"
+  double lower = 0, upper = 1;  ///< bounds (the LM box)
+  bool log_scale = false;       ///< normalize as log(x) (requires lower > 0)
+  double initial = 0;           ///< start value (inside the bounds)
+};
+
+/// What locate() found, as far as candidates need it to propose variants.
+struct LocatedEvidence {
+  /// Per family (indexed by Component): excess chi-square z-score of its lines.
+  double family_z[5] = {0, 0, 0, 0, 0};
+  /// Per family: mesh cycle u (mod the family's period) of the residual's
+  /// synchronous-average energy peak, and the planet whose channel showed it.
+  double peak_mesh_cycle[5] = {0, 0, 0, 0, 0};
+  int peak_planet[5] = {0, 0, 0, 0, 0};
+  bool peak_from_ring_mesh[5] = {false, false, false, false, false};
+  /// Input-shaft orders (multiples of f_s) of the strongest input-shaft lines, strongest first.
+  std::vector<double> input_orders;
+};
+
+/// A discrete choice within a candidate.
+struct Variant {
+  std::string label;  ///< e.g. "sun tooth 5"
+  model::Body body = model::Body::Sun;
+  int planet = 0;
+  int tooth = 0;
+  double order = 0;
+};
+
+class Candidate {
+public:
+  virtual ~Candidate() = default;
+  virtual std::string name() const = 0;
+  virtual std::string physics() const = 0;
+  virtual std::vector<Component> families() const = 0;
+  /// Nuisance: fitted first, before any candidate, and kept in every fit.
+  virtual bool nuisance() const { return false; }
+  virtual std::vector<ParameterSpec> parameters(const model::SimulationConfig& base) const = 0;
+  /// Discrete variants to screen, most likely first (default: one).
+  virtual std::vector<Variant> variants(const LocatedEvidence& evidence, const model::SimulationConfig& base,
+                                        const ToothMap& teeth) const;
+  /// Writes parameters x (physical units, one per parameters()) into config;
+  /// appends the equivalent "key=value" overrides to `overrides` if given.
+  virtual void apply(model::SimulationConfig& config, const Variant& variant, std::span<const double> x,
+                     std::vector<std::string>* overrides = nullptr) const = 0;
+  /// Parameters that change only the housing-sensor channels (no new simulation needed).
+  virtual bool sensor_only() const { return false; }
+};
+
+/// The library, in a fixed order (registry.cpp).
+const std::vector<std::unique_ptr<Candidate>>& candidate_library();
+/// nullptr if no candidate has that name.
+const Candidate* find_candidate(const std::string& name);
+
+/// "%.9g" of a double, for override strings.
+std::string format_value(double v);
+
+} // namespace pw::diagnose

@@ -1,0 +1,30 @@
+// Nuisance: the viscous mesh damping ratio (contact.mesh_damping_ratio), an
+// assumption of the model (docs/derivation.md, "Assumptions").
+#include "diagnose/candidates/factories.hpp"
+
+#include <algorithm>
+
+namespace pw::diagnose::candidates {
+namespace {
+class DampingLevel final : public Candidate {
+public:
+  std::string name() const override { return "damping_level"; }
+  std::string physics() const override {
+    return "the viscous mesh damping ratio differs from the assumed one (lubricant film, bearing and housing "
+           "losses lumped into the meshes)";
+  }
+  std::vector<Component> families() const override { return {Component::Mesh}; }
+  bool nuisance() const override { return true; }
+  std::vector<ParameterSpec> parameters(const model::SimulationConfig& b) const override {
+    const double z = std::max(b.contact.mesh_damping_ratio, 1e-3);
+    return {{"contact.mesh_damping_ratio", "1", std::max(1e-3, z / 5), std::min(1.0, 5 * z), true, z}};
+  }
+  void apply(model::SimulationConfig& c, const Variant&, std::span<const double> x,
+             std::vector<std::string>* o) const override {
+    c.contact.mesh_damping_ratio = x[0];
+    if (o) o->push_back("contact.mesh_damping_ratio=" + format_value(x[0]));
+  }
+};
+} // namespace
+std::unique_ptr<Candidate> damping_level() { return std::make_unique<DampingLevel>(); }
+} // namespace pw::diagnose::candidates

@@ -1,0 +1,24 @@
+// One factory per candidate file (registry.cpp lists them in its table).
+#pragma once
+
+#include "diagnose/candidates/candidate.hpp"
+
+#include <memory>
+
+namespace pw::diagnose::candidates {
+
+std::unique_ptr<Candidate> stiffness_level();       // stiffness_level.cpp
+std::unique_ptr<Candidate> damping_level();         // damping_level.cpp
+std::unique_ptr<Candidate> sun_tooth_damage();      // tooth_damage.cpp
+std::unique_ptr<Candidate> planet_tooth_damage();   // tooth_damage.cpp
+std::unique_ptr<Candidate> ring_tooth_damage();     // tooth_damage.cpp
+std::unique_ptr<Candidate> pin_error();             // pin_error.cpp
+std::unique_ptr<Candidate> sun_runout();            // runout.cpp
+std::unique_ptr<Candidate> carrier_runout();        // runout.cpp
+std::unique_ptr<Candidate> torque_ripple();         // torque_ripple.cpp
+std::unique_ptr<Candidate> worn_profile();          // worn_profile.cpp
+std::unique_ptr<Candidate> friction();              // friction.cpp
+std::unique_ptr<Candidate> backlash();              // backlash.cpp
+std::unique_ptr<Candidate> sensor_transfer_path();  // sensor_transfer_path.cpp
+
+} // namespace pw::diagnose::candidates

@@ -1,0 +1,27 @@
+// Tooth friction coefficient (contact.friction_coefficient): the friction
+// force reverses at the pitch point, a mesh-periodic excitation of its own.
+#include "diagnose/candidates/factories.hpp"
+
+namespace pw::diagnose::candidates {
+namespace {
+class Friction final : public Candidate {
+public:
+  std::string name() const override { return "friction"; }
+  std::string physics() const override {
+    return "the Coulomb friction coefficient of the tooth contacts differs (lubricant, surface finish); "
+           "friction reverses at the pitch point and excites the mesh harmonics";
+  }
+  std::vector<Component> families() const override { return {Component::Mesh}; }
+  std::vector<ParameterSpec> parameters(const model::SimulationConfig& b) const override {
+    const double mu = b.contact.friction_coefficient;
+    return {{"contact.friction_coefficient", "1", 0.0, 0.4, false, mu > 0.05 ? 0.5 * mu : 0.1}};
+  }
+  void apply(model::SimulationConfig& c, const Variant&, std::span<const double> x,
+             std::vector<std::string>* o) const override {
+    c.contact.friction_coefficient = x[0];
+    if (o) o->push_back("contact.friction_coefficient=" + format_value(x[0]));
+  }
+};
+} // namespace
+std::unique_ptr<Candidate> friction() { return std::make_unique<Friction>(); }
+} // namespace pw::diagnose::candidates

@@ -1,0 +1,48 @@
+// The table of candidate model extensions (candidate.hpp). Nuisance
+// candidates first: they are fitted before any other.
+#include "diagnose/candidates/candidate.hpp"
+#include "diagnose/candidates/factories.hpp"
+
+#include <cstdio>
+
+namespace pw::diagnose {
+
+std::vector<Variant> Candidate::variants(const LocatedEvidence&, const model::SimulationConfig&,
+                                         const ToothMap&) const {
+  return {Variant{}};
+}
+
+std::string format_value(double v) {
+  char buf[40];
+  std::snprintf(buf, sizeof buf, "%.9g", v);
+  return buf;
+}
+
+const std::vector<std::unique_ptr<Candidate>>& candidate_library() {
+  static const std::vector<std::unique_ptr<Candidate>> table = [] {
+    std::vector<std::unique_ptr<Candidate>> t;
+    t.push_back(candidates::stiffness_level());     // nuisance
+    t.push_back(candidates::damping_level());       // nuisance
+    t.push_back(candidates::sun_tooth_damage());
+    t.push_back(candidates::planet_tooth_damage());
+    t.push_back(candidates::ring_tooth_damage());
+    t.push_back(candidates::pin_error());
+    t.push_back(candidates::sun_runout());
+    t.push_back(candidates::carrier_runout());
+    t.push_back(candidates::torque_ripple());
+    t.push_back(candidates::worn_profile());
+    t.push_back(candidates::friction());
+    t.push_back(candidates::backlash());
+    t.push_back(candidates::sensor_transfer_path());
+    return t;
+  }();
+  return table;
+}
+
+const Candidate* find_candidate(const std::string& name) {
+  for (const auto& c : candidate_library())
+    if (c->name() == name) return c.get();
+  return nullptr;
+}
+
+} // namespace pw::diagnose

@@ -1,0 +1,29 @@
+// Transfer path of a housing accelerometer (sensor.window_width_rad): how
+// wide the planet-pass window is. Its gain is a nuisance profiled in closed
+// form in every comparison (compare.hpp); this candidate changes only the
+// housing channels, so it needs no new simulation.
+#include "diagnose/candidates/factories.hpp"
+
+namespace pw::diagnose::candidates {
+namespace {
+class SensorTransferPath final : public Candidate {
+public:
+  std::string name() const override { return "sensor_transfer_path"; }
+  std::string physics() const override {
+    return "the housing accelerometer's transfer path is narrower or wider than assumed: each planet is heard "
+           "over a different arc of its pass, which reshapes the planet-pass sidebands at k f_m +- j N f_c";
+  }
+  std::vector<Component> families() const override { return {Component::Carrier}; }
+  bool sensor_only() const override { return true; }
+  std::vector<ParameterSpec> parameters(const model::SimulationConfig& b) const override {
+    return {{"sensor.window_width_rad", "rad", 0.1, 1.25, true, b.sensor.window_width_rad}};
+  }
+  void apply(model::SimulationConfig& c, const Variant&, std::span<const double> x,
+             std::vector<std::string>* o) const override {
+    c.sensor.window_width_rad = x[0];
+    if (o) o->push_back("sensor.window_width_rad=" + format_value(x[0]));
+  }
+};
+} // namespace
+std::unique_ptr<Candidate> sensor_transfer_path() { return std::make_unique<SensorTransferPath>(); }
+} // namespace pw::diagnose::candidates

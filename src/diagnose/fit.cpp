@@ -1,0 +1,158 @@
+#include "diagnose/fit.hpp"
+
+#include "core/error.hpp"
+
+#include <Eigen/Dense>
+
+#include <algorithm>
+#include <cmath>
+#include <exception>
+#include <limits>
+
+#ifdef _OPENMP
+#include <omp.h>
+#endif
+
+namespace pw::diagnose {
+
+double to_unit(const Bound& b, double x) {
+  if (b.log_scale) return std::log(x / b.lower) / std::log(b.upper / b.lower);
+  return (x - b.lower) / (b.upper - b.lower);
+}
+
+double from_unit(const Bound& b, double v) {
+  v = std::clamp(v, 0.0, 1.0);
+  if (b.log_scale) return b.lower * std::exp(v * std::log(b.upper / b.lower));
+  return b.lower + v * (b.upper - b.lower);
+}
+
+namespace {
+double dx_dv(const Bound& b, double v) {
+  if (b.log_scale) return from_unit(b, v) * std::log(b.upper / b.lower);
+  return b.upper - b.lower;
+}
+double norm2(const std::vector<double>& r) {
+  double s = 0;
+  for (double v : r) s += v * v;
+  return s;
+}
+} // namespace
+
+LmResult levenberg_marquardt(const ResidualFn& f, const std::vector<Bound>& bounds, std::vector<double> x0,
+                             const LmOptions& o) {
+  const std::size_t p = bounds.size();
+  require(x0.size() == p, "x0", "has ", x0.size(), " values for ", p, " parameters");
+  for (std::size_t i = 0; i < p; ++i) {
+    const Bound& b = bounds[i];
+    require(b.upper > b.lower && (!b.log_scale || b.lower > 0), "bounds",
+            "parameter ", i, ": need lower < upper (and lower > 0 on a log scale), got [", b.lower, ", ", b.upper, "]");
+  }
+  std::vector<double> v(p);
+  for (std::size_t i = 0; i < p; ++i) v[i] = std::clamp(to_unit(bounds[i], x0[i]), 0.0, 1.0);
+  auto xs = [&](const std::vector<double>& vv) {
+    std::vector<double> x(p);
+    for (std::size_t i = 0; i < p; ++i) x[i] = from_unit(bounds[i], vv[i]);
+    return x;
+  };
+  LmResult res;
+  std::vector<double> r = f(xs(v), nullptr);
+  res.evaluations = 1;
+  double cost = norm2(r);
+  res.initial_cost = cost;
+  const std::size_t m = r.size();
+  double lambda = o.lambda0;
+  Eigen::MatrixXd J(static_cast<Eigen::Index>(m), static_cast<Eigen::Index>(p));
+  bool have_J = false;
+  for (int it = 0; it < o.max_iterations; ++it) {
+    res.iterations = it + 1;
+    // Jacobian columns in parallel (forward differences, backward at the upper bound).
+    std::vector<std::vector<double>> cols(p);
+    std::vector<double> h(p);
+    for (std::size_t i = 0; i < p; ++i) h[i] = v[i] + o.step <= 1.0 ? o.step : -o.step;
+    const std::vector<double> centre = xs(v);
+    std::exception_ptr error;
+#pragma omp parallel for schedule(dynamic, 1) num_threads(o.threads > 0 ? o.threads : omp_get_max_threads()) if (p > 1)
+    for (std::size_t i = 0; i < p; ++i) {
+      try {
+        std::vector<double> vi = v;
+        vi[i] += h[i];
+        cols[i] = f(xs(vi), &centre);
+      } catch (...) {
+#pragma omp critical(pw_lm_error)
+        if (!error) error = std::current_exception();
+      }
+    }
+    if (error) std::rethrow_exception(error);
+    res.evaluations += static_cast<int>(p);
+    for (std::size_t i = 0; i < p; ++i) {
+      require(cols[i].size() == m, "residual", "length changed from ", m, " to ", cols[i].size());
+      for (std::size_t k = 0; k < m; ++k)
+        J(static_cast<Eigen::Index>(k), static_cast<Eigen::Index>(i)) = (cols[i][k] - r[k]) / h[i];
+    }
+    have_J = true;
+    const Eigen::Map<const Eigen::VectorXd> rv(r.data(), static_cast<Eigen::Index>(m));
+    const Eigen::MatrixXd A = J.transpose() * J;
+    const Eigen::VectorXd g = J.transpose() * rv;
+    bool improved = false;
+    double max_step = 0;
+    for (int tries = 0; tries < 6; ++tries) {
+      Eigen::MatrixXd Ad = A;
+      for (Eigen::Index i = 0; i < Ad.rows(); ++i) Ad(i, i) += lambda * std::max(A(i, i), 1e-12);
+      const Eigen::VectorXd dv = Ad.ldlt().solve(-g);
+      std::vector<double> vt(p);
+      max_step = 0;
+      for (std::size_t i = 0; i < p; ++i) {
+        vt[i] = std::clamp(v[i] + dv(static_cast<Eigen::Index>(i)), 0.0, 1.0);
+        max_step = std::max(max_step, std::fabs(vt[i] - v[i]));
+      }
+      if (max_step < 1e-12) break;
+      std::vector<double> rt = f(xs(vt), nullptr);
+      ++res.evaluations;
+      const double ct = norm2(rt);
+      if (ct < cost) {
+        const double gain = (cost - ct) / std::max(cost, 1e-300);
+        v = vt;
+        r = std::move(rt);
+        cost = ct;
+        lambda = std::max(lambda / 5, 1e-9);
+        improved = true;
+        if (gain < o.relative_tolerance || max_step < o.step_tolerance) res.converged = true;
+        break;
+      }
+      lambda *= 8;
+    }
+    if (!improved) {
+      res.converged = true;  // no downhill step: a (local) minimum within the FD accuracy
+      res.message = "no further decrease";
+      break;
+    }
+    if (res.converged) {
+      res.message = "cost change below tolerance";
+      break;
+    }
+  }
+  if (res.message.empty()) res.message = "iteration limit";
+  res.x = xs(v);
+  res.residual = r;
+  res.cost = cost;
+  res.at_bound.resize(p);
+  for (std::size_t i = 0; i < p; ++i) res.at_bound[i] = v[i] <= 1e-9 || v[i] >= 1 - 1e-9;
+  // Covariance from the last Jacobian (evaluated at or next to the estimate).
+  res.std_error.assign(p, std::numeric_limits<double>::quiet_NaN());
+  res.covariance.assign(p, std::vector<double>(p, std::numeric_limits<double>::quiet_NaN()));
+  if (have_J) {
+    const Eigen::MatrixXd A = J.transpose() * J;
+    Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> es(A);
+    if (es.eigenvalues().minCoeff() > 1e-12 * std::max(es.eigenvalues().maxCoeff(), 1e-300)) {
+      const Eigen::MatrixXd C = A.inverse() * o.covariance_scale;
+      for (std::size_t i = 0; i < p; ++i)
+        for (std::size_t j = 0; j < p; ++j)
+          res.covariance[i][j] = C(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(j)) *
+                                 dx_dv(bounds[i], v[i]) * dx_dv(bounds[j], v[j]);
+      for (std::size_t i = 0; i < p; ++i) res.std_error[i] = std::sqrt(std::max(0.0, res.covariance[i][i]));
+    }
+  }
+  return res;
+}
+
+} // namespace pw::diagnose

@@ -1,0 +1,72 @@
+#include "model/sensor.hpp"
+
+#include <cmath>
+#include <numbers>
+#include <stdexcept>
+#include <string>
+
+namespace pw::model {
+namespace {
+constexpr double kPi = std::numbers::pi;
+constexpr double kTwoPi = 2 * std::numbers::pi;
+} // namespace
+
+double wrap_angle(double a) {
+  double r = std::remainder(a, kTwoPi);  // [-pi, pi]
+  if (r <= -kPi) r += kTwoPi;
+  return r;
+}
+
+double sensor_window(double distance_rad, SensorWindow window, double width_rad) {
+  const double d = wrap_angle(distance_rad);
+  if (window == SensorWindow::Hann) {
+    const double h = std::sqrt(2 * kPi) * width_rad;  // same area as the Gaussian
+    if (std::fabs(d) >= h) return 0.0;
+    const double c = std::cos(kPi * d / (2 * h));
+    return c * c;
+  }
+  // Wrapped Gaussian: periodic and smooth for any width; the images at
+  // +-2 pi, +-4 pi matter only for wide windows. Normalized to w(0) = 1.
+  const double s2 = 2 * width_rad * width_rad;
+  double w = 0, w0 = 0;
+  for (int k = -2; k <= 2; ++k) {
+    const double dk = d + kTwoPi * k, zk = kTwoPi * k;
+    w += std::exp(-dk * dk / s2);
+    w0 += std::exp(-zk * zk / s2);
+  }
+  return w / w0;
+}
+
+double housing_acceleration(const SensorSettings& s, std::span<const double> psi, double theta_c,
+                            std::span<const double> dF) {
+  double a = 0;
+  for (std::size_t i = 0; i < psi.size(); ++i)
+    a += sensor_window(psi[i] + theta_c - s.angle_rad, s.window, s.window_width_rad) * dF[i];
+  return s.gain_m_s2_per_N * a;
+}
+
+std::vector<double> housing_acceleration_history(const SensorSettings& s, std::span<const double> psi,
+                                                 std::span<const double> theta_c,
+                                                 const std::vector<std::span<const double>>& force) {
+  if (force.size() != psi.size())
+    throw std::invalid_argument("housing_acceleration_history: " + std::to_string(force.size()) +
+                                " force histories for " + std::to_string(psi.size()) + " planets");
+  const std::size_t n = theta_c.size();
+  std::vector<double> mean(psi.size(), 0.0);
+  for (std::size_t i = 0; i < psi.size(); ++i) {
+    if (force[i].size() != n)
+      throw std::invalid_argument("housing_acceleration_history: planet " + std::to_string(i) + " force has " +
+                                  std::to_string(force[i].size()) + " samples, carrier angle " + std::to_string(n));
+    double m = 0;
+    for (double f : force[i]) m += f;
+    mean[i] = n > 0 ? m / static_cast<double>(n) : 0.0;
+  }
+  std::vector<double> out(n), dF(psi.size());
+  for (std::size_t k = 0; k < n; ++k) {
+    for (std::size_t i = 0; i < psi.size(); ++i) dF[i] = force[i][k] - mean[i];
+    out[k] = housing_acceleration(s, psi, theta_c[k], dF);
+  }
+  return out;
+}
+
+} // namespace pw::model

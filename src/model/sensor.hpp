@@ -1,0 +1,58 @@
+// Transfer path from the planet-ring meshes to an accelerometer fixed on the
+// ring/housing (McFadden & Smith 1985; Inalpolat & Kahraman 2009).
+//
+// A planet's ring-mesh force reaches a housing sensor at angle phi_s through a
+// path whose gain falls with the planet's angular distance from the sensor,
+// so the sensor sees each planet as it passes (the "planet-pass" modulation):
+//
+//   a_s(t) = G sum_i w(wrap(psi_i + theta_c(t) - phi_s)) (F_pr,i(t) - Fbar_pr,i)       (S1)
+//
+//  * psi_i      carrier angle of planet i (psi_0 = 0), counter-clockwise [rad]
+//  * theta_c(t) absolute carrier angle, Omega_c t + perturbation [rad]; planet i
+//               is at psi_i + theta_c in the housing frame
+//  * phi_s      sensor angle in the housing frame [rad] (SensorSettings::angle_rad)
+//  * wrap       to (-pi, pi]
+//  * w          window, w(0) = 1 (SensorWindow): wrapped Gaussian of standard
+//               deviation sigma, or Hann of half-width sqrt(2 pi) sigma (the
+//               same area, so switching the shape keeps the mean gain over a
+//               revolution)
+//  * Fbar_pr,i  mean of planet i's ring-mesh force over the record: the static
+//               load is not vibration
+//  * G          gain [m/s^2 per N] (SensorSettings::gain_m_s2_per_N)
+//
+// With N equal planets whose ring meshes are in phase, the window sum is
+// periodic at N f_c, so the mesh harmonics carry sidebands at k f_m +- j N f_c
+// (McFadden & Smith's Fig. 3); turning the sensor by d phi delays the
+// envelope by d phi / Omega_c. Pure functions, no state.
+#pragma once
+
+#include "model/stage.hpp"
+
+#include <span>
+#include <vector>
+
+namespace pw::model {
+
+/// Angle wrapped to (-pi, pi] [rad].
+double wrap_angle(double angle_rad);
+
+/// Window weight w(d) in [0, 1], w(0) = 1, for the angular distance d [rad]
+/// of a planet from the sensor (any angle; wrapped internally).
+double sensor_window(double distance_rad, SensorWindow window, double width_rad);
+
+/// Eq. (S1) at one instant: `planet_angles_rad` psi_i, `carrier_angle_rad`
+/// theta_c, `force_deviation_N` F_pr,i - Fbar_pr,i (one per planet).
+/// Returns the housing acceleration [m/s^2].
+double housing_acceleration(const SensorSettings& sensor, std::span<const double> planet_angles_rad,
+                            double carrier_angle_rad, std::span<const double> force_deviation_N);
+
+/// Eq. (S1) over a record: `carrier_angle_rad[k]` and `ring_force_N[i][k]`
+/// (planet i's ring-mesh force at sample k, all as long as the angles). The
+/// mean of each planet's force over the record is subtracted. Throws
+/// std::invalid_argument for mismatched sizes.
+std::vector<double> housing_acceleration_history(const SensorSettings& sensor,
+                                                 std::span<const double> planet_angles_rad,
+                                                 std::span<const double> carrier_angle_rad,
+                                                 const std::vector<std::span<const double>>& ring_force_N);
+
+} // namespace pw::model

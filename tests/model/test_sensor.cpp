@@ -1,0 +1,244 @@
+// Housing accelerometer transfer path (model/sensor.hpp, Eq. S1): window
+// shapes, planet-pass modulation (sidebands at f_m +- N f_c), the effect of
+// the sensor angle, and the simulator's housing/acceleration channel.
+#include "model/sensor.hpp"
+#include "model/simulation.hpp"
+#include "signal/spectrum.hpp"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <vector>
+
+using namespace pw::model;
+
+namespace {
+
+constexpr double kPi = std::numbers::pi;
+
+/// Amplitude of the single-sided rectangular-window DFT of x at bin k.
+double bin_amplitude(const std::vector<double>& x, std::size_t k) {
+  double re = 0, im = 0;
+  const double n = static_cast<double>(x.size());
+  for (std::size_t j = 0; j < x.size(); ++j) {
+    re += x[j] * std::cos(2 * kPi * static_cast<double>(k * j) / n);
+    im -= x[j] * std::sin(2 * kPi * static_cast<double>(k * j) / n);
+  }
+  return 2 * std::hypot(re, im) / n;
+}
+
+/// A synthetic record: carrier at constant speed, planet i's ring-mesh force
+/// amplitude[i] sin(2 pi f_m t). Frequencies are whole bins of the record.
+struct Synthetic {
+  static constexpr int N = 3;
+  static constexpr int carrier_revs = 4;
+  static constexpr int mesh_per_rev = 81;  // f_m = Zr f_c
+  static constexpr int samples = 4 * 81 * 64;
+  double f_c = 1.0;  // [Hz]; the record is 4 s long: bin spacing 0.25 Hz
+  std::vector<double> psi{0, 2 * kPi / 3, 4 * kPi / 3};
+  std::vector<double> time, theta;
+  std::vector<std::vector<double>> force;
+
+  explicit Synthetic(std::vector<double> amplitude) : force(N) {
+    const double T = carrier_revs / f_c, dt = T / samples;
+    for (int k = 0; k < samples; ++k) {
+      const double t = k * dt;
+      time.push_back(t);
+      theta.push_back(2 * kPi * f_c * t);
+      for (int i = 0; i < N; ++i) force[i].push_back(amplitude[i] * std::sin(2 * kPi * mesh_per_rev * f_c * t));
+    }
+  }
+  std::vector<double> housing(const SensorSettings& s) const {
+    std::vector<std::span<const double>> f(force.begin(), force.end());
+    return housing_acceleration_history(s, psi, theta, f);
+  }
+  /// Bin of frequency f [Hz].
+  std::size_t bin(double f) const { return static_cast<std::size_t>(std::lround(f * carrier_revs / f_c)); }
+};
+
+} // namespace
+
+TEST(SensorWindow, IsOneAtTheSensorSymmetricAndPeriodic) {
+  for (SensorWindow w : {SensorWindow::Gaussian, SensorWindow::Hann}) {
+    EXPECT_DOUBLE_EQ(sensor_window(0.0, w, 0.5), 1.0);
+    EXPECT_DOUBLE_EQ(sensor_window(2 * kPi, w, 0.5), 1.0);
+    for (double d : {0.1, 0.4, 1.0, 2.5})
+      EXPECT_NEAR(sensor_window(d, w, 0.5), sensor_window(-d, w, 0.5), 1e-15) << d;
+    EXPECT_NEAR(sensor_window(0.3 + 4 * kPi, w, 0.5), sensor_window(0.3, w, 0.5), 1e-12);
+  }
+  // Gaussian of standard deviation sigma (the wrapped images are negligible at 0.5 rad).
+  EXPECT_NEAR(sensor_window(0.5, SensorWindow::Gaussian, 0.5), std::exp(-0.5), 1e-12);
+  EXPECT_NEAR(sensor_window(1.0, SensorWindow::Gaussian, 0.5), std::exp(-2.0), 1e-12);
+  // Hann: zero beyond the half-width sqrt(2 pi) sigma, 1/2 at half of it.
+  const double h = std::sqrt(2 * kPi) * 0.5;
+  EXPECT_EQ(sensor_window(h + 1e-9, SensorWindow::Hann, 0.5), 0.0);
+  EXPECT_NEAR(sensor_window(h / 2, SensorWindow::Hann, 0.5), 0.5, 1e-12);
+}
+
+TEST(SensorWindow, GaussianAndHannHaveTheSameArea) {
+  // Same mean gain over a revolution: switching the shape changes no level.
+  for (double sigma : {0.2, 0.5, 1.0}) {
+    double ag = 0, ah = 0;
+    const int n = 200000;
+    for (int k = 0; k < n; ++k) {
+      const double d = -kPi + 2 * kPi * (k + 0.5) / n;
+      ag += sensor_window(d, SensorWindow::Gaussian, sigma);
+      ah += sensor_window(d, SensorWindow::Hann, sigma);
+    }
+    // The wrapped Gaussian is normalized to w(0) = 1 over its images, so its
+    // area is sigma sqrt(2 pi) / w0; for sigma <= 1 w0 - 1 < 1e-8.
+    EXPECT_NEAR(ag / ah, 1.0, 1e-6) << sigma;
+  }
+}
+
+TEST(Sensor, EqualPlanetsInPhaseGivePlanetPassSidebands) {
+  // McFadden & Smith 1985: N equal, in-phase planets seen through a window
+  // give sidebands at f_m +- k N f_c only (none at f_m +- f_c, +- 2 f_c).
+  const Synthetic s({100.0, 100.0, 100.0});
+  SensorSettings sensor;
+  sensor.angle_rad = 0.3;
+  const auto a = s.housing(sensor);
+  const double fm = Synthetic::mesh_per_rev * s.f_c;
+  const double carrier = bin_amplitude(a, s.bin(fm));
+  const double upper = bin_amplitude(a, s.bin(fm + 3 * s.f_c)), lower = bin_amplitude(a, s.bin(fm - 3 * s.f_c));
+  // Fourier coefficients of the window sum W(theta) = sum_i w(psi_i + theta - phi):
+  // W = c0 + 2 sum_m c_m cos(m N (theta + ...)); for the Gaussian
+  // c_m = N sigma / sqrt(2 pi) exp(-(m N sigma)^2 / 2) per unit w(0).
+  const double sigma = sensor.window_width_rad, N = 3;
+  const double c0 = N * sigma / std::sqrt(2 * kPi), c1 = c0 * std::exp(-0.5 * N * N * sigma * sigma);
+  EXPECT_NEAR(carrier, sensor.gain_m_s2_per_N * 100.0 * c0, 1e-3 * carrier);
+  EXPECT_NEAR(upper, sensor.gain_m_s2_per_N * 100.0 * c1, 1e-3 * upper);
+  EXPECT_NEAR(lower, upper, 1e-3 * upper);
+  EXPECT_GT(upper, 0.2 * carrier);
+  for (double off : {1.0, 2.0, 4.0, 5.0})
+    EXPECT_LT(bin_amplitude(a, s.bin(fm + off * s.f_c)), 1e-9 * carrier) << "sideband at f_m + " << off << " f_c";
+}
+
+TEST(Sensor, EnvelopePeaksWhenAPlanetPassesTheSensor) {
+  // One loaded planet: the envelope of a_s peaks when psi_1 + theta_c = phi_s.
+  const Synthetic s({0.0, 100.0, 0.0});
+  SensorSettings sensor;
+  sensor.angle_rad = 1.0;
+  const auto a = s.housing(sensor);
+  std::size_t k_max = 0;
+  for (std::size_t k = 0; k < a.size() / Synthetic::carrier_revs; ++k)  // first revolution
+    if (std::fabs(a[k]) > std::fabs(a[k_max])) k_max = k;
+  const double expected = sensor.angle_rad - s.psi[1] + 2 * kPi;  // theta_c at the pass, in (0, 2 pi)
+  // Peak within one mesh period (2 pi / 81 of carrier angle) of the pass.
+  EXPECT_NEAR(s.theta[k_max], expected, 2 * kPi / Synthetic::mesh_per_rev);
+}
+
+TEST(Sensor, TurningTheSensorByOnePlanetSpacingDelaysTheSignalByOnePlanetPass) {
+  // With only planet 0 loaded, a sensor 2 pi / N further round sees the same
+  // signal one planet pass (T_c / N) later; with all three loaded equally
+  // and in phase it sees exactly the same signal.
+  const Synthetic one({100.0, 0.0, 0.0}), all({100.0, 100.0, 100.0});
+  SensorSettings s0, s1;
+  s0.angle_rad = 0.2;
+  s1.angle_rad = 0.2 + 2 * kPi / 3;
+  const auto a0 = one.housing(s0), a1 = one.housing(s1);
+  const std::size_t shift = Synthetic::samples / Synthetic::carrier_revs / 3;  // samples per planet pass
+  double err = 0, scale = 0, diff = 0;
+  for (std::size_t k = 0; k + shift < a0.size(); ++k) {
+    err = std::max(err, std::fabs(a1[k + shift] - a0[k]));
+    diff = std::max(diff, std::fabs(a1[k] - a0[k]));
+    scale = std::max(scale, std::fabs(a0[k]));
+  }
+  EXPECT_LT(err, 1e-9 * scale);
+  EXPECT_GT(diff, 0.5 * scale) << "without the shift the signals must differ";
+  const auto b0 = all.housing(s0), b1 = all.housing(s1);
+  for (std::size_t k = 0; k < b0.size(); k += 97) EXPECT_NEAR(b1[k], b0[k], 1e-9 * scale);
+  // Half a spacing is a different signal (the sensor sits between planets).
+  SensorSettings sh = s0;
+  sh.angle_rad += kPi / 3;
+  const auto bh = all.housing(sh);
+  double d = 0;
+  for (std::size_t k = 0; k < b0.size(); ++k) d = std::max(d, std::fabs(bh[k] - b0[k]));
+  EXPECT_GT(d, 0.1 * scale);
+}
+
+TEST(Sensor, HistorySubtractsEachPlanetsMeanForce) {
+  // A constant force is static load, not vibration.
+  SensorSettings sensor;
+  const std::vector<double> psi{0.0, 2.0, 4.0}, theta{0.0, 0.1, 0.2, 0.3};
+  const std::vector<double> f0(4, 500.0), f1(4, 300.0), f2(4, 100.0);
+  const auto a = housing_acceleration_history(sensor, psi, theta, {f0, f1, f2});
+  for (double x : a) EXPECT_EQ(x, 0.0);
+  EXPECT_THROW(housing_acceleration_history(sensor, psi, theta, {f0, f1}), std::invalid_argument);
+}
+
+TEST(Sensor, SimulatedHousingChannelFollowsThePlanetPasses) {
+  // The simulator's housing/acceleration, carrier/angle and ring forces obey
+  // Eq. (S1), and the envelope of the housing signal per mesh period follows
+  // the window sum sum_i w(psi_i + theta_c - phi_s): a wrong sign of the
+  // carrier angle, of psi or of phi_s would put its peaks 60 deg off.
+  SimulationConfig c;
+  c.operating.input_speed_rpm = 1200;
+  c.sensor.angle_rad = 0.5;
+  c.solver.record_mesh_cycles = 2 * c.stage.ring.teeth;  // two carrier revolutions
+  const SimulationResult r = simulate(c);
+  const Channel* h = r.find("housing/acceleration");
+  const Channel* th = r.find("carrier/angle");
+  const Channel* ts = r.find("sun/angle");
+  ASSERT_TRUE(h && th && ts);
+  EXPECT_EQ(h->unit, "m/s^2");
+  EXPECT_EQ(th->unit, "rad");
+  const std::size_t n = r.time_s.size();
+  // Absolute angles: Omega t_abs + a perturbation, t_abs = record_start_time +
+  // time. The perturbation is the angle gained or lost while the warm-up
+  // settled the speed (constant afterwards) plus micro-radian vibration.
+  double t0 = -1;
+  for (const auto& s : r.scalars)
+    if (s.name == "record_start_time") t0 = s.value;
+  ASSERT_GT(t0, 0.0);
+  const double ws = 1200 * 2 * kPi / 60, wc = ws * 21.0 / 102.0;
+  // (An error of one mesh period in t0 would be 0.078 rad on the carrier.)
+  for (std::size_t k = 0; k < n; k += 1000) {
+    EXPECT_NEAR(th->values[k], wc * (t0 + r.time_s[k]), 0.01);
+    EXPECT_NEAR(ts->values[k], ws * (t0 + r.time_s[k]), 0.02);
+  }
+  // Eq. (S1) from the ring-mesh forces.
+  std::vector<std::span<const double>> f;
+  for (int i = 0; i < 3; ++i) f.emplace_back(r.find("planet_ring/" + std::to_string(i) + "/force")->values);
+  const std::vector<double> psi{0, 2 * kPi / 3, 4 * kPi / 3};
+  const auto expect = housing_acceleration_history(c.sensor, psi, th->values, f);
+  for (std::size_t k = 0; k < n; k += 101) ASSERT_EQ(h->values[k], expect[k]);
+  // Envelope: RMS per mesh period against G * W(theta_c) * RMS of the force fluctuation.
+  const auto& F0 = f[0];
+  double mean = 0;
+  for (double x : F0) mean += x / static_cast<double>(n);
+  const std::size_t spm = n / static_cast<std::size_t>(c.solver.record_mesh_cycles);
+  std::vector<double> env, model_env;
+  for (std::size_t m = 0; m + 1 < n / spm; ++m) {
+    double sa = 0, sf = 0;
+    for (std::size_t k = m * spm; k < (m + 1) * spm; ++k) {
+      sa += h->values[k] * h->values[k];
+      sf += (F0[k] - mean) * (F0[k] - mean);
+    }
+    const double theta = th->values[m * spm + spm / 2];
+    double W = 0;
+    for (double p : psi) W += sensor_window(p + theta - c.sensor.angle_rad, c.sensor.window, c.sensor.window_width_rad);
+    env.push_back(std::sqrt(sa / static_cast<double>(spm)));
+    model_env.push_back(c.sensor.gain_m_s2_per_N * W * std::sqrt(sf / static_cast<double>(spm)));
+  }
+  double worst = 0, top = 0;
+  for (std::size_t m = 0; m < env.size(); ++m) {
+    worst = std::max(worst, std::fabs(env[m] - model_env[m]));
+    top = std::max(top, model_env[m]);
+  }
+  EXPECT_LT(worst, 0.05 * top) << "envelope does not follow the planet passes";
+  // And the spectrum has the planet-pass sidebands f_m +- N f_c.
+  const auto sp = pw::signal::amplitude_spectrum(h->values, r.time_step_s, pw::signal::Window::Hann);
+  const double fm = 21.0 * 81.0 / 102.0 * 1200 / 60, fc = 1200.0 / 60 * 21.0 / 102.0;
+  auto peak = [&](double freq) {
+    double best = 0;
+    for (std::size_t k = 0; k < sp.frequency_Hz.size(); ++k)
+      if (std::fabs(sp.frequency_Hz[k] - freq) < 0.3 * fc) best = std::max(best, sp.amplitude[k]);
+    return best;
+  };
+  EXPECT_GT(peak(fm + 3 * fc), 0.1 * peak(fm));
+  EXPECT_GT(peak(fm - 3 * fc), 0.1 * peak(fm));
+  EXPECT_LT(peak(fm + 1 * fc), 0.1 * peak(fm + 3 * fc));
+}
