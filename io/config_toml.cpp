@@ -271,6 +271,10 @@ void visit_config(V& v, Config& c) {
   v.field("planet_angles_rad", c.stage.planet_angles_rad, "planet angles psi_i [rad]; [] = equally spaced");
   v.field("carrier_inertia_kgm2", c.stage.carrier_inertia_kgm2, "carrier inertia without planets [kg m^2]; 0 = derived");
   v.field("carrier_mass_kg", c.stage.carrier_mass_kg, "carrier mass without planets [kg]; 0 = derived");
+  v.field("input_inertia_kgm2", c.stage.input_inertia_kgm2,
+          "inertia on the input shaft besides the sun (motor, coupling) [kg m^2]");
+  v.field("output_inertia_kgm2", c.stage.output_inertia_kgm2,
+          "inertia on the output shaft besides the carrier (load machine) [kg m^2]");
   v.field("bore_ratio", c.stage.bore_ratio, "bore radius / root radius of sun and planets [-]");
   visit_gear(v, "stage.sun", c.stage.sun);
   visit_gear(v, "stage.planet", c.stage.planet);

@@ -89,7 +89,7 @@ QUICK_OPERATING = {"Q1": (800.0, 20000.0), "Q2": (1200.0, 20000.0)}
 #    slowly (a speed transient with a 0.2 s time constant): warm up for up to
 #    380 mesh cycles and start the file at mesh cycle 1500, when the
 #    transient has died out (the mean speed then sits 0.1-0.4 % off nominal).
-SLOW = {"sets": ["solver.time_step_s=2.5e-6", "solver.periodicity_tolerance=0.05"], "start_mesh_cycle": 20}
+SLOW = {"sets": ["solver.time_step_s=2.5e-6", "solver.periodicity_tolerance=0.05"], "start_mesh_cycle": 120}
 FAST = {"sets": ["solver.time_step_s=2.5e-6", "solver.warmup_max_mesh_cycles=380"], "start_mesh_cycle": 1500}
 SETTINGS = {"A": SLOW, "B": SLOW, "C": SLOW, "D": FAST, "E": FAST, "Q1": SLOW, "Q2": SLOW}
 

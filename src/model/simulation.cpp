@@ -112,11 +112,13 @@ MassProperties mass_properties(const SimulationConfig& c, const geometry::StageG
     inertia = 0.5 * mass * (ro * ro + ri * ri);
   };
   disc(st.sun, g.sun, m.sun_mass_kg, m.sun_inertia_kgm2);
+  m.sun_inertia_kgm2 += st.input_inertia_kgm2;  // rigidly coupled input shaft
   disc(st.planet, g.planet, m.planet_mass_kg, m.planet_inertia_kgm2);
   const double Rc = 1.2 * g.carrier_radius_m;
   m.carrier_mass_kg = st.carrier_mass_kg > 0 ? st.carrier_mass_kg
                                              : annulus_mass(st.sun.material.density_kg_m3, Rc, 0.0, 2 * 0.010);
   m.carrier_inertia_kgm2 = st.carrier_inertia_kgm2 > 0 ? st.carrier_inertia_kgm2 : 0.5 * m.carrier_mass_kg * Rc * Rc;
+  m.carrier_inertia_kgm2 += st.output_inertia_kgm2;  // rigidly coupled output shaft
   const double ri = g.ring.root_radius_m, ro = ri + 3 * st.ring.module_m;
   m.ring_mass_kg = annulus_mass(st.ring.material.density_kg_m3, ro, ri, st.ring.face_width_m);
   m.ring_inertia_kgm2 = 0.5 * m.ring_mass_kg * (ro * ro + ri * ri);
@@ -174,7 +176,13 @@ PreparedStage prepare(const SimulationConfig& c) {
   for (std::size_t i = 0; i < structure.meshes.size(); ++i)
     kbar.push_back(i % 2 == 0 ? sp.mean_stiffness_N_m : pr.mean_stiffness_N_m);
   const Eigen::MatrixXd K = structure.support_stiffness + dynamics::mesh_stiffness_matrix(structure, kbar);
-  p.natural_frequencies_Hz = dynamics::natural_frequencies(structure.mass, K).frequencies_Hz;
+  const dynamics::ModalResult modal = dynamics::natural_frequencies(structure.mass, K);
+  p.natural_frequencies_Hz = modal.frequencies_Hz;
+  {
+    // Mode 0 is the rigid rotation (sun and carrier free, ring held).
+    const Eigen::RowVectorXd sun_row = structure.bodies[structure.sun_body].map.row(2);
+    p.rigid_mode = modal.modes.col(0) / sun_row.dot(modal.modes.col(0));
+  }
   const double f_max = p.natural_frequencies_Hz.maxCoeff();
 
   // Time step: resolve the mesh period and the stiffest mode (average
@@ -338,17 +346,63 @@ WarmupStats warm_up(Run& r, const ProgressFn& report, double f0, double f1) {
   const int settle_cycles =
       std::max(3, static_cast<int>(std::ceil(10.0 / (zeta * 2 * kPi * f_low) * p.mesh_frequency_Hz)));
   const int max_warm = c.solver.warmup_max_mesh_cycles;
+  // Speed control acts on the rigid mode r (unit sun rotation): inertia
+  // reflected to the sun I_eq = r'Mr, load torque reflected by k_r = carrier
+  // rotation per sun rotation = Zs/(Zs+Zr). Averages are taken over whole
+  // mesh periods, or, with tooth-level features, over the longer of one sun
+  // and one planet revolution relative to the carrier (z mesh periods), so
+  // that a damaged tooth or a ripple does not bias them.
+  const Eigen::VectorXd& rig = p.rigid_mode;
+  const double I_eq = rig.dot(sys.mass() * rig);
+  const double k_r = sys.carrier_theta_row().dot(rig);
+  const int window = periodic_per_mesh ? 1 : std::max(c.stage.sun.teeth, c.stage.planet.teeth);
+  // Torque ripple modulates the speed at k f_s, not a multiple of the mesh
+  // period: average over whole ripple periods (the trend term then comes from
+  // the speed means of the first and the last ripple period of the window).
+  const bool ripple = c.imperfections.torque_ripple_fraction != 0;
+  const long ripple_steps =
+      ripple ? std::max(1L, std::lround(2 * kPi / (c.imperfections.torque_ripple_order * p.sun_speed_rad_s) /
+                                        p.time_step_s))
+             : 0;
+  long n_window = static_cast<long>(window) * spm;
+  if (ripple) n_window = std::max(2L, (n_window + ripple_steps - 1) / ripple_steps) * ripple_steps;
+  const double Omega = p.sun_speed_rad_s;
   std::vector<double> prev(nm, 0.0);
   WarmupStats w;
   double progress = 0;
-  for (w.cycles = 1; w.cycles <= max_warm; ++w.cycles) {
-    double mean_ws = 0;
-    for (int k = 0; k < spm; ++k) {
+  int windows = 0;
+  for (w.cycles = 0; w.cycles < max_warm;) {
+    double mean_ws = 0, mean_as = 0, mean_Ts = 0, last_ws = 0, first_ws = 0;
+    const long n = n_window;
+    const long tail = ripple ? ripple_steps : spm;  // speed at the end: last mesh (or ripple) period
+    for (long k = 0; k < n; ++k) {
       r.step();
-      mean_ws += p.sun_speed_rad_s + sys.sun_theta_row().dot(r.st.v);
+      const double ws = Omega + sys.sun_theta_row().dot(r.st.v);
+      mean_ws += ws;
+      mean_as += sys.sun_theta_row().dot(r.st.a);
+      mean_Ts += sys.input_torque_Nm(r.st.t, r.st.q, r.st.v);
+      if (k >= n - tail) last_ws += ws;
+      if (k < tail) first_ws += ws;
     }
-    mean_ws /= spm;
-    sys.set_load_torque_Nm(sys.load_torque_Nm() * mean_ws / p.sun_speed_rad_s);
+    const double dn = static_cast<double>(n);
+    mean_ws /= dn;
+    mean_as /= dn;
+    mean_Ts /= dn;
+    last_ws /= static_cast<double>(tail);
+    first_ws /= static_cast<double>(tail);
+    if (ripple) mean_as = (last_ws - first_ws) / ((dn - static_cast<double>(tail)) * p.time_step_s);
+    w.cycles += static_cast<int>(std::lround(dn / spm));
+    ++windows;
+    // Steady state of the rigid mode at the nominal mean speed: the mean
+    // torque balance I_eq a = T_s - k_r T_L - T_loss over the window gives
+    // the loss torque. Shifting the rigid-mode speed to Omega (a shift along
+    // a mass-orthogonal mode does not excite the elastic modes) scales the
+    // mean input torque P <1/w> by mean(w)/Omega (the vibration's Jensen
+    // excess <1/w> - 1/<w> stays), and the load torque that cancels the net
+    // torque there follows in one step:
+    //   T_L' = T_L + (T_s (mean(w)/Omega - 1) + I_eq a) / k_r.
+    sys.set_load_torque_Nm(sys.load_torque_Nm() + (mean_Ts * (mean_ws / Omega - 1.0) + I_eq * mean_as) / k_r);
+    r.st.v += (Omega - last_ws) * rig;
     double dmax = 0, dchange = 0;
     for (int m = 0; m < nm; ++m) {
       const double d = sys.mesh_states()[m].deflection_m;
@@ -356,7 +410,8 @@ WarmupStats warm_up(Run& r, const ProgressFn& report, double f0, double f1) {
       dchange = std::max(dchange, std::fabs(d - prev[m]));
       prev[m] = d;
     }
-    w.residual = std::max(dchange / std::max(dmax, 1e-30), std::fabs(mean_ws / p.sun_speed_rad_s - 1.0));
+    const double speed_residual = std::fabs(mean_ws / Omega - 1.0);
+    w.residual = periodic_per_mesh ? std::max(dchange / std::max(dmax, 1e-30), speed_residual) : speed_residual;
     // Progress: how far the residual has fallen towards its tolerance on a
     // log scale (or the share of the fixed settle time), never backwards.
     const double frac = periodic_per_mesh
@@ -364,10 +419,11 @@ WarmupStats warm_up(Run& r, const ProgressFn& report, double f0, double f1) {
                             : static_cast<double>(w.cycles) / settle_cycles;
     progress = std::clamp(frac, progress, 1.0);
     if (report) report(f0 + (f1 - f0) * progress, "warm-up");
-    if (w.cycles >= 3 && periodic_per_mesh && w.residual < c.solver.periodicity_tolerance) break;
-    if (!periodic_per_mesh && w.cycles >= settle_cycles) break;
+    if (periodic_per_mesh && w.cycles >= 3 && w.residual < c.solver.periodicity_tolerance) break;
+    if (!periodic_per_mesh && windows >= 2 && w.cycles >= settle_cycles &&
+        speed_residual < c.solver.periodicity_tolerance)
+      break;
   }
-  w.cycles = std::min(w.cycles, max_warm);
   return w;
 }
 

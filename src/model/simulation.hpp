@@ -41,6 +41,9 @@ struct PreparedStage {
   double mesh_frequency_Hz = 0;    ///< Zs (Omega_s - Omega_c) / 2 pi [Hz]
   std::unique_ptr<PlanetaryDynamics> dynamics;
   Eigen::VectorXd natural_frequencies_Hz;  ///< linearized at the mean mesh stiffness
+  /// The rigid-body (kinematic) mode, scaled to unit sun rotation: the motion
+  /// the applied torques accelerate and the warm-up controls.
+  Eigen::VectorXd rigid_mode;
   double time_step_s = 0;
   int steps_per_mesh = 0;
 };

@@ -98,6 +98,8 @@ void validate_stage(const StageSpec& s) {
   }
   check(s.carrier_inertia_kgm2, "stage.carrier_inertia_kgm2", 0, kInf, Ends::Closed, "kg m^2; 0 = derived");
   check(s.carrier_mass_kg, "stage.carrier_mass_kg", 0, kInf, Ends::Closed, "kg; 0 = derived");
+  check(s.input_inertia_kgm2, "stage.input_inertia_kgm2", 0, kInf, Ends::Closed, "kg m^2");
+  check(s.output_inertia_kgm2, "stage.output_inertia_kgm2", 0, kInf, Ends::Closed, "kg m^2");
   check(s.bore_ratio, "stage.bore_ratio", 0, 0.9, Ends::Closed, "-");
 }
 

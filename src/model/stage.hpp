@@ -29,6 +29,11 @@ struct StageSpec {
   /// (docs/derivation.md: two steel side plates of radius 1.2 a, 10 mm thick).
   double carrier_inertia_kgm2 = 0.0;
   double carrier_mass_kg = 0.0;  ///< without planets [kg]; 0: derived as above
+  /// Inertia on the input shaft besides the sun (motor rotor, coupling)
+  /// [kg m^2]; 0 (the seed's model: the sun alone takes the input power).
+  double input_inertia_kgm2 = 0.0;
+  /// Inertia on the output shaft besides the carrier (load machine) [kg m^2]; 0 as in the seed.
+  double output_inertia_kgm2 = 0.0;
   /// Gear body bore radius as a fraction of the root radius [-], used only for
   /// the derived (solid-disc-with-bore) inertias and masses of sun and planets.
   double bore_ratio = 0.3;

@@ -36,6 +36,8 @@ inline void expect_config_eq(const model::SimulationConfig& a, const model::Simu
   EXPECT_EQ(a.stage.planet_angles_rad, b.stage.planet_angles_rad);
   EXPECT_EQ(a.stage.carrier_inertia_kgm2, b.stage.carrier_inertia_kgm2);
   EXPECT_EQ(a.stage.carrier_mass_kg, b.stage.carrier_mass_kg);
+  EXPECT_EQ(a.stage.input_inertia_kgm2, b.stage.input_inertia_kgm2);
+  EXPECT_EQ(a.stage.output_inertia_kgm2, b.stage.output_inertia_kgm2);
   EXPECT_EQ(a.stage.bore_ratio, b.stage.bore_ratio);
 
   EXPECT_EQ(a.operating.input_speed_rpm, b.operating.input_speed_rpm);
@@ -132,6 +134,8 @@ inline model::SimulationConfig nondefault_config() {
   c.stage.planet_angles_rad = {0.0, 1.5, 0.1 + 3.0, 4.7};
   c.stage.carrier_inertia_kgm2 = 0.1 / 3;
   c.stage.carrier_mass_kg = 2.5;
+  c.stage.input_inertia_kgm2 = 0.02;
+  c.stage.output_inertia_kgm2 = 0.5;
   c.stage.bore_ratio = 0.25;
 
   c.operating.input_speed_rpm = (0.1 + 0.2) * 1000;
