@@ -21,7 +21,6 @@ sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 
 import pwplot  # noqa: E402  (re-execs under /usr/bin/python3 if numpy/h5py/matplotlib are missing)
 import pwcampaign  # noqa: E402
-import sobol_indices  # noqa: E402
 
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
@@ -407,7 +406,7 @@ def cmd_all(a):
 
 def main(argv=None):
     import argparse
-    p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0] + " See docs/postprocessing.md.",
+    p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0],
                                 formatter_class=argparse.RawDescriptionHelpFormatter)
     sub = p.add_subparsers(dest="command", required=True, metavar="COMMAND")
 

@@ -102,7 +102,7 @@ trap 'exit 1' INT TERM
 
 # munged: a key of our own (1024 random bytes, owner munge, mode 400) and a socket of our own.
 chown munge:munge "$ST/munge"
-chmod 700 "$ST/munge"
+chmod 755 "$ST/munge"  # munged needs clients (root here) to reach the socket
 dd if=/dev/urandom of="$ST/munge/munge.key" bs=1024 count=1 2>/dev/null
 chown munge:munge "$ST/munge/munge.key"
 chmod 400 "$ST/munge/munge.key"
@@ -113,7 +113,6 @@ setpriv --reuid=munge --regid=munge --init-groups munged -F --force --key-file="
 PIDS="$PIDS $!"
 i=0; while [ ! -S "$SOCK" ] && [ $i -lt 50 ]; do sleep 0.1; i=$((i + 1)); done
 [ -S "$SOCK" ] || fail "munged did not start (see $ST/log/munged.log)"
-chmod 755 "$ST/munge"  # clients (root here) reach the socket
 
 CPUS=$(nproc)
 cat > "$ST/slurm.conf" <<EOF
@@ -227,11 +226,15 @@ if [ -n "$(squeue -h -j "$JOB" -t RUNNING 2>/dev/null)" ]; then
   # What Slurm does 300 s before the time limit (--signal=B:USR1@300): USR1 to
   # the batch shell, whose trap requeues the job.
   scancel --batch --signal=USR1 "$JOB"
-  # A requeued job waits about a minute before it may start again; start it now.
+  say "sent USR1 (the time-limit warning) to job $JOB after its first finished case: it requeued itself"
+  # A requeued job waits about a minute before it may start again. It must not
+  # start before slurmd forgets the killed run's credential (cred_expire = 10 s
+  # in slurm.conf above), else it is killed as "Job credential revoked": wait
+  # 12 s, then let it start.
   i=0
   until [ "$(job_state "$JOB")" = PENDING ] || [ $i -ge 100 ]; do sleep 0.2; i=$((i + 1)); done
+  sleep 12
   scontrol update JobId="$JOB" StartTime=now || true
-  say "sent USR1 (the time-limit warning) to job $JOB after its first finished case: it requeued itself"
   REQUEUED=1
 else
   say "job $JOB finished before it could be requeued"

@@ -2,7 +2,7 @@
 # ctest: the sbatch scripts on a throw-away local single-node Slurm
 # (slurm/local_slurm.sh). Never installs anything: skipped (exit 77) unless
 # run as root with slurm-wlm and munge installed (`slurm/local_slurm.sh`
-# run by hand as root installs them). About 15-30 s on 2 cores.
+# run by hand as root installs them). About 30 s on 2 cores.
 #   test_local_slurm.sh PLANETWEAR [WORKDIR]   (WORKDIR: default a new /tmp/pw-local-slurm.*)
 set -eu
 HERE=$(cd "$(dirname "$0")" && pwd)
