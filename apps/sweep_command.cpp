@@ -4,8 +4,12 @@
 #include "sweep/campaign.hpp"
 #include "sweep/driver.hpp"
 
+#include <algorithm>
+#include <charconv>
 #include <cstdio>
 #include <iostream>
+#include <string_view>
+#include <tuple>
 
 namespace pw::app {
 
@@ -29,10 +33,39 @@ CLI::App* add_sweep_command(CLI::App& app, SweepCommandOptions& o) {
       ->check(CLI::PositiveNumber)
       ->capture_default_str();
   s->add_flag("--dry-run", o.dry_run, "check the campaign and every case, print the cases, write nothing");
+  s->add_option("--cases", o.cases,
+                "run only cases BEGIN <= i < END (BEGIN:END, END may be omitted = to the last case), e.g. one "
+                "array-job task; the archive still lists every case, the others pending "
+                "(merge slices with scripts/merge_archives.py)");
   return s;
 }
 
+namespace {
+/// "BEGIN:END" -> [begin, end); END empty = all. Throws InputError naming --cases.
+std::pair<std::size_t, std::size_t> parse_case_range(const std::string& text) {
+  const auto fail = [&] {
+    return InputError("--cases", "expected BEGIN:END with 0 <= BEGIN < END (case indices), got '" + text + "'");
+  };
+  const auto colon = text.find(':');
+  if (colon == std::string::npos) throw fail();
+  auto number = [&](std::string_view s, std::size_t fallback) {
+    if (s.empty()) return fallback;
+    std::size_t v = 0;
+    const auto [p, ec] = std::from_chars(s.data(), s.data() + s.size(), v);
+    if (ec != std::errc{} || p != s.data() + s.size()) throw fail();
+    return v;
+  };
+  const std::string_view all(text);
+  const std::size_t b = number(all.substr(0, colon), 0);
+  const std::size_t e = number(all.substr(colon + 1), static_cast<std::size_t>(-1));
+  if (b >= e) throw fail();
+  return {b, e};
+}
+} // namespace
+
 int run_sweep(const SweepCommandOptions& o) {
+  std::size_t begin = 0, end = static_cast<std::size_t>(-1);
+  if (!o.cases.empty()) std::tie(begin, end) = parse_case_range(o.cases);
   if (o.dry_run) {
     const sweep::Campaign c = sweep::read_campaign(o.campaign);
     sweep::validate_cases(c);
@@ -41,7 +74,7 @@ int run_sweep(const SweepCommandOptions& o) {
     std::printf("%8s", "case");
     for (const auto& f : c.factors) std::printf("  %s [%s]", f.key.c_str(), f.unit.c_str());
     std::printf("%s\n", c.design.type == sweep::DesignType::Saltelli ? "  role  row" : "");
-    for (std::size_t i = 0; i < c.cases.size(); ++i) {
+    for (std::size_t i = begin; i < std::min(end, c.cases.size()); ++i) {
       std::printf("%8zu", i);
       for (std::size_t k = 0; k < c.factors.size(); ++k) {
         const int width = static_cast<int>(c.factors[k].key.size() + c.factors[k].unit.size() + 3);
@@ -61,6 +94,8 @@ int run_sweep(const SweepCommandOptions& o) {
   s.quiet = o.quiet;
   s.checkpoint_cases = o.checkpoint_cases;
   s.checkpoint_seconds = o.checkpoint_seconds;
+  s.case_begin = begin;
+  s.case_end = end;
   return sweep::run_sweep(s, std::cerr);
 }
 

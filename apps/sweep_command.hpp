@@ -18,6 +18,7 @@ struct SweepCommandOptions {
   bool resume = false, force = false, quiet = false, dry_run = false;
   int checkpoint_cases = 32;
   double checkpoint_seconds = 60;
+  std::string cases;  ///< "BEGIN:END" slice (array jobs); empty = all
 };
 
 /// Adds the subcommand and its options to `app`.

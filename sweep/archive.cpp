@@ -165,6 +165,8 @@ void write_archive(const std::filesystem::path& path, const Campaign& c,
   f.set_attribute("/", "cases_pending", static_cast<std::int64_t>(n - done - failed));
   f.set_attribute("/", "complete", static_cast<std::int64_t>(done + failed == n ? 1 : 0));
   f.set_attribute("/", "mpi_ranks", static_cast<std::int64_t>(info.mpi_ranks));
+  f.set_attribute("/", "case_begin", static_cast<std::int64_t>(info.case_begin));
+  f.set_attribute("/", "case_end", static_cast<std::int64_t>(info.case_end));
 
   // Campaign inputs.
   f.write_string("/campaign/toml", c.text);
@@ -406,6 +408,12 @@ ArchiveContents read_archive(const std::filesystem::path& path) {
   out.design_hash = f.read_string_attribute("/campaign", "design_hash");
   const std::size_t n = status.size();
   out.cases = n;
+  out.case_begin = 0;
+  out.case_end = n;
+  if (f.has_attribute("/", "case_begin") && f.has_attribute("/", "case_end")) {
+    out.case_begin = static_cast<std::size_t>(f.read_int_attribute("/", "case_begin"));
+    out.case_end = static_cast<std::size_t>(f.read_int_attribute("/", "case_end"));
+  }
   const auto wall = f.read_doubles("/design/wall_time");
   const auto rank = f.read_ints("/design/rank");
   if (message.size() != n || wall.size() != n || rank.size() != n)

@@ -43,6 +43,7 @@ inline constexpr std::int64_t kArchiveFormatVersion = 1;
 /// Provenance of the run writing the archive (root attributes).
 struct ArchiveRunInfo {
   int mpi_ranks = 1;
+  std::size_t case_begin = 0, case_end = 0;  ///< the slice this run computes (root attributes)
 };
 
 /// Writes the whole archive into a new file `path` (an existing file is
@@ -58,6 +59,7 @@ void write_archive(const std::filesystem::path& path, const Campaign& campaign,
 struct ArchiveContents {
   std::string input_hash, design_hash;  ///< hex, as written
   std::size_t cases = 0;
+  std::size_t case_begin = 0, case_end = 0;  ///< slice of the run that wrote it (0, cases when absent)
   std::vector<CaseRecord> records;      ///< every done or failed case, in case order
 };
 

@@ -307,6 +307,7 @@ struct Setup {
   Campaign campaign;
   std::vector<RecordPtr> records;  ///< per case; null = to run
   std::unique_ptr<Journal> journal;
+  std::size_t case_begin = 0, case_end = 0;  ///< the slice this run computes
 };
 
 /// Removes "<output>.partial-<pid>" files left by killed runs.
@@ -333,6 +334,11 @@ Setup prepare(const SweepOptions& o, int ranks, std::ostream& log) {
   const Campaign& c = s.campaign;
   validate_cases(c);
   const std::size_t n = c.cases.size();
+  // Array-job slice: cases [begin, end) (end clamped to the case count).
+  s.case_begin = o.case_begin;
+  s.case_end = std::min(o.case_end, n);
+  require(s.case_begin < s.case_end, "--cases",
+          detail::concat("empty range ", o.case_begin, ":", o.case_end, " of a campaign with ", n, " cases"));
 
   const std::filesystem::path& out = o.output;
   const std::filesystem::path dir = out.has_parent_path() ? out.parent_path() : std::filesystem::path(".");
@@ -361,6 +367,10 @@ Setup prepare(const SweepOptions& o, int ranks, std::ostream& log) {
                                                   a.design_hash, ") but the campaign now resolves to ", n,
                                                   " cases (hash ", hex64(c.design_hash),
                                                   "), e.g. after a software update. Refusing to resume"));
+    if (a.case_begin != s.case_begin || a.case_end != s.case_end)
+      throw InputError("--cases", detail::concat(out.string(), " was written for cases ", a.case_begin, ":",
+                                                 a.case_end, ", not ", s.case_begin, ":", s.case_end,
+                                                 "; resume with the same --cases range"));
     for (auto& r : a.records) {
       const auto i = static_cast<std::size_t>(r.index);
       s.records[i] = std::make_shared<const CaseRecord>(std::move(r));
@@ -387,7 +397,7 @@ Setup prepare(const SweepOptions& o, int ranks, std::ostream& log) {
     if (o.resume || o.force) remove_stale_partials(out);
     // The first checkpoint: a fresh archive with every case pending, or the
     // archive and journal merged. Journal entries are deleted after it.
-    write_checkpoint(out, c, s.records, {ranks});
+    write_checkpoint(out, c, s.records, {ranks, s.case_begin, s.case_end});
     s.journal->clear();
   } catch (...) {
     if (!o.resume && !archive_exists && !journal_exists) s.journal->remove_directory();
@@ -448,7 +458,7 @@ int master(const SweepOptions& o, Setup& s, int ranks, std::ostream& log) {
   std::vector<RecordPtr>& records = s.records;
   std::deque<std::size_t> pending;
   std::size_t finished_total = 0, failed_total = 0;
-  for (std::size_t i = 0; i < n; ++i) {
+  for (std::size_t i = s.case_begin; i < s.case_end; ++i) {
     if (!records[i]) {
       pending.push_back(i);
       continue;
@@ -457,13 +467,13 @@ int master(const SweepOptions& o, Setup& s, int ranks, std::ostream& log) {
     if (records[i]->status == CaseStatus::Failed) ++failed_total;
   }
   const auto t_start = Clock::now();
-  Progress progress(o.quiet, log, n);
+  Progress progress(o.quiet, log, s.case_end - s.case_begin);
   if (!o.quiet)
     log << "planetwear sweep: " << n << " cases, " << pending.size() << " to run on " << ranks << " rank"
         << (ranks > 1 ? "s" : "") << " -> " << o.output.string() << "\n";
 
   LocalWorker local;
-  CheckpointWriter writer(o.output, c, {ranks});
+  CheckpointWriter writer(o.output, c, {ranks, s.case_begin, s.case_end});
   std::vector<std::filesystem::path> unmerged;  // journal entries since the last checkpoint
   auto last_checkpoint = Clock::now();
   std::size_t since_checkpoint = 0, finished_run = 0, during_checkpoint = 0, running_at_checkpoints = 0;
@@ -574,7 +584,7 @@ int master(const SweepOptions& o, Setup& s, int ranks, std::ostream& log) {
 
     // Final checkpoint: everything merged, journal removed.
     const auto t_final = Clock::now();
-    write_checkpoint(o.output, c, records, {ranks});
+    write_checkpoint(o.output, c, records, {ranks, s.case_begin, s.case_end});
     s.journal->clear();
     s.journal->remove_directory();
     final_s = seconds_since(t_final);
@@ -593,7 +603,9 @@ int master(const SweepOptions& o, Setup& s, int ranks, std::ostream& log) {
         << " s), final archive " << final_s << " s; while checkpoints were written " << running_at_checkpoints
         << " case runs were in progress and " << during_checkpoint << " finished\n";
     sum << "planetwear sweep: " << o.output.string() << ": " << finished_total - failed_total << " done, "
-        << failed_total << " failed of " << n << "\n";
+        << failed_total << " failed of " << s.case_end - s.case_begin;
+    if (s.case_end - s.case_begin != n) sum << " (cases " << s.case_begin << ":" << s.case_end << " of " << n << ")";
+    sum << "\n";
     log << sum.str() << std::flush;
   }
   return failed_total > 0 ? kExitCasesFailed : 0;

@@ -26,6 +26,7 @@
 // deterministic and is stored at its case index.
 #pragma once
 
+#include <cstddef>
 #include <filesystem>
 #include <iosfwd>
 
@@ -39,6 +40,11 @@ struct SweepOptions {
   bool quiet = false;              ///< no progress on stderr
   int checkpoint_cases = 32;       ///< checkpoint after this many finished cases (>= 1)
   double checkpoint_seconds = 60;  ///< ... or this many seconds since the last one (> 0)
+  /// Run only cases case_begin <= i < case_end (an array-job slice); the
+  /// archive still holds every case, the others pending. case_end is clamped
+  /// to the number of cases.
+  std::size_t case_begin = 0;
+  std::size_t case_end = static_cast<std::size_t>(-1);
 };
 
 /// Exit code when the campaign finished but some cases failed.
