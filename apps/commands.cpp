@@ -89,6 +89,11 @@ int run_simulate(const SimulateOptions& o) {
   std::vector<std::string> extra;
   if (o.speed_rpm) extra.push_back("operating.input_speed_rpm=" + toml_float(*o.speed_rpm));
   if (o.power_W) extra.push_back("operating.input_power_W=" + toml_float(*o.power_W));
+  // Asking for wear on the command line means a positive count (the config
+  // key's 0 means "no wear", which needs no option).
+  if (o.mesh_cycles)
+    require(*o.mesh_cycles > 0, "--mesh-cycles", "must be > 0 mesh cycles (omit it for no wear), got ",
+            *o.mesh_cycles);
   if (o.mesh_cycles) extra.push_back("wear.mesh_cycles=" + toml_float(*o.mesh_cycles));
   if (o.kappa_m2_N) extra.push_back("wear.coefficient_m2_N=" + toml_float(*o.kappa_m2_N));
   const model::SimulationConfig config = load(o.common, extra);

@@ -26,13 +26,14 @@ check impossible-geometry 1 "teeth" bad.h5 -- "$PW" simulate -c geom.toml -o bad
 check coarse-time-step 1 "solver.time_step_s" bad.h5 -- "$PW" simulate --set solver.time_step_s=1e-3 -o bad.h5
 check unknown-set-key 1 "nonsense" bad.h5 -- "$PW" simulate --set operating.nonsense=1 -o bad.h5
 check missing-output nz "output" "" -- "$PW" simulate
-check negative-mesh-cycles 1 "wear.mesh_cycles" bad.h5 -- "$PW" simulate --mesh-cycles -2e5 -o bad.h5
+check negative-mesh-cycles 1 "--mesh-cycles" bad.h5 -- "$PW" simulate --mesh-cycles -2e5 -o bad.h5
 check one-wear-element 1 "wear.elements_per_flank" bad.h5 -- "$PW" simulate --set wear.elements_per_flank=1 -o bad.h5
 # A failing run must not touch an existing file at the destination.
 echo keep > existing.h5
 check keeps-existing 1 "operating.input_speed_rpm" "" -- "$PW" simulate --speed-rpm 0 -o existing.h5
 [ "$(cat existing.h5)" = keep ] || { echo "FAIL existing output damaged"; fail=1; }
 ls ./*partial* >/dev/null 2>&1 && { echo "FAIL partial files left"; fail=1; }
+check zero-mesh-cycles 1 "--mesh-cycles" bad.h5 -- "$PW" simulate --mesh-cycles 0 -o bad.h5
 # Wear beyond the safe limit: stop, say why, keep the results, exit 4.
 check wear-limit 4 "wear.max_wear_fraction_of_thickness" "" -- "$PW" simulate -q --speed-rpm 400 --mesh-cycles 2e5 \
   --set wear.max_wear_fraction_of_thickness=1e-6 --set solver.record_mesh_cycles=1 -o stopped.h5
