@@ -280,6 +280,44 @@ void H5File::write_string(std::string_view dataset_path, std::string_view value)
     fail(path, "write string dataset");
 }
 
+void H5File::write_strings(std::string_view dataset_path, std::span<const std::string> values) {
+  const std::string path = absolute(dataset_path);
+  check_new_object(path, "create dataset");
+  const Handle type = string_type();
+  const hsize_t dims[1] = {values.size()};
+  const Handle space(H5Screate_simple(1, dims, nullptr), H5Sclose);
+  const Handle lcpl = link_properties();
+  const Handle dataset(H5Dcreate2(id_, path.c_str(), type.get(), space.get(), lcpl.get(), H5P_DEFAULT, H5P_DEFAULT),
+                       H5Dclose);
+  if (!dataset.valid()) fail(path, "create string dataset");
+  std::vector<const char*> pointers;
+  pointers.reserve(values.size());
+  for (const auto& v : values) pointers.push_back(v.c_str());
+  if (!values.empty() && H5Dwrite(dataset.get(), type.get(), H5S_ALL, H5S_ALL, H5P_DEFAULT, pointers.data()) < 0)
+    fail(path, "write string dataset");
+}
+
+std::vector<std::string> H5File::read_strings(std::string_view dataset_path) const {
+  const std::string path = absolute(dataset_path);
+  const Handle dataset(id_ < 0 ? -1 : H5Dopen2(id_, path.c_str(), H5P_DEFAULT), H5Dclose);
+  if (!dataset.valid()) fail(path, "open dataset");
+  const Handle space(H5Dget_space(dataset.get()), H5Sclose);
+  const Handle file_type(H5Dget_type(dataset.get()), H5Tclose);
+  const hssize_t n = H5Sget_simple_extent_npoints(space.get());
+  if (n < 0 || H5Sget_simple_extent_ndims(space.get()) != 1 || H5Tget_class(file_type.get()) != H5T_STRING ||
+      H5Tis_variable_str(file_type.get()) <= 0)
+    fail(path, "read", "not a 1-d variable-length string dataset");
+  std::vector<char*> buffer(static_cast<std::size_t>(n), nullptr);
+  const Handle type = string_type();
+  if (n > 0 && H5Dread(dataset.get(), type.get(), H5S_ALL, H5S_ALL, H5P_DEFAULT, buffer.data()) < 0)
+    fail(path, "read string dataset");
+  std::vector<std::string> out;
+  out.reserve(buffer.size());
+  for (char* p : buffer) out.emplace_back(p ? p : "");
+  if (n > 0) H5Dvlen_reclaim(type.get(), space.get(), H5P_DEFAULT, buffer.data());
+  return out;
+}
+
 namespace {
 /// Creates (replacing) attribute `name` of type `type` on `object` and writes `data`.
 herr_t write_attribute(hid_t object, const std::string& name, hid_t file_type, hid_t mem_type, const void* data) {

@@ -76,6 +76,9 @@ public:
   void write_scalar(std::string_view dataset_path, double value);
   /// 0-d variable-length UTF-8 string dataset.
   void write_string(std::string_view dataset_path, std::string_view value);
+  /// 1-d variable-length UTF-8 string dataset (what h5py writes for a list of
+  /// str; `.asstr()[:]` reads it back).
+  void write_strings(std::string_view dataset_path, std::span<const std::string> values);
 
   /// Attribute on a group or dataset ("/" = the file's root group); an
   /// existing attribute of the same name is replaced.
@@ -100,6 +103,8 @@ public:
   std::vector<int> read_ints(std::string_view dataset_path) const;
   double read_scalar(std::string_view dataset_path) const;
   std::string read_string(std::string_view dataset_path) const;
+  /// A 1-d variable-length string dataset written by write_strings (or h5py).
+  std::vector<std::string> read_strings(std::string_view dataset_path) const;
   bool has_attribute(std::string_view object_path, std::string_view name) const;
   std::string read_string_attribute(std::string_view object_path, std::string_view name) const;
   double read_double_attribute(std::string_view object_path, std::string_view name) const;

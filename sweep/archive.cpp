@@ -5,7 +5,6 @@
 #include "io/io_error.hpp"
 #include "io/result_writer.hpp"
 
-#include <hdf5.h>
 
 #include <algorithm>
 #include <cmath>
@@ -20,78 +19,6 @@ namespace pw::sweep {
 namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
-
-// --- raw HDF5 for what io::H5File does not offer: 1-D string datasets --------
-
-class Handle {
-public:
-  using Closer = herr_t (*)(hid_t);
-  Handle(hid_t id, Closer closer) noexcept : id_(id), closer_(closer) {}
-  Handle(Handle&& other) noexcept : id_(std::exchange(other.id_, -1)), closer_(other.closer_) {}
-  Handle& operator=(Handle&&) = delete;
-  Handle(const Handle&) = delete;
-  Handle& operator=(const Handle&) = delete;
-  ~Handle() {
-    if (id_ >= 0) closer_(id_);
-  }
-  hid_t get() const noexcept { return id_; }
-  bool valid() const noexcept { return id_ >= 0; }
-
-private:
-  hid_t id_;
-  Closer closer_;
-};
-
-[[noreturn]] void fail(const std::filesystem::path& file, const std::string& object, const std::string& action) {
-  H5Eclear2(H5E_DEFAULT);
-  throw io::IoError(file.string() + ": cannot " + action + " '" + object + "'");
-}
-
-Handle vlen_utf8() {
-  Handle t(H5Tcopy(H5T_C_S1), H5Tclose);
-  H5Tset_size(t.get(), H5T_VARIABLE);
-  H5Tset_cset(t.get(), H5T_CSET_UTF8);
-  return t;
-}
-
-void write_strings(hid_t file, const std::filesystem::path& name, const std::string& path,
-                   const std::vector<std::string>& values, const std::string& description) {
-  const Handle type = vlen_utf8();
-  const hsize_t dims[1] = {values.size()};
-  const Handle space(H5Screate_simple(1, dims, nullptr), H5Sclose);
-  const Handle lcpl(H5Pcreate(H5P_LINK_CREATE), H5Pclose);
-  H5Pset_create_intermediate_group(lcpl.get(), 1);
-  H5Pset_char_encoding(lcpl.get(), H5T_CSET_UTF8);
-  const Handle set(H5Dcreate2(file, path.c_str(), type.get(), space.get(), lcpl.get(), H5P_DEFAULT, H5P_DEFAULT),
-                   H5Dclose);
-  if (!set.valid()) fail(name, path, "create string dataset");
-  std::vector<const char*> pointers;
-  for (const auto& v : values) pointers.push_back(v.c_str());
-  if (!values.empty() && H5Dwrite(set.get(), type.get(), H5S_ALL, H5S_ALL, H5P_DEFAULT, pointers.data()) < 0)
-    fail(name, path, "write string dataset");
-  const Handle aspace(H5Screate(H5S_SCALAR), H5Sclose);
-  const Handle attr(H5Acreate2(set.get(), "description", type.get(), aspace.get(), H5P_DEFAULT, H5P_DEFAULT), H5Aclose);
-  const char* text = description.c_str();
-  if (!attr.valid() || H5Awrite(attr.get(), type.get(), &text) < 0) fail(name, path, "write the description of");
-}
-
-std::vector<std::string> read_strings(hid_t file, const std::filesystem::path& name, const std::string& path) {
-  const Handle set(H5Dopen2(file, path.c_str(), H5P_DEFAULT), H5Dclose);
-  if (!set.valid()) fail(name, path, "open string dataset");
-  const Handle space(H5Dget_space(set.get()), H5Sclose);
-  const Handle ftype(H5Dget_type(set.get()), H5Tclose);
-  const hssize_t n = H5Sget_simple_extent_npoints(space.get());
-  if (n < 0 || H5Tget_class(ftype.get()) != H5T_STRING || H5Tis_variable_str(ftype.get()) <= 0)
-    fail(name, path, "read (not a variable-length string dataset)");
-  std::vector<char*> buffer(static_cast<std::size_t>(n), nullptr);
-  const Handle type = vlen_utf8();
-  if (n > 0 && H5Dread(set.get(), type.get(), H5S_ALL, H5S_ALL, H5P_DEFAULT, buffer.data()) < 0)
-    fail(name, path, "read string dataset");
-  std::vector<std::string> out;
-  for (char* p : buffer) out.emplace_back(p ? p : "");
-  if (n > 0) H5Dvlen_reclaim(type.get(), space.get(), H5P_DEFAULT, buffer.data());
-  return out;
-}
 
 std::string utc_now() {
   const std::time_t t = std::time(nullptr);
@@ -369,8 +296,6 @@ void write_archive(const std::filesystem::path& path, const Campaign& c,
       f.set_attribute(p, "description", ci.description);
     }
   }
-  f.close();
-
   // String columns of /design (variable-length UTF-8, as h5py writes them).
   std::vector<std::string> status(n), message(n), role(n);
   for (std::size_t i = 0; i < n; ++i) {
@@ -378,25 +303,19 @@ void write_archive(const std::filesystem::path& path, const Campaign& c,
     message[i] = records[i] ? records[i]->message : "";
     role[i] = c.cases[i].role;
   }
-  const Handle file(H5Fopen(path.c_str(), H5F_ACC_RDWR, H5P_DEFAULT), H5Fclose);
-  if (!file.valid()) fail(path, "/", "reopen");
-  write_strings(file.get(), path, "/design/status", status, "pending, done or failed");
-  write_strings(file.get(), path, "/design/message", message,
-                "failed: the reason; done: a note such as why wear stopped early; else empty");
-  write_strings(file.get(), path, "/design/sample_role", role,
-                "saltelli designs: A, B or AB_<i> (A with factor i from B); empty for other designs");
-  if (H5Fflush(file.get(), H5F_SCOPE_GLOBAL) < 0) fail(path, "/", "flush");
+  f.write_strings("/design/status", status);
+  f.set_attribute("/design/status", "description", "pending, done or failed");
+  f.write_strings("/design/message", message);
+  f.set_attribute("/design/message", "description",
+                  "failed: the reason; done: a note such as why wear stopped early; else empty");
+  f.write_strings("/design/sample_role", role);
+  f.set_attribute("/design/sample_role", "description",
+                  "saltelli designs: A, B or AB_<i> (A with factor i from B); empty for other designs");
+  f.close();
 }
 
 ArchiveContents read_archive(const std::filesystem::path& path) {
   ArchiveContents out;
-  std::vector<std::string> status, message;
-  {
-    const Handle file(H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), H5Fclose);
-    if (!file.valid()) fail(path, "/", "open the archive");
-    status = read_strings(file.get(), path, "/design/status");
-    message = read_strings(file.get(), path, "/design/message");
-  }
   const io::H5File f = io::H5File::open(path);
   if (!f.has_attribute("/", "format") || f.read_string_attribute("/", "format") != kArchiveFormat)
     throw io::IoError(path.string() + ": not a planetwear campaign archive (root attribute format is not \"" +
@@ -404,6 +323,8 @@ ArchiveContents read_archive(const std::filesystem::path& path) {
   if (const auto v = f.read_int_attribute("/", "format_version"); v != kArchiveFormatVersion)
     throw io::IoError(path.string() + ": campaign archive format version " + std::to_string(v) +
                       ", this program reads version " + std::to_string(kArchiveFormatVersion));
+  const std::vector<std::string> status = f.read_strings("/design/status");
+  const std::vector<std::string> message = f.read_strings("/design/message");
   out.input_hash = f.read_string_attribute("/campaign", "input_hash");
   out.design_hash = f.read_string_attribute("/campaign", "design_hash");
   const std::size_t n = status.size();
