@@ -105,6 +105,8 @@ int run_diagnose(const DiagnoseCommandOptions& o, const std::string& command_lin
   opt.threads = o.threads;
   opt.only_candidates = o.candidates;
   opt.always_fit_candidates = o.always_fit;
+  // The simulation cache keys on the complete configuration (every key of the TOML schema).
+  opt.compare.config_key = [](const model::SimulationConfig& c) { return io::to_toml(c); };
   if (!o.common.quiet) opt.progress = [](const std::string& s) { std::fprintf(stderr, "[diagnose] %s\n", s.c_str()); };
   const diagnose::Diagnosis d = diagnose::diagnose(rec, config, opt);
 

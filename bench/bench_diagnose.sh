@@ -1,35 +1,44 @@
 #!/bin/sh
-# Benchmark of `planetwear diagnose`: time to diagnose one 400 rpm recording
-# on 1 and 2 OpenMP threads, and where the time goes (simulations, features,
-# locate, fitting overhead), from the report's "timing" block.
+# Benchmark of `planetwear diagnose`: time to diagnose 400 rpm recordings on 1
+# and 2 OpenMP threads, and where the time goes, from the report's "timing"
+# block (docs/diagnose.md, "Speed").
 #
-#   bench/bench_diagnose.sh [BUILD_DIR] [SECONDS]      (defaults: build-diag, 2.2)
+#   bench/bench_diagnose.sh [BUILD_DIR] [SECONDS]      (defaults: build-diag2, 2.55)
 #
-# The recording is synthesized with `planetwear synth` (seed gear set, 400 rpm,
-# 10 kW, a damaged sun tooth so that the candidate fits run too, 5 % noise).
-# SECONDS defaults to 2.2 s: the recording reader needs >= 3 carrier revolutions
-# (2.19 s at 400 rpm), so a 2 s recording is rejected. MPI ranks: not
-# implemented (the diagnosis parallelizes over OpenMP threads only).
+# Two recordings are synthesized with `planetwear synth` as the corpus makes
+# them (seed gear set, 400 rpm, 10 kW, 3.5 carrier revolutions = 2.55 s, 7 %
+# noise, 30 % accelerometer offsets, solver.time_step_s = 2.5e-6 and a short
+# warm-up): a control (baseline, nuisance fit and noise test only) and a
+# damaged sun tooth (screening, candidate fits, phase variants, joint refit).
+# MPI ranks: not implemented (the diagnosis parallelizes over OpenMP threads).
 set -eu
-BUILD=${1:-build-diag}
-SECONDS_REC=${2:-2.2}
+BUILD=${1:-build-diag2}
+SECONDS_REC=${2:-2.55}
 PW="$BUILD/apps/planetwear"
 [ -x "$PW" ] || { echo "bench_diagnose: no $PW (build first)" >&2; exit 1; }
 WORK=$(mktemp -d)
 trap 'rm -rf "$WORK"' EXIT
-"$PW" synth -q --speed-rpm 400 --power-w 10000 --seconds "$SECONDS_REC" --noise 0.05 --dc-offset 0.2 --seed 3 \
-  --sensor-angle-deg 30 --decimate 40 --set 'imperfections.teeth=[{body="sun",tooth=5,stiffness_factor=0.6}]' \
-  -o "$WORK/rec.csv"
-for T in 1 2; do
-  start=$(date +%s.%N)
-  OMP_NUM_THREADS=$T "$PW" diagnose -q --recording "$WORK/rec.csv" -o "$WORK/report_$T" --threads "$T" --no-plots >/dev/null
-  end=$(date +%s.%N)
-  /usr/bin/python3 - "$WORK/report_$T/report.json" "$T" "$start" "$end" <<'PY'
+COMMON="--speed-rpm 400 --power-w 10000 --seconds $SECONDS_REC --noise 0.07 --dc-offset 0.3 --sensor-angle-deg 35
+  --decimate 40 --start-mesh-cycle 100 --set solver.time_step_s=2.5e-6 --set solver.periodicity_tolerance=0.05"
+# shellcheck disable=SC2086
+"$PW" synth -q $COMMON --seed 5 -o "$WORK/control.csv"
+# shellcheck disable=SC2086
+"$PW" synth -q $COMMON --seed 6 --set 'imperfections.teeth=[{body="sun",tooth=5,stiffness_factor=0.6}]' \
+  -o "$WORK/sun_tooth.csv"
+for REC in control sun_tooth; do
+  for T in 1 2; do
+    start=$(date +%s.%N)
+    OMP_NUM_THREADS=$T "$PW" diagnose -q --recording "$WORK/$REC.csv" -o "$WORK/report_${REC}_$T" --threads "$T" \
+      --no-plots >/dev/null
+    end=$(date +%s.%N)
+    /usr/bin/python3 - "$WORK/report_${REC}_$T/report.json" "$REC" "$T" "$start" "$end" <<'PY'
 import json, sys
 r = json.load(open(sys.argv[1])); t = r["timing"]
-wall = float(sys.argv[4]) - float(sys.argv[3])
-print(f"threads {sys.argv[2]}: wall {wall:6.1f} s | {t['simulations']} simulations, {t['simulate_s_summed']:.1f} s "
-      f"summed | features {t['features_s']:.1f} s | locate {t['locate_s']:.1f} s | fit overhead "
-      f"{t['fit_overhead_s']:.1f} s | verdict {r['verdict']} ({r.get('missing_physics')})")
+wall = float(sys.argv[5]) - float(sys.argv[4])
+phases = ["analysis_s", "baseline_s", "nuisance_s", "screening_s", "candidates_s", "phase_s", "polish_s"]
+split = " ".join(f"{p[:-2]} {t.get(p, 0):.1f}" for p in phases)
+print(f"{sys.argv[2]:9s} threads {sys.argv[3]}: wall {wall:6.1f} s | {t['simulations']} simulations, "
+      f"{t['simulate_s_summed']:.1f} s summed | {split} | {r['verdict']} ({r.get('missing_physics')})")
 PY
+  done
 done

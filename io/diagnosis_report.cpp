@@ -32,15 +32,16 @@ double finite_or_null(double v) { return std::isfinite(v) ? v : 0.0; }
 
 json num(double v) { return std::isfinite(v) ? json(v) : json(nullptr); }
 
-json score_json(const dg::WindowScore& s, const std::vector<std::string>& channels) {
+json score_json(const dg::ScoreSummary& s, const std::vector<std::string>& channels) {
   json j;
   j["chi2"] = num(s.chi2);
-  j["dof"] = s.dof;
-  j["chi2_per_dof"] = num(s.dof > 0 ? s.chi2 / s.dof : 0.0);
+  j["features"] = s.features;
+  j["chi2_per_feature"] = num(s.features > 0 ? s.chi2 / s.features : 0.0);
   json per = json::object();
   for (std::size_t c = 0; c < channels.size() && c < s.chi2_per_channel.size(); ++c)
-    per[channels[c]] = {{"chi2", num(s.chi2_per_channel[c])}, {"dof", s.dof_per_channel[c]}};
+    per[channels[c]] = {{"chi2", num(s.chi2_per_channel[c])}, {"features", s.features_per_channel[c]}};
   j["channels"] = per;
+  j["fidelity_weights"] = s.fidelity_z;
   return j;
 }
 
@@ -51,23 +52,28 @@ json candidate_json(const dg::CandidateResult& r, const std::vector<std::string>
   j["variant"] = r.variant;
   j["families"] = r.families;
   j["evidence_z"] = num(r.evidence_z);
+  j["predicted_improvement"] = num(r.predicted_improvement);
   json ps = json::array();
   for (const auto& p : r.parameters)
     ps.push_back({{"name", p.name}, {"unit", p.unit}, {"value", num(p.value)}, {"std_error", num(p.std_error)},
                   {"lower", num(p.lower)}, {"upper", num(p.upper)}, {"initial", num(p.initial)},
-                  {"at_bound", p.at_bound}, {"nuisance", p.nuisance}});
+                  {"at_bound", p.at_bound}, {"nuisance", p.nuisance}, {"moved", p.moved}});
   j["parameters"] = ps;
   j["overrides"] = r.overrides;
-  j["fit_window"] = score_json(r.fit, channels);
-  j["held_out_window"] = score_json(r.held_out, channels);
+  j["fit_half"] = score_json(r.fit, channels);
+  j["held_out_half"] = score_json(r.held_out, channels);
   j["delta_chi2_fit"] = num(r.delta_chi2_fit);
   j["delta_chi2_held_out"] = num(r.delta_chi2_held_out);
   j["likelihood_ratio_threshold"] = num(r.lr_threshold);
   j["aic"] = num(r.aic);
   j["bic"] = num(r.bic);
+  j["bic_held_out"] = num(r.bic_held_out);
   j["significant"] = r.significant;
   j["holds_on_held_out"] = r.holds;
+  j["refitted_with_nuisance"] = r.polished;
   j["simulations"] = r.simulations;
+  j["seconds"] = r.seconds;
+  if (!r.failed.empty()) j["failed"] = r.failed;
   j["lm"] = r.lm_message;
   j["reason"] = r.reason;
   return j;
@@ -129,115 +135,139 @@ Doc build(const dg::Diagnosis& d, const ReportContext& ctx) {
         "`, configuration `" + (ctx.config_path.empty() ? "(seed defaults)" : ctx.config_path) + "`, " + ctx.version +
         ".");
   const auto& k = d.kinematics;
-  doc.h2("Kinematics");
+  doc.h2("Operating point and kinematics");
+  doc.p("Speed " + g(d.speed.input_rpm, 7) + " rpm (± " + g(d.speed.relative_std, 2) + " relative) from the " +
+        d.speed.source + "; carrier angle from the " + d.angle_source + ". The model is simulated at that speed (its " +
+        "record's mean: " + g(d.model_speed_rpm, 7) + " rpm).");
   doc.table({{"f_s (sun)", "f_c (carrier)", "f_sr = f_s - f_c", "f_pr = f_m/Zp", "f_m (mesh)"},
              {g(k.sun_Hz) + " Hz", g(k.carrier_Hz) + " Hz", g(k.sun_relative_Hz) + " Hz",
-              g(k.planet_relative_Hz) + " Hz", g(k.mesh_Hz) + " Hz"}});
-  doc.p("Fit window: samples " + std::to_string(d.fit_window.begin) + "+" + std::to_string(d.fit_window.count) +
-        " (t = " + g(d.fit_window.t_begin_s, 6) + " .. " + g(d.fit_window.t_end_s, 6) + " s); held-out window: t = " +
-        g(d.held_out_window.t_begin_s, 6) + " .. " + g(d.held_out_window.t_end_s, 6) +
-        " s; each one carrier revolution. Bins " + std::to_string(d.fit_window.k_min) + ".." +
-        std::to_string(d.fit_window.k_max) + " (up to " + g(d.fit_window.k_max / (d.fit_window.t_end_s - d.fit_window.t_begin_s)) +
-        " Hz).");
+              g(k.planet_relative_Hz) + " Hz", g(k.mesh_Hz) + " Hz"},
+             {"order " + g(k.sun_Hz / k.carrier_Hz), "order 1", "order " + g(k.sun_relative_Hz / k.carrier_Hz),
+              "order " + g(k.planet_relative_Hz / k.carrier_Hz), "order " + g(k.mesh_Hz / k.carrier_Hz)}});
+  doc.p("Halves of " + std::to_string(d.revolutions) + " whole carrier revolution(s): fit t = " +
+        g(d.fit_window.t_begin_s, 6) + " .. " + g(d.fit_window.t_end_s, 6) + " s, held out t = " +
+        g(d.held_out_window.t_begin_s, 6) + " .. " + g(d.held_out_window.t_end_s, 6) + " s. " +
+        std::to_string(d.cells) + " feature bins per channel up to carrier order " + g(d.max_order) + " (" +
+        g(d.max_frequency_Hz) + " Hz, " + std::to_string(d.mesh_harmonics) + " mesh harmonics), " +
+        std::to_string(d.features) + " features; " + std::to_string(d.nonstationary_features) +
+        " differ between the halves beyond the noise (non-stationary).");
 
   doc.h2("Residual before and after");
-  std::vector<std::vector<std::string>> rows{{"model", "chi2 fit window", "chi2 held out", "noise bound (fit / held out)"}};
-  rows.push_back({"nominal (as configured)", g(d.nominal_fit.chi2, 6), g(d.nominal_held_out.chi2, 6),
-                  g(d.bound_fit, 5) + " / " + g(d.bound_held_out, 5)});
+  std::vector<std::vector<std::string>> rows{{"model", "chi2 fit half", "chi2 held out", "null bound (fit / held out)"}};
+  rows.push_back({"nominal (as configured, at the recording's speed)", g(d.nominal_fit.chi2, 6),
+                  g(d.nominal_held_out.chi2, 6), g(d.bound_fit, 5) + " / " + g(d.bound_held_out, 5)});
   rows.push_back({"nuisance fitted", g(d.nuisance.fit.chi2, 6), g(d.nuisance.held_out.chi2, 6), ""});
   if (d.winner == 0)
     rows.push_back({"with " + d.candidates.front().name, g(d.candidates.front().fit.chi2, 6),
                     g(d.candidates.front().held_out.chi2, 6), ""});
   doc.table(rows);
   {
-    std::vector<std::vector<std::string>> pc{{"channel", "noise std", "chi2/dof nominal (fit, held out)",
-                                              "chi2/dof final (fit, held out)"}};
+    std::vector<std::vector<std::string>> pc{{"channel", "noise per bin (rms)", "chi2/m nominal (fit, held out)",
+                                              "chi2/m final (fit, held out)"}};
     const dg::CandidateResult& fin = d.winner == 0 ? d.candidates.front() : d.nuisance;
     for (std::size_t c = 0; c < d.channels.size(); ++c) {
-      auto r = [&](const dg::WindowScore& s) {
-        return c < s.chi2_per_channel.size() ? g(s.chi2_per_channel[c] / s.dof_per_channel[c], 4) : std::string("");
+      auto r = [&](const dg::ScoreSummary& s) {
+        return c < s.chi2_per_channel.size() ? g(s.chi2_per_channel[c] / s.features_per_channel[c], 4)
+                                              : std::string("");
       };
-      pc.push_back({d.channels[c], g(std::sqrt(d.noise[c].variance), 3), r(d.nominal_fit) + ", " + r(d.nominal_held_out),
-                    r(fin.fit) + ", " + r(fin.held_out)});
+      pc.push_back({d.channels[c], g(d.noise_std[c], 3) + (d.noise_coloured[c] ? " (coloured)" : ""),
+                    r(d.nominal_fit) + ", " + r(d.nominal_held_out), r(fin.fit) + ", " + r(fin.held_out)});
     }
     doc.table(pc);
-  }
-  if (!d.tsa_names.empty()) {
-    std::vector<std::vector<std::string>> t{{"synchronous average (whole recording)", "residual RMS before", "after"}};
-    for (std::size_t i = 0; i < d.tsa_names.size(); ++i)
-      t.push_back({d.tsa_names[i], g(d.tsa_rms_before[i], 3), g(d.tsa_rms_after[i], 3)});
-    doc.table(t);
   }
   doc.p("Decision rule: " + d.rule);
 
   doc.h2("Nuisance parameters (fitted first)");
   {
-    std::vector<std::vector<std::string>> t{{"parameter", "fitted", "start"}};
-    for (const auto& p : d.nuisance.parameters) t.push_back({p.name, param_cell(p), g(p.initial)});
+    std::vector<std::vector<std::string>> t{{"parameter", "fitted", "start", "recalibrated"}};
+    for (const auto& p : d.nuisance.parameters)
+      t.push_back({p.name, param_cell(p), g(p.initial), p.moved ? "yes" : "no"});
     doc.table(t);
+    doc.p("Recalibrated: differs from its start by more than z_{1-alpha/2} standard errors and by more than 5 % "
+          "(smaller shifts are within the model's own fidelity).");
   }
 
   if (d.located) {
     doc.h2("Where the residual lives");
-    std::vector<std::vector<std::string>> t{{"rank", "family", "z", "strongest channel", "meaning"}};
+    std::vector<std::vector<std::string>> t{
+        {"rank", "family", "z", "share of excess", "rotation", "strongest channel", "meaning"}};
     int rank = 1;
     for (const auto& f : d.location.families)
-      t.push_back({std::to_string(rank++), dg::to_string(f.family), g(f.z, 3), f.strongest_channel, f.meaning});
+      t.push_back({std::to_string(rank++), dg::to_string(f.family), g(f.z, 3), g(100 * f.share, 3) + " %",
+                   g(f.frequency_Hz, 4) + " Hz (order " + g(f.carrier_orders, 4) + ")", f.strongest_channel,
+                   f.meaning});
     doc.table(t);
-    doc.p("A family counts as located above z = " + g(d.location.significance_z, 3) + ".");
-    std::vector<std::vector<std::string>> l{{"frequency [Hz]", "channel", "excess [noise units]", "kinematic lines"}};
+    doc.p("A family counts as located above z = " + g(d.location.significance_z, 3) + ". With halves of " +
+          std::to_string(d.revolutions) + " revolution(s) the lines of different families share bins (z by labels); " +
+          (d.location.screened_family >= 0
+               ? "by the candidates' own signatures (screening below) the residual is located in the **" +
+                     std::string(dg::to_string(static_cast<dg::Component>(d.location.screened_family))) +
+                     "** family (" + d.location.screened_candidate + ", S = " + g(d.location.screened_S, 4) + ")."
+               : std::string("no candidate's signature explains it at first order.")));
+    std::vector<std::vector<std::string>> l{
+        {"order", "frequency [Hz]", "channel", "rho^2 (mean of halves)", "recording / model", "kinematic lines"}};
     for (const auto& line : d.location.lines) {
       std::string lab;
       for (const auto& s : line.labels) lab += (lab.empty() ? "" : "; ") + s;
-      l.push_back({g(line.frequency_Hz, 6), line.channel, g(line.excess, 3), lab});
+      l.push_back({g(line.order, 5), g(line.frequency_Hz, 6), line.channel, g(line.chi2, 3),
+                   g(line.recording_amplitude, 3) + " / " + g(line.model_amplitude, 3), lab});
     }
     doc.table(l);
-    std::vector<std::vector<std::string>> r{{"rotation", "channel", "revolutions averaged", "peak at mesh cycle",
-                                             "angle [rad]", "peak/mean", "nearest tooth"}};
     for (const auto& re : d.location.rotations)
-      r.push_back({dg::to_string(re.component), re.channel, std::to_string(re.averages), g(re.peak_mesh_cycle, 4),
-                   g(re.peak_angle_rad, 4), g(re.peak_to_mean, 3),
-                   (re.component == dg::Component::Sun ? "sun " : re.component == dg::Component::Planet
-                                                                      ? "planet " + std::to_string(re.planet) + " "
-                                                                      : "ring ") +
-                       std::to_string(re.tooth)});
-    doc.table(r);
+      doc.p("Rotation: " + std::string(dg::to_string(re.component)) + " (period " +
+            std::to_string(re.period_mesh_cycles) + " mesh cycles), synchronous average of `" + re.channel + "` over " +
+            std::to_string(re.averages) + " periods: energy peak at " + g(re.peak_angle_rad, 3) +
+            " rad of its rotation from " + re.reference + " (peak/mean " + g(re.peak_to_mean, 3) + "); " +
+            re.tooth_note + ".");
     if (!d.location.input_orders.empty()) {
       std::string s;
       for (double o : d.location.input_orders) s += (s.empty() ? "" : ", ") + g(o);
-      doc.p("Strongest input-shaft orders in the residual (low-frequency speed fluctuation): " + s + ".");
+      doc.p("Input-shaft orders with the largest excess: " + s + ".");
     }
   }
 
+  if (!d.screening.empty()) {
+    doc.h2("Screening");
+    doc.p("Every candidate moved from its no-effect value to a moderate one from the nuisance-fitted model; S = "
+          "r'J(J'J)^-1 J'r is the chi2 improvement its linearized step predicts (score statistic, ~chi2(k) if "
+          "the physics is absent). The largest are fitted.");
+    std::vector<std::vector<std::string>> t{{"candidate", "best variant", "S", "fitted"}};
+    for (const auto& sr : d.screening)
+      t.push_back({sr.name, sr.variant, sr.failed ? "simulation failed" : g(sr.predicted_improvement, 5),
+                   sr.fitted ? "yes" : "no"});
+    doc.table(t);
+  }
   if (!d.candidates.empty()) {
     doc.h2("Candidates");
-    std::vector<std::vector<std::string>> t{{"rank", "candidate", "variant", "parameters", "Δchi2 fit", "Δchi2 held out",
-                                             "BIC", "why"}};
+    std::vector<std::vector<std::string>> t{
+        {"rank", "candidate", "variant", "parameters", "Δchi2 fit", "Δchi2 held out", "BIC fit + held out", "why"}};
     int rank = 1;
     for (const auto& c : d.candidates) {
       std::string ps;
       for (const auto& p : c.parameters)
         if (!p.nuisance) ps += (ps.empty() ? "" : "; ") + p.name + " = " + param_cell(p);
       t.push_back({std::to_string(rank++), c.name, c.variant, ps, g(c.delta_chi2_fit, 5), g(c.delta_chi2_held_out, 5),
-                   g(c.bic, 6), c.reason});
+                   g(c.bic + c.bic_held_out, 6), c.reason});
     }
     doc.table(t);
-    if (d.winner == 0) {
-      doc.p("Fitted model, reproducible with `planetwear simulate`:");
-      std::string s;
-      for (const auto& o : d.final_overrides) s += "--set '" + o + "' ";
-      doc.pre(s);
-    }
+  }
+  doc.p("Fitted model, reproducible with `planetwear simulate`:");
+  {
+    std::string s;
+    for (const auto& o : d.final_overrides) s += "--set '" + o + "' ";
+    doc.pre(s);
   }
 
   doc.h2("Plots");
   if (!ctx.plots_available) doc.p("No plots: " + ctx.plots_note + " (the data are in data/*.csv).");
   for (const auto& ps : d.plots) doc.img(series_file_stem(ps.name) + ".png");
   doc.h2("Time");
-  doc.p("Total " + g(d.timing.total_s, 3) + " s on " + std::to_string(d.timing.threads) + " thread(s): " +
-        std::to_string(d.timing.simulations) + " simulations (" + g(d.timing.simulate_s, 3) +
-        " s summed over threads), features " + g(d.timing.compare_s, 3) + " s, locate " + g(d.timing.locate_s, 3) +
-        " s, fitting overhead " + g(d.timing.fit_overhead_s, 3) + " s.");
+  const auto& tm = d.timing;
+  doc.p("Total " + g(tm.total_s, 3) + " s on " + std::to_string(tm.threads) + " thread(s): order analysis " +
+        g(tm.analysis_s, 3) + " s, baseline + fidelity " + g(tm.baseline_s, 3) + " s, nuisance " + g(tm.nuisance_s, 3) +
+        " s, locate " + g(tm.locate_s, 3) + " s, screening " + g(tm.screening_s, 3) + " s, candidates " + g(tm.candidates_s, 3) + " s, phase variants " + g(tm.phase_s, 3) + " s, joint refit " +
+        g(tm.polish_s, 3) + " s, plot data " + g(tm.report_s, 3) + " s; " + std::to_string(tm.simulations) +
+        " simulations (" + g(tm.simulate_s, 3) + " s summed over threads).");
   return doc;
 }
 
@@ -331,17 +361,20 @@ void write_diagnosis_report(const std::filesystem::path& dir, const dg::Diagnosi
   std::error_code ec;
   std::filesystem::create_directories(dir / "data", ec);
   if (ec) throw IoError("cannot create '" + (dir / "data").string() + "': " + ec.message());
-  // Plot data.
   for (const auto& ps : d.plots) {
     std::ostringstream o;
     o.precision(10);
-    o << "# " << ps.name << "; x in " << ps.x_unit << ", values in " << ps.y_unit << "\n";
-    o << "x,recording,before,after\n";
-    for (std::size_t i = 0; i < ps.x.size(); ++i)
-      o << ps.x[i] << "," << ps.recording[i] << "," << ps.before[i] << "," << ps.after[i] << "\n";
+    o << "# " << ps.name << "; x: " << ps.x_label << "; values: " << ps.y_label << "\n";
+    o << "x";
+    for (const auto& [name, v] : ps.columns) o << "," << name;
+    o << "\n";
+    for (std::size_t i = 0; i < ps.x.size(); ++i) {
+      o << ps.x[i];
+      for (const auto& [name, v] : ps.columns) o << "," << v[i];
+      o << "\n";
+    }
     write_text(dir / "data" / (series_file_stem(ps.name) + ".csv"), o.str());
   }
-  // JSON.
   json j;
   j["tool"] = ctx.version;
   j["recording"] = ctx.recording_path;
@@ -351,20 +384,30 @@ void write_diagnosis_report(const std::filesystem::path& dir, const dg::Diagnosi
   j["summary"] = d.summary;
   j["missing_physics"] = d.winner == 0 ? json(d.candidates.front().name) : json(nullptr);
   j["variant"] = d.winner == 0 ? json(d.candidates.front().variant) : json(nullptr);
+  json moved = json::array();
+  for (const auto& p : d.nuisance.parameters)
+    if (p.moved) moved.push_back(p.name);
+  j["recalibrated_nuisance"] = moved;
   j["decision_rule"] = d.rule;
+  j["speed"] = {{"input_rpm", d.speed.input_rpm}, {"relative_std", d.speed.relative_std}, {"source", d.speed.source},
+                {"model_input_rpm", d.model_speed_rpm}};
+  j["angle_source"] = d.angle_source;
   const auto& k = d.kinematics;
   j["kinematics"] = {{"sun_Hz", k.sun_Hz}, {"carrier_Hz", k.carrier_Hz}, {"sun_relative_Hz", k.sun_relative_Hz},
                      {"planet_relative_Hz", k.planet_relative_Hz}, {"mesh_Hz", k.mesh_Hz}};
   json noise = json::object();
   for (std::size_t c = 0; c < d.channels.size(); ++c)
-    noise[d.channels[c]] = {{"std", std::sqrt(d.noise[c].variance)},
-                            {"relative_uncertainty_of_variance", d.noise[c].relative_uncertainty}};
+    noise[d.channels[c]] = {{"rms_per_bin", d.noise_std[c]}, {"coloured", static_cast<bool>(d.noise_coloured[c])}};
   j["noise"] = noise;
-  auto win = [](const dg::AnalysisWindow& w) {
-    return json{{"first_sample", w.begin}, {"samples", w.count}, {"t_begin_s", w.t_begin_s}, {"t_end_s", w.t_end_s},
-                {"bins", {w.k_min, w.k_max}}};
+  auto win = [](const dg::OrderWindow& w) {
+    return json{{"first_sample", w.first_sample}, {"last_sample", w.last_sample}, {"t_begin_s", w.t_begin_s},
+                {"t_end_s", w.t_end_s}, {"carrier_angle_begin_rad", w.angle_begin_rad}};
   };
-  j["windows"] = {{"fit", win(d.fit_window)}, {"held_out", win(d.held_out_window)}};
+  j["halves"] = {{"fit", win(d.fit_window)}, {"held_out", win(d.held_out_window)},
+                 {"carrier_revolutions_each", d.revolutions}};
+  j["features"] = {{"cells_per_channel", d.cells}, {"total", d.features}, {"max_carrier_order", d.max_order},
+                   {"max_frequency_Hz", d.max_frequency_Hz}, {"mesh_harmonics", d.mesh_harmonics},
+                   {"non_stationary", d.nonstationary_features}, {"fidelity_directions", d.fidelity}};
   j["noise_bound"] = {{"fit", d.bound_fit}, {"held_out", d.bound_held_out}};
   j["residual"] = {{"nominal", {{"fit", score_json(d.nominal_fit, d.channels)},
                                 {"held_out", score_json(d.nominal_held_out, d.channels)}}},
@@ -373,10 +416,6 @@ void write_diagnosis_report(const std::filesystem::path& dir, const dg::Diagnosi
   if (d.winner == 0)
     j["residual"]["final"] = {{"fit", score_json(d.candidates.front().fit, d.channels)},
                               {"held_out", score_json(d.candidates.front().held_out, d.channels)}};
-  json tsa = json::array();
-  for (std::size_t i = 0; i < d.tsa_names.size(); ++i)
-    tsa.push_back({{"name", d.tsa_names[i]}, {"rms_before", d.tsa_rms_before[i]}, {"rms_after", d.tsa_rms_after[i]}});
-  j["residual"]["synchronous_average"] = tsa;
   j["nuisance"] = candidate_json(d.nuisance, d.channels);
   if (d.winner == 0) {
     json ps = json::array();
@@ -389,31 +428,48 @@ void write_diagnosis_report(const std::filesystem::path& dir, const dg::Diagnosi
   if (d.located) {
     json fam = json::array();
     for (const auto& f : d.location.families)
-      fam.push_back({{"family", dg::to_string(f.family)}, {"z", num(f.z)}, {"lines", f.lines},
+      fam.push_back({{"family", dg::to_string(f.family)}, {"z", num(f.z)}, {"share", num(f.share)},
+                     {"cells", f.cells}, {"frequency_Hz", f.frequency_Hz}, {"carrier_orders", f.carrier_orders},
                      {"strongest_channel", f.strongest_channel}, {"meaning", f.meaning}});
     json lines = json::array();
     for (const auto& l : d.location.lines)
-      lines.push_back({{"frequency_Hz", l.frequency_Hz}, {"channel", l.channel}, {"excess", l.excess},
-                       {"labels", l.labels}});
+      lines.push_back({{"order", l.order}, {"frequency_Hz", l.frequency_Hz}, {"channel", l.channel},
+                       {"chi2", l.chi2}, {"recording_amplitude", l.recording_amplitude},
+                       {"model_amplitude", l.model_amplitude}, {"labels", l.labels}});
     json rot = json::array();
     for (const auto& r : d.location.rotations)
-      rot.push_back({{"component", dg::to_string(r.component)}, {"channel", r.channel}, {"planet", r.planet},
-                     {"averages", r.averages}, {"peak_mesh_cycle", r.peak_mesh_cycle},
-                     {"peak_angle_rad", r.peak_angle_rad}, {"peak_to_mean", r.peak_to_mean}, {"tooth", r.tooth}});
+      rot.push_back({{"component", dg::to_string(r.component)}, {"channel", r.channel},
+                     {"period_mesh_cycles", r.period_mesh_cycles}, {"averages", r.averages},
+                     {"peak_angle_rad", r.peak_angle_rad}, {"peak_to_mean", r.peak_to_mean},
+                     {"reference", r.reference}, {"tooth", r.tooth}, {"tooth_note", r.tooth_note}});
     j["location"] = {{"families", fam}, {"significance_z", d.location.significance_z}, {"lines", lines},
+                     {"screened_family", d.location.screened_family >= 0
+                                             ? json(dg::to_string(static_cast<dg::Component>(d.location.screened_family)))
+                                             : json(nullptr)},
+                     {"screened_candidate", d.location.screened_candidate},
                      {"rotations", rot}, {"input_orders", d.location.input_orders}};
   }
   json cands = json::array();
   for (const auto& c : d.candidates) cands.push_back(candidate_json(c, d.channels));
   j["candidates"] = cands;
-  j["timing"] = {{"total_s", d.timing.total_s}, {"simulate_s_summed", d.timing.simulate_s},
-                 {"simulations", d.timing.simulations}, {"features_s", d.timing.compare_s},
-                 {"locate_s", d.timing.locate_s}, {"fit_overhead_s", d.timing.fit_overhead_s},
-                 {"threads", d.timing.threads}};
+  json scr = json::array();
+  for (const auto& sr : d.screening)
+    scr.push_back({{"name", sr.name}, {"variant", sr.variant}, {"predicted_improvement", num(sr.predicted_improvement)},
+                   {"failed", sr.failed}, {"fitted", sr.fitted}});
+  j["screening"] = scr;
+  const auto& tm = d.timing;
+  j["timing"] = {{"total_s", tm.total_s}, {"analysis_s", tm.analysis_s}, {"baseline_s", tm.baseline_s},
+                 {"nuisance_s", tm.nuisance_s}, {"locate_s", tm.locate_s}, {"screening_s", tm.screening_s}, {"candidates_s", tm.candidates_s},
+                 {"phase_s", tm.phase_s}, {"polish_s", tm.polish_s}, {"report_s", tm.report_s}, {"simulate_s_summed", tm.simulate_s},
+                 {"simulations", tm.simulations}, {"threads", tm.threads}};
   json plots = json::array();
-  for (const auto& ps : d.plots)
-    plots.push_back({{"name", ps.name}, {"csv", "data/" + series_file_stem(ps.name) + ".csv"},
-                     {"png", series_file_stem(ps.name) + ".png"}, {"x_unit", ps.x_unit}, {"y_unit", ps.y_unit}});
+  for (const auto& ps : d.plots) {
+    json cols = json::array();
+    for (const auto& [name, v] : ps.columns) cols.push_back(name);
+    plots.push_back({{"name", ps.name}, {"kind", ps.kind}, {"csv", "data/" + series_file_stem(ps.name) + ".csv"},
+                     {"png", series_file_stem(ps.name) + ".png"}, {"x_label", ps.x_label},
+                     {"y_label", ps.y_label}, {"columns", cols}});
+  }
   j["plots"] = plots;
   (void)finite_or_null;
   write_text(dir / "report.json", j.dump(2) + "\n");

@@ -2,13 +2,20 @@
 """Draw the plots of a `planetwear diagnose` report.
 
 Reads REPORT/report.json and REPORT/data/*.csv (written by the C++ side,
-io/diagnosis_report.hpp) and writes one PNG per series into REPORT/:
+io/diagnosis_report.hpp) and writes one PNG per plotted series into REPORT/:
 
-    spectrum_<channel>.png      amplitude spectra of the held-out window:
-                                recording, model before (as configured) and
-                                after (nuisance + found physics), log scale
-    tsa_<component>_<channel>.png   synchronous averages over the sun, a planet
-                                or the carrier: recording, before, after
+    spectrum_<channel>.png   order spectrum of the held-out half (amplitude of
+                             every DFT bin of its whole carrier revolutions vs
+                             carrier order): recording, model before (nominal)
+                             and after (nuisance + found physics), log scale
+    residual_<channel>.png   whitened residual rho per feature (held-out half)
+                             for the nominal, nuisance-fitted and final model
+    tsa_<component>_<channel>.png   the recording's synchronous average over the
+                             located component's period (no reference mark:
+                             positions from the recording's start)
+
+Series of kind "table" (data/features_*.csv: every feature's amplitudes) are
+not plotted.
 
 Usage:  scripts/plot_diagnosis.py REPORT_DIR
 Runs with Debian's /usr/bin/python3 (python3-matplotlib, python3-numpy); it
@@ -50,25 +57,35 @@ def main():
     with open(os.path.join(report, "report.json")) as f:
         meta = json.load(f)
     title = f"{os.path.basename(meta.get('recording', ''))}: {meta.get('verdict', '')}"
+    styles = {"recording": ("k-", "recording"), "model_before": ("C1-", "model before (nominal)"),
+              "model_after": ("C0--", "model after"), "nominal": ("C1.", "nominal"),
+              "nuisance_fitted": ("C2.", "nuisance fitted"), "final": ("C0.", "final")}
     for p in meta.get("plots", []):
-        data = np.genfromtxt(os.path.join(report, p["csv"]), delimiter=",", comments="#", names=True)
+        if p.get("kind") == "table":
+            continue
+        data = np.genfromtxt(os.path.join(report, p["csv"]), delimiter=",", skip_header=1, names=True)
+        if data.size == 0:
+            continue
         fig, ax = plt.subplots(figsize=(10, 4.2))
-        spectrum = p["name"].startswith("spectrum/")
-        if spectrum:
-            for key, style, label in (("recording", "k-", "recording"), ("before", "C1-", "model before"),
-                                      ("after", "C0--", "model after")):
-                ax.semilogy(data["x"], np.maximum(data[key], 1e-300), style, lw=0.8, label=label)
-            ax.set_xlabel(f"frequency [{p['x_unit']}]")
-            ax.set_ylabel(f"amplitude [{p['y_unit']}]")
-            top = max(np.max(data["recording"]), 1e-300)
-            ax.set_ylim(top * 1e-5, top * 3)
-        else:
-            ax.plot(data["x"], data["recording"], "k-", lw=0.8, label="recording")
-            ax.plot(data["x"], data["before"], "C1-", lw=0.8, label="model before")
-            ax.plot(data["x"], data["after"], "C0--", lw=0.8, label="model after")
-            ax.plot(data["x"], data["recording"] - data["after"], "C3-", lw=0.6, alpha=0.7, label="residual after")
-            ax.set_xlabel(f"position [{p['x_unit']}] (absolute)")
-            ax.set_ylabel(f"synchronous average [{p['y_unit']}]")
+        kind = p.get("kind", "")
+        for col in p.get("columns", []):
+            style, label = styles.get(col, ("-", col))
+            y = np.atleast_1d(data[col])
+            x = np.atleast_1d(data["x"])
+            if kind == "spectrum":
+                ax.semilogy(x, np.maximum(y, 1e-300), style, lw=0.7, label=label)
+            elif kind == "residual":
+                ax.plot(x, y, style, ms=2.5, label=label)
+            else:
+                ax.plot(x, y, style, lw=0.8, label=label)
+        if kind == "spectrum":
+            top = max(float(np.max(data["recording"])), 1e-300)
+            ax.set_ylim(top * 1e-6, top * 3)
+        if kind == "residual":
+            ax.axhline(3, color="0.6", lw=0.6, ls=":")
+            ax.axhline(-3, color="0.6", lw=0.6, ls=":")
+        ax.set_xlabel(p.get("x_label", "x"))
+        ax.set_ylabel(p.get("y_label", ""))
         ax.set_title(f"{p['name']} — {title}", fontsize=9)
         ax.grid(True, alpha=0.3)
         ax.legend(fontsize=8)

@@ -1,30 +1,20 @@
 #include "diagnose/compare.hpp"
 
 #include "core/error.hpp"
-#include "model/sensor.hpp"
+#include "diagnose/locate.hpp"
 #include "model/simulation.hpp"
-#include "signal/fft.hpp"
-#include "signal/spectrum.hpp"
+
+#include <Eigen/Dense>
 
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
-#include <numbers>
+#include <random>
 
 namespace pw::diagnose {
-namespace {
 
-constexpr std::size_t kCacheEntries = 24;
-
-bool tooth_level(const model::SimulationConfig& c) {
-  const auto& i = c.imperfections;
-  return !i.teeth.empty() || i.sun_eccentricity_m != 0 || i.torque_ripple_fraction != 0;
-}
-
-/// A configuration's identity for the cache: every field that changes the dynamics (not the sensor).
-/// Gear materials are left out: one ModelComparison serves one gear set.
-std::string config_key(const model::SimulationConfig& c) {
+std::string builtin_config_key(const model::SimulationConfig& c) {
   char buf[64];
   std::string k;
   auto add = [&](double v) {
@@ -59,180 +49,95 @@ std::string config_key(const model::SimulationConfig& c) {
   const auto& v = c.solver;
   add(static_cast<int>(v.level)); add(v.time_step_s); add(v.min_steps_per_mesh); add(v.steps_per_mode_period);
   add(v.newmark_beta); add(v.newmark_gamma); add(v.newton_tolerance); add(v.newton_max_iterations);
-  add(v.warmup_max_mesh_cycles); add(v.periodicity_tolerance);
+  add(v.warmup_max_mesh_cycles); add(v.periodicity_tolerance); add(v.record_mesh_cycles);
+  k += "|";
+  add(c.sensor.angle_rad); add(c.sensor.gain_m_s2_per_N); add(c.sensor.window_width_rad);
+  add(static_cast<int>(c.sensor.window));
   return k;
 }
 
-const model::Scalar* scalar(const model::SimulationResult& r, const std::string& name) {
-  for (const auto& s : r.scalars)
-    if (s.name == name) return &s;
-  return nullptr;
-}
-
-} // namespace
-
-double SimulatedSignals::t_end_s() const {
-  const std::size_t n = carrier_angle_rad.size();
-  return t0_s + static_cast<double>(n > 0 ? n - 1 : 0) * dt_s;
-}
-
-std::string model_channel_name(const SignalChannel& c) {
-  switch (c.quantity) {
-  case Quantity::SunSpeed: return "sun/speed";
-  case Quantity::CarrierSpeed: return "carrier/speed";
-  case Quantity::MeshAccelerationSunPlanet: return "sun_planet/" + std::to_string(c.planet) + "/acceleration";
-  case Quantity::MeshAccelerationPlanetRing: return "planet_ring/" + std::to_string(c.planet) + "/acceleration";
-  case Quantity::HousingAcceleration: return "";
-  case Quantity::Tacho: return "";
-  }
-  return "";
-}
-
-ModelComparison::ModelComparison(const Recording& recording, const model::SimulationConfig& base,
-                                 double earliest_start_s, CompareOptions options)
-    : rec_(recording), base_(base), opt_(options) {
-  kin_ = diagnose::kinematics(base.stage, base.operating.input_speed_rpm);
-  const std::size_t n_all = rec_.time_s.size();
-  const double dt = rec_.sample_interval_s();
-  require(n_all >= 64 && dt > 0, "recording", rec_.source, ": too few samples (", n_all, ")");
-  for (std::size_t c = 0; c < rec_.channels.size(); ++c) {
-    const auto& ch = rec_.channels[c];
-    if (ch.quantity == Quantity::Tacho) continue;
-    require(ch.values.size() == n_all, "recording", "channel '", ch.name, "' has ", ch.values.size(),
-            " samples, the time axis ", n_all);
-    if (ch.quantity == Quantity::MeshAccelerationSunPlanet || ch.quantity == Quantity::MeshAccelerationPlanetRing)
-      require(ch.planet >= 0 && ch.planet < base.stage.planet_count, "recording", "channel '", ch.name,
-              "': planet ", ch.planet, " does not exist (", base.stage.planet_count, " planets)");
-    used_.push_back(static_cast<int>(c));
-    noise_.push_back(estimate_white_noise(ch.values));
-  }
-  require(!used_.empty(), "recording", rec_.source, ": no channel the model can predict");
-
-  const double T = opt_.window_carrier_revolutions / kin_.carrier_Hz;
-  const std::size_t n = static_cast<std::size_t>(std::llround(T / dt));
-  std::size_t i_a = 0;
-  while (i_a < n_all && rec_.time_s[i_a] < earliest_start_s) ++i_a;
-  require(i_a + 2 * n <= n_all, "recording",
-          rec_.source, ": ", static_cast<double>(n_all) * dt, " s from t = ", rec_.time_s[0], " s leaves less than two analysis windows of ",
-          opt_.window_carrier_revolutions, " carrier revolution(s) (", T, " s each) after t = ", earliest_start_s, " s");
-  const int k_max = static_cast<int>(std::floor(opt_.max_mesh_harmonic * kin_.mesh_Hz * static_cast<double>(n) * dt));
-  require(k_max < static_cast<int>(n / 2) - 2, "recording", rec_.source, ": sample rate ", 1 / dt,
-          " Hz is too low for ", opt_.max_mesh_harmonic, " mesh harmonics (", opt_.max_mesh_harmonic * kin_.mesh_Hz,
-          " Hz)");
-  auto make = [&](std::string name, std::size_t begin) {
-    AnalysisWindow w;
-    w.name = std::move(name);
-    w.begin = begin;
-    w.count = n;
-    w.t_begin_s = rec_.time_s[begin];
-    w.t_end_s = rec_.time_s[begin] + static_cast<double>(n) * dt;
-    w.k_min = opt_.k_min;
-    w.k_max = k_max;
-    return w;
-  };
-  windows_.push_back(make("fit", i_a));
-  windows_.push_back(make("held_out", n_all - n));
-  for (const auto& w : windows_) {
-    std::vector<std::vector<std::complex<double>>> per;
-    for (int c : used_) {
-      std::span<const double> x(rec_.channels[static_cast<std::size_t>(c)].values.data() + w.begin, w.count);
-      per.push_back(hann_bins(x, w.k_min, w.k_max));
+ModelComparison::ModelComparison(const Recording& recording, const model::SimulationConfig& config,
+                                 CompareOptions options)
+    : rec_(recording), opt_(std::move(options)) {
+  spec_ = analyse_recording(rec_, config.stage, opt_.analysis);
+  base_ = config;
+  base_.operating = rec_.operating;
+  base_.operating.input_speed_rpm = spec_.speed.input_rpm;
+  base_.solver.record_mesh_cycles =
+      static_cast<int>(std::ceil(spec_.layout.revolutions * spec_.kinematics.ring_teeth)) + 3;
+  model::validate(base_);
+  const int nc = channels(), ncell = cells();
+  for (int c = 0; c < nc; ++c)
+    housing_.push_back(rec_.channels[static_cast<std::size_t>(spec_.channels[static_cast<std::size_t>(c)])].quantity ==
+                       Quantity::HousingAcceleration);
+  const std::size_t m = static_cast<std::size_t>(features());
+  a_rec_.assign(2, std::vector<double>(m));
+  s2_.assign(m, 0.0);
+  d_.assign(2, std::vector<double>(m));
+  vns_.assign(m, 0.0);
+  const double flag = chi2_quantile(1.0, opt_.alpha);
+  for (int c = 0; c < nc; ++c)
+    for (int i = 0; i < ncell; ++i) {
+      const std::size_t f = static_cast<std::size_t>(c * ncell + i);
+      const int bin = spec_.layout.cells[static_cast<std::size_t>(i)].bin;
+      const double s2 = spec_.noise_variance[static_cast<std::size_t>(c)][static_cast<std::size_t>(i)];
+      s2_[f] = s2;
+      double v[2];
+      for (int w = 0; w < 2; ++w) {
+        const double A = spec_.amplitude[static_cast<std::size_t>(w)][static_cast<std::size_t>(c)][static_cast<std::size_t>(bin)];
+        a_rec_[static_cast<std::size_t>(w)][f] = A;
+        const double nu = std::sqrt(std::max(A * A - s2, 0.0));
+        v[w] = rice_variance(nu, s2);
+      }
+      const double d = a_rec_[0][f] - a_rec_[1][f];
+      if (d * d > flag * (v[0] + v[1])) {
+        vns_[f] = d * d;
+        ++ns_cells_;
+      }
+      for (int w = 0; w < 2; ++w) d_[static_cast<std::size_t>(w)][f] = v[w] + vns_[f];
     }
-    rec_bins_.push_back(std::move(per));
-  }
 }
 
-int ModelComparison::dof(int w) const {
-  const auto& win = window(w);
-  return 2 * (win.k_max - win.k_min + 1) * static_cast<int>(used_.size());
+void ModelComparison::set_reference(const std::vector<std::vector<double>>& m, const std::vector<double>& gains_in) {
+  const int nc = channels(), ncell = cells();
+  std::vector<double> gains = gains_in;
+  if (gains.empty()) gains.assign(static_cast<std::size_t>(nc), 1.0);
+  for (int c = 0; c < nc; ++c)
+    for (int i = 0; i < ncell; ++i) {
+      const std::size_t f = static_cast<std::size_t>(c * ncell + i);
+      const double g = is_housing(c) ? gains[static_cast<std::size_t>(c)] : 1.0;
+      const double a = g * m[static_cast<std::size_t>(c)][static_cast<std::size_t>(spec_.layout.cells[static_cast<std::size_t>(i)].bin)];
+      const double v = rice_variance(a, s2_[f]);
+      for (int w = 0; w < 2; ++w) d_[static_cast<std::size_t>(w)][f] = v + vns_[f];
+    }
 }
 
-std::vector<std::complex<double>> ModelComparison::hann_bins(std::span<const double> x, int k_min, int k_max) const {
-  const std::size_t n = x.size();
-  const auto w = signal::window_coefficients(signal::Window::Hann, n);
-  double mean = 0;
-  for (double v : x) mean += v;
-  mean /= static_cast<double>(n);
-  std::vector<double> y(n);
-  for (std::size_t j = 0; j < n; ++j) y[j] = (x[j] - mean) * w[j];
-  signal::RealFft fft(n);
-  std::vector<std::complex<double>> X(fft.bins());
-  fft.forward(y, X);
-  return {X.begin() + k_min, X.begin() + k_max + 1};
-}
+bool ModelComparison::is_housing(int c) const { return housing_.at(static_cast<std::size_t>(c)); }
 
-std::shared_ptr<const SimulatedSignals> ModelComparison::simulate(const model::SimulationConfig& config, double t_end,
-                                                                  double fixed_dt) const {
+std::shared_ptr<const ModelSpectra> ModelComparison::simulate(const model::SimulationConfig& config, bool keep) const {
   model::SimulationConfig c = config;
-  if (fixed_dt > 0) c.solver.time_step_s = fixed_dt;
-  const double fm = kin_.mesh_Hz;
-  const double t_a = windows_.front().t_begin_s;
-  const int cap = static_cast<int>(std::floor(t_a * fm)) - 1;
-  require(cap >= 3, "recording", rec_.source, ": the fit window starts at t = ", t_a,
-          " s, too early for the model's warm-up (>= 4 mesh periods); the time axis must be the absolute time "
-          "of the model (docs/recordings.md)");
-  c.solver.warmup_max_mesh_cycles = std::min(c.solver.warmup_max_mesh_cycles, cap);
-  const std::string key = config_key(c) + "#" + std::to_string(t_end);
-  const int cls = tooth_level(c) ? 1 : 0;
-  int guess = 3;
+  c.solver.record_mesh_cycles = base_.solver.record_mesh_cycles;
+  // With tooth-level features the warm-up runs until the mean speed holds to
+  // periodicity_tolerance (after at least ten decay times of the lowest mode); every signal is
+  // analysed against its own angle reference, so a mean speed off by 1e-4 moves no line off its
+  // bin, and the warm-up may stop there (docs/diagnose.md §2).
+  const auto& im = c.imperfections;
+  if (!im.teeth.empty() || im.sun_eccentricity_m != 0 || im.torque_ripple_fraction != 0)
+    c.solver.periodicity_tolerance = std::max(c.solver.periodicity_tolerance, opt_.tooth_level_speed_tolerance);
+  const std::string key = (opt_.config_key ? opt_.config_key(c) : builtin_config_key(c)) + (keep ? "#keep" : "");
   {
     std::lock_guard<std::mutex> lock(mutex_);
     if (auto it = cache_.find(key); it != cache_.end()) return it->second;
-    if (auto it = warmup_seen_.find(cls); it != warmup_seen_.end()) guess = std::max(3, it->second - 3);
   }
-  guess = std::min(guess, c.solver.warmup_max_mesh_cycles);
-  c.solver.record_mesh_cycles = std::max(1, static_cast<int>(std::ceil(t_end * fm)) - guess + 3);
-  const auto clock0 = std::chrono::steady_clock::now();
-  model::SimulationResult r;
-  for (int attempt = 0;; ++attempt) {
-    model::validate(c);
-    r = model::simulate(c);
-    const double t0 = scalar(r, "record_start_time")->value;
-    const double t_last = t0 + r.time_s.back();
-    if (t_last >= t_end + 2 * r.time_step_s) break;
-    if (attempt >= 2)
-      throw SolverError(detail::concat("diagnose: simulation record ends at ", t_last, " s, before ", t_end, " s"));
-    c.solver.record_mesh_cycles += static_cast<int>(std::ceil((t_end + 2 * r.time_step_s - t_last) * fm)) + 1;
-  }
-  auto s = std::make_shared<SimulatedSignals>();
-  // time_s[k] = (k + 1) dt after the record start (simulation.cpp): sample k at t0_s + (k + 1) dt.
-  s->t0_s = scalar(r, "record_start_time")->value + r.time_s.front();
-  s->dt_s = r.time_step_s;
-  s->warmup_mesh_cycles = static_cast<int>(scalar(r, "warmup_mesh_cycles")->value);
-  s->steps_per_mesh = static_cast<int>(scalar(r, "steps_per_mesh_period")->value);
-  bool housing = false;
-  for (int ch : used_) {
-    const auto& rc = rec_.channels[static_cast<std::size_t>(ch)];
-    const std::string name = model_channel_name(rc);
-    if (name.empty()) {
-      housing = true;
-      s->channels.emplace_back();
-      continue;
-    }
-    const model::Channel* mc = r.find(name);
-    if (!mc) throw SolverError("diagnose: the simulation has no channel '" + name + "'");
-    s->channels.push_back(mc->values);
-  }
-  const model::Channel* ca = r.find("carrier/angle");
-  if (!ca) throw SolverError("diagnose: the simulation has no channel 'carrier/angle'");
-  s->carrier_angle_rad = ca->values;
-  if (housing)
-    for (int i = 0; i < c.stage.planet_count; ++i) s->ring_force_N.push_back(r.find("planet_ring/" + std::to_string(i) + "/force")->values);
-  s->planet_angles_rad = c.stage.planet_angles_rad;
-  if (s->planet_angles_rad.empty())
-    for (int i = 0; i < c.stage.planet_count; ++i)
-      s->planet_angles_rad.push_back(2 * std::numbers::pi * i / c.stage.planet_count);
-  const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - clock0).count();
+  const auto t0 = std::chrono::steady_clock::now();
+  model::validate(c);
+  model::SimulationResult r = model::simulate(c);
+  auto s = std::make_shared<const ModelSpectra>(model_spectra(r, rec_, spec_, c, keep));
+  const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   std::lock_guard<std::mutex> lock(mutex_);
   ++sims_;
   sim_seconds_ += secs;
-  warmup_seen_[cls] = s->warmup_mesh_cycles;
   cache_[key] = s;
-  cache_order_.push_back(key);
-  if (cache_order_.size() > kCacheEntries) {
-    cache_.erase(cache_order_.front());
-    cache_order_.erase(cache_order_.begin());
-  }
   return s;
 }
 
@@ -240,123 +145,180 @@ long ModelComparison::simulations() const {
   std::lock_guard<std::mutex> lock(mutex_);
   return sims_;
 }
+
 double ModelComparison::simulation_seconds() const {
   std::lock_guard<std::mutex> lock(mutex_);
   return sim_seconds_;
 }
 
-std::vector<double> ModelComparison::fine_signal(const SimulatedSignals& sim, const model::SimulationConfig& config,
-                                                 int ch_pos, double t_begin, std::size_t n_fine,
-                                                 double dt_fine) const {
-  const auto& rc = rec_.channels[static_cast<std::size_t>(used_[static_cast<std::size_t>(ch_pos)])];
-  std::vector<double> housing;
-  const std::vector<double>* src = &sim.channels[static_cast<std::size_t>(ch_pos)];
-  if (rc.quantity == Quantity::HousingAcceleration) {
-    model::SensorSettings s = config.sensor;
-    s.angle_rad = rc.sensor_angle_rad;
-    s.gain_m_s2_per_N = 1.0;
-    std::vector<std::span<const double>> forces;
-    for (const auto& f : sim.ring_force_N) forces.emplace_back(f);
-    housing = model::housing_acceleration_history(s, sim.planet_angles_rad, sim.carrier_angle_rad, forces);
-    src = &housing;
-  }
-  std::vector<double> y(n_fine);
-  for (std::size_t m = 0; m < n_fine; ++m)
-    y[m] = interpolate_uniform(*src, sim.t0_s, sim.dt_s, t_begin + static_cast<double>(m) * dt_fine);
-  return y;
+void ModelComparison::set_fidelity(std::vector<std::vector<double>> columns, std::vector<std::string> names) {
+  for (const auto& u : columns)
+    require(u.size() == static_cast<std::size_t>(features()), "fidelity", "column of ", u.size(), " values for ",
+            features(), " features");
+  u_ = std::move(columns);
+  u_names_ = std::move(names);
 }
 
-WindowComparison ModelComparison::compare(const SimulatedSignals& sim, const model::SimulationConfig& config, int w,
-                                          bool profile_gain) const {
-  const AnalysisWindow& win = window(w);
-  const double dt = rec_.sample_interval_s();
-  require(sim.t0_s <= win.t_begin_s + 1e-12 && sim.t_end_s() >= win.t_end_s - 1e-12, "simulation",
-          "does not cover the window [", win.t_begin_s, ", ", win.t_end_s, "] s (it covers [", sim.t0_s, ", ",
-          sim.t_end_s(), "])");
-  const int q = std::max(1, static_cast<int>(std::lround(dt / sim.dt_s)));
-  const std::size_t n = win.count, n_fine = n * static_cast<std::size_t>(q);
-  const std::size_t nc = used_.size();
-  std::vector<std::vector<std::complex<double>>> model_bins(nc);
-  for (std::size_t c = 0; c < nc; ++c) {
-    // The last fine sample is at t_begin + (n q - 1) dt / q <= t_end - dt / q, inside the record.
-    const auto y = fine_signal(sim, config, static_cast<int>(c), win.t_begin_s, n_fine, dt / q);
-    auto b = hann_bins(y, win.k_min, win.k_max);
-    for (auto& v : b) v /= static_cast<double>(q);
-    model_bins[c] = std::move(b);
+std::vector<double> ModelComparison::residual_vector(const std::vector<std::vector<double>>& m, int w,
+                                                     const std::vector<double>& gains) const {
+  const int nc = channels(), ncell = cells();
+  require(static_cast<int>(m.size()) == nc, "model", "has ", m.size(), " channels, the recording ", nc);
+  std::vector<double> r(static_cast<std::size_t>(features()));
+  for (int c = 0; c < nc; ++c) {
+    const double g = gains[static_cast<std::size_t>(c)];
+    const auto& mc = m[static_cast<std::size_t>(c)];
+    for (int i = 0; i < ncell; ++i) {
+      const std::size_t f = static_cast<std::size_t>(c * ncell + i);
+      const double a = g * mc[static_cast<std::size_t>(spec_.layout.cells[static_cast<std::size_t>(i)].bin)];
+      r[f] = a_rec_[static_cast<std::size_t>(w)][f] - rice_mean(a, s2_[f]);
+    }
   }
-  WindowComparison out;
-  out.sensor_gain = config.sensor.gain_m_s2_per_N;
-  auto sd = [&](std::size_t c) { return std::sqrt(3.0 * static_cast<double>(n) * noise_[c].variance / 16.0); };
-  bool any_housing = false;
+  return r;
+}
+
+double ModelComparison::chi2_of(const std::vector<double>& r, int w, const std::vector<double>& gains,
+                                WindowScore* out) const {
+  const std::size_t m = r.size(), q = u_.size();
+  const int ncell = cells();
+  const auto& D = d_[static_cast<std::size_t>(w)];
+  // z* = (I + U' D^-1 U)^-1 U' D^-1 r, with U's rows scaled by the channel gains.
+  Eigen::MatrixXd A = Eigen::MatrixXd::Identity(static_cast<Eigen::Index>(q), static_cast<Eigen::Index>(q));
+  Eigen::VectorXd b = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(q));
+  auto uval = [&](std::size_t col, std::size_t f) {
+    return u_[col][f] * gains[f / static_cast<std::size_t>(ncell)];
+  };
+  for (std::size_t f = 0; f < m; ++f) {
+    const double id = 1.0 / D[f];
+    for (std::size_t a = 0; a < q; ++a) {
+      const double ua = uval(a, f);
+      b(static_cast<Eigen::Index>(a)) += ua * id * r[f];
+      for (std::size_t bb = 0; bb <= a; ++bb) A(static_cast<Eigen::Index>(a), static_cast<Eigen::Index>(bb)) += ua * id * uval(bb, f);
+    }
+  }
+  Eigen::VectorXd z = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(q));
+  if (q > 0) z = A.selfadjointView<Eigen::Lower>().ldlt().solve(b);
+  double chi2 = z.squaredNorm();
+  if (out) {
+    out->rho.assign(m, 0.0);
+    out->chi2_per_channel.assign(static_cast<std::size_t>(channels()), 0.0);
+    out->features_per_channel.assign(static_cast<std::size_t>(channels()), ncell);
+    out->fidelity_z.assign(z.data(), z.data() + q);
+  }
+  for (std::size_t f = 0; f < m; ++f) {
+    double e = r[f];
+    for (std::size_t a = 0; a < q; ++a) e -= uval(a, f) * z(static_cast<Eigen::Index>(a));
+    const double rho = e / std::sqrt(D[f]);
+    chi2 += rho * rho;
+    if (out) {
+      out->rho[f] = rho;
+      out->chi2_per_channel[f / static_cast<std::size_t>(ncell)] += rho * rho;
+    }
+  }
+  if (out) {
+    out->residual = out->rho;
+    for (std::size_t a = 0; a < q; ++a) out->residual.push_back(z(static_cast<Eigen::Index>(a)));
+    out->chi2 = chi2;
+    out->features = static_cast<int>(m);
+    out->gains = gains;
+  }
+  return chi2;
+}
+
+WindowScore ModelComparison::score(const std::vector<std::vector<double>>& m, int w, std::vector<double> gains,
+                                   bool profile_gain) const {
+  const int nc = channels(), ncell = cells();
+  if (gains.empty()) gains.assign(static_cast<std::size_t>(nc), 1.0);
+  for (int c = 0; c < nc; ++c)
+    if (!is_housing(c)) gains[static_cast<std::size_t>(c)] = 1.0;
+  std::vector<double> gain_se(static_cast<std::size_t>(nc), 0.0);
   if (profile_gain) {
-    double num = 0, den = 0;
-    for (std::size_t c = 0; c < nc; ++c) {
-      if (rec_.channels[static_cast<std::size_t>(used_[c])].quantity != Quantity::HousingAcceleration) continue;
-      any_housing = true;
-      const double s2 = sd(c) * sd(c);
-      for (std::size_t k = 0; k < model_bins[c].size(); ++k) {
-        num += std::real(std::conj(model_bins[c][k]) * rec_bins_[static_cast<std::size_t>(w)][c][k]) / s2;
-        den += std::norm(model_bins[c][k]) / s2;
+    const auto& D = d_[static_cast<std::size_t>(w)];
+    for (int c = 0; c < nc; ++c) {
+      if (!is_housing(c)) continue;
+      // Start: weighted least squares A_rec ~ g a; then a golden-section search on the full chi2.
+      double num = 0, den = 0;
+      for (int i = 0; i < ncell; ++i) {
+        const std::size_t f = static_cast<std::size_t>(c * ncell + i);
+        const double a = m[static_cast<std::size_t>(c)][static_cast<std::size_t>(spec_.layout.cells[static_cast<std::size_t>(i)].bin)];
+        num += a_rec_[static_cast<std::size_t>(w)][f] * a / D[f];
+        den += a * a / D[f];
       }
-    }
-    if (any_housing && den > 0) {
-      out.sensor_gain = num / den;
-      out.sensor_gain_std = std::sqrt(kHannChi2Scale / den);
+      if (!(den > 0)) continue;
+      const double g0 = num / den;
+      auto cost = [&](double lg) {
+        std::vector<double> gg = gains;
+        gg[static_cast<std::size_t>(c)] = std::exp(lg);
+        return chi2_of(residual_vector(m, w, gg), w, gg, nullptr);
+      };
+      double lo = std::log(g0) - 0.4, hi = std::log(g0) + 0.4;
+      const double gr = (std::sqrt(5.0) - 1) / 2;
+      double x1 = hi - gr * (hi - lo), x2 = lo + gr * (hi - lo), f1 = cost(x1), f2 = cost(x2);
+      for (int it = 0; it < 30; ++it) {
+        if (f1 < f2) {
+          hi = x2, x2 = x1, f2 = f1, x1 = hi - gr * (hi - lo), f1 = cost(x1);
+        } else {
+          lo = x1, x1 = x2, f1 = f2, x2 = lo + gr * (hi - lo), f2 = cost(x2);
+        }
+      }
+      const double lg = 0.5 * (lo + hi);
+      gains[static_cast<std::size_t>(c)] = std::exp(lg);
+      // Standard error from the curvature of chi2 in ln g: se(ln g) = sqrt(2 / chi2'').
+      const double h = 1e-3;
+      const double curv = (cost(lg + h) - 2 * cost(lg) + cost(lg - h)) / (h * h);
+      gain_se[static_cast<std::size_t>(c)] = curv > 0 ? std::exp(lg) * std::sqrt(2.0 / curv) : 0.0;
     }
   }
-  for (std::size_t c = 0; c < nc; ++c) {
-    const bool housing = rec_.channels[static_cast<std::size_t>(used_[c])].quantity == Quantity::HousingAcceleration;
-    const double g = housing ? out.sensor_gain : 1.0;
-    const double s = sd(c);
-    double chi2 = 0;
-    for (std::size_t k = 0; k < model_bins[c].size(); ++k) {
-      const std::complex<double> d = (rec_bins_[static_cast<std::size_t>(w)][c][k] - g * model_bins[c][k]) / s;
-      out.residual.push_back(d.real());
-      out.residual.push_back(d.imag());
-      chi2 += std::norm(d);
+  WindowScore s;
+  chi2_of(residual_vector(m, w, gains), w, gains, &s);
+  s.gain_std = gain_se;
+  return s;
+}
+
+double ModelComparison::null_quantile(const std::vector<std::vector<double>>& m, const std::vector<double>& gains_in,
+                                      int w, double alpha) const {
+  const int nc = channels(), ncell = cells();
+  std::vector<double> gains = gains_in;
+  if (gains.empty()) gains.assign(static_cast<std::size_t>(nc), 1.0);
+  const std::size_t nf = static_cast<std::size_t>(features()), q = u_.size();
+  std::vector<double> a(nf), mu(nf);
+  for (int c = 0; c < nc; ++c)
+    for (int i = 0; i < ncell; ++i) {
+      const std::size_t f = static_cast<std::size_t>(c * ncell + i);
+      a[f] = gains[static_cast<std::size_t>(c)] *
+             m[static_cast<std::size_t>(c)][static_cast<std::size_t>(spec_.layout.cells[static_cast<std::size_t>(i)].bin)];
+      mu[f] = rice_mean(a[f], s2_[f]);
     }
-    out.chi2_per_channel.push_back(chi2);
-    out.dof_per_channel.push_back(2 * static_cast<int>(model_bins[c].size()));
-    out.chi2 += chi2;
+  std::mt19937_64 rng(opt_.seed + static_cast<std::uint64_t>(w));
+  std::normal_distribution<double> nd(0.0, 1.0);
+  std::vector<double> chi(static_cast<std::size_t>(opt_.null_draws));
+  std::vector<double> r(nf);
+  // The noise estimates are uncertain too: each draw scales the true noise of every group of
+  // cells that shares one estimate by 1 + eps, eps ~ N(0, relative standard error^2).
+  int groups = 1;
+  for (const auto& g : spec_.noise_group)
+    for (int v : g) groups = std::max(groups, v + 1);
+  std::vector<double> eps(static_cast<std::size_t>(nc * groups));
+  for (int d = 0; d < opt_.null_draws; ++d) {
+    std::vector<double> z(q);
+    for (double& v : z) v = nd(rng);
+    for (double& v : eps) v = nd(rng);
+    for (std::size_t f = 0; f < nf; ++f) {
+      const std::size_t c = f / static_cast<std::size_t>(ncell), i = f % static_cast<std::size_t>(ncell);
+      double af = a[f];
+      for (std::size_t k = 0; k < q; ++k) af += z[k] * u_[k][f] * gains[c];
+      af = std::fabs(af);
+      const double scale = std::max(0.1, 1 + spec_.noise_relative_se[c][i] *
+                                                 eps[c * static_cast<std::size_t>(groups) +
+                                                     static_cast<std::size_t>(spec_.noise_group[c][i])]);
+      const double s = std::sqrt(0.5 * s2_[f] * scale);
+      const double x = af + s * nd(rng), y = s * nd(rng);
+      r[f] = std::hypot(x, y) - mu[f];
+    }
+    chi[static_cast<std::size_t>(d)] = chi2_of(r, w, gains, nullptr);
   }
-  return out;
-}
-
-namespace {
-/// Brick-wall band limit (0, max_Hz] of a real signal sampled every dt (mean removed).
-std::vector<double> band_limit(std::vector<double> y, double dt, double max_Hz) {
-  const std::size_t n = y.size();
-  signal::RealFft fft(n);
-  std::vector<std::complex<double>> X(fft.bins());
-  fft.forward(y, X);
-  const double df = 1.0 / (static_cast<double>(n) * dt);
-  X[0] = 0;
-  for (std::size_t k = 1; k < X.size(); ++k)
-    if (static_cast<double>(k) * df > max_Hz) X[k] = 0;
-  fft.inverse(X, y);
-  return y;
-}
-} // namespace
-
-std::vector<double> ModelComparison::model_on_recording(const SimulatedSignals& sim,
-                                                        const model::SimulationConfig& config, double gain, int ch_pos,
-                                                        std::size_t begin, std::size_t count, double max_Hz) const {
-  const double dt = rec_.sample_interval_s();
-  const int q = std::max(1, static_cast<int>(std::lround(dt / sim.dt_s)));
-  auto y = fine_signal(sim, config, ch_pos, rec_.time_s[begin], count * static_cast<std::size_t>(q), dt / q);
-  y = band_limit(std::move(y), dt / q, max_Hz);
-  const bool housing = rec_.channels[static_cast<std::size_t>(used_[static_cast<std::size_t>(ch_pos)])].quantity ==
-                       Quantity::HousingAcceleration;
-  std::vector<double> out(count);
-  for (std::size_t j = 0; j < count; ++j) out[j] = y[j * static_cast<std::size_t>(q)] * (housing ? gain : 1.0);
-  return out;
-}
-
-std::vector<double> ModelComparison::recording_band_limited(int ch_pos, std::size_t begin, std::size_t count,
-                                                            double max_Hz) const {
-  const auto& v = rec_.channels[static_cast<std::size_t>(used_[static_cast<std::size_t>(ch_pos)])].values;
-  std::vector<double> y(v.begin() + static_cast<long>(begin), v.begin() + static_cast<long>(begin + count));
-  return band_limit(std::move(y), rec_.sample_interval_s(), max_Hz);
+  std::sort(chi.begin(), chi.end());
+  const std::size_t idx = std::min(chi.size() - 1, static_cast<std::size_t>(std::ceil((1 - alpha) * static_cast<double>(chi.size()))));
+  return chi[idx];
 }
 
 } // namespace pw::diagnose

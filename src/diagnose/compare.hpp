@@ -1,35 +1,51 @@
-// Model against recording: simulate the stage at the recording's operating
-// point over the same absolute time span and compare both through the same
-// linear features, so that only measurement noise separates them when the
-// model is right (docs/diagnose.md §3).
+// Model against recording in the order domain (docs/diagnose.md §2-3).
 //
-// Features of one analysis window [t_a, t_a + T) of n recording samples, per
-// channel c: Hann-windowed DFT bins k = k_min .. k_max (f_k = k / T, up to
-// (kAnalysedMeshHarmonics + 1/2) f_m) of the mean-removed signal. The model's
-// bins are the same Riemann sum of its own full-rate signal on a grid q times
-// finer (cubic interpolation, no aliasing of the stiff modes the recording's
-// anti-alias filter removed). With white noise of variance s_c^2 (estimated
-// from the recording, features.hpp) the real and imaginary parts of
-// Delta X_k are N(0, 3 n s_c^2 / 16), and neighbouring bins are correlated
-// (rho_1 = -2/3, rho_2 = 1/6). The residual vector is
-//   r = (Re, Im)(X_rec - g X_model) / sqrt(3 n s_c^2 / 16)
-// and chi2 = |r|^2 has mean m (= len r) and variance 2 m tr(R^2)/m = 3.89 m:
-// it is treated as c chi2(m / c) with c = 1.944 (Satterthwaite), which gives
-// the noise bound and the information criteria (diagnose.hpp).
+// The recording is analysed once (order_analysis.hpp): two windows of R whole
+// carrier revolutions (the fit half and the held-out half), the amplitude
+// A_i = |c_k| of every feature cell i (a DFT bin carrying a labelled line, per
+// channel) and the noise variance s_i^2 = E|noise in bin|^2.
 //
-// g = 1 except for housing accelerometers when the sensor gain is profiled
-// (closed-form least squares: a nuisance that never needs a simulation).
-// Simulations are cached (key: resolved configuration, end time, time step)
-// and thread-safe: evaluate() may run on several OpenMP threads at once.
+// A model (one simulation at the recording's speed, cached) predicts the
+// noise-free amplitude a_i (housing channels times a gain g that is
+// profiled on the fit half). The residual r_i = A_i - E[A_i | a_i] uses the
+// Rician mean, since A_i = |a_i e^{i phi} + noise|. Its covariance is
+//
+//   V = D + U U^T,   D_i = Var_Rice(A_i) + v_ns,i,   U = fidelity directions:
+//
+//  * Var_Rice(A_i): the Rician variance of an amplitude a_ref,i in white noise
+//    of total variance s_i^2 in the bin, a_ref from a reference model (the
+//    nominal, then the nuisance-fitted model; fixed while candidates are
+//    compared, so every chi2 uses the same V). Strong lines also leak the
+//    angle reference's error into their neighbours (order_analysis.hpp):
+//    part of s_i^2;
+//  * v_ns,i: non-stationarity. Lines that are not integer carrier orders
+//    (sun, planet, input-shaft families) beat with their neighbours inside a
+//    window of a few revolutions, so their bins depend on where the window
+//    starts; a cell whose two halves differ by more than the 1 - alpha
+//    quantile of the noise (|A_1 - A_2|^2 > chi2_1(1-alpha) (V_1 + V_2))
+//    gets v_ns = (A_1 - A_2)^2, else 0;
+//  * U: model fidelity, estimated, not tuned. Each column is the change of
+//    every feature between two runs of the same baseline model that the
+//    recording cannot tell apart: a second discretization
+//    (solver.steps_per_mode_period 32 -> 48, or time step x 0.7) and the
+//    recording's speed +- its standard error (half the difference). A column
+//    is a coherent pattern (a discretization error moves all resonant
+//    lines together), so it is a low-rank term with a N(0, 1) weight, not a
+//    diagonal variance.
+//
+// chi2 = r^T V^{-1} r = min_z |D^{-1/2}(r - U z)|^2 + |z|^2 (Woodbury), so
+// the whitened residual handed to the least-squares fit is
+// [D^{-1/2}(r - U z*); z*], of fixed length (features + fidelity columns).
+// Under "the model explains the data", chi2 is close to chi2(m); its exact
+// null distribution (Rician cells, the profiled fidelity weights) is drawn by
+// Monte Carlo from the model's own amplitudes (null_quantile).
 #pragma once
 
-#include "diagnose/kinematics.hpp"
-#include "diagnose/features.hpp"
+#include "diagnose/order_analysis.hpp"
 #include "diagnose/recording.hpp"
 #include "model/stage.hpp"
 
-#include <complex>
-#include <cstddef>
+#include <cstdint>
 #include <functional>
 #include <map>
 #include <memory>
@@ -39,115 +55,106 @@
 
 namespace pw::diagnose {
 
-/// Correlation of the Hann bins' noise: chi2 ~ c chi2(m / c), c = 1 + 2 (2/3)^2 + 2 (1/6)^2.
-inline constexpr double kHannChi2Scale = 1.0 + 2.0 * 4.0 / 9.0 + 2.0 / 36.0;
-
-/// A span of the recording analysed as one window.
-struct AnalysisWindow {
-  std::string name;          ///< "fit" or "held_out"
-  std::size_t begin = 0;     ///< first recording sample
-  std::size_t count = 0;     ///< samples
-  double t_begin_s = 0, t_end_s = 0;  ///< absolute times of the first and one past the last sample
-  int k_min = 3, k_max = 0;  ///< DFT bins compared
-};
-
-/// The model's signals needed for the comparison, from one simulation.
-struct SimulatedSignals {
-  double t0_s = 0, dt_s = 0;            ///< absolute time of sample 0, time step
-  std::vector<std::vector<double>> channels;  ///< per recording channel (empty for housing channels)
-  std::vector<std::vector<double>> ring_force_N;  ///< per planet: planet-ring mesh force (for housing channels)
-  std::vector<double> carrier_angle_rad;
-  std::vector<double> planet_angles_rad;
-  int warmup_mesh_cycles = 0;
-  int steps_per_mesh = 0;
-  double t_end_s() const;
-};
-
-/// Result of comparing one model configuration with one window.
-struct WindowComparison {
-  std::vector<double> residual;             ///< whitened (diagonal) residual, see above
-  double chi2 = 0;                          ///< |residual|^2
-  std::vector<double> chi2_per_channel;     ///< same, per recording channel
-  std::vector<int> dof_per_channel;         ///< real residuals per channel
-  double sensor_gain = 0;                   ///< gain used for housing channels [m/s^2 per N] (profiled or configured)
-  double sensor_gain_std = 0;               ///< its standard error when profiled
-};
-
-/// Options of the comparison.
 struct CompareOptions {
-  int window_carrier_revolutions = 1;  ///< length of each analysis window
-  double max_mesh_harmonic = 3.5;      ///< bins up to this multiple of f_m
-  int k_min = 3;                       ///< lowest bin (bins 0-2 carry the offset through the Hann window)
+  OrderAnalysisOptions analysis{};
+  double alpha = 0.01;                 ///< for the non-stationarity flag
+  int null_draws = 2000;               ///< Monte Carlo draws of the null distribution
+  std::uint64_t seed = 20240611;       ///< of those draws (the result is deterministic)
+  /// solver.periodicity_tolerance of simulations with tooth-level features (damaged teeth,
+  /// sun runout, torque ripple), whose warm-up otherwise runs until the mean speed holds to 1e-6.
+  double tooth_level_speed_tolerance = 1e-4;
+  /// Identity of a configuration for the simulation cache (e.g. io::to_toml);
+  /// empty: a built-in key over the fields the diagnosis varies.
+  std::function<std::string(const model::SimulationConfig&)> config_key;
+};
+
+/// One model scored on one window.
+struct WindowScore {
+  double chi2 = 0;                        ///< r^T V^{-1} r
+  int features = 0;                       ///< m
+  std::vector<double> residual;           ///< whitened: [D^{-1/2}(r - U z*); z*]
+  std::vector<double> rho;                ///< per feature (channel-major): (r - U z*)_i / sqrt(D_i)
+  std::vector<double> chi2_per_channel;   ///< sum of rho^2 per channel
+  std::vector<int> features_per_channel;
+  std::vector<double> fidelity_z;         ///< z*
+  std::vector<double> gains;              ///< per channel (1 unless housing)
+  std::vector<double> gain_std;           ///< standard error of profiled gains (0 if not profiled)
 };
 
 class ModelComparison {
 public:
-  /// Prepares the recording: usable channels, noise per channel, the fit
-  /// window (first carrier revolution after `earliest_start_s`) and the
-  /// held-out window (the last carrier revolution), their DFT bins. Throws
-  /// pw::InputError if the recording is shorter than two windows.
-  ModelComparison(const Recording& recording, const model::SimulationConfig& base, double earliest_start_s,
-                  CompareOptions options = {});
+  /// Analyses the recording and prepares `config` at the recording's speed.
+  ModelComparison(const Recording& recording, const model::SimulationConfig& config, CompareOptions options = {});
 
   const Recording& recording() const { return rec_; }
-  const Kinematics& kinematics() const { return kin_; }
-  const AnalysisWindow& window(int w) const { return windows_.at(static_cast<std::size_t>(w)); }
-  int windows() const { return static_cast<int>(windows_.size()); }
-  const std::vector<NoiseEstimate>& noise() const { return noise_; }
-  const std::vector<int>& channels() const { return used_; }  ///< indices into recording().channels
-  /// Real residuals of window w.
-  int dof(int w) const;
+  const RecordingSpectra& spectra() const { return spec_; }
+  const Kinematics& kinematics() const { return spec_.kinematics; }
+  /// The configuration at the recording's speed (operating.input_speed_rpm replaced).
+  const model::SimulationConfig& base() const { return base_; }
+  int channels() const { return static_cast<int>(spec_.channels.size()); }
+  int cells() const { return static_cast<int>(spec_.layout.cells.size()); }
+  int features() const { return channels() * cells(); }
+  bool is_housing(int c) const;
 
-  /// Simulates `config` from t = 0 so that its record covers [t_begin, t_end]
-  /// (warm-up capped to end before t_begin). fixed_dt > 0 forces the time
-  /// step (Jacobian columns share one). Cached.
-  std::shared_ptr<const SimulatedSignals> simulate(const model::SimulationConfig& config, double t_end,
-                                                   double fixed_dt = 0) const;
-
-  /// Compares a simulation with window w. profile_gain: fit the housing
-  /// sensor gain in closed form (else use config.sensor.gain_m_s2_per_N).
-  WindowComparison compare(const SimulatedSignals& sim, const model::SimulationConfig& config, int w,
-                           bool profile_gain) const;
-
-  /// Model signal of recording channel `ch` on the recording's samples of
-  /// [begin, begin + count), band-limited to (0, max_Hz] (FFT brick wall on
-  /// the fine grid) so that it compares with the recording sample by sample.
-  std::vector<double> model_on_recording(const SimulatedSignals& sim, const model::SimulationConfig& config,
-                                         double sensor_gain, int ch, std::size_t begin, std::size_t count,
-                                         double max_Hz) const;
-  /// Recording channel `ch` on [begin, begin + count), mean removed and
-  /// band-limited the same way.
-  std::vector<double> recording_band_limited(int ch, std::size_t begin, std::size_t count, double max_Hz) const;
-
-  /// Simulations run so far (cache misses) and their wall time [s].
+  /// Simulates `config` (warm-up + R carrier revolutions; cached) and extracts
+  /// its spectra. keep_sensor_inputs: also keep the ring forces for sensor-only changes.
+  std::shared_ptr<const ModelSpectra> simulate(const model::SimulationConfig& config,
+                                               bool keep_sensor_inputs = false) const;
   long simulations() const;
   double simulation_seconds() const;
 
+  /// The reference model whose amplitudes set the Rician variances in D (the
+  /// same for every model scored afterwards, so their chi2 compare): the
+  /// nominal model first, the nuisance-fitted one after the nuisance fit.
+  void set_reference(const std::vector<std::vector<double>>& model_amplitude, const std::vector<double>& gains);
+
+  /// Fidelity columns (per feature, at gain 1) and their names.
+  void set_fidelity(std::vector<std::vector<double>> columns, std::vector<std::string> names);
+  const std::vector<std::string>& fidelity_names() const { return u_names_; }
+  const std::vector<std::vector<double>>& fidelity_columns() const { return u_; }
+
+  /// Scores model amplitudes ([channel][bin], housing at gain 1) on window w.
+  /// profile_gain: fit the housing gains on this window (starting at `gains`);
+  /// else use `gains` (empty = 1).
+  WindowScore score(const std::vector<std::vector<double>>& model_amplitude, int window, std::vector<double> gains,
+                    bool profile_gain) const;
+
+  /// 1 - alpha quantile of chi2 under "the model explains the recording" on
+  /// window w (Monte Carlo with the model's own amplitudes, see the top).
+  double null_quantile(const std::vector<std::vector<double>>& model_amplitude, const std::vector<double>& gains,
+                       int window, double alpha) const;
+
+  /// Per feature: the recording's amplitude in window w, its Rician variance, v_ns.
+  double recording_amplitude(int window, int feature) const { return a_rec_[static_cast<std::size_t>(window)][static_cast<std::size_t>(feature)]; }
+  double noise_variance(int feature) const { return s2_[static_cast<std::size_t>(feature)]; }
+  double nonstationary_variance(int feature) const { return vns_[static_cast<std::size_t>(feature)]; }
+  int nonstationary_cells() const { return ns_cells_; }
+
 private:
-  std::vector<double> fine_signal(const SimulatedSignals& sim, const model::SimulationConfig& config, int ch,
-                                  double t_begin, std::size_t n_fine, double dt_fine) const;
-  std::vector<std::complex<double>> hann_bins(std::span<const double> x, int k_min, int k_max) const;
+  double chi2_of(const std::vector<double>& r, int window, const std::vector<double>& gains, WindowScore* out) const;
+  std::vector<double> residual_vector(const std::vector<std::vector<double>>& m, int window,
+                                      const std::vector<double>& gains) const;
 
   const Recording& rec_;
-  model::SimulationConfig base_;
   CompareOptions opt_;
-  Kinematics kin_;
-  std::vector<int> used_;
-  std::vector<NoiseEstimate> noise_;
-  std::vector<AnalysisWindow> windows_;
-  std::vector<std::vector<std::vector<std::complex<double>>>> rec_bins_;  // [window][channel][bin]
+  RecordingSpectra spec_;
+  model::SimulationConfig base_;
+  std::vector<bool> housing_;
+  std::vector<std::vector<double>> a_rec_;   // [window][feature]
+  std::vector<double> s2_;                   // [feature]
+  std::vector<std::vector<double>> d_;       // [window][feature]: D_i
+  std::vector<double> vns_;
+  int ns_cells_ = 0;
+  std::vector<std::vector<double>> u_;       // [column][feature]
+  std::vector<std::string> u_names_;
 
   mutable std::mutex mutex_;
-  mutable std::map<std::string, std::shared_ptr<const SimulatedSignals>> cache_;
-  mutable std::vector<std::string> cache_order_;
-  mutable std::map<int, int> warmup_seen_;  // has-tooth-level-features -> last warm-up cycles
+  mutable std::map<std::string, std::shared_ptr<const ModelSpectra>> cache_;
   mutable long sims_ = 0;
   mutable double sim_seconds_ = 0;
 };
 
-/// Name of the simulation channel that models a recording channel, or "" for
-/// housing accelerometers (computed from the ring forces, model/sensor.hpp)
-/// and tachos (not compared).
-std::string model_channel_name(const SignalChannel& c);
+/// Built-in cache key: every configuration field the diagnosis can vary.
+std::string builtin_config_key(const model::SimulationConfig& c);
 
 } // namespace pw::diagnose

@@ -2,13 +2,15 @@
 
 #include "core/error.hpp"
 #include "diagnose/candidates/candidate.hpp"
-#include "signal/spectrum.hpp"
+
+#include <Eigen/Dense>
 
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <exception>
+#include <limits>
 #include <mutex>
 #include <numbers>
 
@@ -30,10 +32,10 @@ const char* to_string(Verdict v) {
 namespace {
 
 /// Runs body(i) for i in [0, n) on up to `threads` OpenMP threads; the first
-/// exception thrown by any iteration is rethrown after the loop (an exception
-/// must not leave an OpenMP region).
+/// exception thrown by any iteration is rethrown after the loop.
 template <class F>
 void parallel_for(int n, int threads, F&& body) {
+  if (n <= 0) return;
   std::exception_ptr error;
   std::mutex m;
 #pragma omp parallel for schedule(dynamic, 1) num_threads(std::max(1, std::min(threads, n)))
@@ -49,7 +51,8 @@ void parallel_for(int n, int threads, F&& body) {
 }
 
 using Clock = std::chrono::steady_clock;
-constexpr double kMinWarmupCycles = 24;  ///< mesh cycles the model may warm up before the fit window
+/// A nuisance parameter counts as recalibrated beyond this relative change (and z_{1-alpha/2} standard errors).
+constexpr double kRecalibration = 0.05;
 double seconds_since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
 
 std::string fmt(const char* f, double v) {
@@ -58,27 +61,27 @@ std::string fmt(const char* f, double v) {
   return buf;
 }
 
-WindowScore score(const WindowComparison& w) {
-  WindowScore s;
+ScoreSummary summarize(const WindowScore& w) {
+  ScoreSummary s;
   s.chi2 = w.chi2;
+  s.features = w.features;
   s.chi2_per_channel = w.chi2_per_channel;
-  s.dof_per_channel = w.dof_per_channel;
-  for (int d : w.dof_per_channel) s.dof += d;
+  s.features_per_channel = w.features_per_channel;
+  s.fidelity_z = w.fidelity_z;
   return s;
 }
 
-/// Everything a fit needs, shared by all candidates of one diagnosis.
+/// Everything the fits share.
 struct Context {
-  const ModelComparison& cmp;
-  model::SimulationConfig base;
-  double t_fit_end = 0, t_all_end = 0;
+  ModelComparison& cmp;
+  model::SimulationConfig base;          // at the recording's speed
   std::vector<const Candidate*> nuisance;
-  std::vector<double> nuisance_x;  // fitted values (after the nuisance fit)
+  std::vector<double> nuisance_x;        // fitted (after the nuisance fit)
+  std::shared_ptr<const ModelSpectra> nuisance_sim;  // with sensor inputs
+  std::vector<double> nuisance_gains;
   int threads = 1;
-  std::mutex mutex;
-  double compare_s = 0;
+  double alpha = 0.01;
 
-  /// base + nuisance values + candidate (may be null).
   model::SimulationConfig make(const Candidate* cand, const Variant& v, std::span<const double> cx,
                                std::span<const double> nx, std::vector<std::string>* overrides) const {
     model::SimulationConfig c = base;
@@ -91,14 +94,18 @@ struct Context {
     if (cand) cand->apply(c, v, cx, overrides);
     return c;
   }
-  WindowComparison evaluate(const model::SimulationConfig& c, int window, bool profile, double fixed_dt = 0) {
-    const double t_end = window == 0 ? t_fit_end : t_all_end;
-    const auto sim = cmp.simulate(c, t_end, fixed_dt);
-    const auto t0 = Clock::now();
-    auto out = cmp.compare(*sim, c, window, profile);
-    std::lock_guard<std::mutex> lock(mutex);
-    compare_s += seconds_since(t0);
-    return out;
+  /// Model amplitudes of a configuration (sensor-only candidates: the nuisance simulation with new housing channels).
+  std::vector<std::vector<double>> amplitudes(const model::SimulationConfig& c, bool sensor_only) const {
+    if (!sensor_only) return cmp.simulate(c)->amplitude;
+    auto a = nuisance_sim->amplitude;
+    const Recording& rec = cmp.recording();
+    for (int ch = 0; ch < cmp.channels(); ++ch)
+      if (cmp.is_housing(ch))
+        a[static_cast<std::size_t>(ch)] = housing_spectrum(
+            *nuisance_sim, c.sensor,
+            rec.channels[static_cast<std::size_t>(cmp.spectra().channels[static_cast<std::size_t>(ch)])].sensor_angle_rad,
+            cmp.spectra().layout.revolutions, cmp.spectra().layout.max_bin);
+    return a;
   }
 };
 
@@ -121,9 +128,21 @@ std::vector<FittedParameter> describe(const std::vector<ParameterSpec>& specs, c
   return out;
 }
 
-/// Fits candidate `cand` (null: nuisance only) with variant v.
-CandidateResult fit_model(Context& ctx, const Candidate* cand, const Variant& v, bool joint, const DiagnoseOptions& o) {
+std::string param_text(const FittedParameter& p) {
+  char buf[200];
+  std::snprintf(buf, sizeof buf, "%s = %.4g ± %.2g %s", p.name.c_str(), p.value, p.std_error,
+                p.unit == "1" ? "" : p.unit.c_str());
+  std::string s = buf;
+  while (!s.empty() && s.back() == ' ') s.pop_back();
+  return s;
+}
+
+/// Fits `cand` (null: the nuisance parameters alone) with variant v. joint: the nuisance
+/// parameters are fitted too (else fixed at ctx.nuisance_x). Starts at x_start if given.
+CandidateResult fit_model(Context& ctx, const Candidate* cand, const Variant& v, bool joint, int lm_threads,
+                          int max_iterations, const std::vector<double>* x_start = nullptr) {
   const long sims0 = ctx.cmp.simulations();
+  const bool sensor_only = cand && cand->sensor_only();
   std::vector<ParameterSpec> cspec = cand ? cand->parameters(ctx.base) : std::vector<ParameterSpec>{};
   std::vector<ParameterSpec> nspec;
   for (const Candidate* n : ctx.nuisance)
@@ -140,6 +159,7 @@ CandidateResult fit_model(Context& ctx, const Candidate* cand, const Variant& v,
       bounds.push_back({nspec[i].lower, nspec[i].upper, nspec[i].log_scale});
       x0.push_back(ctx.nuisance_x.empty() ? nspec[i].initial : ctx.nuisance_x[i]);
     }
+  if (x_start && x_start->size() == x0.size()) x0 = *x_start;
   const std::size_t nc = cspec.size();
   auto split = [&](const std::vector<double>& x, std::vector<double>& cx, std::vector<double>& nx) {
     cx.assign(x.begin(), x.begin() + static_cast<long>(nc));
@@ -148,26 +168,22 @@ CandidateResult fit_model(Context& ctx, const Candidate* cand, const Variant& v,
     else
       nx = ctx.nuisance_x;
   };
-  ResidualFn f = [&](const std::vector<double>& x, const std::vector<double>* centre) {
+  ResidualFn f = [&](const std::vector<double>& x, const std::vector<double>*) {
     std::vector<double> cx, nx;
-    double dt = 0;
-    if (centre) {  // Jacobian column: the centre's time step (a cache hit)
-      split(*centre, cx, nx);
-      dt = ctx.cmp.simulate(ctx.make(cand, v, cx, nx, nullptr), ctx.t_fit_end)->dt_s;
-    }
     split(x, cx, nx);
-    return ctx.evaluate(ctx.make(cand, v, cx, nx, nullptr), 0, true, dt).residual;
+    const auto c = ctx.make(cand, v, cx, nx, nullptr);
+    return ctx.cmp.score(ctx.amplitudes(c, sensor_only && !fit_nuisance), 0, ctx.nuisance_gains, true).residual;
   };
   LmOptions lo;
-  lo.max_iterations = o.max_iterations;
-  lo.covariance_scale = kHannChi2Scale;
-  lo.threads = ctx.threads;
+  lo.max_iterations = max_iterations;
+  lo.threads = lm_threads;
   const LmResult lm = levenberg_marquardt(f, bounds, x0, lo);
 
   CandidateResult res;
   res.name = cand ? cand->name() : "nuisance_only";
   res.physics = cand ? cand->physics() : "the model as it is, with the nuisance parameters fitted";
   res.variant = v.label;
+  res.chosen = v;
   if (cand)
     for (Component c : cand->families()) res.families.push_back(to_string(c));
   res.own_parameters = static_cast<int>(nc);
@@ -179,47 +195,74 @@ CandidateResult fit_model(Context& ctx, const Candidate* cand, const Variant& v,
     res.parameters.insert(res.parameters.end(), np.begin(), np.end());
   }
   res.config = ctx.make(cand, v, cx, nx, &res.overrides);
-  const WindowComparison fit_cmp = ctx.evaluate(res.config, 0, true);
-  res.sensor_gain = fit_cmp.sensor_gain;
-  res.config.sensor.gain_m_s2_per_N = fit_cmp.sensor_gain > 0 ? fit_cmp.sensor_gain : res.config.sensor.gain_m_s2_per_N;
-  bool housing = false;
-  for (int c : ctx.cmp.channels())
-    housing = housing || ctx.cmp.recording().channels[static_cast<std::size_t>(c)].quantity == Quantity::HousingAcceleration;
-  if (housing) {
-    res.overrides.push_back("sensor.gain_m_s2_per_N=" + format_value(res.config.sensor.gain_m_s2_per_N));
+  const auto amp = ctx.amplitudes(res.config, sensor_only && !fit_nuisance);
+  const WindowScore fit = ctx.cmp.score(amp, 0, ctx.nuisance_gains, true);
+  const WindowScore held = ctx.cmp.score(amp, 1, fit.gains, false);
+  res.gains = fit.gains;
+  for (int ch = 0; ch < ctx.cmp.channels(); ++ch) {
+    if (!ctx.cmp.is_housing(ch)) continue;
     FittedParameter g;
     g.name = "sensor.gain_m_s2_per_N";
+    if (ctx.cmp.channels() > 1) {
+      int nh = 0;
+      for (int k = 0; k < ctx.cmp.channels(); ++k) nh += ctx.cmp.is_housing(k) ? 1 : 0;
+      if (nh > 1) g.name += "[" + ctx.cmp.spectra().channel_names[static_cast<std::size_t>(ch)] + "]";
+    }
     g.unit = "m/s^2 per N";
-    g.value = fit_cmp.sensor_gain;
-    g.std_error = fit_cmp.sensor_gain_std;
+    g.value = fit.gains[static_cast<std::size_t>(ch)];
+    g.std_error = fit.gain_std[static_cast<std::size_t>(ch)];
     g.lower = 0;
     g.upper = 1;
     g.initial = ctx.base.sensor.gain_m_s2_per_N;
     g.nuisance = true;
     res.parameters.push_back(g);
+    res.overrides.push_back("sensor.gain_m_s2_per_N=" + format_value(g.value));
   }
-  res.fit = score(fit_cmp);
-  res.held_out = score(ctx.evaluate(res.config, 1, false));
+  res.fit = summarize(fit);
+  res.held_out = summarize(held);
   res.lm_message = lm.message;
   res.simulations = static_cast<int>(ctx.cmp.simulations() - sims0);
   return res;
 }
 
-double noise_bound(const ModelComparison& cmp, int w, double alpha) {
-  const double m = cmp.dof(w);
-  const double per = m / static_cast<double>(cmp.channels().size());
-  double var_sigma = 0;
-  for (const auto& n : cmp.noise()) var_sigma += (per * n.relative_uncertainty) * (per * n.relative_uncertainty);
-  return kHannChi2Scale * chi2_quantile(m / kHannChi2Scale, alpha) + normal_quantile(alpha) * std::sqrt(var_sigma);
+/// The model-fidelity directions at configuration c: a second discretization and the speed +- its error.
+void set_fidelity(Context& ctx, const model::SimulationConfig& c, std::shared_ptr<const ModelSpectra>* centre) {
+  ModelComparison& cmp = ctx.cmp;
+  std::vector<model::SimulationConfig> v(4, c);
+  std::string disc;
+  if (c.solver.time_step_s > 0) {
+    v[1].solver.time_step_s *= 0.7;
+    disc = "time step x 0.7";
+  } else {
+    v[1].solver.steps_per_mode_period = static_cast<int>(std::lround(1.5 * c.solver.steps_per_mode_period));
+    disc = "solver.steps_per_mode_period " + std::to_string(c.solver.steps_per_mode_period) + " -> " +
+           std::to_string(v[1].solver.steps_per_mode_period);
+  }
+  const double u = std::max(cmp.spectra().speed.relative_std, 1e-9);
+  v[2].operating.input_speed_rpm *= 1 + u;
+  v[3].operating.input_speed_rpm *= 1 - u;
+  std::vector<std::shared_ptr<const ModelSpectra>> s(4);
+  parallel_for(4, ctx.threads, [&](int i) { s[static_cast<std::size_t>(i)] = cmp.simulate(v[static_cast<std::size_t>(i)], i == 0); });
+  const int nc = cmp.channels(), ncell = cmp.cells();
+  std::vector<std::vector<double>> cols(2, std::vector<double>(static_cast<std::size_t>(cmp.features())));
+  for (int ch = 0; ch < nc; ++ch)
+    for (int i = 0; i < ncell; ++i) {
+      const std::size_t f = static_cast<std::size_t>(ch * ncell + i);
+      const std::size_t b = static_cast<std::size_t>(cmp.spectra().layout.cells[static_cast<std::size_t>(i)].bin);
+      const std::size_t cc = static_cast<std::size_t>(ch);
+      cols[0][f] = s[1]->amplitude[cc][b] - s[0]->amplitude[cc][b];
+      cols[1][f] = 0.5 * (s[2]->amplitude[cc][b] - s[3]->amplitude[cc][b]);
+    }
+  char buf[96];
+  std::snprintf(buf, sizeof buf, "speed +- %.2g (its relative standard error)", u);
+  cmp.set_fidelity(std::move(cols), {disc, buf});
+  if (centre) *centre = s[0];
 }
 
-std::string param_text(const FittedParameter& p) {
-  char buf[160];
-  std::snprintf(buf, sizeof buf, "%s = %.4g ± %.2g %s", p.name.c_str(), p.value, p.std_error,
-                p.unit == "1" ? "" : p.unit.c_str());
-  std::string s = buf;
-  while (!s.empty() && s.back() == ' ') s.pop_back();
-  return s;
+std::vector<double> cell_column(const ModelComparison& cmp, const std::vector<double>& all, int) {
+  std::vector<double> out;
+  for (const auto& c : cmp.spectra().layout.cells) out.push_back(all[static_cast<std::size_t>(c.bin)]);
+  return out;
 }
 
 } // namespace
@@ -229,34 +272,42 @@ Diagnosis diagnose(const Recording& recording, const model::SimulationConfig& co
   auto say = [&](const std::string& s) {
     if (o.progress) o.progress(s);
   };
-  model::SimulationConfig config = config_in;
-  config.operating = recording.operating;
-  model::validate(config);
   int threads = o.threads;
 #ifdef _OPENMP
   if (threads <= 0) threads = omp_get_max_threads();
 #else
   threads = 1;
 #endif
-
   Diagnosis d;
-  // The model's own warm-up must end before the fit window: leave it kMinWarmupCycles mesh cycles.
-  const double f_mesh = kinematics(config.stage, config.operating.input_speed_rpm).mesh_Hz;
-  ModelComparison cmp(recording, config, std::max(recording.time_s.front(), kMinWarmupCycles / f_mesh), o.compare);
-  d.kinematics = cmp.kinematics();
-  for (int c : cmp.channels()) d.channels.push_back(recording.channels[static_cast<std::size_t>(c)].name);
-  d.noise = cmp.noise();
-  d.fit_window = cmp.window(0);
-  d.held_out_window = cmp.window(1);
-  d.bound_fit = noise_bound(cmp, 0, o.alpha);
-  d.bound_held_out = noise_bound(cmp, 1, o.alpha);
   d.timing.threads = threads;
 
-  Context ctx{cmp, config, 0.0, 0.0, {}, {}, 1, {}, 0.0};
-  const double dt = recording.sample_interval_s();
-  ctx.t_fit_end = cmp.window(0).t_end_s + dt;
-  ctx.t_all_end = recording.time_s.back() + dt;
-  ctx.threads = threads;
+  // 1. The recording in the order domain.
+  say("order analysis of the recording");
+  auto t = Clock::now();
+  CompareOptions co = o.compare;
+  co.alpha = o.alpha;
+  ModelComparison cmp(recording, config_in, co);
+  const RecordingSpectra& sp = cmp.spectra();
+  d.speed = sp.speed;
+  d.angle_source = sp.angle_source;
+  d.kinematics = sp.kinematics;
+  d.channels = sp.channel_names;
+  for (std::size_t c = 0; c < sp.channels.size(); ++c) {
+    d.noise_std.push_back(std::sqrt(sp.noise_floor[c]));
+    d.noise_coloured.push_back(sp.noise_local[c]);
+  }
+  d.fit_window = sp.windows[0];
+  d.held_out_window = sp.windows[1];
+  d.revolutions = sp.layout.revolutions;
+  d.max_order = sp.layout.max_order;
+  d.max_frequency_Hz = sp.layout.max_order * sp.kinematics.carrier_Hz;
+  d.mesh_harmonics = sp.layout.mesh_harmonics;
+  d.cells = cmp.cells();
+  d.features = cmp.features();
+  d.nonstationary_features = cmp.nonstationary_cells();
+  d.timing.analysis_s = seconds_since(t);
+
+  Context ctx{cmp, cmp.base(), {}, {}, nullptr, {}, threads, o.alpha};
   auto allowed = [&](const Candidate& c) {
     return o.only_candidates.empty() ||
            std::find(o.only_candidates.begin(), o.only_candidates.end(), c.name()) != o.only_candidates.end();
@@ -264,260 +315,538 @@ Diagnosis diagnose(const Recording& recording, const model::SimulationConfig& co
   for (const auto& c : candidate_library())
     if (c->nuisance() && allowed(*c)) ctx.nuisance.push_back(c.get());
 
-  // 1. The nominal model, both windows (run in parallel: two independent simulations).
-  say("nominal model");
-  WindowComparison nom[2];
-  parallel_for(2, threads, [&](int w) { nom[w] = ctx.evaluate(config, w, false); });
-  d.nominal_fit = score(nom[0]);
-  d.nominal_held_out = score(nom[1]);
+  // 2. Baseline and fidelity directions.
+  say("baseline model at " + fmt("%.6g", sp.speed.input_rpm) + " rpm and its fidelity variants");
+  t = Clock::now();
+  std::shared_ptr<const ModelSpectra> nominal;
+  set_fidelity(ctx, ctx.base, &nominal);
+  d.model_speed_rpm = nominal->mean_input_rpm;
+  d.timing.baseline_s = seconds_since(t);
 
-  // 2. Nuisance parameters.
+  // 3. Nuisance parameters.
   say("fitting the nuisance parameters");
-  d.nuisance = fit_model(ctx, nullptr, Variant{}, true, o);
+  t = Clock::now();
+  ctx.nuisance_gains.assign(static_cast<std::size_t>(cmp.channels()), config_in.sensor.gain_m_s2_per_N);
+  {
+    const WindowScore f0 = cmp.score(nominal->amplitude, 0, ctx.nuisance_gains, true);
+    ctx.nuisance_gains = f0.gains;
+    cmp.set_reference(nominal->amplitude, ctx.nuisance_gains);
+  }
+  d.nuisance = fit_model(ctx, nullptr, Variant{}, true, threads, o.max_iterations);
   for (const auto& p : d.nuisance.parameters)
-    if (p.name != "sensor.gain_m_s2_per_N") ctx.nuisance_x.push_back(p.value);
-  ctx.base.sensor.gain_m_s2_per_N = d.nuisance.config.sensor.gain_m_s2_per_N;
+    if (p.name.rfind("sensor.gain", 0) != 0) ctx.nuisance_x.push_back(p.value);
+  ctx.nuisance_gains = d.nuisance.gains;
+  // Fidelity at the fitted nuisance parameters, then every score with it.
+  set_fidelity(ctx, d.nuisance.config, &ctx.nuisance_sim);
+  cmp.set_reference(ctx.nuisance_sim->amplitude, ctx.nuisance_gains);
+  d.fidelity = cmp.fidelity_names();
+  {
+    const WindowScore nf = cmp.score(ctx.nuisance_sim->amplitude, 0, ctx.nuisance_gains, true);
+    ctx.nuisance_gains = nf.gains;
+    d.nuisance.gains = nf.gains;
+    d.nuisance.fit = summarize(nf);
+    d.nuisance.held_out = summarize(cmp.score(ctx.nuisance_sim->amplitude, 1, nf.gains, false));
+    for (auto& p : d.nuisance.parameters)
+      if (p.name.rfind("sensor.gain", 0) == 0)
+        for (int ch = 0; ch < cmp.channels(); ++ch)
+          if (cmp.is_housing(ch)) p.value = nf.gains[static_cast<std::size_t>(ch)], p.std_error = nf.gain_std[static_cast<std::size_t>(ch)];
+    const WindowScore n0 = cmp.score(nominal->amplitude, 0, ctx.nuisance_gains, true);
+    d.nominal_fit = summarize(n0);
+    d.nominal_held_out = summarize(cmp.score(nominal->amplitude, 1, n0.gains, false));
+  }
+  const double z_move = normal_quantile(o.alpha / 2);
+  // Recalibrated: statistically (z_{1-alpha/2} standard errors) and practically (more than
+  // kRecalibration of its start: smaller shifts are within the model's fidelity, e.g. a
+  // discretization difference moves the fitted stiffness level by a few 0.1 %).
+  for (auto& p : d.nuisance.parameters)
+    p.moved = std::isfinite(p.std_error) && p.std_error > 0 && std::fabs(p.value - p.initial) > z_move * p.std_error &&
+              std::fabs(p.value - p.initial) > kRecalibration * std::fabs(p.initial);
+  d.timing.nuisance_s = seconds_since(t);
 
-  // 3. Noise test.
+  // 4. Noise test against the Monte-Carlo null of the nuisance-fitted model.
+  d.bound_fit = cmp.null_quantile(ctx.nuisance_sim->amplitude, ctx.nuisance_gains, 0, o.alpha / 2);
+  d.bound_held_out = cmp.null_quantile(ctx.nuisance_sim->amplitude, ctx.nuisance_gains, 1, o.alpha / 2);
   const bool consistent = d.nuisance.fit.chi2 <= d.bound_fit && d.nuisance.held_out.chi2 <= d.bound_held_out;
-  char rule[900];
-  std::snprintf(rule, sizeof rule,
-                "chi2 of the whitened Hann-bin residual (bins %d..%d of each %d-sample window, %zu channels) is "
-                "c chi2(m/c)-distributed under the noise-only hypothesis, c = %.3f; bound at alpha = %.3g: "
-                "%.1f (fit window, m = %d) and %.1f (held-out window, m = %d), including the uncertainty of the "
-                "noise estimates. A candidate counts when its improvement over the nuisance-only model exceeds "
-                "c chi2_{1-alpha}(k) (k = its parameters) on the fit window and on the held-out window; the lowest "
-                "BIC among those wins.",
-                d.fit_window.k_min, d.fit_window.k_max, static_cast<int>(d.fit_window.count), d.channels.size(),
-                kHannChi2Scale, o.alpha, d.bound_fit, cmp.dof(0), d.bound_held_out, cmp.dof(1));
-  d.rule = rule;
+  {
+    char rule[1400];
+    std::snprintf(
+        rule, sizeof rule,
+        "Features: amplitudes of %d DFT bins per channel (lines of every kinematic family up to order %.0f = %.0f Hz), "
+        "%zu channels, m = %d, in windows of %d whole carrier revolution(s) resampled to the carrier angle. chi2 = "
+        "r' V^-1 r, V = Rician noise variance + non-stationarity (%d features) + %zu model-fidelity directions (%s). "
+        "'No missing physics' when the nuisance-fitted chi2 is below the %.3g quantile of its Monte-Carlo null "
+        "(%d draws: Rician noise, noise-estimate error, fidelity weights) on both halves: %.1f (fit) and %.1f "
+        "(held out); family-wise alpha = %.3g. A candidate counts when it improves chi2 over the nuisance-only "
+        "model by more than chi2_{1-alpha}(k) (k = its parameters) on the fit half and on the held-out half; the "
+        "lowest BIC (chi2 + k ln m, summed over both halves) among those wins.",
+        cmp.cells(), sp.layout.max_order, d.max_frequency_Hz, d.channels.size(), cmp.features(), d.revolutions,
+        d.nonstationary_features, d.fidelity.size(),
+        (d.fidelity.empty() ? std::string() : d.fidelity[0] + "; " + d.fidelity[1]).c_str(), 1 - o.alpha / 2,
+        co.null_draws, d.bound_fit, d.bound_held_out, o.alpha);
+    d.rule = rule;
+  }
 
   const model::SimulationConfig* final_config = &d.nuisance.config;
+  std::vector<double> final_gains = ctx.nuisance_gains;
+  const double ln_m = std::log(static_cast<double>(cmp.features()));
+  d.nuisance.bic = d.nuisance.fit.chi2 + static_cast<double>(d.nuisance.parameters.size()) * ln_m;
+  d.nuisance.bic_held_out = d.nuisance.held_out.chi2 + static_cast<double>(d.nuisance.parameters.size()) * ln_m;
+  d.nuisance.aic = d.nuisance.fit.chi2 + 2.0 * static_cast<double>(d.nuisance.parameters.size());
   if (!consistent || o.always_fit_candidates) {
-    // 4. Locate on the nuisance-fitted model over the whole recording.
+    // 5. Locate on the nuisance-fitted model.
     say("locating the residual");
-    const auto t_loc = Clock::now();
-    const auto full = cmp.simulate(d.nuisance.config, ctx.t_all_end);
-    const auto t_loc1 = Clock::now();
-    d.location = locate(cmp, *full, d.nuisance.config, d.nuisance.config.sensor.gain_m_s2_per_N, o.locate);
-    d.timing.locate_s += seconds_since(t_loc1);
-    (void)t_loc;
-    d.located = true;
-
-    // Shortlist by located evidence.
-    struct Pick {
-      const Candidate* c;
-      double z;
-    };
-    std::vector<Pick> picks;
-    for (const auto& c : candidate_library()) {
-      if (c->nuisance() || !allowed(*c)) continue;
-      double z = -1e300;
-      for (Component f : c->families()) z = std::max(z, d.location.evidence.family_z[static_cast<int>(f)]);
-      picks.push_back({c.get(), z});
+    t = Clock::now();
+    {
+      const WindowScore nf = cmp.score(ctx.nuisance_sim->amplitude, 0, ctx.nuisance_gains, false);
+      const WindowScore nh = cmp.score(ctx.nuisance_sim->amplitude, 1, ctx.nuisance_gains, false);
+      d.location = locate(cmp, nf, nh, ctx.nuisance_sim->amplitude, o.locate);
     }
-    std::stable_sort(picks.begin(), picks.end(), [](const Pick& a, const Pick& b) { return a.z > b.z; });
-    std::vector<Pick> shortlist;
+    for (int ch = 0; ch < cmp.channels(); ++ch)
+      if (cmp.is_housing(ch))
+        d.location.evidence.housing_sensor_angles_rad.push_back(
+            recording.channels[static_cast<std::size_t>(sp.channels[static_cast<std::size_t>(ch)])].sensor_angle_rad);
+    d.located = true;
+    d.timing.locate_s = seconds_since(t);
+
+    // Screening: each candidate (each variant) is moved from its no-effect value to a moderate
+    // one, parameter by parameter, from the nuisance-fitted model; the secants J give the
+    // Gauss-Newton step from there and its predicted improvement S = r' J (J'J)^-1 J' r (the
+    // score statistic of the omitted physics; chi2(k) if the candidate is absent). The
+    // candidates with the largest S are fitted, starting at that step.
+    t = Clock::now();
+    bool housing = false;
+    for (int ch = 0; ch < cmp.channels(); ++ch) housing = housing || cmp.is_housing(ch);
+    const ToothMap map(ctx.base);
+    struct Screen {
+      const Candidate* c = nullptr;
+      Variant v;
+      std::vector<ParameterSpec> spec;
+      std::vector<std::vector<double>> cols;
+      std::vector<double> start;
+      double S = 0;
+      bool failed = false;
+    };
+    std::vector<Screen> screens;
+    struct Task {
+      std::size_t screen, param;
+    };
+    std::vector<Task> tasks;
+    for (const auto& c : candidate_library()) {
+      if (c->nuisance() || !allowed(*c) || (c->sensor_only() && !housing)) continue;
+      for (const auto& v : c->variants(d.location.evidence, ctx.base, map)) {
+        Screen sc;
+        sc.c = c.get();
+        sc.v = v;
+        sc.spec = c->parameters(ctx.base);
+        sc.cols.resize(sc.spec.size());
+        for (std::size_t i = 0; i < sc.spec.size(); ++i) tasks.push_back({screens.size(), i});
+        screens.push_back(std::move(sc));
+      }
+    }
+    const std::vector<double> res0 = cmp.score(ctx.nuisance_sim->amplitude, 0, ctx.nuisance_gains, true).residual;
+    say("screening " + std::to_string(screens.size()) + " candidate variants (" + std::to_string(tasks.size()) +
+        " simulations)");
+    parallel_for(static_cast<int>(tasks.size()), threads, [&](int ti) {
+      const Task& tk = tasks[static_cast<std::size_t>(ti)];
+      Screen& sc = screens[tk.screen];
+      std::vector<double> x;
+      for (const auto& ps : sc.spec) x.push_back(ps.null_value);
+      const ParameterSpec& ps = sc.spec[tk.param];
+      x[tk.param] = ps.screen_value;
+      try {
+        const auto c = ctx.make(sc.c, sc.v, x, ctx.nuisance_x, nullptr);
+        const auto r = cmp.score(ctx.amplitudes(c, sc.c->sensor_only()), 0, ctx.nuisance_gains, true).residual;
+        std::vector<double> col(r.size());
+        for (std::size_t k = 0; k < r.size(); ++k) col[k] = (r[k] - res0[k]) / (ps.screen_value - ps.null_value);
+        sc.cols[tk.param] = std::move(col);
+      } catch (const SolverError&) {
+        sc.failed = true;
+      }
+    });
+    for (Screen& sc : screens) {
+      const std::size_t p = sc.spec.size();
+      sc.start.resize(p);
+      for (std::size_t i = 0; i < p; ++i) sc.start[i] = sc.spec[i].null_value;
+      if (sc.failed) continue;
+      // Gauss-Newton step with an active set: parameters whose step leaves their box are held at null.
+      std::vector<bool> active(p, true);
+      for (int pass = 0; pass < static_cast<int>(p) + 1; ++pass) {
+        std::vector<std::size_t> idx;
+        for (std::size_t i = 0; i < p; ++i)
+          if (active[i]) idx.push_back(i);
+        if (idx.empty()) break;
+        const Eigen::Index m = static_cast<Eigen::Index>(res0.size()), q = static_cast<Eigen::Index>(idx.size());
+        Eigen::MatrixXd J(m, q);
+        for (Eigen::Index a = 0; a < q; ++a)
+          for (Eigen::Index k = 0; k < m; ++k) J(k, a) = sc.cols[idx[static_cast<std::size_t>(a)]][static_cast<std::size_t>(k)];
+        const Eigen::Map<const Eigen::VectorXd> r(res0.data(), m);
+        const Eigen::VectorXd g = J.transpose() * r;
+        const Eigen::VectorXd dx = -(J.transpose() * J).ldlt().solve(g);
+        bool ok = true;
+        for (Eigen::Index a = 0; a < q; ++a) {
+          const auto& ps = sc.spec[idx[static_cast<std::size_t>(a)]];
+          const double x = ps.null_value + dx(a);
+          if (x < ps.lower || x > ps.upper) {
+            active[idx[static_cast<std::size_t>(a)]] = false;
+            ok = false;
+          }
+        }
+        if (!ok) continue;
+        sc.S = -g.dot(dx);
+        for (Eigen::Index a = 0; a < q; ++a) {
+          const std::size_t i = idx[static_cast<std::size_t>(a)];
+          sc.start[i] = sc.spec[i].null_value + dx(a);
+        }
+        break;
+      }
+      // A start on the no-effect value would give LM nothing to difference: keep it inside.
+      for (std::size_t i = 0; i < p; ++i) {
+        const auto& ps = sc.spec[i];
+        const double span = ps.upper - ps.lower;
+        sc.start[i] = std::clamp(sc.start[i], ps.lower + 1e-3 * span, ps.upper - 1e-3 * span);
+        if (sc.start[i] == ps.null_value) sc.start[i] = 0.5 * (ps.null_value + ps.screen_value);
+      }
+    }
+    // Best variant per candidate, candidates by S.
+    std::vector<std::size_t> best_of;
+    for (std::size_t i = 0; i < screens.size(); ++i) {
+      bool replaced = false;
+      for (std::size_t& b2 : best_of)
+        if (screens[b2].c == screens[i].c) {
+          if (screens[i].S > screens[b2].S) b2 = i;
+          replaced = true;
+        }
+      if (!replaced) best_of.push_back(i);
+    }
+    std::stable_sort(best_of.begin(), best_of.end(), [&](std::size_t a2, std::size_t b2) { return screens[a2].S > screens[b2].S; });
+    std::vector<std::size_t> shortlist;
     int heavy = 0;
-    for (const Pick& p : picks) {
-      if (p.c->sensor_only()) {
-        shortlist.push_back(p);
+    for (std::size_t i : best_of) {
+      if (screens[i].c->sensor_only()) {
+        shortlist.push_back(i);
         continue;
       }
-      if (heavy < o.max_candidates) {
-        shortlist.push_back(p);
+      if (heavy < o.max_candidates && screens[i].S > 0) {
+        shortlist.push_back(i);
         ++heavy;
       }
     }
-    const ToothMap map(ctx.base);
-    for (const Pick& p : shortlist) {
-      say("fitting candidate " + p.c->name());
-      // Screen the discrete variants at the start values (in parallel).
-      const auto variants = p.c->variants(d.location.evidence, ctx.base, map);
-      Variant best = variants.front();
-      if (variants.size() > 1) {
-        std::vector<double> chi(variants.size());
-        std::vector<double> cx;
-        for (const auto& s : p.c->parameters(ctx.base)) cx.push_back(s.initial);
-        parallel_for(static_cast<int>(variants.size()), threads, [&](int i) {
-          chi[static_cast<std::size_t>(i)] =
-              ctx.evaluate(ctx.make(p.c, variants[static_cast<std::size_t>(i)], cx, ctx.nuisance_x, nullptr), 0, true)
-                  .chi2;
-        });
-        best = variants[static_cast<std::size_t>(std::min_element(chi.begin(), chi.end()) - chi.begin())];
+    for (std::size_t i : best_of) {
+      ScreenResult sr;
+      sr.name = screens[i].c->name();
+      sr.variant = screens[i].v.label;
+      sr.predicted_improvement = screens[i].S;
+      sr.failed = screens[i].failed;
+      sr.fitted = std::find(shortlist.begin(), shortlist.end(), i) != shortlist.end();
+      d.screening.push_back(sr);
+    }
+    if (!best_of.empty() && screens[best_of.front()].S > 0) {
+      const Screen& top = screens[best_of.front()];
+      d.location.screened_candidate = top.c->name();
+      d.location.screened_S = top.S;
+      d.location.screened_family = static_cast<int>(top.c->families().front());
+      // The synchronous average over the screened family's component.
+      d.location.rotations.clear();
+      LocateOptions lo = o.locate;
+      lo.rotation_family = d.location.screened_family;
+      const WindowScore nf = cmp.score(ctx.nuisance_sim->amplitude, 0, ctx.nuisance_gains, false);
+      const WindowScore nh = cmp.score(ctx.nuisance_sim->amplitude, 1, ctx.nuisance_gains, false);
+      d.location.rotations = locate(cmp, nf, nh, ctx.nuisance_sim->amplitude, lo).rotations;
+    }
+    d.timing.screening_s = seconds_since(t);
+    t = Clock::now();
+    d.candidates.resize(shortlist.size());
+    say("fitting " + std::to_string(shortlist.size()) + " candidates");
+    // Candidates in parallel, each fit single-threaded (one simulation per thread).
+    parallel_for(static_cast<int>(shortlist.size()), threads, [&](int i) {
+      const Screen& sc = screens[shortlist[static_cast<std::size_t>(i)]];
+      CandidateResult r;
+      const auto tc = Clock::now();
+      try {
+        r = fit_model(ctx, sc.c, sc.v, false, 1, o.max_iterations, &sc.start);
+      } catch (const SolverError& e) {
+        r.name = sc.c->name();
+        r.physics = sc.c->physics();
+        r.variant = sc.v.label;
+        r.chosen = sc.v;
+        r.failed = std::string("the model could not be simulated at the start values: ") + e.what();
+        r.fit = r.held_out = ScoreSummary{};
+        r.fit.chi2 = r.held_out.chi2 = std::numeric_limits<double>::infinity();
       }
-      CandidateResult r = fit_model(ctx, p.c, best, o.joint_nuisance && !p.c->sensor_only(), o);
-      r.evidence_z = p.z;
+      double z = -1e300;
+      for (Component f : sc.c->families()) z = std::max(z, d.location.evidence.family_z[static_cast<int>(f)]);
+      r.evidence_z = z;
+      r.predicted_improvement = sc.S;
+      r.seconds = seconds_since(tc);
+      say("  " + r.name + ": " + fmt("%.1f s", r.seconds) + ", " + std::to_string(r.simulations) + " simulations");
+      d.candidates[static_cast<std::size_t>(i)] = std::move(r);
+    });
+    for (CandidateResult& r : d.candidates) {
       const int k = std::max(1, r.own_parameters);
-      r.lr_threshold = kHannChi2Scale * chi2_quantile(k, o.alpha);
+      r.lr_threshold = chi2_quantile(k, o.alpha);
       r.delta_chi2_fit = d.nuisance.fit.chi2 - r.fit.chi2;
       r.delta_chi2_held_out = d.nuisance.held_out.chi2 - r.held_out.chi2;
       r.significant = r.delta_chi2_fit > r.lr_threshold;
       r.holds = r.delta_chi2_held_out > r.lr_threshold;
-      int k_total = 0;
-      for (const auto& fp : r.parameters) k_total += 1, (void)fp;
-      const double m_eff = cmp.dof(0) / kHannChi2Scale;
-      r.aic = r.fit.chi2 / kHannChi2Scale + 2.0 * k_total;
-      r.bic = r.fit.chi2 / kHannChi2Scale + k_total * std::log(m_eff);
-      d.candidates.push_back(std::move(r));
+      const double kt = static_cast<double>(d.nuisance.parameters.size() + static_cast<std::size_t>(r.own_parameters));
+      r.aic = r.fit.chi2 + 2.0 * kt;
+      r.bic = r.fit.chi2 + kt * ln_m;
+      r.bic_held_out = r.held_out.chi2 + kt * ln_m;
     }
-    d.nuisance.aic = d.nuisance.fit.chi2 / kHannChi2Scale + 2.0 * static_cast<double>(d.nuisance.parameters.size());
-    d.nuisance.bic = d.nuisance.fit.chi2 / kHannChi2Scale +
-                     static_cast<double>(d.nuisance.parameters.size()) * std::log(cmp.dof(0) / kHannChi2Scale);
-    // 5. Rank.
+    d.timing.candidates_s = seconds_since(t);
+    // 6. Rank.
     std::stable_sort(d.candidates.begin(), d.candidates.end(), [](const CandidateResult& a, const CandidateResult& b) {
       const bool ga = a.significant && a.holds, gb = b.significant && b.holds;
       if (ga != gb) return ga;
-      return a.bic < b.bic;
+      return a.bic + a.bic_held_out < b.bic + b.bic_held_out;
     });
     if (!d.candidates.empty() && d.candidates.front().significant && d.candidates.front().holds) d.winner = 0;
-    const double best_bic = d.winner == 0 ? d.candidates.front().bic : 0;
+    const double best_bic = d.winner == 0 ? d.candidates.front().bic + d.candidates.front().bic_held_out : 0;
     for (std::size_t i = 0; i < d.candidates.size(); ++i) {
       CandidateResult& r = d.candidates[i];
       char buf[400];
       if (static_cast<int>(i) == d.winner)
         std::snprintf(buf, sizeof buf,
-                      "lowest BIC among the candidates that improve significantly on both windows (fit: -%.1f, "
-                      "held-out: -%.1f; threshold %.1f)",
+                      "lowest BIC (both halves) among the candidates that improve significantly on both halves "
+                      "(fit: -%.1f, held out: -%.1f; threshold %.1f)",
                       r.delta_chi2_fit, r.delta_chi2_held_out, r.lr_threshold);
+      else if (!r.failed.empty())
+        std::snprintf(buf, sizeof buf, "%s", r.failed.c_str());
       else if (!r.significant)
-        std::snprintf(buf, sizeof buf, "improvement on the fit window %.1f is below the threshold %.1f",
-                      r.delta_chi2_fit, r.lr_threshold);
+        std::snprintf(buf, sizeof buf, "improvement on the fit half %.1f is below the threshold %.1f", r.delta_chi2_fit,
+                      r.lr_threshold);
       else if (!r.holds)
         std::snprintf(buf, sizeof buf,
-                      "fits the first window (-%.1f) but does not hold on the held-out window (%+.1f; threshold "
-                      "%.1f)",
+                      "fits the first half (-%.1f) but does not hold on the held-out half (%+.1f; threshold %.1f)",
                       r.delta_chi2_fit, -r.delta_chi2_held_out, r.lr_threshold);
       else
-        std::snprintf(buf, sizeof buf, "BIC %.1f higher than the winner's", r.bic - best_bic);
+        std::snprintf(buf, sizeof buf, "BIC (both halves) %.1f higher than the winner's",
+                      r.bic + r.bic_held_out - best_bic);
       r.reason = buf;
     }
-    if (d.winner == 0) final_config = &d.candidates.front().config;
+    // 7. The winner: its phase variants at its fitted parameters, then a joint refit with the
+    //    nuisance parameters.
+    if (d.winner == 0) {
+      CandidateResult& w = d.candidates.front();
+      const Candidate* cand = find_candidate(w.name);
+      Variant v = w.chosen;
+      std::vector<double> own;
+      for (const auto& p : w.parameters)
+        if (!p.nuisance) own.push_back(p.value);
+      const auto phases = cand->phase_variants(v, ctx.base, map);
+      if (!phases.empty()) {
+        t = Clock::now();
+        say("screening " + std::to_string(phases.size()) + " phase variants of " + w.name);
+        std::vector<double> chi(phases.size(), std::numeric_limits<double>::infinity());
+        parallel_for(static_cast<int>(phases.size()), threads, [&](int i) {
+          try {
+            const auto c = ctx.make(cand, phases[static_cast<std::size_t>(i)], own, ctx.nuisance_x, nullptr);
+            chi[static_cast<std::size_t>(i)] = cmp.score(ctx.amplitudes(c, false), 0, ctx.nuisance_gains, true).chi2;
+          } catch (const SolverError&) {
+          }
+        });
+        const std::size_t b = static_cast<std::size_t>(std::min_element(chi.begin(), chi.end()) - chi.begin());
+        if (chi[b] < w.fit.chi2) {
+          CandidateResult r2;
+          try {
+            r2 = fit_model(ctx, cand, phases[b], false, threads, std::max(2, o.max_iterations / 2), &own);
+          } catch (const SolverError&) {
+            r2.fit.chi2 = std::numeric_limits<double>::infinity();
+          }
+          if (r2.fit.chi2 < w.fit.chi2) {
+            r2.evidence_z = w.evidence_z;
+            r2.predicted_improvement = w.predicted_improvement;
+            r2.lr_threshold = w.lr_threshold;
+            r2.delta_chi2_fit = d.nuisance.fit.chi2 - r2.fit.chi2;
+            r2.delta_chi2_held_out = d.nuisance.held_out.chi2 - r2.held_out.chi2;
+            r2.significant = w.significant;
+            r2.holds = w.holds;
+            const double kt = static_cast<double>(d.nuisance.parameters.size() + static_cast<std::size_t>(r2.own_parameters));
+            r2.aic = r2.fit.chi2 + 2.0 * kt;
+            r2.bic = r2.fit.chi2 + kt * ln_m;
+            r2.bic_held_out = r2.held_out.chi2 + kt * ln_m;
+            r2.reason = w.reason + "; " + phases[b].label + " among " + std::to_string(phases.size() + 1) + " phases";
+            r2.simulations += w.simulations + static_cast<int>(phases.size());
+            r2.seconds = w.seconds;
+            w = std::move(r2);
+            v = w.chosen;
+          }
+        }
+        d.timing.phase_s = seconds_since(t);
+      }
+    }
+    if (d.winner == 0 && o.polish) {
+      say("refitting " + d.candidates.front().name + " with the nuisance parameters");
+      t = Clock::now();
+      CandidateResult& w = d.candidates.front();
+      const Candidate* cand = find_candidate(w.name);
+      const Variant v = w.chosen;
+      std::vector<double> x0;
+      for (const auto& p : w.parameters)
+        if (!p.nuisance) x0.push_back(p.value);
+      for (double x : ctx.nuisance_x) x0.push_back(x);
+      CandidateResult j;
+      try {
+        j = fit_model(ctx, cand, v, true, threads, 2, &x0);
+      } catch (const SolverError&) {
+        j.fit.chi2 = std::numeric_limits<double>::infinity();
+      }
+      if (j.fit.chi2 < w.fit.chi2) {
+        j.evidence_z = w.evidence_z;
+        j.lr_threshold = w.lr_threshold;
+        j.delta_chi2_fit = d.nuisance.fit.chi2 - j.fit.chi2;
+        j.delta_chi2_held_out = d.nuisance.held_out.chi2 - j.held_out.chi2;
+        j.significant = w.significant;
+        j.holds = w.holds;
+        const double kt = static_cast<double>(j.parameters.size());
+        j.aic = j.fit.chi2 + 2.0 * kt;
+        j.bic = j.fit.chi2 + kt * ln_m;
+        j.bic_held_out = j.held_out.chi2 + kt * ln_m;
+        j.reason = w.reason + "; refitted jointly with the nuisance parameters";
+        j.polished = true;
+        j.simulations += w.simulations;
+        w = std::move(j);
+      }
+      d.timing.polish_s = seconds_since(t);
+    }
+    if (d.winner == 0) {
+      final_config = &d.candidates.front().config;
+      final_gains = d.candidates.front().gains;
+    }
   }
 
   // Verdict and summary.
   auto nuisance_text = [&]() {
     std::string s;
-    for (const auto& p : d.nuisance.parameters) s += (s.empty() ? "" : ", ") + param_text(p);
+    for (const auto& p : d.nuisance.parameters)
+      s += (s.empty() ? "" : ", ") + param_text(p) + (p.moved ? " (recalibrated)" : "");
     return s;
   };
   if (consistent && d.winner < 0) {
     d.verdict = Verdict::NoMissingPhysics;
     d.summary = "No missing physics found: with the nuisance parameters fitted (" + nuisance_text() +
-                ") the residual is consistent with the measurement noise (chi2 " + fmt("%.0f", d.nuisance.fit.chi2) +
-                " <= " + fmt("%.0f", d.bound_fit) + " on the fit window, " + fmt("%.0f", d.nuisance.held_out.chi2) +
-                " <= " + fmt("%.0f", d.bound_held_out) + " held out).";
+                ") the residual is consistent with the measurement noise and the model's fidelity (chi2 " +
+                fmt("%.0f", d.nuisance.fit.chi2) + " <= " + fmt("%.0f", d.bound_fit) + " on the fit half, " +
+                fmt("%.0f", d.nuisance.held_out.chi2) + " <= " + fmt("%.0f", d.bound_held_out) + " held out; m = " +
+                std::to_string(d.features) + ").";
   } else if (d.winner == 0) {
     const CandidateResult& w = d.candidates.front();
     d.verdict = Verdict::MissingPhysicsFound;
     std::string ps;
     for (const auto& p : w.parameters)
       if (!p.nuisance) ps += (ps.empty() ? "" : ", ") + param_text(p);
+    std::string where;
+    if (d.located && d.location.screened_family >= 0)
+      where = " Located in the " + std::string(to_string(static_cast<Component>(d.location.screened_family))) +
+              " family (the signature of " + d.location.screened_candidate + " explains " + fmt("%.0f", d.location.screened_S) +
+              " of the chi2 excess at first order).";
     d.summary = "Missing physics: " + w.name + (w.variant.empty() ? "" : " (" + w.variant + ")") + " — " + w.physics +
-                "; fitted " + ps + "; chi2 " + fmt("%.0f", d.nominal_fit.chi2) + " -> " + fmt("%.0f", w.fit.chi2) +
-                " on the fit window and " + fmt("%.0f", d.nominal_held_out.chi2) + " -> " +
-                fmt("%.0f", w.held_out.chi2) + " held out (noise bound " + fmt("%.0f", d.bound_held_out) + ").";
+                "; fitted " + ps + "; chi2 " + fmt("%.0f", d.nuisance.fit.chi2) + " -> " + fmt("%.0f", w.fit.chi2) +
+                " on the fit half and " + fmt("%.0f", d.nuisance.held_out.chi2) + " -> " + fmt("%.0f", w.held_out.chi2) +
+                " held out (noise bound " + fmt("%.0f", d.bound_held_out) + ")." + where;
   } else {
     d.verdict = Verdict::Unexplained;
-    std::string where = d.located && !d.location.families.empty()
-                            ? std::string(to_string(d.location.families.front().family)) + " family (z = " +
-                                  fmt("%.1f", d.location.families.front().z) + ")"
-                            : "the mesh harmonics";
+    const std::string where =
+        d.located && d.location.screened_family >= 0
+            ? std::string(to_string(static_cast<Component>(d.location.screened_family))) + " family (" +
+                  d.location.screened_candidate + "'s signature explains most of it at first order)"
+        : d.located && !d.location.families.empty()
+            ? std::string(to_string(d.location.families.front().family)) + " family (z = " +
+                  fmt("%.1f", d.location.families.front().z) + ")"
+            : "mesh harmonics";
     d.summary = "The recording differs from the model beyond the noise (chi2 " + fmt("%.0f", d.nuisance.fit.chi2) +
-                " > " + fmt("%.0f", d.bound_fit) + " after the nuisance fit), mostly in the " + where +
+                " > " + fmt("%.0f", d.bound_fit) + " or " + fmt("%.0f", d.nuisance.held_out.chi2) + " > " +
+                fmt("%.0f", d.bound_held_out) + " after the nuisance fit), mostly in the " + where +
                 ", but no candidate in the library explains it on held-out data.";
   }
   d.final_overrides = d.winner == 0 ? d.candidates.front().overrides : d.nuisance.overrides;
 
-  // Plots and the TSA domain: nominal (before) and final (after) over the whole recording.
-  say("spectra and synchronous averages before/after");
-  std::shared_ptr<const SimulatedSignals> full_before, full_after;
-  parallel_for(2, threads, [&](int i) {
-    if (i == 0)
-      full_before = cmp.simulate(config, ctx.t_all_end);
-    else
-      full_after = cmp.simulate(*final_config, ctx.t_all_end);
-  });
-  const auto t_feat = Clock::now();
-  const double f_max = o.compare.max_mesh_harmonic * d.kinematics.mesh_Hz;
-  const AnalysisWindow& hw = cmp.window(1);
-  const double gain_after = final_config->sensor.gain_m_s2_per_N;
-  for (std::size_t c = 0; c < cmp.channels().size(); ++c) {
-    const int ci = static_cast<int>(c);
-    const auto r = cmp.recording_band_limited(ci, hw.begin, hw.count, f_max);
-    const auto b = cmp.model_on_recording(*full_before, config, config.sensor.gain_m_s2_per_N, ci, hw.begin, hw.count, f_max);
-    const auto a = cmp.model_on_recording(*full_after, *final_config, gain_after, ci, hw.begin, hw.count, f_max);
-    const auto sr = signal::amplitude_spectrum(r, dt), sb = signal::amplitude_spectrum(b, dt),
-               sa = signal::amplitude_spectrum(a, dt);
-    PlotSeries ps;
-    ps.name = "spectrum/" + d.channels[c];
-    ps.x_unit = "Hz";
-    ps.y_unit = recording.channels[static_cast<std::size_t>(cmp.channels()[c])].unit;
-    for (std::size_t k = 0; k < sr.frequency_Hz.size() && sr.frequency_Hz[k] <= f_max; ++k) {
-      ps.x.push_back(sr.frequency_Hz[k]);
-      ps.recording.push_back(sr.amplitude[k]);
-      ps.before.push_back(sb.amplitude[k]);
-      ps.after.push_back(sa.amplitude[k]);
-    }
-    d.plots.push_back(std::move(ps));
-  }
-  // TSA per component on the preferred channel (as locate chooses), whole usable span.
+  // Plot data: order spectra of the held-out half, residuals per cell, the located synchronous average.
+  t = Clock::now();
   {
-    const std::size_t begin = cmp.window(0).begin;
-    std::size_t end = recording.time_s.size();
-    const double t_cover = std::min(full_before->t_end_s(), full_after->t_end_s()) - dt;
-    while (end > begin && recording.time_s[end - 1] > t_cover) --end;
-    const std::size_t count = end - begin;
-    const struct {
-      Component comp;
-      Quantity q1, q2;
-    } rot[] = {{Component::Sun, Quantity::MeshAccelerationSunPlanet, Quantity::MeshAccelerationPlanetRing},
-               {Component::Planet, Quantity::MeshAccelerationSunPlanet, Quantity::MeshAccelerationPlanetRing},
-               {Component::Carrier, Quantity::MeshAccelerationPlanetRing, Quantity::MeshAccelerationSunPlanet}};
-    for (const auto& rr : rot) {
-      int ci = -1;
-      for (Quantity q : {rr.q1, rr.q2, Quantity::HousingAcceleration}) {
-        for (std::size_t c = 0; c < cmp.channels().size() && ci < 0; ++c)
-          if (recording.channels[static_cast<std::size_t>(cmp.channels()[c])].quantity == q) ci = static_cast<int>(c);
-        if (ci >= 0) break;
-      }
-      if (ci < 0 || count < 64) continue;
-      const int period = static_cast<int>(std::lround(d.kinematics.period_mesh_cycles(rr.comp)));
-      const int spc = 16;
-      const double t0 = recording.time_s[begin];
-      const auto r = cmp.recording_band_limited(ci, begin, count, f_max);
-      const auto b = cmp.model_on_recording(*full_before, config, config.sensor.gain_m_s2_per_N, ci, begin, count, f_max);
-      const auto a = cmp.model_on_recording(*full_after, *final_config, gain_after, ci, begin, count, f_max);
-      const auto tr = synchronous_average(r, t0, dt, d.kinematics.mesh_Hz, period, spc);
-      const auto tb = synchronous_average(b, t0, dt, d.kinematics.mesh_Hz, period, spc);
-      const auto ta = synchronous_average(a, t0, dt, d.kinematics.mesh_Hz, period, spc);
-      if (tr.averages < 1) continue;
+    const bool sensor_only_final = d.winner == 0 && find_candidate(d.candidates.front().name) &&
+                                   find_candidate(d.candidates.front().name)->sensor_only();
+    const auto after = sensor_only_final ? ctx.amplitudes(*final_config, true) : cmp.simulate(*final_config)->amplitude;
+    const WindowScore before_fit = cmp.score(nominal->amplitude, 1, d.nuisance.gains, false);
+    const WindowScore nuis_fit = cmp.score(ctx.nuisance_sim->amplitude, 1, d.nuisance.gains, false);
+    const WindowScore after_fit = cmp.score(after, 1, final_gains, false);
+    const int R = sp.layout.revolutions, ncell = cmp.cells();
+    for (int ch = 0; ch < cmp.channels(); ++ch) {
+      const std::size_t c = static_cast<std::size_t>(ch);
+      const std::string unit = recording.channels[static_cast<std::size_t>(sp.channels[c])].unit;
       PlotSeries ps;
-      ps.name = std::string("tsa/") + to_string(rr.comp) + "/" + d.channels[static_cast<std::size_t>(ci)];
-      ps.x_unit = "mesh cycles";
-      ps.y_unit = recording.channels[static_cast<std::size_t>(cmp.channels()[static_cast<std::size_t>(ci)])].unit;
-      double eb = 0, ea = 0;
-      for (std::size_t j = 0; j < tr.values.size(); ++j) {
-        ps.x.push_back(static_cast<double>(j) / spc);
-        ps.recording.push_back(tr.values[j]);
-        ps.before.push_back(tb.values[j]);
-        ps.after.push_back(ta.values[j]);
-        eb += (tr.values[j] - tb.values[j]) * (tr.values[j] - tb.values[j]);
-        ea += (tr.values[j] - ta.values[j]) * (tr.values[j] - ta.values[j]);
+      ps.name = "spectrum/" + d.channels[c];
+      ps.kind = "spectrum";
+      ps.x_label = "carrier order";
+      ps.y_label = "amplitude [" + unit + "]";
+      std::vector<double> rec, bef, aft;
+      for (int k = 1; k <= sp.layout.max_bin; ++k) {
+        ps.x.push_back(static_cast<double>(k) / R);
+        rec.push_back(sp.amplitude[1][c][static_cast<std::size_t>(k)]);
+        bef.push_back(d.nuisance.gains[c] * nominal->amplitude[c][static_cast<std::size_t>(k)]);
+        aft.push_back(final_gains[c] * after[c][static_cast<std::size_t>(k)]);
       }
-      d.tsa_names.push_back(ps.name);
-      d.tsa_rms_before.push_back(std::sqrt(eb / static_cast<double>(tr.values.size())));
-      d.tsa_rms_after.push_back(std::sqrt(ea / static_cast<double>(tr.values.size())));
+      ps.columns = {{"recording", rec}, {"model_before", bef}, {"model_after", aft}};
+      d.plots.push_back(std::move(ps));
+      PlotSeries pr;
+      pr.name = "residual/" + d.channels[c];
+      pr.kind = "residual";
+      pr.x_label = "carrier order";
+      pr.y_label = "whitened residual rho (held-out half)";
+      std::vector<double> rb, rn, ra;
+      for (int i = 0; i < ncell; ++i) {
+        const std::size_t f = static_cast<std::size_t>(ch * ncell + i);
+        pr.x.push_back(sp.layout.cells[static_cast<std::size_t>(i)].order);
+        rb.push_back(before_fit.rho[f]);
+        rn.push_back(nuis_fit.rho[f]);
+        ra.push_back(after_fit.rho[f]);
+      }
+      pr.columns = {{"nominal", rb}, {"nuisance_fitted", rn}, {"final", ra}};
+      d.plots.push_back(std::move(pr));
+      // The features themselves (not plotted): amplitudes of both halves and of the models.
+      PlotSeries pt;
+      pt.name = "features/" + d.channels[c];
+      pt.kind = "table";
+      pt.x_label = "carrier order";
+      pt.y_label = "amplitude [" + unit + "]";
+      std::vector<double> r0, r1, mn, mu, mf, sd, ns;
+      for (int i = 0; i < ncell; ++i) {
+        const int f = ch * ncell + i;
+        const std::size_t b = static_cast<std::size_t>(sp.layout.cells[static_cast<std::size_t>(i)].bin);
+        pt.x.push_back(sp.layout.cells[static_cast<std::size_t>(i)].order);
+        r0.push_back(cmp.recording_amplitude(0, f));
+        r1.push_back(cmp.recording_amplitude(1, f));
+        mn.push_back(d.nuisance.gains[c] * nominal->amplitude[c][b]);
+        mu.push_back(d.nuisance.gains[c] * ctx.nuisance_sim->amplitude[c][b]);
+        mf.push_back(final_gains[c] * after[c][b]);
+        sd.push_back(std::sqrt(cmp.noise_variance(f)));
+        ns.push_back(std::sqrt(cmp.nonstationary_variance(f)));
+      }
+      pt.columns = {{"recording_fit", r0}, {"recording_held_out", r1}, {"model_nominal", mn},
+                    {"model_nuisance", mu}, {"model_final", mf}, {"noise_rms", sd}, {"nonstationary_sd", ns}};
+      d.plots.push_back(std::move(pt));
+    }
+    for (const auto& re : d.location.rotations) {
+      if (re.tsa.empty()) continue;
+      PlotSeries ps;
+      ps.name = std::string("tsa/") + to_string(re.component) + "/" + re.channel;
+      ps.kind = "tsa";
+      ps.x_label = "mesh cycles from the recording's start (mod " + std::to_string(re.period_mesh_cycles) + ")";
+      ps.y_label = "synchronous average of the recording";
+      std::vector<double> v;
+      for (std::size_t j = 0; j < re.tsa.size(); ++j) {
+        ps.x.push_back(static_cast<double>(j) / re.samples_per_cycle);
+        v.push_back(re.tsa[j]);
+      }
+      ps.columns = {{"recording", v}};
       d.plots.push_back(std::move(ps));
     }
+    (void)cell_column;
   }
-  const double feat_s = seconds_since(t_feat);
+  d.timing.report_s = seconds_since(t);
   d.timing.total_s = seconds_since(t_start);
   d.timing.simulate_s = cmp.simulation_seconds();
   d.timing.simulations = cmp.simulations();
-  d.timing.compare_s = ctx.compare_s + feat_s;
-  d.timing.fit_overhead_s = std::max(0.0, d.timing.total_s - d.timing.simulate_s / threads - d.timing.compare_s / threads -
-                                              d.timing.locate_s);
   return d;
 }
 

@@ -2,26 +2,25 @@
 // recording differ from the model, which physics is missing, with which
 // parameters, and does the fix hold on data it was not fitted to?
 //
-//   1. compare the nominal model with the recording (compare.hpp): the fit
-//      window (first carrier revolution) and the held-out window (last one);
-//   2. fit the nuisance parameters (mesh stiffness level, damping ratio; the
-//      housing-sensor gain is profiled in closed form) on the fit window;
-//   3. noise test: if the nuisance-fitted model's chi-square is within the
-//      noise bound on both windows -> "no missing physics found";
-//   4. otherwise locate the residual (locate.hpp), shortlist the candidates
-//      whose families carry it, screen their discrete variants, fit each
-//      (with the nuisance parameters) by bounded LM (fit.hpp), evaluate the
-//      fit on the held-out window;
-//   5. rank: a candidate counts if its improvement over the nuisance-only
-//      model is significant on the fit window AND on the held-out window
-//      (likelihood-ratio test at level alpha); among those the lowest BIC wins.
-//
-// Decision rule (stated in every report): with m real residuals and the
-// Hann-bin correlation factor c = 1.944 (compare.hpp), chi2 / c ~ chi2(m / c)
-// when the model is right; the noise bound is
-//   B = c chi2_{1-alpha}(m / c) + z_{1-alpha} sqrt(sum_c (m_c eps_c)^2)
-// with eps_c the relative uncertainty of channel c's noise estimate. Nothing in
-// it is tuned to any corpus: alpha = 0.01 is the only setting.
+//   1. analyse the recording in the order domain (order_analysis.hpp): its
+//      speed, its carrier angle, a fit half and a held-out half of R whole
+//      carrier revolutions each, feature cells at the labelled lines, noise;
+//   2. simulate the model at the recording's speed, and the same model at a
+//      second discretization and at the speed +- its standard error: the
+//      model-fidelity directions (compare.hpp);
+//   3. fit the nuisance parameters (mesh stiffness level, damping ratio; the
+//      housing-sensor gain is profiled in closed form) on the fit half;
+//   4. noise test: if the nuisance-fitted model's chi2 is below the 1 - alpha/2
+//      quantile of its Monte-Carlo null distribution on both halves ->
+//      "no missing physics found";
+//   5. otherwise locate the residual (locate.hpp), shortlist the candidates
+//      whose families carry it, screen their discrete variants, fit each by
+//      bounded LM (fit.hpp) on the fit half, score it on the held-out half;
+//   6. rank: a candidate counts if its chi2 improvement over the
+//      nuisance-only model exceeds chi2_{1-alpha}(k) (k = its parameters) on
+//      the fit half AND on the held-out half; among those the lowest BIC
+//      summed over both halves wins; the winner is refitted jointly with the
+//      nuisance parameters.
 #pragma once
 
 #include "diagnose/compare.hpp"
@@ -33,6 +32,7 @@
 
 #include <functional>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace pw::diagnose {
@@ -41,13 +41,13 @@ struct DiagnoseOptions {
   CompareOptions compare{};
   LocateOptions locate{};
   double alpha = 0.01;          ///< false-alarm probability of every test
-  int max_iterations = 6;       ///< LM Jacobians per fit
-  int max_candidates = 4;       ///< non-nuisance candidates fitted (sensor-only ones come free)
-  bool joint_nuisance = true;   ///< refit the nuisance parameters together with each candidate
+  int max_iterations = 4;       ///< LM Jacobians per fit (the screening step is a good start)
+  int max_candidates = 4;       ///< candidates fitted after the screening (sensor-only ones come free)
+  bool polish = true;           ///< refit the winner jointly with the nuisance parameters
   bool always_fit_candidates = false;  ///< fit candidates even when the noise test passes
   std::vector<std::string> only_candidates;  ///< restrict the library (tests, expert use); empty = all
   int threads = 0;              ///< OpenMP threads (0: default)
-  /// Progress messages (phase, detail); may be empty.
+  /// Progress messages; may be empty.
   std::function<void(const std::string&)> progress;
 };
 
@@ -56,47 +56,68 @@ struct FittedParameter {
   double value = 0, std_error = 0, lower = 0, upper = 0, initial = 0;
   bool at_bound = false;
   bool nuisance = false;
+  bool moved = false;           ///< nuisance: differs from its start by > z_{1-alpha/2} standard errors and > 5 %
 };
 
-/// Chi-square of one model on one window, per channel.
-struct WindowScore {
+/// Chi-square of one model on one half.
+struct ScoreSummary {
   double chi2 = 0;
-  int dof = 0;
+  int features = 0;
   std::vector<double> chi2_per_channel;
-  std::vector<int> dof_per_channel;
+  std::vector<int> features_per_channel;
+  std::vector<double> fidelity_z;
 };
 
 struct CandidateResult {
   std::string name, physics, variant;
   std::vector<std::string> families;
   double evidence_z = 0;                 ///< located evidence for its families
+  double predicted_improvement = 0;      ///< screening: linearized chi2 improvement S
   std::vector<FittedParameter> parameters;  ///< its own, then the nuisance ones
   std::vector<std::string> overrides;    ///< `--set` assignments reproducing the fitted model
   int own_parameters = 0;
-  WindowScore fit, held_out;
+  ScoreSummary fit, held_out;
   double delta_chi2_fit = 0, delta_chi2_held_out = 0;  ///< improvement over the nuisance-only model
-  double lr_threshold = 0;               ///< c chi2_{1-alpha}(own_parameters)
-  double aic = 0, bic = 0;               ///< on the fit window, effective chi-square units
+  double lr_threshold = 0;               ///< chi2_{1-alpha}(own_parameters)
+  double aic = 0, bic = 0;               ///< fit half
+  double bic_held_out = 0;               ///< held-out half, same penalty
   bool significant = false, holds = false;
+  bool polished = false;                 ///< refitted jointly with the nuisance parameters
   int simulations = 0;
+  double seconds = 0;                    ///< wall time of its fit
   std::string lm_message;
+  std::string failed;                    ///< non-empty: why it could not be fitted
   std::string reason;                    ///< why it won or lost
   model::SimulationConfig config;
-  double sensor_gain = 0;
+  Variant chosen;                        ///< the variant fitted
+  std::vector<double> gains;             ///< per channel (housing gain factors on the model's 1 N -> m/s^2)
 };
 
 enum class Verdict { NoMissingPhysics, MissingPhysicsFound, Unexplained };
 const char* to_string(Verdict v);
 
-/// Spectra and synchronous averages before/after, for plots (io/diagnosis_report.hpp).
+/// A plot's data: x and named columns (io/diagnosis_report.hpp writes them as CSV).
 struct PlotSeries {
-  std::string name;           ///< channel or "tsa/<component>/<channel>"
-  std::string x_unit, y_unit;
-  std::vector<double> x, recording, before, after;
+  std::string name;           ///< "spectrum/<channel>", "residual/<channel>", "tsa/<component>/<channel>"
+  std::string kind;           ///< "spectrum", "residual", "tsa"
+  std::string x_label, y_label;
+  std::vector<double> x;
+  std::vector<std::pair<std::string, std::vector<double>>> columns;
+};
+
+/// Screening of one candidate (its best variant): the score statistic S.
+struct ScreenResult {
+  std::string name, variant;
+  double predicted_improvement = 0;  ///< S = r'J(J'J)^-1 J'r at the nuisance-fitted model
+  bool failed = false;               ///< its screening simulation failed
+  bool fitted = false;               ///< shortlisted
 };
 
 struct Timing {
-  double total_s = 0, simulate_s = 0, compare_s = 0, locate_s = 0, fit_overhead_s = 0;
+  double total_s = 0, analysis_s = 0, baseline_s = 0, nuisance_s = 0, locate_s = 0, screening_s = 0, candidates_s = 0,
+         phase_s = 0,
+         polish_s = 0, report_s = 0;
+  double simulate_s = 0;   ///< summed over threads
   long simulations = 0;
   int threads = 1;
 };
@@ -105,22 +126,28 @@ struct Diagnosis {
   Verdict verdict = Verdict::NoMissingPhysics;
   std::string summary;                   ///< the finding in one sentence
   std::string rule;                      ///< the decision rule, with its numbers
+  SpeedEstimate speed;
+  std::string angle_source;
   Kinematics kinematics;
   std::vector<std::string> channels;
-  std::vector<NoiseEstimate> noise;
-  AnalysisWindow fit_window, held_out_window;
-  double bound_fit = 0, bound_held_out = 0;
-  WindowScore nominal_fit, nominal_held_out;
+  std::vector<double> noise_std;         ///< per channel: sqrt(mean noise variance per bin)
+  std::vector<bool> noise_coloured;
+  OrderWindow fit_window, held_out_window;
+  int revolutions = 0;                   ///< R per half
+  double max_order = 0, max_frequency_Hz = 0;
+  int mesh_harmonics = 0, cells = 0, features = 0, nonstationary_features = 0;
+  std::vector<std::string> fidelity;     ///< names of the fidelity directions
+  double bound_fit = 0, bound_held_out = 0;  ///< null quantiles (1 - alpha/2) of the nuisance-fitted model
+  double model_speed_rpm = 0;            ///< mean speed of the simulated baseline
+  ScoreSummary nominal_fit, nominal_held_out;
   CandidateResult nuisance;              ///< nuisance-only model
   bool located = false;
   Location location;
-  std::vector<CandidateResult> candidates;  ///< ranked, best first
+  std::vector<ScreenResult> screening;    ///< every candidate, largest S first
+  std::vector<CandidateResult> candidates;  ///< fitted ones, ranked, best first
   int winner = -1;                       ///< index into candidates, -1 if none
   std::vector<std::string> final_overrides;
   std::vector<PlotSeries> plots;
-  /// RMS of the residual synchronous average per component (TSA domain), before (nominal) and after.
-  std::vector<std::string> tsa_names;
-  std::vector<double> tsa_rms_before, tsa_rms_after;
   Timing timing;
 };
 

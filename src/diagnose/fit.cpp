@@ -76,7 +76,14 @@ LmResult levenberg_marquardt(const ResidualFn& f, const std::vector<Bound>& boun
       try {
         std::vector<double> vi = v;
         vi[i] += h[i];
-        cols[i] = f(xs(vi), &centre);
+        try {
+          cols[i] = f(xs(vi), &centre);
+        } catch (const SolverError&) {
+          // The model failed there (e.g. a jammed mesh): difference the other way.
+          h[i] = -h[i];
+          vi[i] = v[i] + h[i];
+          cols[i] = f(xs(vi), &centre);
+        }
       } catch (...) {
 #pragma omp critical(pw_lm_error)
         if (!error) error = std::current_exception();
@@ -106,7 +113,14 @@ LmResult levenberg_marquardt(const ResidualFn& f, const std::vector<Bound>& boun
         max_step = std::max(max_step, std::fabs(vt[i] - v[i]));
       }
       if (max_step < 1e-12) break;
-      std::vector<double> rt = f(xs(vt), nullptr);
+      std::vector<double> rt;
+      try {
+        rt = f(xs(vt), nullptr);
+      } catch (const SolverError&) {
+        ++res.failed_evaluations;  // the model cannot be simulated there: a worse step
+        lambda *= 8;
+        continue;
+      }
       ++res.evaluations;
       const double ct = norm2(rt);
       if (ct < cost) {

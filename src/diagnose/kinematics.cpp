@@ -109,6 +109,15 @@ std::vector<KinematicLine> family_lines(const Kinematics& k, Component family, i
   return out;
 }
 
+double carrier_orders(const Kinematics& k, Component c) { return k.frequency_Hz(c) / k.carrier_Hz; }
+
+std::vector<OrderLine> order_lines(const Kinematics& k, Component family, int max_a, int max_b, double max_order) {
+  std::vector<OrderLine> out;
+  for (const auto& l : family_lines(k, family, max_a, max_b, max_order * k.carrier_Hz * (1 + 1e-12)))
+    out.push_back({l.frequency_Hz / k.carrier_Hz, l.family, l.mesh_harmonic, l.sideband, l.label});
+  return out;
+}
+
 ToothMap::ToothMap(const model::SimulationConfig& config) {
   const auto geo = geometry::make_stage_geometry(config.stage);
   const auto phases = geometry::mesh_phases(config.stage, geo);

@@ -78,6 +78,27 @@ struct KinematicLine {
 std::vector<KinematicLine> family_lines(const Kinematics& k, Component family, int max_mesh_harmonic,
                                         int max_sideband, double max_Hz);
 
+/// Frequency of a component's family in carrier orders (multiples of the
+/// carrier's rotation f_c): Mesh Zr, Sun Zr/Zs, Planet Zr/Zp, Carrier 1,
+/// InputShaft (Zs+Zr)/Zs. The order domain is what the diagnosis compares:
+/// resampled to the carrier angle, a line's order does not depend on the
+/// speed, the time step or the time origin.
+double carrier_orders(const Kinematics& k, Component c);
+
+/// One spectral line in carrier orders: a Zr + b o_X of family X.
+struct OrderLine {
+  double order = 0;       ///< carrier orders
+  Component family = Component::Mesh;
+  int mesh_harmonic = 0;  ///< a
+  int sideband = 0;       ///< b (0 for the mesh harmonics themselves)
+  std::string label;      ///< e.g. "2 f_m - 3 f_sr"
+};
+
+/// The lines of `family` with 0 <= a <= max_mesh_harmonic, 1 <= |b| <=
+/// max_sideband (Mesh: a Zr, a >= 1), 0 < order <= max_order, sorted by order.
+std::vector<OrderLine> order_lines(const Kinematics& k, Component family, int max_mesh_harmonic, int max_sideband,
+                                   double max_order);
+
 /// Where each tooth meets each mesh, from the assembly phases
 /// (geometry::mesh_phases; docs/derivation-geometry.md §4): tooth j of body B
 /// passes the pitch point of a mesh at mesh cycles u = u_j + k P, P the body's

@@ -2,8 +2,11 @@
 
 #include "core/error.hpp"
 
+#include "diagnose/features.hpp"
+
 #include <algorithm>
 #include <cmath>
+#include <map>
 #include <numbers>
 
 namespace pw::diagnose {
@@ -50,181 +53,142 @@ double chi2_quantile(double nu, double alpha) {
 }
 
 namespace {
-
-
-/// Normalized periodogram value at frequency f (nearest bin).
-double at(const std::vector<double>& P, double df, double f) {
-  const long k = std::lround(f / df);
-  if (k < 1 || k >= static_cast<long>(P.size()) - 1) return 1.0;
-  return P[static_cast<std::size_t>(k)];
-}
-
+std::string family_label(const OrderLine& l) { return l.label + " (" + to_string(l.family) + ")"; }
 } // namespace
 
-Location locate(const ModelComparison& cmp, const SimulatedSignals& sim, const model::SimulationConfig& config,
-                double gain, const LocateOptions& opt) {
-  const Recording& rec = cmp.recording();
-  const Kinematics& kin = cmp.kinematics();
-  const double dt = rec.sample_interval_s();
-  const double f_max = 3.5 * kin.mesh_Hz;  // the band the fit compares (CompareOptions)
-  // Usable span: from the fit window to the last sample the simulation covers.
-  const std::size_t begin = cmp.window(0).begin;
-  std::size_t end = rec.time_s.size();
-  while (end > begin && rec.time_s[end - 1] > sim.t_end_s() - dt) --end;
-  require(end > begin + 64, "simulation", "covers too little of the recording to locate anything");
-  const std::size_t count = end - begin;
-  const double t0 = rec.time_s[begin];
-  const double df = 1.0 / (static_cast<double>(count) * dt);
-
+Location locate(const ModelComparison& cmp, const WindowScore& fit, const WindowScore& held,
+                const std::vector<std::vector<double>>& model, const LocateOptions& opt) {
+  const RecordingSpectra& sp = cmp.spectra();
+  const FeatureLayout& L = sp.layout;
+  const Kinematics& kin = sp.kinematics;
+  const int nc = cmp.channels(), ncell = cmp.cells();
   Location loc;
-  const int nfam = 5;
-  std::vector<std::vector<KinematicLine>> fam_lines(nfam);
-  for (int f = 0; f < nfam; ++f)
-    fam_lines[static_cast<std::size_t>(f)] =
-        family_lines(kin, static_cast<Component>(f), 3, opt.max_sideband, f_max);
-  // Sideband lines that fall on a mesh harmonic's bin belong to the mesh family.
-  auto on_mesh_harmonic = [&](double f) {
-    const double a = std::round(f / kin.mesh_Hz);
-    return a >= 1 && std::fabs(f - a * kin.mesh_Hz) < 1.5 * df;
-  };
-  std::vector<double> excess(nfam, 0.0), n_lines(nfam, 0.0);
-  std::vector<std::vector<double>> excess_ch(nfam);
-  std::vector<LocatedLine> all_lines;
-  std::vector<std::vector<double>> residuals;
-  const auto& used = cmp.channels();
-  for (std::size_t c = 0; c < used.size(); ++c) {
-    const SignalChannel& ch = rec.channels[static_cast<std::size_t>(used[c])];
-    auto r = cmp.recording_band_limited(static_cast<int>(c), begin, count, f_max);
-    const auto m = cmp.model_on_recording(sim, config, gain, static_cast<int>(c), begin, count, f_max);
-    for (std::size_t j = 0; j < count; ++j) r[j] -= m[j];
-    auto P = normalized_periodogram(r);
-    const double s2 = cmp.noise()[c].variance;
-    for (double& v : P) v /= s2;
-    for (int f = 0; f < nfam; ++f) {
-      double e = 0, n = 0;
-      for (const auto& l : fam_lines[static_cast<std::size_t>(f)]) {
-        if (f != static_cast<int>(Component::Mesh) && on_mesh_harmonic(l.frequency_Hz)) continue;
-        e += at(P, df, l.frequency_Hz) - 1.0;
-        n += 1;
-      }
-      excess[static_cast<std::size_t>(f)] += e;
-      n_lines[static_cast<std::size_t>(f)] += n;
-      excess_ch[static_cast<std::size_t>(f)].push_back(e);
-    }
-    // Strongest individual bins in the band, labelled.
-    std::vector<std::size_t> idx;
-    for (std::size_t k = 2; k < P.size() && static_cast<double>(k) * df <= f_max; ++k) idx.push_back(k);
-    const std::size_t top = std::min<std::size_t>(idx.size(), 8);
-    std::partial_sort(idx.begin(), idx.begin() + static_cast<long>(top), idx.end(),
-                      [&](std::size_t a, std::size_t b) { return P[a] > P[b]; });
-    for (std::size_t i = 0; i < top; ++i) {
-      const std::size_t k = idx[i];
-      // Local maxima only (a line spreads over the Hann main lobe).
-      if (P[k] < P[k - 1] || P[k] < P[k + 1]) continue;
-      LocatedLine L;
-      L.frequency_Hz = static_cast<double>(k) * df;
-      L.channel = ch.name;
-      L.excess = P[k] - 1.0;
-      for (int f = 0; f < nfam; ++f)
-        for (const auto& l : fam_lines[static_cast<std::size_t>(f)])
-          if (std::fabs(l.frequency_Hz - L.frequency_Hz) <= 0.75 * df)
-            L.labels.push_back(l.label + " (" + to_string(static_cast<Component>(f)) + ")");
-      if (L.labels.empty()) L.labels.push_back("no kinematic line within half a bin");
-      all_lines.push_back(std::move(L));
-    }
-    residuals.push_back(std::move(r));
-  }
-  std::sort(all_lines.begin(), all_lines.end(), [](const auto& a, const auto& b) { return a.excess > b.excess; });
-  if (all_lines.size() > static_cast<std::size_t>(opt.max_lines_reported))
-    all_lines.resize(static_cast<std::size_t>(opt.max_lines_reported));
-  loc.lines = std::move(all_lines);
+  const WindowScore* ws[2] = {&fit, &held};
+  // Per cell (both halves): excess rho^2 - 1.
+  std::vector<double> ex(static_cast<std::size_t>(nc * ncell), 0.0);
+  for (int w = 0; w < 2; ++w)
+    for (std::size_t f = 0; f < ex.size(); ++f) ex[f] += ws[w]->rho[f] * ws[w]->rho[f] - 1.0;
+  double total_pos = 0;
+  for (double e : ex) total_pos += std::max(e, 0.0);
+  loc.excess = 0;
+  for (double e : ex) loc.excess += e;
 
-  loc.significance_z = normal_quantile(opt.family_alpha / nfam);
-  for (int f = 0; f < nfam; ++f) {
+  loc.significance_z = normal_quantile(opt.family_alpha / 5);
+  for (Component f : kAllComponents) {
     FamilyEvidence fe;
-    fe.family = static_cast<Component>(f);
-    fe.lines = static_cast<int>(n_lines[static_cast<std::size_t>(f)]);
-    fe.z = fe.lines > 0 ? excess[static_cast<std::size_t>(f)] / std::sqrt(n_lines[static_cast<std::size_t>(f)]) : 0.0;
-    const auto& ec = excess_ch[static_cast<std::size_t>(f)];
-    const auto it = std::max_element(ec.begin(), ec.end());
-    if (it != ec.end())
-      fe.strongest_channel = rec.channels[static_cast<std::size_t>(used[static_cast<std::size_t>(it - ec.begin())])].name;
-    fe.meaning = family_meaning(fe.family);
-    loc.evidence.family_z[f] = fe.z;
+    fe.family = f;
+    fe.meaning = family_meaning(f);
+    fe.frequency_Hz = kin.frequency_Hz(f);
+    fe.carrier_orders = carrier_orders(kin, f);
+    const auto& cells = L.family_cells[static_cast<std::size_t>(f)];
+    double e = 0, share = 0, best = -1e300;
+    for (int c = 0; c < nc; ++c) {
+      double ec = 0;
+      for (int i : cells) {
+        const std::size_t k = static_cast<std::size_t>(c * ncell + i);
+        ec += ex[k];
+        share += std::max(ex[k], 0.0) / static_cast<double>(L.cell_families[static_cast<std::size_t>(i)].size());
+      }
+      e += ec;
+      if (ec > best) best = ec, fe.strongest_channel = sp.channel_names[static_cast<std::size_t>(c)];
+    }
+    fe.cells = 2 * nc * static_cast<int>(cells.size());
+    fe.z = fe.cells > 0 ? e / std::sqrt(2.0 * fe.cells) : 0.0;
+    fe.share = total_pos > 0 ? share / total_pos : 0.0;
+    loc.evidence.family_z[static_cast<int>(f)] = fe.z;
     loc.families.push_back(fe);
   }
   std::sort(loc.families.begin(), loc.families.end(), [](const auto& a, const auto& b) { return a.z > b.z; });
 
-  // Synchronous averages of the residual per rotating component. Channel preference: a sun-planet mesh
-  // channel for the sun and planets, a planet-ring mesh channel for the carrier (ring teeth), then any
-  // accelerometer.
-  ToothMap map(config);
-  auto pick = [&](Quantity first, Quantity second) {
-    for (Quantity q : {first, second, Quantity::HousingAcceleration})
-      for (std::size_t c = 0; c < used.size(); ++c)
-        if (rec.channels[static_cast<std::size_t>(used[c])].quantity == q) return static_cast<int>(c);
-    return -1;
-  };
-  const struct {
-    Component comp;
-    Quantity first, second;
-  } rot[] = {{Component::Sun, Quantity::MeshAccelerationSunPlanet, Quantity::MeshAccelerationPlanetRing},
-             {Component::Planet, Quantity::MeshAccelerationSunPlanet, Quantity::MeshAccelerationPlanetRing},
-             {Component::Carrier, Quantity::MeshAccelerationPlanetRing, Quantity::MeshAccelerationSunPlanet}};
-  for (const auto& rr : rot) {
-    const int c = pick(rr.first, rr.second);
-    if (c < 0) continue;
-    const SignalChannel& ch = rec.channels[static_cast<std::size_t>(used[static_cast<std::size_t>(c)])];
-    const int period = static_cast<int>(std::lround(kin.period_mesh_cycles(rr.comp)));
-    const auto tsa = synchronous_average(residuals[static_cast<std::size_t>(c)], t0, dt, kin.mesh_Hz, period,
-                                         opt.samples_per_cycle);
-    RotationEvidence re;
-    re.component = rr.comp;
-    re.channel = ch.name;
-    re.planet = ch.quantity == Quantity::HousingAcceleration ? 0 : ch.planet;
-    re.averages = tsa.averages;
-    re.samples_per_cycle = opt.samples_per_cycle;
-    if (tsa.averages > 0) {
-      const auto pk = tsa_energy_peak(tsa);
-      re.peak_mesh_cycle = pk.mesh_cycle;
-      re.peak_to_mean = pk.peak_to_mean;
-      re.peak_angle_rad = 2 * std::numbers::pi * pk.mesh_cycle / period;
-      const bool ring_mesh = ch.quantity == Quantity::MeshAccelerationPlanetRing;
-      const auto mesh = ring_mesh ? ToothMap::Mesh::PlanetRing : ToothMap::Mesh::SunPlanet;
-      if (rr.comp == Component::Sun)
-        re.tooth = map.nearest_tooth(model::Body::Sun, re.planet, ToothMap::Mesh::SunPlanet, pk.mesh_cycle);
-      else if (rr.comp == Component::Planet)
-        re.tooth = map.nearest_tooth(model::Body::Planet, re.planet, mesh, pk.mesh_cycle);
-      else
-        re.tooth = map.nearest_tooth(model::Body::Ring, re.planet, ToothMap::Mesh::PlanetRing, pk.mesh_cycle);
-      re.tsa_residual = tsa.values;
-      const int f = static_cast<int>(rr.comp);
-      loc.evidence.peak_mesh_cycle[f] = pk.mesh_cycle;
-      loc.evidence.peak_planet[f] = re.planet;
-      loc.evidence.peak_from_ring_mesh[f] = ring_mesh;
-    }
-    loc.rotations.push_back(std::move(re));
+  // Strongest cells.
+  std::vector<std::size_t> idx(ex.size());
+  for (std::size_t k = 0; k < idx.size(); ++k) idx[k] = k;
+  const std::size_t top = std::min<std::size_t>(idx.size(), static_cast<std::size_t>(opt.max_lines_reported));
+  std::partial_sort(idx.begin(), idx.begin() + static_cast<long>(top), idx.end(),
+                    [&](std::size_t a, std::size_t b) { return ex[a] > ex[b]; });
+  for (std::size_t t = 0; t < top; ++t) {
+    const std::size_t k = idx[t];
+    const int c = static_cast<int>(k) / ncell, i = static_cast<int>(k) % ncell;
+    const FeatureCell& cell = L.cells[static_cast<std::size_t>(i)];
+    LocatedLine l;
+    l.order = cell.order;
+    l.frequency_Hz = cell.order * kin.carrier_Hz;
+    l.channel = sp.channel_names[static_cast<std::size_t>(c)];
+    l.chi2 = 0.5 * (ex[k] + 2.0);
+    l.recording_amplitude = 0.5 * (cmp.recording_amplitude(0, static_cast<int>(k)) + cmp.recording_amplitude(1, static_cast<int>(k)));
+    l.model_amplitude = fit.gains[static_cast<std::size_t>(c)] *
+                        model[static_cast<std::size_t>(c)][static_cast<std::size_t>(cell.bin)];
+    for (int li : cell.lines) l.labels.push_back(family_label(L.lines[static_cast<std::size_t>(li)]));
+    loc.lines.push_back(std::move(l));
   }
 
-  // Input-shaft orders: strongest lines j f_s (a = 0) in the speed channels, else in any channel.
-  std::vector<std::pair<double, double>> orders;  // (excess, order)
-  for (std::size_t c = 0; c < used.size(); ++c) {
-    const SignalChannel& ch = rec.channels[static_cast<std::size_t>(used[c])];
-    const bool speed = ch.quantity == Quantity::SunSpeed || ch.quantity == Quantity::CarrierSpeed;
-    auto P = normalized_periodogram(residuals[c]);
-    for (double& v : P) v /= cmp.noise()[c].variance;
-    for (int j = 1; j <= opt.max_sideband; ++j) {
-      const double f = j * kin.sun_Hz;
-      if (f > f_max || on_mesh_harmonic(f)) continue;
-      orders.push_back({(at(P, df, f) - 1.0) * (speed ? 10.0 : 1.0), static_cast<double>(j)});
+  // Input-shaft orders: excess per |b| over cells of input-shaft lines not shared with the mesh harmonics.
+  {
+    std::map<int, double> per_b;
+    for (int i = 0; i < ncell; ++i) {
+      const FeatureCell& cell = L.cells[static_cast<std::size_t>(i)];
+      bool mesh = false;
+      for (int li : cell.lines) mesh = mesh || L.lines[static_cast<std::size_t>(li)].family == Component::Mesh;
+      if (mesh) continue;
+      for (int li : cell.lines) {
+        const OrderLine& l = L.lines[static_cast<std::size_t>(li)];
+        if (l.family != Component::InputShaft) continue;
+        for (int c = 0; c < nc; ++c) per_b[std::abs(l.sideband)] += ex[static_cast<std::size_t>(c * ncell + i)];
+      }
     }
+    std::vector<std::pair<double, int>> v;
+    for (auto [b, e] : per_b) v.push_back({e, b});
+    std::sort(v.begin(), v.end(), [](const auto& a, const auto& b) { return a.first > b.first; });
+    for (const auto& [e, b] : v)
+      if (e > 0 && loc.input_orders.size() < 3) loc.input_orders.push_back(b);
+    loc.evidence.input_orders = loc.input_orders;
   }
-  std::sort(orders.begin(), orders.end(), [](const auto& a, const auto& b) { return a.first > b.first; });
-  for (const auto& o : orders)
-    if (std::find(loc.input_orders.begin(), loc.input_orders.end(), o.second) == loc.input_orders.end() &&
-        loc.input_orders.size() < 3)
-      loc.input_orders.push_back(o.second);
-  loc.evidence.input_orders = loc.input_orders;
+
+  // Synchronous average of the recording over the leading rotating component.
+  const Recording& rec = cmp.recording();
+  auto pick = [&](std::initializer_list<Quantity> qs) {
+    for (Quantity q : qs)
+      for (int c = 0; c < nc; ++c)
+        if (rec.channels[static_cast<std::size_t>(sp.channels[static_cast<std::size_t>(c)])].quantity == q) return c;
+    return -1;
+  };
+  std::vector<FamilyEvidence> order = loc.families;
+  if (opt.rotation_family >= 0)
+    std::stable_sort(order.begin(), order.end(), [&](const auto& a, const auto&) {
+      return static_cast<int>(a.family) == opt.rotation_family;
+    });
+  for (const auto& fe : order) {
+    if (fe.family != Component::Sun && fe.family != Component::Planet && fe.family != Component::Carrier) continue;
+    const int c = fe.family == Component::Carrier
+                      ? pick({Quantity::MeshAccelerationPlanetRing, Quantity::HousingAcceleration,
+                              Quantity::MeshAccelerationSunPlanet})
+                      : pick({Quantity::MeshAccelerationSunPlanet, Quantity::MeshAccelerationPlanetRing,
+                              Quantity::HousingAcceleration});
+    if (c < 0) break;
+    const SignalChannel& ch = rec.channels[static_cast<std::size_t>(sp.channels[static_cast<std::size_t>(c)])];
+    RotationEvidence re;
+    re.component = fe.family;
+    re.channel = ch.name;
+    re.period_mesh_cycles = static_cast<int>(std::lround(kin.period_mesh_cycles(fe.family)));
+    re.samples_per_cycle = opt.samples_per_cycle;
+    // The mesh-cycle coordinate u = Zr theta_c / 2 pi from the recording's carrier angle; the
+    // recording's samples are uniform in time and the speed nearly constant, so u is resampled
+    // as a function of time at the mean mesh frequency.
+    const double dt = rec.sample_interval_s();
+    const auto tsa = synchronous_average(ch.values, 0.0, dt, kin.mesh_Hz, re.period_mesh_cycles, re.samples_per_cycle);
+    re.averages = tsa.averages;
+    if (tsa.averages > 0) {
+      const auto pk = tsa_energy_peak(tsa);
+      re.peak_angle_rad = 2 * std::numbers::pi * pk.mesh_cycle / re.period_mesh_cycles;
+      re.peak_to_mean = pk.peak_to_mean;
+      re.tsa = tsa.values;
+    }
+    re.reference = "the first sample of the recording";
+    re.tooth_note = "tooth index unidentifiable: amplitudes carry no phase and the recording has no carrier-angle "
+                    "reference; the severity is fitted on a canonical tooth";
+    loc.rotations.push_back(std::move(re));
+    break;
+  }
   return loc;
 }
 

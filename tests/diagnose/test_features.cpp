@@ -1,5 +1,6 @@
 // Feature extraction on synthetic signals with known lines.
 #include "diagnose/features.hpp"
+#include "diagnose/order_analysis.hpp"
 
 #include <gtest/gtest.h>
 
@@ -75,6 +76,64 @@ TEST(Features, InterpolationIsExactForCubics) {
     x[j] = 2 - t + 0.5 * t * t * t;
   }
   for (double t : {0.5, 0.537, 1.234, 2.39}) EXPECT_NEAR(interpolate_uniform(x, 0.5, 0.1, t), 2 - t + 0.5 * t * t * t, 1e-12);
+}
+
+TEST(OrderAnalysis, AngleFourierIsExactForIntegerOrdersAtAVaryingSpeed) {
+  // x = 2 cos(81 theta + 0.3) + 0.5 cos(7 theta) sampled uniformly in time while the
+  // speed varies slowly; a window of one revolution that starts between samples.
+  const double dt = 1e-4, Omega = 8.6;
+  std::vector<double> th, x;
+  for (int j = 0; j < 9000; ++j) {
+    const double t = j * dt;
+    const double a = Omega * t + 0.01 * std::sin(1.3 * t);
+    th.push_back(a);
+    x.push_back(2 * std::cos(81 * a + 0.3) + 0.5 * std::cos(7 * a) + 3.0);
+  }
+  const auto c = angle_fourier(x, th, 0.0123, 1, 200);
+  EXPECT_NEAR(std::abs(c[81]), 1.0, 2e-4);
+  EXPECT_NEAR(std::abs(c[7]), 0.25, 2e-4);
+  EXPECT_LT(std::abs(c[80]), 2e-4);
+  EXPECT_LT(std::abs(c[82]), 2e-4);
+  EXPECT_LT(std::abs(c[150]), 2e-4);
+}
+
+TEST(OrderAnalysis, RiceMeanAndVarianceMatchMonteCarlo) {
+  std::mt19937_64 rng(3);
+  std::normal_distribution<double> nd(0.0, 1.0);
+  for (double nu : {0.0, 0.5, 1.0, 3.0, 40.0}) {
+    const double s2 = 1.0;  // E|n|^2
+    const int n = 200000;
+    double m = 0, m2 = 0;
+    for (int i = 0; i < n; ++i) {
+      const double a = std::hypot(nu + std::sqrt(0.5) * nd(rng), std::sqrt(0.5) * nd(rng));
+      m += a / n;
+      m2 += a * a / n;
+    }
+    EXPECT_NEAR(rice_mean(nu, s2), m, 4e-3) << "nu = " << nu;
+    EXPECT_NEAR(rice_variance(nu, s2), m2 - m * m, 6e-3) << "nu = " << nu;
+  }
+}
+
+TEST(OrderAnalysis, ExponentialMeanIsRobustToAFewLines) {
+  std::mt19937_64 rng(9);
+  std::exponential_distribution<double> ex(1.0 / 2.5);
+  std::vector<double> p;
+  for (int i = 0; i < 4000; ++i) p.push_back(i % 20 == 0 ? 1e3 : ex(rng));  // 5 % strong lines
+  double se = 0;
+  const double m = exponential_mean(p, &se);
+  EXPECT_NEAR(m, 2.5, 4 * se * 2.5);
+  EXPECT_LT(se, 0.03);
+}
+
+TEST(OrderAnalysis, MeshPeriodAverageKeepsTheDriftAndRemovesMeshHarmonics) {
+  const double fs = 10000, fm = 111.176;
+  std::vector<double> w;
+  for (int j = 0; j < 20000; ++j) {
+    const double t = j / fs;
+    w.push_back(42 + 0.01 * t + 0.3 * std::sin(2 * kPi * fm * t) + 0.1 * std::cos(2 * kPi * 7 * fm * t));
+  }
+  const auto y = mesh_period_average(w, fs / fm);
+  for (int j = 200; j < 19800; j += 997) EXPECT_NEAR(y[static_cast<std::size_t>(j)], 42 + 0.01 * j / fs, 2e-4) << j;
 }
 
 } // namespace

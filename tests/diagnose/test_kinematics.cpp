@@ -45,6 +45,21 @@ TEST(Kinematics, FamilyLinesAreMeshHarmonicsPlusSidebands) {
   EXPECT_NEAR(mesh[2].frequency_Hz, 3 * k.mesh_Hz, 1e-12);
 }
 
+TEST(Kinematics, OrderLinesDoNotDependOnTheSpeed) {
+  // In carrier orders: mesh Zr = 81, sun Zr/Zs = 27/7, planet Zr/Zp = 2.7, input (Zs+Zr)/Zs.
+  for (double rpm : {200.0, 400.0, 1800.0}) {
+    const Kinematics k = kinematics(model::StageSpec{}, rpm);
+    EXPECT_NEAR(carrier_orders(k, Component::Mesh), 81.0, 1e-9);
+    EXPECT_NEAR(carrier_orders(k, Component::Sun), 27.0 / 7.0, 1e-9);
+    EXPECT_NEAR(carrier_orders(k, Component::Planet), 2.7, 1e-9);
+    EXPECT_NEAR(carrier_orders(k, Component::InputShaft), 102.0 / 21.0, 1e-9);
+    const auto lines = order_lines(k, Component::Sun, 1, 1, 100.0);
+    ASSERT_EQ(lines.size(), 3u);  // 27/7, 81 - 27/7, 81 + 27/7
+    EXPECT_NEAR(lines[1].order, 81 - 27.0 / 7.0, 1e-9);
+    EXPECT_EQ(lines[1].label, "1 f_m - 1 f_sr");
+  }
+}
+
 TEST(Kinematics, ConsecutiveTeethPassOneMeshCycleApart) {
   const model::SimulationConfig c;
   const ToothMap map(c);

@@ -15,8 +15,8 @@ public:
   std::vector<Component> families() const override { return {Component::Mesh}; }
   std::vector<ParameterSpec> parameters(const model::SimulationConfig& b) const override {
     const double m = 0.1 * b.stage.sun.module_m;
-    return {{"contact.backlash_sun_planet_m", "m", 1e-6, m, true, 2e-5},
-            {"contact.backlash_planet_ring_m", "m", 1e-6, m, true, 2e-5}};
+    return {{"contact.backlash_sun_planet_m", "m", 1e-6, m, true, 2e-5, 1e-6, 2e-5},
+            {"contact.backlash_planet_ring_m", "m", 1e-6, m, true, 2e-5, 1e-6, 2e-5}};
   }
   void apply(model::SimulationConfig& c, const Variant&, std::span<const double> x,
              std::vector<std::string>* o) const override {

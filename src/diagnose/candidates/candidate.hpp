@@ -29,19 +29,23 @@ struct ParameterSpec {
   double lower = 0, upper = 1;  ///< bounds (the LM box)
   bool log_scale = false;       ///< normalize as log(x) (requires lower > 0)
   double initial = 0;           ///< start value (inside the bounds)
+  /// Screening (docs/diagnose.md §4): the value at which the candidate has no
+  /// effect (the nuisance-fitted model) and a value with a moderate effect;
+  /// the secant between them is its direction in the residual space.
+  double null_value = 0;
+  double screen_value = 0;
 };
 
 /// What locate() found, as far as candidates need it to propose variants.
 struct LocatedEvidence {
-  /// Per family (indexed by Component): excess chi-square z-score of its lines.
+  /// Per family (indexed by Component): excess chi-square z-score of its cells.
   double family_z[5] = {0, 0, 0, 0, 0};
-  /// Per family: mesh cycle u (mod the family's period) of the residual's
-  /// synchronous-average energy peak, and the planet whose channel showed it.
-  double peak_mesh_cycle[5] = {0, 0, 0, 0, 0};
-  int peak_planet[5] = {0, 0, 0, 0, 0};
-  bool peak_from_ring_mesh[5] = {false, false, false, false, false};
-  /// Input-shaft orders (multiples of f_s) of the strongest input-shaft lines, strongest first.
+  /// Input-shaft orders (multiples of f_s) with the largest excess, strongest first.
   std::vector<double> input_orders;
+  /// Angles of the recording's housing accelerometers [rad] (ring-tooth variants
+  /// are placed relative to them: the transfer path makes a ring tooth near a
+  /// sensor louder than one far from it).
+  std::vector<double> housing_sensor_angles_rad;
 };
 
 /// A discrete choice within a candidate.
@@ -65,6 +69,14 @@ public:
   /// Discrete variants to screen, most likely first (default: one).
   virtual std::vector<Variant> variants(const LocatedEvidence& evidence, const model::SimulationConfig& base,
                                         const ToothMap& teeth) const;
+  /// Variants that differ from `chosen` only in a phase the amplitudes cannot
+  /// see directly but the beats inside a short window can (which tooth); the
+  /// winner's are screened at its fitted parameters (default: none).
+  virtual std::vector<Variant> phase_variants(const Variant& chosen, const model::SimulationConfig& base,
+                                              const ToothMap& teeth) const {
+    (void)chosen, (void)base, (void)teeth;
+    return {};
+  }
   /// Writes parameters x (physical units, one per parameters()) into config;
   /// appends the equivalent "key=value" overrides to `overrides` if given.
   virtual void apply(model::SimulationConfig& config, const Variant& variant, std::span<const double> x,

@@ -17,7 +17,7 @@ public:
   bool nuisance() const override { return true; }
   std::vector<ParameterSpec> parameters(const model::SimulationConfig& b) const override {
     const double z = std::max(b.contact.mesh_damping_ratio, 1e-3);
-    return {{"contact.mesh_damping_ratio", "1", std::max(1e-3, z / 5), std::min(1.0, 5 * z), true, z}};
+    return {{"contact.mesh_damping_ratio", "1", std::max(1e-3, z / 5), std::min(1.0, 5 * z), true, z, z, 1.2 * z}};
   }
   void apply(model::SimulationConfig& c, const Variant&, std::span<const double> x,
              std::vector<std::string>* o) const override {

@@ -19,7 +19,7 @@ public:
     std::vector<ParameterSpec> p;
     const double m = b.stage.sun.module_m;
     for (int i = 1; i < b.stage.planet_count; ++i)
-      p.push_back({"pin_error_m[" + std::to_string(i) + "]", "m", -0.02 * m, 0.02 * m, false, 0.0});
+      p.push_back({"pin_error_m[" + std::to_string(i) + "]", "m", -0.02 * m, 0.02 * m, false, 0.0, 0.0, 1e-6});
     return p;
   }
   void apply(model::SimulationConfig& c, const Variant&, std::span<const double> x,

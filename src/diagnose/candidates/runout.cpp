@@ -1,6 +1,8 @@
-// Sun or carrier runout (eccentricity), fitted as the Cartesian components
-// (e cos phi, e sin phi) so that the phase has no wrap-around and a small
-// runout has no singular phase; e and phi are reported.
+// Sun or carrier runout (eccentricity). The carrier's is fitted as the
+// Cartesian components (e cos phi, e sin phi) (its direction relative to the
+// planets changes the load sharing, so the phase matters; Cartesian: no
+// wrap-around, no singular phase at e = 0); the sun's rotates with the sun,
+// so its phase changes no amplitude and only e is fitted (phase 0).
 #include "diagnose/candidates/factories.hpp"
 
 #include <cmath>
@@ -22,13 +24,14 @@ public:
   }
   std::vector<ParameterSpec> parameters(const model::SimulationConfig& b) const override {
     const double m = 0.02 * b.stage.sun.module_m;
-    const std::string p = sun_ ? "sun_eccentricity" : "carrier_eccentricity";
-    return {{p + "_x_m", "m", -m, m, false, 0.05 * m}, {p + "_y_m", "m", -m, m, false, 0.0}};
+    if (sun_)  // rotates with the sun: its phase changes no amplitude, only the magnitude is fitted
+      return {{"sun_eccentricity_m", "m", 1e-8, m, true, 0.05 * m, 1e-8, 1e-6}};
+    return {{"carrier_eccentricity_x_m", "m", -m, m, false, 0.05 * m, 0.0, 1e-6}, {"carrier_eccentricity_y_m", "m", -m, m, false, 0.0, 0.0, 1e-6}};
   }
   void apply(model::SimulationConfig& c, const Variant&, std::span<const double> x,
              std::vector<std::string>* o) const override {
-    const double e = std::hypot(x[0], x[1]);
-    const double phi = e > 0 ? std::atan2(x[1], x[0]) : 0.0;
+    const double e = sun_ ? x[0] : std::hypot(x[0], x[1]);
+    const double phi = sun_ || e == 0 ? 0.0 : std::atan2(x[1], x[0]);
     const std::string p = sun_ ? "imperfections.sun_eccentricity" : "imperfections.carrier_eccentricity";
     if (sun_) {
       c.imperfections.sun_eccentricity_m = e;

@@ -7,6 +7,8 @@
 #include "diagnose/candidates/factories.hpp"
 
 #include <algorithm>
+#include <cmath>
+#include <cstdio>
 
 namespace pw::diagnose::candidates {
 namespace {
@@ -40,43 +42,64 @@ public:
     return {};
   }
   std::vector<ParameterSpec> parameters(const model::SimulationConfig&) const override {
-    return {{"stiffness_factor", "1", 0.05, 1.0, false, 0.7}};
+    return {{"stiffness_factor", "1", 0.05, 1.0, false, 0.7, 1.0, 0.8}};
   }
   std::vector<Variant> variants(const LocatedEvidence& ev, const model::SimulationConfig& base,
                                 const ToothMap& map) const override {
-    const Component fam = families().front();
-    const int f = static_cast<int>(fam);
-    const double u = ev.peak_mesh_cycle[f];
-    const int z = map.teeth(body_);
+    // Amplitude features do not say which tooth (docs/diagnose.md §3): the severity is fitted
+    // on a canonical tooth. What they do see: which planet (the mesh channels belong to one
+    // planet) and, for the ring, how far the tooth is from a housing sensor (the transfer path).
     std::vector<Variant> out;
-    auto add = [&](int planet, int tooth) {
+    auto add = [&](int planet, int tooth, const std::string& note) {
       Variant v;
       v.body = body_;
       v.planet = body_ == model::Body::Planet ? planet : 0;
-      v.tooth = ((tooth % z) + z) % z;
+      v.tooth = tooth;
       v.label = std::string(body_name(body_)) + (body_ == model::Body::Planet ? " " + std::to_string(planet) : "") +
-                " tooth " + std::to_string(v.tooth);
+                " tooth " + std::to_string(tooth) + note;
       for (const auto& o : out)
         if (o.planet == v.planet && o.tooth == v.tooth) return;
       out.push_back(v);
     };
-    const int p = ev.peak_planet[f];
-    if (body_ == model::Body::Sun) {
-      const int j = map.nearest_tooth(body_, p, ToothMap::Mesh::SunPlanet, u);
-      add(0, j); add(0, j - 1); add(0, j + 1);
-    } else if (body_ == model::Body::Ring) {
-      const int j = map.nearest_tooth(body_, p, ToothMap::Mesh::PlanetRing, u);
-      add(0, j); add(0, j - 1); add(0, j + 1);
-    } else {
-      // The peak in planet p's sun-mesh channel is most likely planet p's own tooth; other planets'
-      // teeth reach that channel through the sun and carrier.
-      const auto mesh = ev.peak_from_ring_mesh[f] ? ToothMap::Mesh::PlanetRing : ToothMap::Mesh::SunPlanet;
-      for (int k = 0; k < base.stage.planet_count; ++k) {
-        const int planet = (p + k) % base.stage.planet_count;
-        const int j = map.nearest_tooth(body_, planet, mesh, u);
-        add(planet, j);
-        if (k == 0) { add(planet, j - 1); add(planet, j + 1); }
+    if (body_ == model::Body::Planet) {
+      for (int p = 0; p < base.stage.planet_count; ++p) add(p, 0, " (canonical tooth)");
+    } else if (body_ == model::Body::Ring && !ev.housing_sensor_angles_rad.empty()) {
+      const double phi = ev.housing_sensor_angles_rad.front();
+      const int z = map.teeth(model::Body::Ring);
+      for (double deg : {0.0, 45.0, 90.0, 180.0}) {
+        // Ring tooth j sits at the housing angle where planet 0 meshes with it: 2 pi u_j / Zr.
+        int best = 0;
+        double best_d = 1e300;
+        for (int j = 0; j < z; ++j) {
+          const double a = 2 * 3.141592653589793 *
+                           map.passage_mesh_cycle(model::Body::Ring, 0, j, ToothMap::Mesh::PlanetRing) / z;
+          const double d = std::fabs(std::remainder(a - phi - deg * 3.141592653589793 / 180, 2 * 3.141592653589793));
+          if (d < best_d) best_d = d, best = j;
+        }
+        char buf[64];
+        std::snprintf(buf, sizeof buf, " (%.0f deg from the housing sensor)", deg);
+        add(0, best, buf);
       }
+    } else {
+      add(0, 0, " (canonical tooth)");
+    }
+    return out;
+  }
+  std::vector<Variant> phase_variants(const Variant& chosen, const model::SimulationConfig&,
+                                      const ToothMap& map) const override {
+    // Which tooth sets where, in the hunting cycle, its impacts meet the housing sensor's
+    // planet-pass window, i.e. how the non-synchronous lines beat with the synchronous ones
+    // inside a window of a few revolutions. No reference tells it; it is screened instead.
+    if (body_ == model::Body::Ring) return {};
+    std::vector<Variant> out;
+    const int z = map.teeth(body_);
+    for (int j = 0; j < z; ++j) {
+      if (j == chosen.tooth) continue;
+      Variant v = chosen;
+      v.tooth = j;
+      v.label = std::string(body_name(body_)) + (body_ == model::Body::Planet ? " " + std::to_string(v.planet) : "") +
+                " tooth " + std::to_string(j) + " (best phase)";
+      out.push_back(v);
     }
     return out;
   }

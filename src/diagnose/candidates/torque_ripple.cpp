@@ -17,7 +17,7 @@ public:
   }
   std::vector<Component> families() const override { return {Component::InputShaft}; }
   std::vector<ParameterSpec> parameters(const model::SimulationConfig&) const override {
-    return {{"torque_ripple_fraction", "1", 1e-4, 0.5, true, 0.01}};
+    return {{"torque_ripple_fraction", "1", 1e-4, 0.5, true, 0.01, 1e-4, 0.02}};
   }
   std::vector<Variant> variants(const LocatedEvidence& ev, const model::SimulationConfig&,
                                 const ToothMap&) const override {

@@ -14,7 +14,7 @@ public:
   }
   std::vector<Component> families() const override { return {Component::Mesh}; }
   std::vector<ParameterSpec> parameters(const model::SimulationConfig& b) const override {
-    return {{"worn_profile_depth_m", "m", 1e-7, 0.02 * b.stage.sun.module_m, true, 2e-6}};
+    return {{"worn_profile_depth_m", "m", 1e-7, 0.02 * b.stage.sun.module_m, true, 2e-6, 1e-7, 5e-7}};
   }
   void apply(model::SimulationConfig& c, const Variant&, std::span<const double> x,
              std::vector<std::string>* o) const override {

@@ -1,0 +1,756 @@
+#include "diagnose/order_analysis.hpp"
+
+#include "core/error.hpp"
+#include "diagnose/features.hpp"
+#include "model/sensor.hpp"
+#include "signal/fft.hpp"
+#include "signal/spectrum.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <numbers>
+
+namespace pw::diagnose {
+namespace {
+
+constexpr double kPi = std::numbers::pi;
+
+double mean_of(std::span<const double> x) {
+  double s = 0;
+  for (double v : x) s += v;
+  return s / static_cast<double>(x.size());
+}
+
+/// Mean and the standard error of the mean from `blocks` block means.
+std::pair<double, double> mean_and_error(std::span<const double> x, int blocks = 8) {
+  const double m = mean_of(x);
+  const std::size_t n = x.size() / static_cast<std::size_t>(blocks);
+  if (n < 2) return {m, 0.0};
+  std::vector<double> bm;
+  for (int b = 0; b < blocks; ++b) bm.push_back(mean_of(x.subspan(static_cast<std::size_t>(b) * n, n)));
+  const double mb = mean_of(bm);
+  double v = 0;
+  for (double y : bm) v += (y - mb) * (y - mb);
+  v /= (blocks - 1);
+  return {m, std::sqrt(v / blocks)};
+}
+
+/// Rising-edge times of a pulse train (threshold half-way between min and max).
+std::vector<double> tacho_edges(const Recording& r, const SignalChannel& c) {
+  const auto [lo, hi] = std::minmax_element(c.values.begin(), c.values.end());
+  std::vector<double> e;
+  if (!(*hi > *lo)) return e;
+  const double thr = 0.5 * (*lo + *hi);
+  for (std::size_t j = 1; j < c.values.size(); ++j)
+    if (c.values[j - 1] < thr && c.values[j] >= thr) {
+      const double f = (thr - c.values[j - 1]) / (c.values[j] - c.values[j - 1]);
+      e.push_back(r.time_s[j - 1] + f * (r.time_s[j] - r.time_s[j - 1]));
+    }
+  return e;
+}
+
+/// |sum_j w_j x_j e^{-2 pi i f t_j}| with a Hann window over the record.
+double hann_dtft_abs(std::span<const double> x, std::span<const double> t, double f) {
+  const std::size_t n = x.size();
+  std::complex<double> s = 0;
+  const double t0 = t.front();
+  for (std::size_t j = 0; j < n; ++j) {
+    const double w = 0.5 - 0.5 * std::cos(2 * kPi * static_cast<double>(j) / static_cast<double>(n));
+    const double ph = -2 * kPi * f * (t[j] - t0);
+    s += w * x[j] * std::complex<double>(std::cos(ph), std::sin(ph));
+  }
+  return std::abs(s);
+}
+
+std::vector<double> cumulative_integral(std::span<const double> t, std::span<const double> w, double scale) {
+  std::vector<double> th(t.size(), 0.0);
+  for (std::size_t j = 1; j < t.size(); ++j) th[j] = th[j - 1] + 0.5 * (w[j] + w[j - 1]) * (t[j] - t[j - 1]) * scale;
+  return th;
+}
+
+} // namespace
+
+std::vector<double> mesh_period_average(std::span<const double> x, double width) {
+  // y_j = (1/L) * integral of the piecewise-linear x over [j - L/2, j + L/2] (clipped at the
+  // ends), from the cumulative trapezoidal integral C interpolated linearly.
+  const std::size_t n = x.size();
+  std::vector<double> C(n, 0.0), y(n);
+  for (std::size_t j = 1; j < n; ++j) C[j] = C[j - 1] + 0.5 * (x[j] + x[j - 1]);
+  auto at = [&](double s) {
+    s = std::clamp(s, 0.0, static_cast<double>(n - 1));
+    const std::size_t i = std::min(static_cast<std::size_t>(s), n - 2);
+    const double f = s - static_cast<double>(i);
+    // Integral of the linear interpolant from i to i + f.
+    return C[i] + f * x[i] + 0.5 * f * f * (x[i + 1] - x[i]);
+  };
+  const double h = 0.5 * width;
+  for (std::size_t j = 0; j < n; ++j) {
+    const double a = std::max(0.0, static_cast<double>(j) - h),
+                 b = std::min(static_cast<double>(n - 1), static_cast<double>(j) + h);
+    y[j] = b > a ? (at(b) - at(a)) / (b - a) : x[j];
+  }
+  return y;
+}
+
+namespace {
+} // namespace
+
+double exponential_mean(std::vector<double> p, double* relative_se) {
+  require(!p.empty(), "noise", "no bins to estimate the noise from");
+  const std::size_t mid = p.size() / 2;
+  std::nth_element(p.begin(), p.begin() + static_cast<long>(mid), p.end());
+  double mu = std::max(p[mid] / std::numbers::ln2, 1e-300);
+  std::size_t used = p.size();
+  // Mean of the bins below T = 4.6 mu (the 99 % point: lines and outliers excluded),
+  // corrected for the truncation of an exponential distribution.
+  for (int it = 0; it < 8; ++it) {
+    const double T = 4.6 * mu;
+    double sum = 0;
+    used = 0;
+    for (double v : p)
+      if (v < T) sum += v, ++used;
+    if (used < 4) break;
+    const double m = sum / static_cast<double>(used);
+    const double e = std::exp(-T / mu);
+    mu = std::max(m + T * e / (1 - e), 1e-300);
+  }
+  if (relative_se) *relative_se = 1.05 / std::sqrt(static_cast<double>(std::max<std::size_t>(used, 1)));
+  return mu;
+}
+
+double chi2_upper_quantile(double nu, double alpha) {
+  // Wilson-Hilferty with the upper normal quantile (Acklam + one Newton step, as locate.hpp).
+  const double p = 1 - alpha;
+  double lo = -10, hi = 10;
+  for (int it = 0; it < 200; ++it) {
+    const double mid = 0.5 * (lo + hi);
+    if (0.5 * std::erfc(-mid / std::numbers::sqrt2) < p) lo = mid; else hi = mid;
+  }
+  const double z = 0.5 * (lo + hi);
+  const double h = 2.0 / (9.0 * nu);
+  const double t = 1 - h + z * std::sqrt(h);
+  return nu * t * t * t;
+}
+
+double rice_mean(double nu, double s2) {
+  nu = std::fabs(nu);
+  if (!(s2 > 0)) return nu;
+  const double s = std::sqrt(0.5 * s2);  // per-component standard deviation
+  const double ratio = nu / s;
+  if (ratio > 25) return nu + s * s / (2 * nu) + s * s * s * s / (8 * nu * nu * nu);
+  const double y = ratio * ratio / 4;
+  const double e = std::exp(-y);
+  const double i0e = std::cyl_bessel_i(0.0, y) * e, i1e = std::cyl_bessel_i(1.0, y) * e;
+  return s * std::sqrt(kPi / 2) * ((1 + 2 * y) * i0e + 2 * y * i1e);
+}
+
+double rice_variance(double nu, double s2) {
+  const double m = rice_mean(nu, s2);
+  return std::max(nu * nu + s2 - m * m, 1e-300);
+}
+
+SpeedEstimate estimate_speed(const Recording& r, const model::StageSpec& st) {
+  const double zs = st.sun.teeth, zr = st.ring.teeth;
+  SpeedEstimate e;
+  if (const SignalChannel* c = r.find(Quantity::SunSpeed)) {
+    const auto [m, se] = mean_and_error(c->values);
+    e.input_rpm = m * 60 / (2 * kPi);
+    e.relative_std = std::fabs(se / m);
+    e.source = "mean of the sun_speed channel '" + c->name + "'";
+    return e;
+  }
+  if (const SignalChannel* cc = r.find(Quantity::CarrierSpeed)) {
+    const auto [m, se] = mean_and_error(cc->values);
+    e.input_rpm = m * (zs + zr) / zs * 60 / (2 * kPi);
+    e.relative_std = std::fabs(se / m);
+    e.source = "mean of the carrier_speed channel '" + cc->name + "' x (Zs+Zr)/Zs";
+    return e;
+  }
+  const double dt = r.sample_interval_s();
+  if (const SignalChannel* tc = r.find(Quantity::Tacho)) {
+    const auto edges = tacho_edges(r, *tc);
+    if (edges.size() >= 3) {
+      const double T = edges.back() - edges.front();
+      const double rpm = 60.0 * static_cast<double>(edges.size() - 1) / T;
+      if (std::fabs(rpm / r.operating.input_speed_rpm - 1) < 0.2) {
+        e.input_rpm = rpm;
+        e.relative_std = dt / std::sqrt(6.0) / T;
+        e.source = "tacho '" + tc->name + "': " + std::to_string(edges.size() - 1) + " revolutions";
+        return e;
+      }
+    }
+  }
+  // The sidecar's nominal speed, refined on the strongest of the first three mesh
+  // harmonics of the accelerometers (maximum of the Hann-windowed DTFT).
+  e.input_rpm = r.operating.input_speed_rpm;
+  const Kinematics k0 = kinematics(st, e.input_rpm);
+  const double T = r.time_s.back() - r.time_s.front();
+  const SignalChannel* best = nullptr;
+  double best_ratio = 0, best_f = 0;
+  for (const auto& c : r.channels) {
+    if (c.quantity == Quantity::Tacho || c.quantity == Quantity::SunSpeed || c.quantity == Quantity::CarrierSpeed)
+      continue;
+    double rms = 0;
+    const double m = mean_of(c.values);
+    for (double v : c.values) rms += (v - m) * (v - m);
+    rms = std::sqrt(rms / static_cast<double>(c.values.size())) + 1e-300;
+    for (int h = 1; h <= 3; ++h) {
+      const double f = h * k0.mesh_Hz;
+      if (f > 0.4 / dt) continue;
+      const double a = hann_dtft_abs(c.values, r.time_s, f) / (0.5 * static_cast<double>(c.values.size())) / rms;
+      if (a > best_ratio) best_ratio = a, best = &c, best_f = f;
+    }
+  }
+  e.relative_std = 1e-3;
+  e.source = "sidecar input_speed_rpm (no speed channel or tacho)";
+  if (best) {
+    // Golden-section search for the peak within +-1 bin.
+    double a = best_f - 1.0 / T, b = best_f + 1.0 / T;
+    const double g = (std::sqrt(5.0) - 1) / 2;
+    double c1 = b - g * (b - a), c2 = a + g * (b - a);
+    double f1 = hann_dtft_abs(best->values, r.time_s, c1), f2 = hann_dtft_abs(best->values, r.time_s, c2);
+    for (int it = 0; it < 60 && b - a > 1e-7 / T; ++it) {
+      if (f1 > f2) {
+        b = c2, c2 = c1, f2 = f1, c1 = b - g * (b - a), f1 = hann_dtft_abs(best->values, r.time_s, c1);
+      } else {
+        a = c1, c1 = c2, f1 = f2, c2 = a + g * (b - a), f2 = hann_dtft_abs(best->values, r.time_s, c2);
+      }
+    }
+    const double f = 0.5 * (a + b);
+    e.input_rpm *= f / best_f;
+    // Cramer-Rao bound of a sinusoid's frequency (x1.5 for the Hann window).
+    const NoiseEstimate ne = estimate_white_noise(best->values);
+    const double A = hann_dtft_abs(best->values, r.time_s, f) / (0.25 * static_cast<double>(best->values.size()));
+    const double n = static_cast<double>(best->values.size());
+    const double sd_f = 1.5 * std::sqrt(12.0 * ne.variance / (A * A * n * n * n)) / (2 * kPi * dt);
+    e.relative_std = std::max(sd_f / f, 1e-9);
+    e.source = "sidecar input_speed_rpm refined on the mesh line at " + std::to_string(f) + " Hz of '" + best->name + "'";
+  }
+  return e;
+}
+
+std::vector<double> carrier_angle(const Recording& r, const model::StageSpec& st, const SpeedEstimate& speed,
+                                  std::string* source) {
+  const double zs = st.sun.teeth, zr = st.ring.teeth;
+  const double ratio = zs / (zs + zr);
+  std::vector<double> th;
+  std::string src;
+  const double omega_c = speed.input_rpm * 2 * kPi / 60 * ratio;
+  // One mesh period in samples: the moving average removes the speed's vibration at every
+  // mesh harmonic (its zeros) and keeps its slow variations.
+  const double mesh_samples = 2 * kPi / (omega_c * st.ring.teeth) / r.sample_interval_s();
+  if (const SignalChannel* c = r.find(Quantity::SunSpeed)) {
+    th = cumulative_integral(r.time_s, mesh_period_average(c->values, mesh_samples), ratio);
+    src = "integral of '" + c->name + "' x Zs/(Zs+Zr), averaged over one mesh period";
+  } else if (const SignalChannel* cc = r.find(Quantity::CarrierSpeed)) {
+    th = cumulative_integral(r.time_s, mesh_period_average(cc->values, mesh_samples), 1.0);
+    src = "integral of '" + cc->name + "', averaged over one mesh period";
+  } else {
+    std::vector<double> edges;
+    if (const SignalChannel* tc = r.find(Quantity::Tacho)) edges = tacho_edges(r, *tc);
+    th.resize(r.time_s.size());
+    if (edges.size() >= 3) {
+      // Sun angle 2 pi n at edge n, linear in between, the mean speed outside.
+      const double omega_s = omega_c / ratio;
+      std::size_t e = 0;
+      for (std::size_t j = 0; j < r.time_s.size(); ++j) {
+        const double t = r.time_s[j];
+        while (e + 2 < edges.size() && edges[e + 1] <= t) ++e;
+        double s;
+        if (t < edges.front())
+          s = (t - edges.front()) * omega_s;
+        else if (t > edges.back())
+          s = 2 * kPi * static_cast<double>(edges.size() - 1) + (t - edges.back()) * omega_s;
+        else
+          s = 2 * kPi * (static_cast<double>(e) + (t - edges[e]) / (edges[e + 1] - edges[e]));
+        th[j] = s * ratio;
+      }
+      const double t0 = th.front();
+      for (double& v : th) v -= t0;
+      src = "tacho edges (one per sun revolution)";
+    } else {
+      for (std::size_t j = 0; j < r.time_s.size(); ++j) th[j] = omega_c * (r.time_s[j] - r.time_s.front());
+      src = "constant speed " + std::to_string(speed.input_rpm) + " rpm (no speed channel or tacho)";
+    }
+  }
+  for (std::size_t j = 1; j < th.size(); ++j)
+    require(th[j] > th[j - 1], "recording", r.source, ": the carrier angle (", src, ") does not increase at sample ",
+            j, "; a speed channel must be positive (give scale = -1 for an encoder counting backwards)");
+  if (source) *source = src;
+  return th;
+}
+
+std::vector<std::complex<double>> angle_fourier(std::span<const double> x, std::span<const double> angle,
+                                                double a0, int R, int max_bin) {
+  const std::size_t n = x.size();
+  require(n == angle.size() && n >= 4, "signal", "need >= 4 samples with angles");
+  const double span = 2 * kPi * R, a1 = a0 + span;
+  require(a0 >= angle.front() - 1e-12 && a1 <= angle.back() + 1e-9, "window", "angles [", a0, ", ", a1,
+          "] rad are not covered by the samples [", angle.front(), ", ", angle.back(), "]");
+  // Points of the trapezoidal rule: the window's ends (interpolated) and the samples inside.
+  std::vector<double> phi, val;
+  auto interp = [&](double a) {
+    std::size_t j = static_cast<std::size_t>(std::lower_bound(angle.begin(), angle.end(), a) - angle.begin());
+    if (j == 0) return x[0];
+    if (j >= n) return x[n - 1];
+    const double f = (a - angle[j - 1]) / (angle[j] - angle[j - 1]);
+    return x[j - 1] + f * (x[j] - x[j - 1]);
+  };
+  phi.push_back(0.0);
+  val.push_back(interp(a0));
+  for (std::size_t j = static_cast<std::size_t>(std::upper_bound(angle.begin(), angle.end(), a0) - angle.begin());
+       j < n && angle[j] < a1; ++j) {
+    phi.push_back(angle[j] - a0);
+    val.push_back(x[j]);
+  }
+  phi.push_back(span);
+  val.push_back(interp(a1));
+  const std::size_t m = phi.size();
+  std::vector<double> w(m);
+  for (std::size_t i = 0; i < m; ++i)
+    w[i] = 0.5 * ((i + 1 < m ? phi[i + 1] : phi[i]) - (i > 0 ? phi[i - 1] : phi[i])) / span;
+  double mean = 0;
+  for (std::size_t i = 0; i < m; ++i) mean += w[i] * val[i];
+  std::vector<double> re(static_cast<std::size_t>(max_bin) + 1, 0.0), im(re.size(), 0.0);
+  for (std::size_t i = 0; i < m; ++i) {
+    const double y = w[i] * (val[i] - mean);
+    if (y == 0) continue;
+    const double step = -phi[i] / R;
+    const double cr = std::cos(step), ci = std::sin(step);
+    double zr = y, zi = 0;  // y e^{-i k phi / R}, k = 0, 1, ...
+    for (std::size_t k = 0; k < re.size(); ++k) {
+      re[k] += zr;
+      im[k] += zi;
+      const double t = zr * cr - zi * ci;
+      zi = zr * ci + zi * cr;
+      zr = t;
+    }
+  }
+  std::vector<std::complex<double>> c(re.size());
+  for (std::size_t k = 0; k < re.size(); ++k) c[k] = {re[k], im[k]};
+  return c;
+}
+
+FeatureLayout make_layout(const Kinematics& k, int planets, int R, double max_order, const LayoutOptions& o) {
+  require(R >= 1, "revolutions", "must be >= 1");
+  FeatureLayout L;
+  L.revolutions = R;
+  L.max_bin = static_cast<int>(std::floor(max_order * R));
+  L.max_order = static_cast<double>(L.max_bin) / R;
+  const double zr = k.ring_teeth;
+  const int jc = o.carrier_sidebands > 0 ? o.carrier_sidebands : 4 * planets;
+  L.mesh_harmonics = std::min(o.max_mesh_harmonics, static_cast<int>(std::floor(L.max_order / zr)));
+  const int a_max = std::min(o.max_mesh_harmonics, static_cast<int>(std::floor((L.max_order + jc) / zr)));
+  for (Component f : kAllComponents) {
+    const double of = carrier_orders(k, f);
+    const int jb = f == Component::Mesh ? 0 : std::max(1, static_cast<int>(std::ceil(jc / of - 1e-9)));
+    for (auto& l : order_lines(k, f, a_max, jb, L.max_order)) L.lines.push_back(std::move(l));
+  }
+  std::map<int, std::vector<int>> bins;
+  for (std::size_t i = 0; i < L.lines.size(); ++i) {
+    const double pos = L.lines[i].order * R;
+    const long b0 = std::lround(pos);
+    const double d = pos - static_cast<double>(b0);
+    auto add = [&](long b) {
+      if (b >= 1 && b <= L.max_bin) bins[static_cast<int>(b)].push_back(static_cast<int>(i));
+    };
+    add(b0);
+    if (std::fabs(d) > 0.25) add(b0 + (d > 0 ? 1 : -1));
+  }
+  L.family_cells.assign(5, {});
+  for (auto& [b, lines] : bins) {
+    FeatureCell c;
+    c.bin = b;
+    c.order = static_cast<double>(b) / R;
+    c.lines = lines;
+    c.segment = static_cast<int>(std::lround(c.order / zr));
+    std::vector<Component> fams;
+    for (int li : lines)
+      if (std::find(fams.begin(), fams.end(), L.lines[static_cast<std::size_t>(li)].family) == fams.end())
+        fams.push_back(L.lines[static_cast<std::size_t>(li)].family);
+    for (Component f : fams) L.family_cells[static_cast<std::size_t>(f)].push_back(static_cast<int>(L.cells.size()));
+    L.cell_families.push_back(fams);
+    L.cells.push_back(std::move(c));
+  }
+  for (int b = 1; b <= L.max_bin; ++b)
+    if (!bins.count(b)) L.noise_bins.push_back(b);
+  L.segments = static_cast<int>(std::lround(L.max_order / zr)) + 1;
+  return L;
+}
+
+RecordingSpectra analyse_recording(const Recording& rec, const model::StageSpec& stage,
+                                   const OrderAnalysisOptions& o) {
+  RecordingSpectra s;
+  const std::size_t n = rec.time_s.size();
+  const double dt = rec.sample_interval_s();
+  require(n >= 64 && dt > 0, "recording", rec.source, ": too few samples (", n, ")");
+  for (std::size_t c = 0; c < rec.channels.size(); ++c) {
+    const auto& ch = rec.channels[c];
+    if (ch.quantity == Quantity::Tacho) continue;
+    require(ch.values.size() == n, "recording", "channel '", ch.name, "' has ", ch.values.size(),
+            " samples, the time axis ", n);
+    if (ch.quantity == Quantity::MeshAccelerationSunPlanet || ch.quantity == Quantity::MeshAccelerationPlanetRing)
+      require(ch.planet >= 0 && ch.planet < stage.planet_count, "recording", "channel '", ch.name, "': planet ",
+              ch.planet, " does not exist (", stage.planet_count, " planets)");
+    s.channels.push_back(static_cast<int>(c));
+    s.channel_names.push_back(ch.name);
+  }
+  require(!s.channels.empty(), "recording", rec.source, ": no channel the model can predict");
+  s.speed = estimate_speed(rec, stage);
+  s.kinematics = kinematics(stage, s.speed.input_rpm);
+  s.carrier_angle = carrier_angle(rec, stage, s.speed, &s.angle_source);
+  s.angle_reference = rec.find(Quantity::SunSpeed)       ? AngleReference::SunSpeed
+                      : rec.find(Quantity::CarrierSpeed) ? AngleReference::CarrierSpeed
+                      : s.angle_source.rfind("tacho", 0) == 0 ? AngleReference::Tacho
+                                                               : AngleReference::ConstantSpeed;
+  const double total = s.carrier_angle.back() - s.carrier_angle.front();
+  const int revs = static_cast<int>(std::floor(total / (2 * kPi) + 1e-9));
+  require(revs >= 2, "recording", rec.source, ": ", total / (2 * kPi),
+          " carrier revolutions; the diagnosis needs at least two whole ones (a fit half and a held-out half)");
+  const int R = std::max(1, std::min(revs / 2, o.max_window_revolutions));
+  const double fs = 1.0 / dt;
+  const double max_order = o.layout.band_fraction * fs / s.kinematics.carrier_Hz;
+  s.layout = make_layout(s.kinematics, stage.planet_count, R, max_order, o.layout);
+  require(s.layout.mesh_harmonics >= 1, "recording", rec.source, ": sample rate ", fs,
+          " Hz leaves no mesh harmonic (", s.kinematics.mesh_Hz, " Hz) below ", o.layout.band_fraction, " fs");
+  auto window = [&](std::string name, double a0) {
+    OrderWindow w;
+    w.name = std::move(name);
+    w.angle_begin_rad = a0;
+    const auto& th = s.carrier_angle;
+    w.first_sample = static_cast<std::size_t>(std::lower_bound(th.begin(), th.end(), a0) - th.begin());
+    w.last_sample =
+        static_cast<std::size_t>(std::lower_bound(th.begin(), th.end(), a0 + 2 * kPi * R) - th.begin()) - 1;
+    w.t_begin_s = rec.time_s[w.first_sample];
+    w.t_end_s = rec.time_s[w.last_sample];
+    return w;
+  };
+  s.windows.push_back(window("fit", 0.0));
+  s.windows.push_back(window("held_out", total - 2 * kPi * R - 1e-9 * total));
+  const std::size_t nc = s.channels.size();
+  s.amplitude.assign(2, std::vector<std::vector<double>>(nc));
+#pragma omp parallel for schedule(dynamic, 1) collapse(2)
+  for (int w = 0; w < 2; ++w)
+    for (int c = 0; c < static_cast<int>(nc); ++c) {
+      const auto& ch = rec.channels[static_cast<std::size_t>(s.channels[static_cast<std::size_t>(c)])];
+      const auto X = angle_fourier(ch.values, s.carrier_angle, s.windows[static_cast<std::size_t>(w)].angle_begin_rad,
+                                   R, s.layout.max_bin);
+      std::vector<double> a(X.size());
+      for (std::size_t k = 0; k < X.size(); ++k) a[k] = std::abs(X[k]);
+      s.amplitude[static_cast<std::size_t>(w)][static_cast<std::size_t>(c)] = std::move(a);
+    }
+  // Noise (docs/diagnose.md §2). The features' own bins are no place to measure it: lines that
+  // are not integer orders leak into every bin of a rectangular window. So, per channel, the
+  // Hann-windowed periodogram of the whole recording (leakage falls as 1/d^3), normalised so
+  // that white noise of per-sample variance s_w^2 reads s_w^2, over the frequencies more than
+  // 4 N + 8 carrier orders from every mesh harmonic (and from 0): between the sideband groups,
+  // where a gear signal has little. Its bins are exponential with mean s_w^2; estimated by the
+  // truncated mean (exponential_mean). Global unless the per-segment estimates (between
+  // consecutive mesh harmonics, +-2 segments) disagree beyond their errors (chi-square
+  // homogeneity test at 1 %): coloured noise, local estimates. A window's bin then has noise
+  // variance s_w^2 sum_j w_j^2 (its trapezoid weights, sum w_j = 1).
+  const double zr = s.kinematics.ring_teeth;
+  const int nseg = s.layout.segments;
+  const double gap = 4.0 * stage.planet_count + 8.0;  // carrier orders kept clear of the mesh harmonics
+  double w2[2];
+  for (int w = 0; w < 2; ++w) {
+    const auto& win = s.windows[static_cast<std::size_t>(w)];
+    const auto& th = s.carrier_angle;
+    double sum2 = 0;
+    const double span = 2 * kPi * R;
+    for (std::size_t j = win.first_sample; j <= win.last_sample; ++j) {
+      const double lo = j > win.first_sample ? th[j - 1] : win.angle_begin_rad;
+      const double hi = j < win.last_sample ? th[j + 1] : win.angle_begin_rad + span;
+      const double wj = 0.5 * (hi - lo) / span;
+      sum2 += wj * wj;
+    }
+    w2[w] = sum2;
+  }
+  const double w2mean = 0.5 * (w2[0] + w2[1]);
+  s.noise_variance.assign(nc, {});
+  s.noise_relative_se.assign(nc, {});
+  s.noise_group.assign(nc, {});
+  s.noise_floor.assign(nc, 0.0);
+  s.noise_bins_used.assign(nc, 0);
+  s.noise_local.assign(nc, false);
+  {
+    const std::size_t nn = n;
+    const auto hw = signal::window_coefficients(signal::Window::Hann, nn);
+    double sw2 = 0;
+    for (double v : hw) sw2 += v * v;
+    signal::RealFft fft(nn);
+    std::vector<std::complex<double>> X(fft.bins());
+    std::vector<double> y(nn);
+    const double df = 1.0 / (static_cast<double>(nn) * dt);
+    const double fc = s.kinematics.carrier_Hz;
+    std::vector<std::size_t> kbins;
+    std::vector<int> kseg;
+    for (std::size_t k = 1; k < X.size(); ++k) {
+      const double ord = static_cast<double>(k) * df / fc;
+      if (ord > s.layout.max_order) break;
+      const double dist = std::fabs(ord - zr * std::round(ord / zr));
+      if (dist <= gap) continue;
+      kbins.push_back(k);
+      kseg.push_back(std::min(nseg - 1, static_cast<int>(std::floor(ord / zr + 0.5))));
+    }
+    require(kbins.size() >= 32, "recording", rec.source,
+            ": too few frequencies away from the gear lines to estimate the noise (record too short?)");
+    for (std::size_t c = 0; c < nc; ++c) {
+      const auto& v = rec.channels[static_cast<std::size_t>(s.channels[c])].values;
+      double mean = 0;
+      for (double x : v) mean += x;
+      mean /= static_cast<double>(nn);
+      for (std::size_t j = 0; j < nn; ++j) y[j] = (v[j] - mean) * hw[j];
+      fft.forward(y, X);
+      std::vector<std::vector<double>> per_seg(static_cast<std::size_t>(nseg));
+      std::vector<double> all;
+      for (std::size_t i = 0; i < kbins.size(); ++i) {
+        const double p = std::norm(X[kbins[i]]) / sw2;
+        per_seg[static_cast<std::size_t>(kseg[i])].push_back(p);
+        all.push_back(p);
+      }
+      // Neighbouring Hann bins are correlated: about 1.94 bins per independent value.
+      constexpr double kHannBins = 1.944;
+      double gse = 0;
+      const double global = exponential_mean(all, &gse);
+      gse *= std::sqrt(kHannBins);
+      std::vector<double> local(static_cast<std::size_t>(nseg), global), lse(static_cast<std::size_t>(nseg), gse);
+      double het = 0;
+      int dof = 0;
+      for (int seg = 0; seg < nseg; ++seg) {
+        std::vector<double> p;
+        for (int q = std::max(0, seg - 2); q <= std::min(nseg - 1, seg + 2); ++q)
+          p.insert(p.end(), per_seg[static_cast<std::size_t>(q)].begin(), per_seg[static_cast<std::size_t>(q)].end());
+        if (p.size() < 32) continue;
+        local[static_cast<std::size_t>(seg)] = exponential_mean(p, &lse[static_cast<std::size_t>(seg)]);
+        lse[static_cast<std::size_t>(seg)] *= std::sqrt(kHannBins);
+        if (seg % 5 == 2) {  // roughly independent groups
+          const double dd = (local[static_cast<std::size_t>(seg)] - global) /
+                            (local[static_cast<std::size_t>(seg)] * lse[static_cast<std::size_t>(seg)]);
+          het += dd * dd;
+          ++dof;
+        }
+      }
+      const bool coloured = dof >= 2 && het > chi2_upper_quantile(dof, 0.01);
+      s.noise_local[c] = coloured;
+      s.noise_bins_used[c] = static_cast<int>(all.size());
+      s.noise_sample_variance.push_back(global);
+      for (const auto& cell : s.layout.cells) {
+        const std::size_t seg = static_cast<std::size_t>(std::min(nseg - 1, std::max(0, cell.segment)));
+        const double var = (coloured ? local[seg] : global) * w2mean;
+        s.noise_variance[c].push_back(var);
+        s.noise_relative_se[c].push_back(coloured ? lse[seg] : gse);
+        s.noise_group[c].push_back(coloured ? static_cast<int>(seg) / 5 : 0);
+        s.noise_floor[c] += var / static_cast<double>(s.layout.cells.size());
+      }
+    }
+  }
+  // The angle reference integrates a speed channel with white noise (per-sample variance
+  // s_w^2): its error is a random walk with diffusion D = s_w^2 dt k^2 (k = Zs/(Zs+Zr) for the
+  // sun speed, 1 for the carrier speed) whose Fourier coefficient d bins away has
+  // E|c_d|^2 = D T / (2 pi^2 d^2) over a window of length T (Brownian motion, integrated by
+  // parts). A line of amplitude A at order o is phase modulated by o times that error and
+  // leaks A^2 o^2 D T / (2 pi^2 d^2) into the bins d away: extra noise power there. With the
+  // per-bin noise variance of the speed channel, s_b^2 = s_w^2 / n, D T = s_b^2 T^2 k^2.
+  if (s.angle_reference == AngleReference::SunSpeed || s.angle_reference == AngleReference::CarrierSpeed) {
+    const Quantity q = s.angle_reference == AngleReference::SunSpeed ? Quantity::SunSpeed : Quantity::CarrierSpeed;
+    const double k = q == Quantity::SunSpeed ? stage.sun.teeth / static_cast<double>(stage.sun.teeth + stage.ring.teeth) : 1.0;
+    for (std::size_t c = 0; c < nc; ++c) {
+      if (rec.channels[static_cast<std::size_t>(s.channels[c])].quantity != q) continue;
+      const double T = 0.5 * ((s.windows[0].t_end_s - s.windows[0].t_begin_s) + (s.windows[1].t_end_s - s.windows[1].t_begin_s));
+      s.angle_diffusion_T = s.noise_floor[c] * T * T * k * k;
+      break;
+    }
+    for (std::size_t c = 0; c < nc; ++c)
+      for (std::size_t i = 0; i < s.layout.cells.size(); ++i) {
+        const int b = s.layout.cells[i].bin;
+        double leak = 0;
+        for (int d = -4; d <= 4; ++d) {
+          const int bl = b - d;
+          if (d == 0 || bl < 1 || bl > s.layout.max_bin) continue;
+          double p = 0;
+          for (int w = 0; w < 2; ++w) {
+            const double a = s.amplitude[static_cast<std::size_t>(w)][c][static_cast<std::size_t>(bl)];
+            p += 0.5 * a * a;
+          }
+          const double ord = static_cast<double>(bl) / R;
+          leak += std::max(0.0, p - s.noise_variance[c][i]) * ord * ord * s.angle_diffusion_T / (2 * kPi * kPi * d * d);
+        }
+        s.noise_variance[c][i] += leak;
+      }
+  }
+  return s;
+}
+
+std::string model_channel_name(const SignalChannel& c) {
+  switch (c.quantity) {
+  case Quantity::SunSpeed: return "sun/speed";
+  case Quantity::CarrierSpeed: return "carrier/speed";
+  case Quantity::MeshAccelerationSunPlanet: return "sun_planet/" + std::to_string(c.planet) + "/acceleration";
+  case Quantity::MeshAccelerationPlanetRing: return "planet_ring/" + std::to_string(c.planet) + "/acceleration";
+  case Quantity::HousingAcceleration: return "";
+  case Quantity::Tacho: return "";
+  }
+  return "";
+}
+
+namespace {
+
+/// The model's angle reference over the compared window, as the recording's: the integral of
+/// the same speed channel averaged over one mesh period (or uniform time when the recording's
+/// angle came from a tacho or a constant speed). Returns N (samples in R revolutions), the
+/// deviation phi_j = theta_j - 2 pi R j / N and the trapezoid weights relative to uniform.
+struct ModelAngle {
+  std::size_t N = 0;
+  std::vector<double> phi, weight;
+};
+
+ModelAngle model_angle(const model::SimulationResult& r, const RecordingSpectra& s, const model::StageSpec& st) {
+  const int R = s.layout.revolutions;
+  const double dt = r.time_step_s;
+  const model::Channel* ca = r.find("carrier/angle");
+  if (!ca) throw SolverError("diagnose: the simulation has no channel 'carrier/angle'");
+  const std::size_t n = ca->values.size();
+  if (n < 8) throw SolverError("diagnose: the simulated record is empty");
+  std::vector<double> th(n);
+  const double ratio = st.sun.teeth / static_cast<double>(st.sun.teeth + st.ring.teeth);
+  const model::Channel* speed = nullptr;
+  double scale = 1;
+  if (s.angle_reference == AngleReference::SunSpeed) speed = r.find("sun/speed"), scale = ratio;
+  if (s.angle_reference == AngleReference::CarrierSpeed) speed = r.find("carrier/speed");
+  if (speed) {
+    const double omega = (ca->values.back() - ca->values.front()) / (static_cast<double>(n - 1) * dt);
+    const double mesh_samples = 2 * kPi / (omega * st.ring.teeth) / dt;
+    const auto w = mesh_period_average(speed->values, mesh_samples);
+    th[0] = 0;
+    for (std::size_t j = 1; j < n; ++j) th[j] = th[j - 1] + 0.5 * (w[j] + w[j - 1]) * dt * scale;
+  } else {
+    const double omega = (ca->values.back() - ca->values.front()) / (static_cast<double>(n - 1) * dt);
+    for (std::size_t j = 0; j < n; ++j) th[j] = omega * dt * static_cast<double>(j);
+  }
+  const double end = 2 * kPi * R;
+  const std::size_t i = static_cast<std::size_t>(std::lower_bound(th.begin(), th.end(), end) - th.begin());
+  if (i >= n)
+    throw SolverError(detail::concat("diagnose: the simulated record covers ", th.back() / (2 * kPi),
+                                     " carrier revolutions, fewer than the ", R, " compared"));
+  const double js = static_cast<double>(i - 1) + (end - th[i - 1]) / (th[i] - th[i - 1]);
+  ModelAngle a;
+  a.N = static_cast<std::size_t>(std::llround(js));
+  const double step = end / static_cast<double>(a.N);
+  a.phi.resize(a.N);
+  a.weight.resize(a.N);
+  for (std::size_t j = 0; j < a.N; ++j) {
+    a.phi[j] = th[j] - step * static_cast<double>(j);
+    const double lo = j > 0 ? th[j - 1] : th[a.N - 1] - end, hi = th[j + 1];
+    a.weight[j] = 0.5 * (hi - lo) / step;
+  }
+  return a;
+}
+
+/// |c_k|, k = 0 .. max_bin, of the N samples of y against the angle `a`:
+/// c_k = (1/N) sum_j y_j w_j e^{-2 pi i j k / N} e^{-i q phi_j}, q = k / R, expanded to
+/// fourth order in q phi (|q phi| stays below ~0.1 at a controlled speed).
+std::vector<double> angle_spectrum(std::span<const double> y, const ModelAngle& a, int R, int max_bin) {
+  const std::size_t N = a.N;
+  double mean = 0, wsum = 0;
+  for (std::size_t j = 0; j < N; ++j) mean += y[j] * a.weight[j], wsum += a.weight[j];
+  mean /= wsum;
+  signal::RealFft fft(N);
+  constexpr int kTerms = 5;
+  std::vector<std::vector<std::complex<double>>> Y(kTerms, std::vector<std::complex<double>>(fft.bins()));
+  std::vector<double> z(N);
+  bool any_phi = false;
+  for (double p : a.phi) any_phi = any_phi || p != 0;
+  for (int m = 0; m < (any_phi ? kTerms : 1); ++m) {
+    for (std::size_t j = 0; j < N; ++j) z[j] = (y[j] - mean) * a.weight[j] * std::pow(a.phi[j], m);
+    fft.forward(z, Y[static_cast<std::size_t>(m)]);
+  }
+  std::vector<double> out(static_cast<std::size_t>(max_bin) + 1, 0.0);
+  for (std::size_t k = 1; k < out.size() && k < fft.bins(); ++k) {
+    const double q = static_cast<double>(k) / R;
+    std::complex<double> c = 0, f = 1;  // f = (-i q)^m / m!
+    for (int m = 0; m < (any_phi ? kTerms : 1); ++m) {
+      c += f * Y[static_cast<std::size_t>(m)][k];
+      f *= std::complex<double>(0, -q) / static_cast<double>(m + 1);
+    }
+    out[k] = std::abs(c) / static_cast<double>(N);
+  }
+  return out;
+}
+
+} // namespace
+
+ModelSpectra model_spectra(const model::SimulationResult& r, const Recording& rec, const RecordingSpectra& s,
+                           const model::SimulationConfig& config, bool keep) {
+  const int R = s.layout.revolutions;
+  const ModelAngle ang = model_angle(r, s, config.stage);
+  const std::size_t N = ang.N;
+  const model::Channel* ca = r.find("carrier/angle");
+  ModelSpectra m;
+  m.time_step_s = r.time_step_s;
+  for (const auto& sc : r.scalars) {
+    if (sc.name == "steps_per_mesh_period") m.steps_per_mesh = static_cast<int>(sc.value);
+    if (sc.name == "warmup_mesh_cycles") m.warmup_mesh_cycles = static_cast<int>(sc.value);
+  }
+  if (const model::Channel* sp = r.find("sun/speed")) {
+    double sum = 0;
+    for (std::size_t j = 0; j < N; ++j) sum += sp->values[j];
+    m.mean_input_rpm = sum / static_cast<double>(N) * 60 / (2 * kPi);
+  }
+  std::vector<double> psi = config.stage.planet_angles_rad;
+  if (psi.empty())
+    for (int i = 0; i < config.stage.planet_count; ++i) psi.push_back(2 * kPi * i / config.stage.planet_count);
+  std::vector<std::span<const double>> forces;
+  auto need_forces = [&]() {
+    if (!forces.empty()) return;
+    for (int i = 0; i < config.stage.planet_count; ++i) {
+      const model::Channel* f = r.find("planet_ring/" + std::to_string(i) + "/force");
+      if (!f) throw SolverError("diagnose: the simulation has no ring-mesh force of planet " + std::to_string(i));
+      forces.emplace_back(f->values.data(), N);
+    }
+  };
+  for (int ch : s.channels) {
+    const auto& rc = rec.channels[static_cast<std::size_t>(ch)];
+    if (rc.quantity == Quantity::HousingAcceleration) {
+      need_forces();
+      model::SensorSettings sensor = config.sensor;
+      sensor.gain_m_s2_per_N = 1.0;
+      sensor.angle_rad = rc.sensor_angle_rad;
+      const auto h = model::housing_acceleration_history(sensor, psi, std::span<const double>(ca->values.data(), N), forces);
+      m.amplitude.push_back(angle_spectrum(h, ang, R, s.layout.max_bin));
+      continue;
+    }
+    const std::string name = model_channel_name(rc);
+    const model::Channel* mc = r.find(name);
+    if (!mc) throw SolverError("diagnose: the simulation has no channel '" + name + "'");
+    m.amplitude.push_back(angle_spectrum(mc->values, ang, R, s.layout.max_bin));
+  }
+  if (keep) {
+    need_forces();
+    for (const auto& f : forces) m.ring_force.emplace_back(f.begin(), f.end());
+    m.carrier_angle.assign(ca->values.begin(), ca->values.begin() + static_cast<long>(N));
+    m.planet_angles_rad = psi;
+    m.angle_phi = ang.phi;
+    m.angle_weight = ang.weight;
+  }
+  return m;
+}
+
+std::vector<double> housing_spectrum(const ModelSpectra& m, const model::SensorSettings& sensor, double angle_rad,
+                                     int revolutions, int max_bin) {
+  require(!m.ring_force.empty(), "model", "no sensor inputs kept for this simulation");
+  model::SensorSettings s = sensor;
+  s.gain_m_s2_per_N = 1.0;
+  s.angle_rad = angle_rad;
+  std::vector<std::span<const double>> f;
+  for (const auto& v : m.ring_force) f.emplace_back(v);
+  const auto y = model::housing_acceleration_history(s, m.planet_angles_rad, m.carrier_angle, f);
+  ModelAngle a;
+  a.N = y.size();
+  a.phi = m.angle_phi;
+  a.weight = m.angle_weight;
+  return angle_spectrum(y, a, revolutions, max_bin);
+}
+
+} // namespace pw::diagnose

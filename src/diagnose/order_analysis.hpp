@@ -1,0 +1,207 @@
+// Order-domain features of a recording and of a simulation (docs/diagnose.md §2).
+//
+// Nothing here depends on the recording's time step, time origin or on how
+// long anybody's warm-up took:
+//  * the operating speed comes from the recording (encoder channel mean, else
+//    the tacho's pulse rate, else the sidecar's nominal speed refined on the
+//    strongest mesh harmonic), and the model is simulated at that speed;
+//  * every signal is analysed against its own carrier angle (the recording's
+//    from the integral of its speed channel, the tacho or the refined nominal
+//    speed; the model's from its carrier/angle channel), over windows of R
+//    whole carrier revolutions, so a line of carrier order o sits on DFT bin
+//    o R whatever the speed;
+//  * only amplitudes are compared: |c_k| of the rectangular-window Fourier
+//    coefficients c_k = (1/2 pi R) ∫ x(θ) e^{-i k θ / R} dθ. With whole
+//    revolutions every line of integer carrier order (mesh harmonics,
+//    planet-pass and carrier sidebands: all that a carrier-periodic response
+//    contains) falls on one bin with no leakage at all, so its amplitude does
+//    not depend on where the window starts. Lines of the sun, planet and
+//    input-shaft families are not integer orders; they leak (sinc) and beat
+//    with their neighbours, which is why the comparison adds a
+//    non-stationarity variance measured between the recording's two halves
+//    (compare.hpp).
+//
+// Features are the bins ("cells") nearest to the labelled kinematic lines of
+// every family (kinematics.hpp) up to max_order: the mesh harmonics k Zr,
+// carrier sidebands k Zr ± j (j <= 4 N), sun, planet and input-shaft
+// sidebands as far out, and the low orders of each family. Bins not near any
+// line measure the noise floor.
+#pragma once
+
+#include "diagnose/kinematics.hpp"
+#include "diagnose/recording.hpp"
+#include "model/result.hpp"
+#include "model/stage.hpp"
+
+#include <complex>
+#include <span>
+#include <string>
+#include <vector>
+
+namespace pw::diagnose {
+
+/// Mean operating speed of a recording and how it was obtained.
+struct SpeedEstimate {
+  double input_rpm = 0;       ///< mean input (sun) speed [rpm]
+  double relative_std = 0;    ///< standard error of input_rpm / input_rpm
+  std::string source;         ///< "sun_speed channel 'w'", "tacho 'tacho'", "sidecar, refined on ..."
+};
+
+/// The recording's mean speed (see the file comment for the order of sources).
+SpeedEstimate estimate_speed(const Recording& recording, const model::StageSpec& stage);
+
+/// The carrier angle [rad] at every sample, 0 at the first sample, and how it
+/// was obtained ("integral of ...", "tacho edges", "constant speed").
+std::vector<double> carrier_angle(const Recording& recording, const model::StageSpec& stage,
+                                  const SpeedEstimate& speed, std::string* source = nullptr);
+
+/// Centred moving average over `width` samples (fractional; clipped at the
+/// ends). Over one mesh period it removes the speed signal's vibration at
+/// every mesh harmonic and keeps its slow variations: the angle reference of
+/// order tracking must follow the shaft's mean motion, not its vibration,
+/// or the strong high-frequency content of an accelerometer intermodulates
+/// into every order.
+std::vector<double> mesh_period_average(std::span<const double> x, double width);
+
+/// c_k, k = 0 .. max_bin, of x sampled at increasing angles `angle` over
+/// [angle_begin, angle_begin + 2 pi R) by the trapezoidal rule (partial end
+/// intervals by linear interpolation), after removing the window's mean.
+/// Exact (to rounding) for band-limited signals sampled uniformly in time at
+/// constant speed. Throws pw::InputError if the samples do not cover the window.
+std::vector<std::complex<double>> angle_fourier(std::span<const double> x, std::span<const double> angle,
+                                                double angle_begin, int revolutions, int max_bin);
+
+/// Mean of exponentially distributed values (|c_k|^2 of noise bins) that may
+/// contain a few outliers (lines): truncated at the 99 % point of the
+/// estimate and corrected for the truncation, iterated from the median.
+double exponential_mean(std::vector<double> values, double* relative_se = nullptr);
+
+/// Upper 1 - alpha quantile of chi2(nu) (Wilson-Hilferty).
+double chi2_upper_quantile(double nu, double alpha);
+
+/// Rician amplitude statistics: |s + n| with n complex Gaussian of total
+/// variance s2 (E|n|^2 = s2) and |s| = nu.
+double rice_mean(double nu, double s2);
+double rice_variance(double nu, double s2);
+
+/// One feature: a DFT bin of the analysis window and the lines it carries.
+struct FeatureCell {
+  int bin = 0;               ///< bin k (order k / R)
+  double order = 0;          ///< k / R
+  std::vector<int> lines;    ///< indices into FeatureLayout::lines
+  int segment = 0;           ///< noise segment (round(order / Zr))
+};
+
+struct LayoutOptions {
+  double band_fraction = 0.3;   ///< analysed band: up to this fraction of the sample rate
+  int carrier_sidebands = 0;    ///< j of the carrier family (0: 4 N)
+  int max_mesh_harmonics = 80;  ///< cap on k
+};
+
+struct FeatureLayout {
+  int revolutions = 1;          ///< R: window length in carrier revolutions
+  int max_bin = 0;              ///< highest bin analysed
+  double max_order = 0;         ///< max_bin / R
+  int mesh_harmonics = 0;       ///< highest mesh harmonic in the band
+  std::vector<OrderLine> lines;       ///< every labelled line (all families)
+  std::vector<FeatureCell> cells;     ///< sorted by bin; the same for every channel
+  std::vector<int> noise_bins;        ///< bins not near any line
+  int segments = 1;
+  /// Cells of family f (indexed by Component) and, per cell, its families.
+  std::vector<std::vector<int>> family_cells;
+  std::vector<std::vector<Component>> cell_families;
+};
+
+/// Lines and cells for windows of R revolutions up to max_order.
+FeatureLayout make_layout(const Kinematics& k, int planets, int revolutions, double max_order,
+                          const LayoutOptions& options = {});
+
+/// A window of the recording: R whole carrier revolutions.
+struct OrderWindow {
+  std::string name;                  ///< "fit" or "held_out"
+  double angle_begin_rad = 0;        ///< carrier angle at the window start (0 = first sample)
+  std::size_t first_sample = 0, last_sample = 0;
+  double t_begin_s = 0, t_end_s = 0;
+};
+
+/// Where the recording's carrier angle comes from (the model's is built the same way).
+enum class AngleReference { SunSpeed, CarrierSpeed, Tacho, ConstantSpeed };
+
+/// The recording in the order domain: windows, per-window amplitudes of every
+/// bin and the per-cell noise variance.
+struct RecordingSpectra {
+  SpeedEstimate speed;
+  std::string angle_source;
+  AngleReference angle_reference = AngleReference::ConstantSpeed;
+  Kinematics kinematics;             ///< at the estimated speed
+  FeatureLayout layout;
+  std::vector<int> channels;         ///< indices into Recording::channels (no tachos)
+  std::vector<std::string> channel_names;
+  std::vector<OrderWindow> windows;  ///< fit (first R revolutions), held_out (last R)
+  /// amplitude[w][c][k] = |c_k| of channel c in window w, k = 0 .. max_bin.
+  std::vector<std::vector<std::vector<double>>> amplitude;
+  /// Noise: E|c_k|^2 of the noise in each cell, per channel [unit^2]: the
+  /// per-sample noise variance (Hann periodogram of the whole recording
+  /// between the sideband groups, exponential_mean) times the window's sum of
+  /// squared weights; one value per channel for white noise, per segment of
+  /// Zr orders for coloured noise.
+  std::vector<std::vector<double>> noise_variance;
+  std::vector<std::vector<double>> noise_relative_se;  ///< standard error of noise_variance / noise_variance
+  std::vector<std::vector<int>> noise_group;  ///< cells sharing one noise estimate (for the null's draws)
+  std::vector<bool> noise_local;     ///< per channel: coloured noise, local estimates used
+  std::vector<double> noise_floor;   ///< per channel: mean over cells (for the report)
+  std::vector<double> noise_sample_variance;  ///< per channel: white-noise variance per sample s_w^2
+  /// D T of the angle reference's random walk [rad^2] (0 without a speed channel): strong
+  /// lines leak A^2 o^2 D T / (2 pi^2 d^2) into the bins d away, added to noise_variance.
+  double angle_diffusion_T = 0;
+  std::vector<int> noise_bins_used;  ///< per channel
+  std::vector<double> carrier_angle; ///< per sample (for synchronous averages)
+};
+
+struct OrderAnalysisOptions {
+  LayoutOptions layout{};
+  int max_window_revolutions = 3;    ///< R = min(floor(revolutions / 2), this)
+};
+
+/// Speed, angle, windows, amplitudes and noise of a recording. Throws
+/// pw::InputError if it holds less than two whole carrier revolutions.
+RecordingSpectra analyse_recording(const Recording& recording, const model::StageSpec& stage,
+                                   const OrderAnalysisOptions& options = {});
+
+/// What a simulation contributes to the comparison: for each recording
+/// channel the amplitude of every bin 0 .. max_bin over the first R carrier
+/// revolutions of its record (housing channels with gain 1; see
+/// sensor_inputs for recomputing them).
+struct ModelSpectra {
+  std::vector<std::vector<double>> amplitude;  ///< [channel][bin]
+  double mean_input_rpm = 0;                   ///< of the simulated record
+  double time_step_s = 0;
+  int steps_per_mesh = 0;
+  int warmup_mesh_cycles = 0;
+  /// Ring-mesh forces of every planet and the carrier angle over the compared
+  /// samples (kept only when requested): housing channels for other sensor
+  /// settings without a new simulation.
+  std::vector<std::vector<double>> ring_force;
+  std::vector<double> carrier_angle;
+  std::vector<double> planet_angles_rad;
+  std::vector<double> angle_phi, angle_weight;  ///< the angle reference (see model_spectra)
+};
+
+/// Model channel that predicts a recording channel ("sun/speed", ...; "" for
+/// housing accelerometers, computed from the ring forces, and tachos).
+std::string model_channel_name(const SignalChannel& c);
+
+/// Features of a simulation result for the recording's channels and layout.
+/// `sensor` is the configuration's sensor (angle replaced by each housing
+/// channel's). Throws pw::SolverError if the record is shorter than R
+/// carrier revolutions or lacks a channel.
+ModelSpectra model_spectra(const model::SimulationResult& result, const Recording& recording,
+                           const RecordingSpectra& spectra, const model::SimulationConfig& config,
+                           bool keep_sensor_inputs);
+
+/// Housing-channel amplitudes (bins 0 .. max_bin, gain 1) recomputed from the
+/// kept sensor inputs for other sensor settings.
+std::vector<double> housing_spectrum(const ModelSpectra& m, const model::SensorSettings& sensor, double angle_rad,
+                                     int revolutions, int max_bin);
+
+} // namespace pw::diagnose
