@@ -2,6 +2,8 @@
 // conversion to SI, and the checks of docs/recordings.md.
 #include "io/recording_reader.hpp"
 
+#include "io/csv_fields.hpp"
+
 #include "io/hdf5_file.hpp"
 #include "io/io_error.hpp"
 
@@ -125,12 +127,7 @@ bool is_unit_token(std::string_view token) {
 // ---------------------------------------------------------------------------
 // Small text helpers.
 
-std::string_view trim(std::string_view s) {
-  const auto first = s.find_first_not_of(" \t\r\n");
-  if (first == std::string_view::npos) return {};
-  const auto last = s.find_last_not_of(" \t\r\n");
-  return s.substr(first, last - first + 1);
-}
+std::string_view trim(std::string_view s) { return trim_space(s); }
 
 std::string lower(std::string_view s) {
   std::string out(s);
@@ -140,35 +137,6 @@ std::string lower(std::string_view s) {
 
 bool is_comment(std::string_view trimmed) {
   return trimmed.starts_with('#') || trimmed.starts_with('%') || trimmed.starts_with("//");
-}
-
-/// Splits a header line, honouring RFC 4180 quotes ("a,b" and "" escapes).
-std::vector<std::string> split_quoted(std::string_view line, char delim) {
-  std::vector<std::string> out;
-  std::string field;
-  bool quoted = false;
-  for (std::size_t i = 0; i < line.size(); ++i) {
-    const char c = line[i];
-    if (quoted) {
-      if (c == '"' && i + 1 < line.size() && line[i + 1] == '"') {
-        field += '"';
-        ++i;
-      } else if (c == '"') {
-        quoted = false;
-      } else {
-        field += c;
-      }
-    } else if (c == '"') {
-      quoted = true;
-    } else if (c == delim) {
-      out.push_back(std::string(trim(field)));
-      field.clear();
-    } else {
-      field += c;
-    }
-  }
-  out.push_back(std::string(trim(field)));
-  return out;
 }
 
 /// Parses one numeric field: spaces and surrounding quotes ignored, a leading
@@ -343,7 +311,7 @@ RawTable read_csv(const std::filesystem::path& path, const RecordingMeta& meta) 
     std::size_t best = 0;
     for (const auto& [d, n] : cand) {
       if (n == 0) continue;
-      const std::size_t header_n = pre.empty() ? 0 : split_quoted(pre.back().second, d).size();
+      const std::size_t header_n = pre.empty() ? 0 : split_fields(pre.back().second, d).size();
       const bool matches = header_n == n || header_n == n + 1;
       const std::size_t score = n * 2 + (matches ? 1 : 0);
       if (score > best) {
@@ -372,7 +340,7 @@ RawTable read_csv(const std::filesystem::path& path, const RecordingMeta& meta) 
 
   // 2. Header (and optional unit row).
   auto fields_of = [&](const std::string& text) {
-    std::vector<std::string> f = split_quoted(text, delim);
+    std::vector<std::string> f = split_fields(text, delim);
     if (f.size() == data_fields + 1 && f.back().empty()) f.pop_back();  // trailing delimiter
     return f;
   };

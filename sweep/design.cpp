@@ -3,6 +3,7 @@
 #include "sobol.hpp"
 
 #include "core/error.hpp"
+#include "io/csv_fields.hpp"
 
 #include <algorithm>
 #include <charconv>
@@ -78,41 +79,7 @@ long long checked_product(long long a, long long b, const std::string& param) {
   return a * b;
 }
 
-std::string trim(const std::string& s) {
-  const auto first = s.find_first_not_of(" \t\r\n");
-  if (first == std::string::npos) return {};
-  const auto last = s.find_last_not_of(" \t\r\n");
-  return s.substr(first, last - first + 1);
-}
-
-/// Splits one CSV line at commas; fields may be double-quoted ("" = a quote).
-std::vector<std::string> split_csv(const std::string& line) {
-  std::vector<std::string> out;
-  std::string field;
-  bool quoted = false;
-  for (std::size_t k = 0; k < line.size(); ++k) {
-    const char c = line[k];
-    if (quoted) {
-      if (c == '"' && k + 1 < line.size() && line[k + 1] == '"') {
-        field += '"';
-        ++k;
-      } else if (c == '"') {
-        quoted = false;
-      } else {
-        field += c;
-      }
-    } else if (c == '"') {
-      quoted = true;
-    } else if (c == ',') {
-      out.push_back(trim(field));
-      field.clear();
-    } else {
-      field += c;
-    }
-  }
-  out.push_back(trim(field));
-  return out;
-}
+std::string trim(const std::string& s) { return std::string(io::trim_space(s)); }
 
 } // namespace
 
@@ -202,7 +169,7 @@ std::vector<std::vector<double>> parse_case_list(const std::string& csv_text, co
     ++line_no;
     const std::string t = trim(line);
     if (t.empty() || t.front() == '#') continue;
-    const auto fields = split_csv(t);
+    const auto fields = io::split_fields(t);
     if (column_of.empty()) {
       columns = fields.size();
       column_of.assign(factors.size(), -1);
