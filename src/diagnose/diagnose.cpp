@@ -332,7 +332,34 @@ Diagnosis diagnose(const Recording& recording, const model::SimulationConfig& co
     ctx.nuisance_gains = f0.gains;
     cmp.set_reference(nominal->amplitude, ctx.nuisance_gains);
   }
-  d.nuisance = fit_model(ctx, nullptr, Variant{}, true, threads, o.max_iterations);
+  {
+    // The stiffness level moves the response through resonances: chi2 is far from quadratic
+    // in it, so LM starts from the best of a coarse geometric scan over its box (the first
+    // nuisance parameter; the others at their start values).
+    std::vector<double> x0;
+    for (const Candidate* n : ctx.nuisance)
+      for (const auto& p : n->parameters(ctx.base)) x0.push_back(p.initial);
+    if (!x0.empty() && !ctx.nuisance.empty()) {
+      const ParameterSpec p0 = ctx.nuisance.front()->parameters(ctx.base).front();
+      const double lo = p0.lower * 1.4, hi = p0.upper / 1.4;
+      constexpr int kScan = 7;
+      std::vector<double> grid(kScan), chi(kScan, std::numeric_limits<double>::infinity());
+      for (int i = 0; i < kScan; ++i) grid[static_cast<std::size_t>(i)] = lo * std::pow(hi / lo, i / (kScan - 1.0));
+      parallel_for(kScan, threads, [&](int i) {
+        std::vector<double> x = x0;
+        x[0] = grid[static_cast<std::size_t>(i)];
+        try {
+          chi[static_cast<std::size_t>(i)] =
+              cmp.score(ctx.amplitudes(ctx.make(nullptr, Variant{}, {}, x, nullptr), false), 0, ctx.nuisance_gains, true).chi2;
+        } catch (const SolverError&) {
+        }
+      });
+      const double chi0 = cmp.score(nominal->amplitude, 0, ctx.nuisance_gains, true).chi2;
+      const std::size_t b = static_cast<std::size_t>(std::min_element(chi.begin(), chi.end()) - chi.begin());
+      if (chi[b] < chi0) x0[0] = grid[b];
+    }
+    d.nuisance = fit_model(ctx, nullptr, Variant{}, true, threads, 2 * o.max_iterations, &x0);
+  }
   for (const auto& p : d.nuisance.parameters)
     if (p.name.rfind("sensor.gain", 0) != 0) ctx.nuisance_x.push_back(p.value);
   ctx.nuisance_gains = d.nuisance.gains;
@@ -422,7 +449,7 @@ Diagnosis diagnose(const Recording& recording, const model::SimulationConfig& co
       Variant v;
       std::vector<ParameterSpec> spec;
       std::vector<std::vector<double>> cols;
-      std::vector<double> start;
+      std::vector<double> start, nuisance_start;
       double S = 0;
       bool failed = false;
     };
@@ -444,9 +471,32 @@ Diagnosis diagnose(const Recording& recording, const model::SimulationConfig& co
       }
     }
     const std::vector<double> res0 = cmp.score(ctx.nuisance_sim->amplitude, 0, ctx.nuisance_gains, true).residual;
-    say("screening " + std::to_string(screens.size()) + " candidate variants (" + std::to_string(tasks.size()) +
-        " simulations)");
-    parallel_for(static_cast<int>(tasks.size()), threads, [&](int ti) {
+    // The nuisance parameters' own secants (2 % steps), shared by every candidate: the screening
+    // step is joint, so physics the nuisance fit absorbed (a worn profile read as a damping
+    // level) is given back to its candidate.
+    std::vector<ParameterSpec> nspec;
+    for (const Candidate* n : ctx.nuisance)
+      for (const auto& ps : n->parameters(ctx.base)) nspec.push_back(ps);
+    std::vector<std::vector<double>> ncols(nspec.size());
+    std::vector<double> nstep(nspec.size());
+    for (std::size_t i = 0; i < nspec.size(); ++i) nstep[i] = 0.02 * ctx.nuisance_x[i];
+    say("screening " + std::to_string(screens.size()) + " candidate variants (" +
+        std::to_string(tasks.size() + nspec.size()) + " simulations)");
+    parallel_for(static_cast<int>(tasks.size() + nspec.size()), threads, [&](int ti) {
+      if (static_cast<std::size_t>(ti) >= tasks.size()) {
+        const std::size_t i = static_cast<std::size_t>(ti) - tasks.size();
+        std::vector<double> x = ctx.nuisance_x;
+        x[i] += nstep[i];
+        try {
+          const auto c = ctx.make(nullptr, Variant{}, {}, x, nullptr);
+          const auto r = cmp.score(ctx.amplitudes(c, false), 0, ctx.nuisance_gains, true).residual;
+          std::vector<double> col(r.size());
+          for (std::size_t k = 0; k < r.size(); ++k) col[k] = (r[k] - res0[k]) / nstep[i];
+          ncols[i] = std::move(col);
+        } catch (const SolverError&) {
+        }
+        return;
+      }
       const Task& tk = tasks[static_cast<std::size_t>(ti)];
       Screen& sc = screens[tk.screen];
       std::vector<double> x;
@@ -463,39 +513,58 @@ Diagnosis diagnose(const Recording& recording, const model::SimulationConfig& co
         sc.failed = true;
       }
     });
+    // Improvement by the nuisance directions alone (about zero at the nuisance fit's optimum).
+    std::vector<std::size_t> nuse;
+    for (std::size_t i = 0; i < ncols.size(); ++i)
+      if (!ncols[i].empty()) nuse.push_back(i);
+    const Eigen::Index m_res = static_cast<Eigen::Index>(res0.size());
+    const Eigen::Map<const Eigen::VectorXd> r_res(res0.data(), m_res);
+    double S_nuis = 0;
+    if (!nuse.empty()) {
+      Eigen::MatrixXd Jn(m_res, static_cast<Eigen::Index>(nuse.size()));
+      for (std::size_t a = 0; a < nuse.size(); ++a)
+        for (Eigen::Index k = 0; k < m_res; ++k) Jn(k, static_cast<Eigen::Index>(a)) = ncols[nuse[a]][static_cast<std::size_t>(k)];
+      const Eigen::VectorXd gn = Jn.transpose() * r_res;
+      S_nuis = gn.dot((Jn.transpose() * Jn).ldlt().solve(gn));
+    }
     for (Screen& sc : screens) {
       const std::size_t p = sc.spec.size();
       sc.start.resize(p);
       for (std::size_t i = 0; i < p; ++i) sc.start[i] = sc.spec[i].null_value;
+      sc.nuisance_start = ctx.nuisance_x;
       if (sc.failed) continue;
-      // Gauss-Newton step with an active set: parameters whose step leaves their box are held at null.
+      // Joint Gauss-Newton step (candidate + nuisance) with an active set: candidate parameters
+      // whose step leaves their box are held at their null value.
       std::vector<bool> active(p, true);
       for (int pass = 0; pass < static_cast<int>(p) + 1; ++pass) {
+        std::vector<const std::vector<double>*> cols;
         std::vector<std::size_t> idx;
         for (std::size_t i = 0; i < p; ++i)
-          if (active[i]) idx.push_back(i);
+          if (active[i]) idx.push_back(i), cols.push_back(&sc.cols[i]);
         if (idx.empty()) break;
-        const Eigen::Index m = static_cast<Eigen::Index>(res0.size()), q = static_cast<Eigen::Index>(idx.size());
-        Eigen::MatrixXd J(m, q);
+        for (std::size_t i : nuse) cols.push_back(&ncols[i]);
+        const Eigen::Index q = static_cast<Eigen::Index>(cols.size());
+        Eigen::MatrixXd J(m_res, q);
         for (Eigen::Index a = 0; a < q; ++a)
-          for (Eigen::Index k = 0; k < m; ++k) J(k, a) = sc.cols[idx[static_cast<std::size_t>(a)]][static_cast<std::size_t>(k)];
-        const Eigen::Map<const Eigen::VectorXd> r(res0.data(), m);
-        const Eigen::VectorXd g = J.transpose() * r;
+          for (Eigen::Index k = 0; k < m_res; ++k) J(k, a) = (*cols[static_cast<std::size_t>(a)])[static_cast<std::size_t>(k)];
+        const Eigen::VectorXd g = J.transpose() * r_res;
         const Eigen::VectorXd dx = -(J.transpose() * J).ldlt().solve(g);
         bool ok = true;
-        for (Eigen::Index a = 0; a < q; ++a) {
-          const auto& ps = sc.spec[idx[static_cast<std::size_t>(a)]];
-          const double x = ps.null_value + dx(a);
+        for (std::size_t a = 0; a < idx.size(); ++a) {
+          const auto& ps = sc.spec[idx[a]];
+          const double x = ps.null_value + dx(static_cast<Eigen::Index>(a));
           if (x < ps.lower || x > ps.upper) {
-            active[idx[static_cast<std::size_t>(a)]] = false;
+            active[idx[a]] = false;
             ok = false;
           }
         }
         if (!ok) continue;
-        sc.S = -g.dot(dx);
-        for (Eigen::Index a = 0; a < q; ++a) {
-          const std::size_t i = idx[static_cast<std::size_t>(a)];
-          sc.start[i] = sc.spec[i].null_value + dx(a);
+        sc.S = std::max(0.0, -g.dot(dx) - S_nuis);
+        for (std::size_t a = 0; a < idx.size(); ++a) sc.start[idx[a]] = sc.spec[idx[a]].null_value + dx(static_cast<Eigen::Index>(a));
+        for (std::size_t a = 0; a < nuse.size(); ++a) {
+          const auto& ps = nspec[nuse[a]];
+          sc.nuisance_start[nuse[a]] = std::clamp(ctx.nuisance_x[nuse[a]] + dx(static_cast<Eigen::Index>(idx.size() + a)),
+                                                   ps.lower, ps.upper);
         }
         break;
       }
@@ -563,7 +632,11 @@ Diagnosis diagnose(const Recording& recording, const model::SimulationConfig& co
       CandidateResult r;
       const auto tc = Clock::now();
       try {
-        r = fit_model(ctx, sc.c, sc.v, false, 1, o.max_iterations, &sc.start);
+        // Jointly with the nuisance parameters (sensor-only candidates: on the nuisance simulation).
+        const bool joint = !sc.c->sensor_only();
+        std::vector<double> x0 = sc.start;
+        if (joint) x0.insert(x0.end(), sc.nuisance_start.begin(), sc.nuisance_start.end());
+        r = fit_model(ctx, sc.c, sc.v, joint, 1, o.max_iterations, &x0);
       } catch (const SolverError& e) {
         r.name = sc.c->name();
         r.physics = sc.c->physics();
@@ -630,9 +703,11 @@ Diagnosis diagnose(const Recording& recording, const model::SimulationConfig& co
       CandidateResult& w = d.candidates.front();
       const Candidate* cand = find_candidate(w.name);
       Variant v = w.chosen;
-      std::vector<double> own;
+      std::vector<double> own, nx_w;
       for (const auto& p : w.parameters)
         if (!p.nuisance) own.push_back(p.value);
+        else if (p.name.rfind("sensor.gain", 0) != 0) nx_w.push_back(p.value);
+      if (nx_w.size() != ctx.nuisance_x.size()) nx_w = ctx.nuisance_x;
       const auto phases = cand->phase_variants(v, ctx.base, map);
       if (!phases.empty()) {
         t = Clock::now();
@@ -640,7 +715,7 @@ Diagnosis diagnose(const Recording& recording, const model::SimulationConfig& co
         std::vector<double> chi(phases.size(), std::numeric_limits<double>::infinity());
         parallel_for(static_cast<int>(phases.size()), threads, [&](int i) {
           try {
-            const auto c = ctx.make(cand, phases[static_cast<std::size_t>(i)], own, ctx.nuisance_x, nullptr);
+            const auto c = ctx.make(cand, phases[static_cast<std::size_t>(i)], own, nx_w, nullptr);
             chi[static_cast<std::size_t>(i)] = cmp.score(ctx.amplitudes(c, false), 0, ctx.nuisance_gains, true).chi2;
           } catch (const SolverError&) {
           }
@@ -649,7 +724,9 @@ Diagnosis diagnose(const Recording& recording, const model::SimulationConfig& co
         if (chi[b] < w.fit.chi2) {
           CandidateResult r2;
           try {
-            r2 = fit_model(ctx, cand, phases[b], false, threads, std::max(2, o.max_iterations / 2), &own);
+            std::vector<double> x0 = own;
+            x0.insert(x0.end(), nx_w.begin(), nx_w.end());
+            r2 = fit_model(ctx, cand, phases[b], true, threads, std::max(2, o.max_iterations / 2), &x0);
           } catch (const SolverError&) {
             r2.fit.chi2 = std::numeric_limits<double>::infinity();
           }

@@ -43,7 +43,7 @@ struct DiagnoseOptions {
   double alpha = 0.01;          ///< false-alarm probability of every test
   int max_iterations = 4;       ///< LM Jacobians per fit (the screening step is a good start)
   int max_candidates = 4;       ///< candidates fitted after the screening (sensor-only ones come free)
-  bool polish = true;           ///< refit the winner jointly with the nuisance parameters
+  bool polish = false;          ///< refit the winner jointly again (candidates are already fitted jointly)
   bool always_fit_candidates = false;  ///< fit candidates even when the noise test passes
   std::vector<std::string> only_candidates;  ///< restrict the library (tests, expert use); empty = all
   int threads = 0;              ///< OpenMP threads (0: default)

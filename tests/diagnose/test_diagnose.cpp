@@ -101,9 +101,7 @@ Recording synthesize(model::SimulationConfig truth, double noise, unsigned seed)
   return rec;
 }
 
-// DISABLED while the order-domain rework is in progress (docs/diagnose.md,
-// "Status"): this control is still flagged.
-TEST(Diagnose, DISABLED_ControlWithFivePercentNoiseFindsNoMissingPhysics) {
+TEST(Diagnose, ControlWithFivePercentNoiseFindsNoMissingPhysics) {
   const Recording rec = synthesize(fast_stage(), 0.05, 1);
   const Diagnosis d = diagnose(rec, fast_stage(), {});
   EXPECT_EQ(d.verdict, Verdict::NoMissingPhysics) << d.summary;
@@ -114,8 +112,7 @@ TEST(Diagnose, DISABLED_ControlWithFivePercentNoiseFindsNoMissingPhysics) {
   for (const auto& p : d.nuisance.parameters) EXPECT_FALSE(p.moved) << p.name << " = " << p.value;
 }
 
-// DISABLED for the same reason (rework in progress).
-TEST(Diagnose, DISABLED_DamagedSunToothIsLocatedNamedAndFittedWithin20Percent) {
+TEST(Diagnose, DamagedSunToothIsLocatedNamedAndFittedWithin20Percent) {
   auto truth = fast_stage();
   model::ToothModifier t;
   t.body = model::Body::Sun;

@@ -93,7 +93,9 @@ public:
     if (body_ == model::Body::Ring) return {};
     std::vector<Variant> out;
     const int z = map.teeth(body_);
-    for (int j = 0; j < z; ++j) {
+    // Planets: every third tooth (30 would cost as much as the rest of the diagnosis).
+    const int step = body_ == model::Body::Planet ? 3 : 1;
+    for (int j = chosen.tooth % step; j < z; j += step) {
       if (j == chosen.tooth) continue;
       Variant v = chosen;
       v.tooth = j;
