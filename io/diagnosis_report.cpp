@@ -170,7 +170,8 @@ Doc build(const dg::Diagnosis& d, const ReportContext& ctx) {
         return c < s.chi2_per_channel.size() ? g(s.chi2_per_channel[c] / s.features_per_channel[c], 4)
                                               : std::string("");
       };
-      pc.push_back({d.channels[c], g(d.noise_std[c], 3) + (d.noise_coloured[c] ? " (coloured)" : ""),
+      pc.push_back({d.channels[c], g(d.noise_std[c], 3) + (d.noise_coloured[c] ? " (coloured)" : "") +
+                                    (d.noise_dispersion[c] != 1.0 ? " (halves: x" + g(d.noise_dispersion[c], 3) + ")" : ""),
                     r(d.nominal_fit) + ", " + r(d.nominal_held_out), r(fin.fit) + ", " + r(fin.held_out)});
     }
     doc.table(pc);
@@ -397,7 +398,8 @@ void write_diagnosis_report(const std::filesystem::path& dir, const dg::Diagnosi
                      {"planet_relative_Hz", k.planet_relative_Hz}, {"mesh_Hz", k.mesh_Hz}};
   json noise = json::object();
   for (std::size_t c = 0; c < d.channels.size(); ++c)
-    noise[d.channels[c]] = {{"rms_per_bin", d.noise_std[c]}, {"coloured", static_cast<bool>(d.noise_coloured[c])}};
+    noise[d.channels[c]] = {{"rms_per_bin", d.noise_std[c]}, {"coloured", static_cast<bool>(d.noise_coloured[c])},
+                             {"dispersion_from_halves", d.noise_dispersion[c]}};
   j["noise"] = noise;
   auto win = [](const dg::OrderWindow& w) {
     return json{{"first_sample", w.first_sample}, {"last_sample", w.last_sample}, {"t_begin_s", w.t_begin_s},

@@ -83,13 +83,16 @@ QUICK_OPERATING = {"Q1": (800.0, 20000.0), "Q2": (1200.0, 20000.0)}
 #    automatic step follows the highest natural frequency, i.e. the stiffness);
 #  * a common start time (--start-mesh-cycle W), so the start of the time
 #    axis does not tell how long the warm-up took;
-#  * at 200-1200 rpm a short warm-up (periodicity 0.05: the mesh transients
-#    decay within a mesh period, the mean speed is within 3e-4 of nominal);
+#  * at 200-1200 rpm a warm-up to periodicity 1e-3 (the diagnosis's own model
+#    warms up to 1e-4 or tighter): the recording is of steady operation. With
+#    0.05 a slowly decaying start-up transient stays in the file, and the
+#    diagnosis rightly calls the controls "unexplained residual" (chi2 2440 vs
+#    bound 2427 on the quick corpus's 800 rpm control, 2396 <= 2429 at 1e-3);
 #  * at 1800/2200 rpm and 1 kW the load-torque update of the warm-up settles
 #    slowly (a speed transient with a 0.2 s time constant): warm up for up to
 #    380 mesh cycles and start the file at mesh cycle 1500, when the
 #    transient has died out (the mean speed then sits 0.1-0.4 % off nominal).
-SLOW = {"sets": ["solver.time_step_s=2.5e-6", "solver.periodicity_tolerance=0.05"], "start_mesh_cycle": 120}
+SLOW = {"sets": ["solver.time_step_s=2.5e-6", "solver.periodicity_tolerance=1e-3"], "start_mesh_cycle": 120}
 FAST = {"sets": ["solver.time_step_s=2.5e-6", "solver.warmup_max_mesh_cycles=380"], "start_mesh_cycle": 1500}
 SETTINGS = {"A": SLOW, "B": SLOW, "C": SLOW, "D": FAST, "E": FAST, "Q1": SLOW, "Q2": SLOW}
 

@@ -80,22 +80,56 @@ ModelComparison::ModelComparison(const Recording& recording, const model::Simula
     for (int i = 0; i < ncell; ++i) {
       const std::size_t f = static_cast<std::size_t>(c * ncell + i);
       const int bin = spec_.layout.cells[static_cast<std::size_t>(i)].bin;
-      const double s2 = spec_.noise_variance[static_cast<std::size_t>(c)][static_cast<std::size_t>(i)];
-      s2_[f] = s2;
+      s2_[f] = spec_.noise_variance[static_cast<std::size_t>(c)][static_cast<std::size_t>(i)];
+      for (int w = 0; w < 2; ++w)
+        a_rec_[static_cast<std::size_t>(w)][f] =
+            spec_.amplitude[static_cast<std::size_t>(w)][static_cast<std::size_t>(c)][static_cast<std::size_t>(bin)];
+    }
+  // Per-cell Rician variances of the recording's amplitudes and the non-stationarity flag.
+  auto classify = [&](int c, std::vector<double>* ratios) {
+    for (int i = 0; i < ncell; ++i) {
+      const std::size_t f = static_cast<std::size_t>(c * ncell + i);
       double v[2];
       for (int w = 0; w < 2; ++w) {
-        const double A = spec_.amplitude[static_cast<std::size_t>(w)][static_cast<std::size_t>(c)][static_cast<std::size_t>(bin)];
-        a_rec_[static_cast<std::size_t>(w)][f] = A;
-        const double nu = std::sqrt(std::max(A * A - s2, 0.0));
-        v[w] = rice_variance(nu, s2);
+        const double A = a_rec_[static_cast<std::size_t>(w)][f];
+        v[w] = rice_variance(std::sqrt(std::max(A * A - s2_[f], 0.0)), s2_[f]);
       }
       const double d = a_rec_[0][f] - a_rec_[1][f];
-      if (d * d > flag * (v[0] + v[1])) {
-        vns_[f] = d * d;
-        ++ns_cells_;
-      }
+      vns_[f] = d * d > flag * (v[0] + v[1]) ? d * d : 0.0;
+      if (ratios && vns_[f] == 0.0 && v[0] + v[1] > 0) ratios->push_back(d * d / (v[0] + v[1]));
       for (int w = 0; w < 2; ++w) d_[static_cast<std::size_t>(w)][f] = v[w] + vns_[f];
     }
+  };
+  // Dispersion: the recording's two halves are two draws of the same stationary features, so
+  // (A_1 - A_2)^2 / (V_1 + V_2) has mean 1 over the unflagged cells when the noise model is
+  // right. Phase jitter, slow load or speed changes and non-periodic content (a rig's, or
+  // another simulator's) make the halves differ by more than the noise floor between the
+  // sideband groups predicts; the mean ratio phi then estimates how much more (quasi-likelihood
+  // overdispersion). A channel whose phi exceeds 1 beyond its sampling error (one-sided
+  // z_{1-alpha}) has its noise variance scaled by phi, and phi's relative error enters the
+  // null's noise-estimate error. Stationary gear content, faults included, cancels in A_1 - A_2.
+  dispersion_.assign(static_cast<std::size_t>(nc), 1.0);
+  const double z = normal_quantile(opt_.alpha);  // upper quantile
+  for (int c = 0; c < nc; ++c) {
+    std::vector<double> r;
+    classify(c, &r);
+    if (r.size() < 16) continue;
+    double mean = 0, var = 0;
+    for (double x : r) mean += x / static_cast<double>(r.size());
+    for (double x : r) var += (x - mean) * (x - mean) / static_cast<double>(r.size() - 1);
+    const double se = std::sqrt(var / static_cast<double>(r.size()));
+    if (mean <= 1 + z * se) continue;
+    dispersion_[static_cast<std::size_t>(c)] = mean;
+    for (int i = 0; i < ncell; ++i) {
+      s2_[static_cast<std::size_t>(c * ncell + i)] *= mean;
+      double& rse = spec_.noise_relative_se[static_cast<std::size_t>(c)][static_cast<std::size_t>(i)];
+      rse = std::hypot(rse, se / mean);
+      spec_.noise_variance[static_cast<std::size_t>(c)][static_cast<std::size_t>(i)] *= mean;
+    }
+    spec_.noise_floor[static_cast<std::size_t>(c)] *= mean;
+    classify(c, nullptr);
+  }
+  for (double v : vns_) ns_cells_ += v > 0 ? 1 : 0;
 }
 
 void ModelComparison::set_reference(const std::vector<std::vector<double>>& m, const std::vector<double>& gains_in) {

@@ -24,6 +24,9 @@
 //    starts; a cell whose two halves differ by more than the 1 - alpha
 //    quantile of the noise (|A_1 - A_2|^2 > chi2_1(1-alpha) (V_1 + V_2))
 //    gets v_ns = (A_1 - A_2)^2, else 0;
+//  * dispersion: when the unflagged cells' halves differ by more than the
+//    noise floor predicts (mean (A_1 - A_2)^2 / (V_1 + V_2) significantly
+//    above 1), the channel's noise variance is scaled by that mean;
 //  * U: model fidelity, estimated, not tuned. Each column is the change of
 //    every feature between two runs of the same baseline model that the
 //    recording cannot tell apart: a second discretization
@@ -129,6 +132,9 @@ public:
   double noise_variance(int feature) const { return s2_[static_cast<std::size_t>(feature)]; }
   double nonstationary_variance(int feature) const { return vns_[static_cast<std::size_t>(feature)]; }
   int nonstationary_cells() const { return ns_cells_; }
+  /// Per channel: the noise-variance scale phi measured between the recording's halves (1 when
+  /// the halves agree within the noise floor's prediction; see the constructor).
+  double dispersion(int channel) const { return dispersion_.at(static_cast<std::size_t>(channel)); }
 
 private:
   double chi2_of(const std::vector<double>& r, int window, const std::vector<double>& gains, WindowScore* out) const;
@@ -144,6 +150,7 @@ private:
   std::vector<double> s2_;                   // [feature]
   std::vector<std::vector<double>> d_;       // [window][feature]: D_i
   std::vector<double> vns_;
+  std::vector<double> dispersion_;           // [channel]
   int ns_cells_ = 0;
   std::vector<std::vector<double>> u_;       // [column][feature]
   std::vector<std::string> u_names_;

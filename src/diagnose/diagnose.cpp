@@ -295,6 +295,7 @@ Diagnosis diagnose(const Recording& recording, const model::SimulationConfig& co
   for (std::size_t c = 0; c < sp.channels.size(); ++c) {
     d.noise_std.push_back(std::sqrt(sp.noise_floor[c]));
     d.noise_coloured.push_back(sp.noise_local[c]);
+    d.noise_dispersion.push_back(cmp.dispersion(static_cast<int>(c)));
   }
   d.fit_window = sp.windows[0];
   d.held_out_window = sp.windows[1];

@@ -132,6 +132,7 @@ struct Diagnosis {
   std::vector<std::string> channels;
   std::vector<double> noise_std;         ///< per channel: sqrt(mean noise variance per bin)
   std::vector<bool> noise_coloured;
+  std::vector<double> noise_dispersion;  ///< per channel: noise variance scale from the halves (1 = floor as measured)
   OrderWindow fit_window, held_out_window;
   int revolutions = 0;                   ///< R per half
   double max_order = 0, max_frequency_Hz = 0;
