@@ -8,19 +8,22 @@
 //   2. simulate the model at the recording's speed, and the same model at a
 //      second discretization and at the speed +- its standard error: the
 //      model-fidelity directions (compare.hpp);
-//   3. fit the nuisance parameters (mesh stiffness level, damping ratio; the
-//      housing-sensor gain is profiled in closed form) on the fit half;
+//   3. fit the nuisance parameters (mesh stiffness level from a coarse
+//      geometric scan, then LM with the damping ratio; the housing-sensor gain
+//      is profiled by a one-dimensional search) on the fit half;
 //   4. noise test: if the nuisance-fitted model's chi2 is below the 1 - alpha/2
 //      quantile of its Monte-Carlo null distribution on both halves ->
 //      "no missing physics found";
-//   5. otherwise locate the residual (locate.hpp), shortlist the candidates
-//      whose families carry it, screen their discrete variants, fit each by
-//      bounded LM (fit.hpp) on the fit half, score it on the held-out half;
+//   5. otherwise locate the residual (locate.hpp), screen every candidate
+//      and its discrete variants by one joint Gauss-Newton step (with the
+//      nuisance parameters' secants), fit the best few jointly with the
+//      nuisance parameters by bounded LM (fit.hpp) on the fit half, score
+//      them on the held-out half;
 //   6. rank: a candidate counts if its chi2 improvement over the
 //      nuisance-only model exceeds chi2_{1-alpha}(k) (k = its parameters) on
 //      the fit half AND on the held-out half; among those the lowest BIC
-//      summed over both halves wins; the winner is refitted jointly with the
-//      nuisance parameters.
+//      summed over both halves wins; its phase variants (which tooth, which
+//      planet) are tried last.
 #pragma once
 
 #include "diagnose/compare.hpp"

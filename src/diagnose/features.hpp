@@ -3,10 +3,10 @@
 // window, the white-noise floor, time-synchronous averages in the mesh-cycle
 // coordinate, and envelope spectra. Pure functions over spans.
 //
-// Conventions (docs/diagnose.md §2): times in s, frequencies in Hz; complex
-// amplitudes are peak amplitudes with the phase of A cos(2 pi f t + phi) at
-// absolute time t (the recording's own time axis), so that the same line in a
-// recording and in a simulation compares directly.
+// Conventions: times in s, frequencies in Hz; complex amplitudes are peak
+// amplitudes with the phase of A cos(2 pi f t + phi) at the signal's own time
+// t. The comparison itself is in the order domain (order_analysis.hpp); these
+// helpers serve the locate step (synchronous averages, envelope, periodogram).
 #pragma once
 
 #include <complex>

@@ -10,7 +10,7 @@
 // be thread-safe). The residual is assumed whitened (unit variance): the
 // covariance of the estimate is (J^T J)^{-1} in v, mapped to x by the
 // derivative of the transform, and multiplied by `covariance_scale`
-// (e.g. the Hann-bin correlation factor of compare.hpp).
+// (e.g. the whitened residual of compare.hpp).
 //
 // References: K. Levenberg, Q. Appl. Math. 2:164-168, 1944; D. W. Marquardt,
 // J. SIAM 11(2):431-441, 1963; J. J. More, "The Levenberg-Marquardt

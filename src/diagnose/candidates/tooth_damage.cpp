@@ -1,9 +1,10 @@
 // Local tooth damage (crack, chip) on one tooth of the sun, of a planet or of
 // the ring: that tooth's mesh stiffness is multiplied by a factor < 1
-// (imperfections.teeth, stiffness_factor). Which tooth comes from the peak
-// of the residual's synchronous average (locate.hpp) through the assembly
-// phases (ToothMap); the neighbours are screened too because the peak of a
-// softened pair spreads over the contact ratio (~1.6 mesh cycles).
+// (imperfections.teeth, stiffness_factor). Amplitude features cannot say
+// which tooth (no phase); the severity is fitted on a canonical tooth, the
+// planet variants are screened (the mesh channels belong to one planet), and
+// other teeth are tried as phase variants of the winner (every third planet
+// tooth: all of them would cost as much as the rest of the diagnosis).
 #include "diagnose/candidates/factories.hpp"
 
 #include <algorithm>
