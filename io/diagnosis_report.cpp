@@ -70,6 +70,7 @@ json candidate_json(const dg::CandidateResult& r, const std::vector<std::string>
   j["bic_held_out"] = num(r.bic_held_out);
   j["significant"] = r.significant;
   j["holds_on_held_out"] = r.holds;
+  j["parameters_differ_from_absent"] = r.non_null;
   j["refitted_with_nuisance"] = r.polished;
   j["simulations"] = r.simulations;
   j["seconds"] = r.seconds;

@@ -85,6 +85,12 @@ struct CandidateResult {
   double aic = 0, bic = 0;               ///< fit half
   double bic_held_out = 0;               ///< held-out half, same penalty
   bool significant = false, holds = false;
+  /// Some own parameter differs from its null value (no such physics) by more than
+  /// z_{1-alpha/(2k)} standard errors (Wald, Bonferroni over the k own parameters): a
+  /// chi2 gain with a parameter indistinguishable from "absent" is the nuisance fit
+  /// converging further, not evidence for this physics.
+  bool non_null = false;
+  bool counts() const { return significant && holds && non_null; }
   bool polished = false;                 ///< refitted jointly with the nuisance parameters
   int simulations = 0;
   double seconds = 0;                    ///< wall time of its fit
