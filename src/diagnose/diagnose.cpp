@@ -747,10 +747,38 @@ Diagnosis diagnose(const Recording& recording, const model::SimulationConfig& co
         CandidateResult& w = d.candidates[top[static_cast<std::size_t>(j)]];
         const Candidate* cand = find_candidate(w.name);
         const bool joint = !cand->sensor_only();
-        std::vector<double> x0;
-        for (const auto& p : w.parameters)
-          if (!p.nuisance || (joint && p.name.rfind("sensor.gain", 0) != 0)) x0.push_back(p.value);
+        auto split = [&](const CandidateResult& r, std::vector<double>& own, std::vector<double>& nx) {
+          for (const auto& p : r.parameters)
+            if (!p.nuisance)
+              own.push_back(p.value);
+            else if (p.name.rfind("sensor.gain", 0) != 0)
+              nx.push_back(p.value);
+          if (nx.size() != ctx.nuisance_x.size()) nx = ctx.nuisance_x;
+        };
+        std::vector<double> own, nx;
+        split(w, own, nx);
+        std::vector<double> x0 = own;
+        if (joint) x0.insert(x0.end(), nx.begin(), nx.end());
         const auto tc = Clock::now();
+        // A near-alias fitted better (pin errors vs a carrier eccentricity): start from its equivalent.
+        if (joint)
+          for (const CandidateResult& other : d.candidates) {
+            if (&other == &w || !other.failed.empty() || other.fit.chi2 >= w.fit.chi2) continue;
+            std::vector<double> oo, on;
+            split(other, oo, on);
+            std::vector<double> alt = cand->start_from(other.name, oo, ctx.base);
+            if (alt.size() != own.size()) continue;
+            const auto spec = cand->parameters(ctx.base);
+            for (std::size_t i = 0; i < alt.size(); ++i) alt[i] = std::clamp(alt[i], spec[i].lower, spec[i].upper);
+            try {
+              const auto c = ctx.make(cand, w.chosen, alt, on, nullptr);
+              if (cmp.score(ctx.amplitudes(c, false), 0, ctx.nuisance_gains, true).chi2 < w.fit.chi2) {
+                x0 = alt;
+                x0.insert(x0.end(), on.begin(), on.end());
+              }
+            } catch (const SolverError&) {
+            }
+          }
         try {
           CandidateResult r2 = fit_model(ctx, cand, w.chosen, joint, 1, o.max_iterations, &x0);
           if (r2.fit.chi2 < w.fit.chi2) {

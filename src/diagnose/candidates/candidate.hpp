@@ -83,7 +83,18 @@ public:
                      std::vector<std::string>* overrides = nullptr) const = 0;
   /// Parameters that change only the housing-sensor channels (no new simulation needed).
   virtual bool sensor_only() const { return false; }
+  /// Start values equivalent to another candidate's fitted parameters `other_x` when the
+  /// two are near-aliases of one physics (pin errors and a carrier eccentricity: both
+  /// displace the planet centres in the carrier); empty if there is no such mapping.
+  virtual std::vector<double> start_from(const std::string& other, std::span<const double> other_x,
+                                         const model::SimulationConfig& base) const {
+    (void)other, (void)other_x, (void)base;
+    return {};
+  }
 };
+
+/// Planet carrier angles psi_i [rad] of the stage (equal spacing when not given).
+std::vector<double> planet_angles_rad(const model::SimulationConfig& base);
 
 /// The library, in a fixed order (registry.cpp).
 const std::vector<std::unique_ptr<Candidate>>& candidate_library();

@@ -4,6 +4,8 @@
 // so planet 0's pin is the reference (0) and the other N - 1 are fitted.
 #include "diagnose/candidates/factories.hpp"
 
+#include <cmath>
+
 namespace pw::diagnose::candidates {
 namespace {
 class PinError final : public Candidate {
@@ -21,6 +23,18 @@ public:
     for (int i = 1; i < b.stage.planet_count; ++i)
       p.push_back({"pin_error_m[" + std::to_string(i) + "]", "m", -0.02 * m, 0.02 * m, false, 0.0, 0.0, 1e-6});
     return p;
+  }
+  /// From a carrier eccentricity (x, y): its tangential part at planet i, -x sin psi_i + y cos psi_i
+  /// (the displacement along e_t = (-sin psi, cos psi), as planetary_system.cpp applies pin errors),
+  /// relative to planet 0's; the radial part has no pin counterpart.
+  std::vector<double> start_from(const std::string& other, std::span<const double> ox,
+                                 const model::SimulationConfig& b) const override {
+    if (other != "carrier_runout" || ox.size() != 2) return {};
+    const auto psi = planet_angles_rad(b);
+    auto t = [&](std::size_t i) { return -ox[0] * std::sin(psi[i]) + ox[1] * std::cos(psi[i]); };
+    std::vector<double> x;
+    for (std::size_t i = 1; i < psi.size(); ++i) x.push_back(t(i) - t(0));
+    return x;
   }
   void apply(model::SimulationConfig& c, const Variant&, std::span<const double> x,
              std::vector<std::string>* o) const override {

@@ -3,6 +3,8 @@
 #include "diagnose/candidates/candidate.hpp"
 #include "diagnose/candidates/factories.hpp"
 
+#include <numbers>
+
 #include <cstdio>
 
 namespace pw::diagnose {
@@ -37,6 +39,13 @@ const std::vector<std::unique_ptr<Candidate>>& candidate_library() {
     return t;
   }();
   return table;
+}
+
+std::vector<double> planet_angles_rad(const model::SimulationConfig& base) {
+  if (!base.stage.planet_angles_rad.empty()) return base.stage.planet_angles_rad;
+  std::vector<double> psi;
+  for (int i = 0; i < base.stage.planet_count; ++i) psi.push_back(2 * std::numbers::pi * i / base.stage.planet_count);
+  return psi;
 }
 
 const Candidate* find_candidate(const std::string& name) {

@@ -5,6 +5,8 @@
 // so its phase changes no amplitude and only e is fitted (phase 0).
 #include "diagnose/candidates/factories.hpp"
 
+#include <Eigen/Dense>
+
 #include <cmath>
 
 namespace pw::diagnose::candidates {
@@ -27,6 +29,25 @@ public:
     if (sun_)  // rotates with the sun: its phase changes no amplitude, only the magnitude is fitted
       return {{"sun_eccentricity_m", "m", 1e-8, m, true, 0.05 * m, 1e-8, 1e-6}};
     return {{"carrier_eccentricity_x_m", "m", -m, m, false, 0.05 * m, 0.0, 1e-6}, {"carrier_eccentricity_y_m", "m", -m, m, false, 0.0, 0.0, 1e-6}};
+  }
+  /// Carrier runout from pin errors p_i (p_0 = 0): the eccentricity (x, y) and common offset c
+  /// whose tangential pattern -x sin psi_i + y cos psi_i - c fits p_i best (least squares; exact
+  /// for three planets).
+  std::vector<double> start_from(const std::string& other, std::span<const double> ox,
+                                 const model::SimulationConfig& b) const override {
+    const auto psi = planet_angles_rad(b);
+    if (sun_ || other != "pin_error" || ox.size() + 1 != psi.size() || psi.size() < 3) return {};
+    Eigen::MatrixXd A(static_cast<Eigen::Index>(psi.size()), 3);
+    Eigen::VectorXd p(static_cast<Eigen::Index>(psi.size()));
+    for (std::size_t i = 0; i < psi.size(); ++i) {
+      const auto r = static_cast<Eigen::Index>(i);
+      A(r, 0) = -std::sin(psi[i]);
+      A(r, 1) = std::cos(psi[i]);
+      A(r, 2) = -1.0;
+      p(r) = i == 0 ? 0.0 : ox[i - 1];
+    }
+    const Eigen::VectorXd s = A.colPivHouseholderQr().solve(p);
+    return {s(0), s(1)};
   }
   void apply(model::SimulationConfig& c, const Variant&, std::span<const double> x,
              std::vector<std::string>* o) const override {
