@@ -1,0 +1,65 @@
+// Candidate library (src/diagnose/candidates): the near-alias start mapping
+// between planet pin errors and a carrier eccentricity. Both displace the
+// planet centres in the carrier; a pin error along the carrier tangent
+// e_t = (-sin psi, cos psi), the eccentricity by one vector (x, y) whose
+// tangential part at planet i is -x sin psi_i + y cos psi_i.
+#include "diagnose/candidates/candidate.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <numbers>
+
+namespace pw::diagnose {
+namespace {
+
+model::SimulationConfig stage(int planets) {
+  model::SimulationConfig c;
+  c.stage.planet_count = planets;
+  return c;
+}
+
+TEST(Candidates, PinErrorStartReproducesTheEccentricitysTangentialPattern) {
+  const auto base = stage(3);
+  const Candidate* pin = find_candidate("pin_error");
+  ASSERT_NE(pin, nullptr);
+  const double ecc[2] = {3e-6, -1.5e-6};
+  const auto p = pin->start_from("carrier_runout", ecc, base);
+  ASSERT_EQ(p.size(), 2u);
+  const auto psi = planet_angles_rad(base);
+  auto t = [&](int i) { return -ecc[0] * std::sin(psi[i]) + ecc[1] * std::cos(psi[i]); };
+  EXPECT_NEAR(p[0], t(1) - t(0), 1e-15);
+  EXPECT_NEAR(p[1], t(2) - t(0), 1e-15);
+  // No mapping from unrelated physics.
+  EXPECT_TRUE(pin->start_from("friction", std::vector<double>{0.1}, base).empty());
+}
+
+TEST(Candidates, PinAndEccentricityStartsAreInverseForThreePlanets) {
+  // Three planets: any pin pattern is a common rotation plus a first harmonic, so the
+  // round trip pin -> eccentricity -> pin is exact.
+  const auto base = stage(3);
+  const Candidate* pin = find_candidate("pin_error");
+  const Candidate* ecc = find_candidate("carrier_runout");
+  ASSERT_NE(ecc, nullptr);
+  const std::vector<double> p0 = {0.0, 5e-6};
+  const auto e = ecc->start_from("pin_error", p0, base);
+  ASSERT_EQ(e.size(), 2u);
+  const auto p1 = pin->start_from("carrier_runout", e, base);
+  ASSERT_EQ(p1.size(), 2u);
+  EXPECT_NEAR(p1[0], p0[0], 1e-18);
+  EXPECT_NEAR(p1[1], p0[1], 1e-18);
+}
+
+TEST(Candidates, FourPlanetPinPatternKeepsOnlyItsFirstHarmonic) {
+  // Four planets: the pattern [0, a, 0, a] (second harmonic plus a common offset) has no
+  // first harmonic, so its equivalent eccentricity is zero (least squares).
+  const auto base = stage(4);
+  const Candidate* ecc = find_candidate("carrier_runout");
+  const auto e = ecc->start_from("pin_error", std::vector<double>{2e-6, 0.0, 2e-6}, base);
+  ASSERT_EQ(e.size(), 2u);
+  EXPECT_NEAR(e[0], 0.0, 1e-18);
+  EXPECT_NEAR(e[1], 0.0, 1e-18);
+}
+
+} // namespace
+} // namespace pw::diagnose
