@@ -1,25 +1,25 @@
 #!/bin/sh
-# Benchmark of `planetwear diagnose`: time to diagnose 400 rpm recordings on 1
+# Benchmark of `planetwear diagnose`: time to diagnose 2 s recordings at 800 rpm on 1
 # and 2 OpenMP threads, and where the time goes, from the report's "timing"
 # block (docs/diagnose.md, "Status and measured results").
 #
-#   bench/bench_diagnose.sh [BUILD_DIR] [SECONDS]      (defaults: build, 2.55)
+#   bench/bench_diagnose.sh [BUILD_DIR] [SECONDS]      (defaults: build, 2.0)
 #
 # Two recordings are synthesized with `planetwear synth` as the corpus makes
-# them (seed gear set, 400 rpm, 10 kW, 3.5 carrier revolutions = 2.55 s, 7 %
+# them (seed gear set, 800 rpm, 20 kW, 2 s = 5.5 carrier revolutions, 7 %
 # noise, 30 % accelerometer offsets, solver.time_step_s = 2.5e-6 and a warm-up
 # to periodicity 1e-3): a control (baseline, nuisance fit and noise test only) and a
 # damaged sun tooth (screening, candidate fits, phase variants, joint refit).
 # MPI ranks: not implemented (the diagnosis parallelizes over OpenMP threads).
 set -eu
 BUILD=${1:-build}
-SECONDS_REC=${2:-2.55}
+SECONDS_REC=${2:-2.0}
 PW="$BUILD/apps/planetwear"
 [ -x "$PW" ] || { echo "bench_diagnose: no $PW (build first)" >&2; exit 1; }
 WORK=$(mktemp -d)
 trap 'rm -rf "$WORK"' EXIT
-COMMON="--speed-rpm 400 --power-w 10000 --seconds $SECONDS_REC --noise 0.07 --dc-offset 0.3 --sensor-angle-deg 35
-  --decimate 40 --start-mesh-cycle 100 --set solver.time_step_s=2.5e-6 --set solver.periodicity_tolerance=1e-3"
+COMMON="--speed-rpm 800 --power-w 20000 --seconds $SECONDS_REC --noise 0.07 --dc-offset 0.3 --sensor-angle-deg 35
+  --decimate 40 --start-mesh-cycle 450 --set solver.time_step_s=2.5e-6 --set solver.periodicity_tolerance=1e-3"
 # shellcheck disable=SC2086
 "$PW" synth -q $COMMON --seed 5 -o "$WORK/control.csv"
 # shellcheck disable=SC2086
