@@ -9,7 +9,7 @@
 # them (seed gear set, 800 rpm, 20 kW, 2 s = 5.5 carrier revolutions, 7 %
 # noise, 30 % accelerometer offsets, solver.time_step_s = 2.5e-6 and a warm-up
 # to periodicity 1e-3): a control (baseline, nuisance fit and noise test only) and a
-# damaged sun tooth (screening, candidate fits, phase variants, joint refit).
+# damaged sun tooth (screening, candidate fits, phase variants).
 # MPI ranks: not implemented (the diagnosis parallelizes over OpenMP threads).
 set -eu
 BUILD=${1:-build}
@@ -35,7 +35,7 @@ for REC in control sun_tooth; do
 import json, sys
 r = json.load(open(sys.argv[1])); t = r["timing"]
 wall = float(sys.argv[5]) - float(sys.argv[4])
-phases = ["analysis_s", "baseline_s", "nuisance_s", "screening_s", "candidates_s", "phase_s", "polish_s"]
+phases = ["analysis_s", "baseline_s", "nuisance_s", "screening_s", "candidates_s", "phase_s"]
 split = " ".join(f"{p[:-2]} {t.get(p, 0):.1f}" for p in phases)
 print(f"{sys.argv[2]:9s} threads {sys.argv[3]}: wall {wall:6.1f} s | {t['simulations']} simulations, "
       f"{t['simulate_s_summed']:.1f} s summed | {split} | {r['verdict']} ({r.get('missing_physics')})")

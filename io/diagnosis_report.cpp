@@ -71,7 +71,6 @@ json candidate_json(const dg::CandidateResult& r, const std::vector<std::string>
   j["significant"] = r.significant;
   j["holds_on_held_out"] = r.holds;
   j["parameters_differ_from_absent"] = r.non_null;
-  j["refitted_with_nuisance"] = r.polished;
   j["simulations"] = r.simulations;
   j["seconds"] = r.seconds;
   if (!r.failed.empty()) j["failed"] = r.failed;
@@ -267,8 +266,8 @@ Doc build(const dg::Diagnosis& d, const ReportContext& ctx) {
   const auto& tm = d.timing;
   doc.p("Total " + g(tm.total_s, 3) + " s on " + std::to_string(tm.threads) + " thread(s): order analysis " +
         g(tm.analysis_s, 3) + " s, baseline + fidelity " + g(tm.baseline_s, 3) + " s, nuisance " + g(tm.nuisance_s, 3) +
-        " s, locate " + g(tm.locate_s, 3) + " s, screening " + g(tm.screening_s, 3) + " s, candidates " + g(tm.candidates_s, 3) + " s, phase variants " + g(tm.phase_s, 3) + " s, joint refit " +
-        g(tm.polish_s, 3) + " s, plot data " + g(tm.report_s, 3) + " s; " + std::to_string(tm.simulations) +
+        " s, locate " + g(tm.locate_s, 3) + " s, screening " + g(tm.screening_s, 3) + " s, candidates " + g(tm.candidates_s, 3) + " s, phase variants " + g(tm.phase_s, 3) + " s, plot data " +
+        g(tm.report_s, 3) + " s; " + std::to_string(tm.simulations) +
         " simulations (" + g(tm.simulate_s, 3) + " s summed over threads).");
   return doc;
 }
@@ -463,7 +462,7 @@ void write_diagnosis_report(const std::filesystem::path& dir, const dg::Diagnosi
   const auto& tm = d.timing;
   j["timing"] = {{"total_s", tm.total_s}, {"analysis_s", tm.analysis_s}, {"baseline_s", tm.baseline_s},
                  {"nuisance_s", tm.nuisance_s}, {"locate_s", tm.locate_s}, {"screening_s", tm.screening_s}, {"candidates_s", tm.candidates_s},
-                 {"phase_s", tm.phase_s}, {"polish_s", tm.polish_s}, {"report_s", tm.report_s}, {"simulate_s_summed", tm.simulate_s},
+                 {"phase_s", tm.phase_s}, {"report_s", tm.report_s}, {"simulate_s_summed", tm.simulate_s},
                  {"simulations", tm.simulations}, {"threads", tm.threads}};
   json plots = json::array();
   for (const auto& ps : d.plots) {

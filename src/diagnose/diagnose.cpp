@@ -825,8 +825,8 @@ Diagnosis diagnose(const Recording& recording, const model::SimulationConfig& co
                       r.bic + r.bic_held_out - best_bic);
       r.reason = buf;
     }
-    // 7. The winner: its phase variants at its fitted parameters, then a joint refit with the
-    //    nuisance parameters.
+    // 7. The winner: its phase variants at its fitted parameters (a refit replaces it if it
+    //    fits the fit half better and still counts).
     if (d.winner == 0) {
       CandidateResult& w = d.candidates.front();
       const Candidate* cand = find_candidate(w.name);
@@ -858,19 +858,10 @@ Diagnosis diagnose(const Recording& recording, const model::SimulationConfig& co
           } catch (const SolverError&) {
             r2.fit.chi2 = std::numeric_limits<double>::infinity();
           }
-          if (r2.fit.chi2 < w.fit.chi2) {
+          if (r2.fit.chi2 < w.fit.chi2) assess(r2);
+          if (r2.fit.chi2 < w.fit.chi2 && r2.counts()) {
             r2.evidence_z = w.evidence_z;
             r2.predicted_improvement = w.predicted_improvement;
-            r2.lr_threshold = w.lr_threshold;
-            r2.delta_chi2_fit = d.nuisance.fit.chi2 - r2.fit.chi2;
-            r2.delta_chi2_held_out = d.nuisance.held_out.chi2 - r2.held_out.chi2;
-            r2.significant = w.significant;
-            r2.holds = w.holds;
-            r2.non_null = w.non_null;
-            const double kt = static_cast<double>(d.nuisance.parameters.size() + static_cast<std::size_t>(r2.own_parameters));
-            r2.aic = r2.fit.chi2 + 2.0 * kt;
-            r2.bic = r2.fit.chi2 + kt * ln_m;
-            r2.bic_held_out = r2.held_out.chi2 + kt * ln_m;
             r2.reason = w.reason + "; " + phases[b].label + " among " + std::to_string(phases.size() + 1) + " phases";
             r2.simulations += w.simulations + static_cast<int>(phases.size());
             r2.seconds = w.seconds;
@@ -880,41 +871,6 @@ Diagnosis diagnose(const Recording& recording, const model::SimulationConfig& co
         }
         d.timing.phase_s = seconds_since(t);
       }
-    }
-    if (d.winner == 0 && o.polish) {
-      say("refitting " + d.candidates.front().name + " with the nuisance parameters");
-      t = Clock::now();
-      CandidateResult& w = d.candidates.front();
-      const Candidate* cand = find_candidate(w.name);
-      const Variant v = w.chosen;
-      std::vector<double> x0;
-      for (const auto& p : w.parameters)
-        if (!p.nuisance) x0.push_back(p.value);
-      for (double x : ctx.nuisance_x) x0.push_back(x);
-      CandidateResult j;
-      try {
-        j = fit_model(ctx, cand, v, true, threads, 2, &x0);
-      } catch (const SolverError&) {
-        j.fit.chi2 = std::numeric_limits<double>::infinity();
-      }
-      if (j.fit.chi2 < w.fit.chi2) {
-        j.evidence_z = w.evidence_z;
-        j.lr_threshold = w.lr_threshold;
-        j.delta_chi2_fit = d.nuisance.fit.chi2 - j.fit.chi2;
-        j.delta_chi2_held_out = d.nuisance.held_out.chi2 - j.held_out.chi2;
-        j.significant = w.significant;
-        j.holds = w.holds;
-        j.non_null = w.non_null;
-        const double kt = static_cast<double>(j.parameters.size());
-        j.aic = j.fit.chi2 + 2.0 * kt;
-        j.bic = j.fit.chi2 + kt * ln_m;
-        j.bic_held_out = j.held_out.chi2 + kt * ln_m;
-        j.reason = w.reason + "; refitted jointly with the nuisance parameters";
-        j.polished = true;
-        j.simulations += w.simulations;
-        w = std::move(j);
-      }
-      d.timing.polish_s = seconds_since(t);
     }
     if (d.winner == 0) {
       final_config = &d.candidates.front().config;

@@ -46,7 +46,6 @@ struct DiagnoseOptions {
   double alpha = 0.01;          ///< false-alarm probability of every test
   int max_iterations = 4;       ///< LM Jacobians per fit (the screening step is a good start)
   int max_candidates = 4;       ///< candidates fitted after the screening (sensor-only ones come free)
-  bool polish = false;          ///< refit the winner jointly again (candidates are already fitted jointly)
   bool always_fit_candidates = false;  ///< fit candidates even when the noise test passes
   std::vector<std::string> only_candidates;  ///< restrict the library (tests, expert use); empty = all
   int threads = 0;              ///< OpenMP threads (0: default)
@@ -91,7 +90,6 @@ struct CandidateResult {
   /// converging further, not evidence for this physics.
   bool non_null = false;
   bool counts() const { return significant && holds && non_null; }
-  bool polished = false;                 ///< refitted jointly with the nuisance parameters
   int simulations = 0;
   double seconds = 0;                    ///< wall time of its fit
   std::string lm_message;
@@ -125,7 +123,7 @@ struct ScreenResult {
 struct Timing {
   double total_s = 0, analysis_s = 0, baseline_s = 0, nuisance_s = 0, locate_s = 0, screening_s = 0, candidates_s = 0,
          phase_s = 0,
-         polish_s = 0, report_s = 0;
+         report_s = 0;
   double simulate_s = 0;   ///< summed over threads
   long simulations = 0;
   int threads = 1;
