@@ -259,12 +259,6 @@ void set_fidelity(Context& ctx, const model::SimulationConfig& c, std::shared_pt
   if (centre) *centre = s[0];
 }
 
-std::vector<double> cell_column(const ModelComparison& cmp, const std::vector<double>& all, int) {
-  std::vector<double> out;
-  for (const auto& c : cmp.spectra().layout.cells) out.push_back(all[static_cast<std::size_t>(c.bin)]);
-  return out;
-}
-
 } // namespace
 
 Diagnosis diagnose(const Recording& recording, const model::SimulationConfig& config_in, const DiagnoseOptions& o) {
@@ -1004,7 +998,6 @@ Diagnosis diagnose(const Recording& recording, const model::SimulationConfig& co
       ps.columns = {{"recording", v}};
       d.plots.push_back(std::move(ps));
     }
-    (void)cell_column;
   }
   d.timing.report_s = seconds_since(t);
   d.timing.total_s = seconds_since(t_start);
