@@ -31,6 +31,7 @@ the unloaded planet against its coast flanks, which no real gearbox does
 Usage:
     scripts/make_corpus.py -o corpus            # full corpus (~31 recordings)
     scripts/make_corpus.py -o corpus-quick --quick   # 6 short recordings (ctest)
+    scripts/make_corpus.py -o corpus-bl --only backlash,none   # a subset of the effects
     scripts/make_corpus.py -o corpus --planetwear build/apps/planetwear --jobs 2 --seed 7
 
 Runs with Debian's /usr/bin/python3 (standard library only).
@@ -200,6 +201,8 @@ def main():
     ap.add_argument("--jobs", type=int, default=2, help="synth runs in parallel (default 2)")
     ap.add_argument("--seed", type=int, default=1, help="seed of noise levels, offsets, angles and naming")
     ap.add_argument("--force", action="store_true", help="replace an existing corpus in OUTPUT")
+    ap.add_argument("--only", default="",
+                    help="comma-separated effects to keep (e.g. backlash,none); default: every case")
     args = ap.parse_args()
 
     out = Path(args.output)
@@ -215,6 +218,13 @@ def main():
     (out / "gearset.toml").write_text(gearset_text)
 
     cases = QUICK_CASES if args.quick else CASES
+    if args.only:
+        keep = {e.strip() for e in args.only.split(",") if e.strip()}
+        known = {c[0] for c in cases}
+        if not keep <= known:
+            sys.exit(f"make_corpus: --only: unknown effect(s) {sorted(keep - known)}; allowed: {sorted(known)}")
+    else:
+        keep = None
     operating = QUICK_OPERATING if args.quick else OPERATING
     revolutions = QUICK_CARRIER_REVOLUTIONS if args.quick else CARRIER_REVOLUTIONS
     rng = random.Random(args.seed)
@@ -250,7 +260,8 @@ def main():
         for s in SETTINGS[op]["sets"] + sets:
             job["command"] += ["--set", s]
         job["command"] += ["-o", str(rec_dir / f"{name}.csv")]
-        jobs.append(job)
+        if keep is None or effect in keep:  # drawn for every case: a subset's recordings equal the full corpus's
+            jobs.append(job)
 
     def run(job):
         t0 = time.monotonic()
