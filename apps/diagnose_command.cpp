@@ -12,6 +12,7 @@
 #include "io/io_error.hpp"
 #include "io/recording_reader.hpp"
 #include "io/recording_writer.hpp"
+#include "sweep/simulation_pool.hpp"
 
 #include <CLI/CLI.hpp>
 
@@ -19,6 +20,11 @@
 #include <cstdlib>
 #include <filesystem>
 #include <iostream>
+#include <memory>
+
+#ifdef _OPENMP
+#include <omp.h>
+#endif
 
 #ifndef PLANETWEAR_SOURCE_DIR
 #define PLANETWEAR_SOURCE_DIR ""
@@ -67,7 +73,10 @@ CLI::App* add_diagnose_command(CLI::App& app, DiagnoseCommandOptions& o) {
       ->check(CLI::ExistingFile);
   d->add_option("--meta", o.meta, "JSON sidecar describing the recording (default: the recording's name with .json)");
   d->add_option("-o,--output", o.output, "report directory (created if missing)")->required();
-  d->add_option("--threads", o.threads, "OpenMP threads for simulations in parallel (default: OMP_NUM_THREADS or all)");
+  d->add_option("--threads", o.threads,
+                "OpenMP threads simulating in parallel on rank 0 (default: OMP_NUM_THREADS or all); under "
+                "`mpirun -np P` every other rank adds one simulation slot (use --threads 1 with one rank per core)")
+      ->check(CLI::Range(0, 1024));
   d->add_option("--alpha", o.alpha, "false-alarm probability of the noise and improvement tests (default 0.01)")
       ->check(CLI::Range(1e-9, 0.5));
   d->add_option("--max-candidates", o.max_candidates, "candidates fitted after the nuisance parameters (default 4)")
@@ -84,9 +93,16 @@ CLI::App* add_diagnose_command(CLI::App& app, DiagnoseCommandOptions& o) {
   return d;
 }
 
-int run_diagnose(const DiagnoseCommandOptions& o, const std::string& command_line) {
+namespace {
+
+struct Inputs {
+  model::SimulationConfig config;
+  diagnose::Recording recording;
+};
+
+/// Configuration (+ --set), sidecar and recording, validated; throws InputError naming the option.
+Inputs read_inputs(const DiagnoseCommandOptions& o) {
   namespace fs = std::filesystem;
-  // 1. Inputs.
   model::SimulationConfig config = o.common.config.empty() ? model::SimulationConfig{} : io::read_config(o.common.config);
   io::apply_overrides(config, o.common.assignments);
   const fs::path meta_path = o.meta.empty() ? io::sidecar_path(o.recording) : fs::path(o.meta);
@@ -96,19 +112,41 @@ int run_diagnose(const DiagnoseCommandOptions& o, const std::string& command_lin
   for (const auto& name : o.candidates)
     require(diagnose::find_candidate(name) != nullptr, "--candidates", "unknown candidate '", name, "'");
   const io::RecordingMeta meta = io::read_recording_meta(meta_path);
-  const diagnose::Recording rec = io::read_recording(o.recording, meta, config);
+  diagnose::Recording rec = io::read_recording(o.recording, meta, config);
+  return Inputs{std::move(config), std::move(rec)};
+}
 
-  // 2. Diagnose.
+diagnose::CompareOptions compare_options(const DiagnoseCommandOptions& o) {
+  diagnose::CompareOptions co;
+  co.alpha = o.alpha;
+  // The simulation cache keys on the complete configuration (every key of the TOML schema).
+  co.config_key = [](const model::SimulationConfig& c) { return io::to_toml(c); };
+  return co;
+}
+
+/// Rank 0: the diagnosis (simulations through `remote` when other ranks serve) and the report.
+void diagnose_and_report(const DiagnoseCommandOptions& o, const std::string& command_line,
+                         const sweep::RemoteSimulation& remote, int ranks) {
+  namespace fs = std::filesystem;
+  const Inputs in = read_inputs(o);
+
+  // 2. Diagnose. One simulation slot per local thread plus one per serving rank.
   diagnose::DiagnoseOptions opt;
   opt.alpha = o.alpha;
   opt.max_candidates = o.max_candidates;
-  opt.threads = o.threads;
+  int local_threads = o.threads;
+#ifdef _OPENMP
+  if (local_threads <= 0) local_threads = omp_get_max_threads();
+#else
+  local_threads = 1;
+#endif
+  opt.threads = local_threads + (ranks - 1);
   opt.only_candidates = o.candidates;
   opt.always_fit_candidates = o.always_fit;
-  // The simulation cache keys on the complete configuration (every key of the TOML schema).
-  opt.compare.config_key = [](const model::SimulationConfig& c) { return io::to_toml(c); };
+  opt.compare = compare_options(o);
+  opt.compare.remote = remote;
   if (!o.common.quiet) opt.progress = [](const std::string& s) { std::fprintf(stderr, "[diagnose] %s\n", s.c_str()); };
-  const diagnose::Diagnosis d = diagnose::diagnose(rec, config, opt);
+  const diagnose::Diagnosis d = diagnose::diagnose(in.recording, in.config, opt);
 
   // 3. Report.
   io::ReportContext ctx;
@@ -118,6 +156,7 @@ int run_diagnose(const DiagnoseCommandOptions& o, const std::string& command_lin
   ctx.version = version_string();
   ctx.plots_available = false;
   ctx.plots_note = "plots not drawn yet";
+  ctx.ranks = ranks;
   const fs::path dir(o.output);
   io::write_diagnosis_report(dir, d, ctx);
   if (o.no_plots) {
@@ -141,6 +180,20 @@ int run_diagnose(const DiagnoseCommandOptions& o, const std::string& command_lin
   if (!o.common.quiet)
     std::fprintf(stderr, "wrote %s/report.{md,html,json}%s in %.1f s\n", o.output.c_str(),
                  ctx.plots_available ? " and plots" : "", d.timing.total_s);
+}
+
+} // namespace
+
+int run_diagnose(const DiagnoseCommandOptions& o, const std::string& command_line) {
+  // A serving rank (mpirun -np P, P > 1) sets up the same comparison and simulates on request.
+  const auto make_evaluate = [&o]() -> sweep::Evaluate {
+    auto in = std::make_shared<const Inputs>(read_inputs(o));
+    auto cmp = std::make_shared<const diagnose::ModelComparison>(in->recording, in->config, compare_options(o));
+    return [in, cmp](const model::SimulationConfig& c, bool keep) { return cmp->evaluate(c, keep); };
+  };
+  sweep::run_with_simulation_pool(
+      [&](const sweep::RemoteSimulation& remote, int ranks) { diagnose_and_report(o, command_line, remote, ranks); },
+      make_evaluate);
   return 0;
 }
 

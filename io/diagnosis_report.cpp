@@ -264,7 +264,8 @@ Doc build(const dg::Diagnosis& d, const ReportContext& ctx) {
   for (const auto& ps : d.plots) doc.img(series_file_stem(ps.name) + ".png");
   doc.h2("Time");
   const auto& tm = d.timing;
-  doc.p("Total " + g(tm.total_s, 3) + " s on " + std::to_string(tm.threads) + " thread(s): order analysis " +
+  doc.p("Total " + g(tm.total_s, 3) + " s on " + std::to_string(ctx.ranks) + " rank(s), " +
+        std::to_string(tm.threads) + " simulation slot(s): order analysis " +
         g(tm.analysis_s, 3) + " s, baseline + fidelity " + g(tm.baseline_s, 3) + " s, nuisance " + g(tm.nuisance_s, 3) +
         " s, locate " + g(tm.locate_s, 3) + " s, screening " + g(tm.screening_s, 3) + " s, candidates " + g(tm.candidates_s, 3) + " s, phase variants " + g(tm.phase_s, 3) + " s, plot data " +
         g(tm.report_s, 3) + " s; " + std::to_string(tm.simulations) +
@@ -463,7 +464,7 @@ void write_diagnosis_report(const std::filesystem::path& dir, const dg::Diagnosi
   j["timing"] = {{"total_s", tm.total_s}, {"analysis_s", tm.analysis_s}, {"baseline_s", tm.baseline_s},
                  {"nuisance_s", tm.nuisance_s}, {"locate_s", tm.locate_s}, {"screening_s", tm.screening_s}, {"candidates_s", tm.candidates_s},
                  {"phase_s", tm.phase_s}, {"report_s", tm.report_s}, {"simulate_s_summed", tm.simulate_s},
-                 {"simulations", tm.simulations}, {"threads", tm.threads}};
+                 {"simulations", tm.simulations}, {"threads", tm.threads}, {"ranks", ctx.ranks}};
   json plots = json::array();
   for (const auto& ps : d.plots) {
     json cols = json::array();

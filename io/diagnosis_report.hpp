@@ -25,6 +25,7 @@ struct ReportContext {
   std::string recording_path, config_path, command_line, version;
   bool plots_available = true;  ///< false: say in the reports that no PNGs were drawn
   std::string plots_note;       ///< why not, if not
+  int ranks = 1;                ///< MPI ranks that simulated (rank 0's threads + one per other rank)
 };
 
 /// Writes report.json, data/*.csv, report.md and report.html into `dir`

@@ -4,6 +4,7 @@
 #include "campaign.hpp"
 #include "case_record.hpp"
 #include "journal.hpp"
+#include "mpi_wait.hpp"
 
 #include "core/error.hpp"
 #include "io/atomic_output.hpp"
@@ -38,8 +39,6 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 using RecordPtr = std::shared_ptr<const CaseRecord>;
-
-constexpr auto kPollInterval = std::chrono::milliseconds(1);
 
 enum Tag : int { kTagReady = 1, kTagJob = 2, kTagResult = 3, kTagStop = 4 };
 
@@ -98,35 +97,6 @@ std::vector<char> run_case(const Job& job, int rank) {
     bytes = serialize(f);
   }
   return bytes;
-}
-
-// --- polite MPI waiting (no busy spinning: ranks may share cores) -------------
-
-void wait_polite(MPI_Request& request) {
-  int done = 0;
-  for (;;) {
-    MPI_Test(&request, &done, MPI_STATUS_IGNORE);
-    if (done) return;
-    std::this_thread::sleep_for(kPollInterval);
-  }
-}
-
-MPI_Status probe_polite(int source) {
-  int flag = 0;
-  MPI_Status status;
-  for (;;) {
-    MPI_Iprobe(source, MPI_ANY_TAG, MPI_COMM_WORLD, &flag, &status);
-    if (flag) return status;
-    std::this_thread::sleep_for(kPollInterval);
-  }
-}
-
-std::vector<char> receive(const MPI_Status& status) {
-  int count = 0;
-  MPI_Get_count(&status, MPI_CHAR, &count);
-  std::vector<char> buffer(static_cast<std::size_t>(count));
-  MPI_Recv(buffer.data(), count, MPI_CHAR, status.MPI_SOURCE, status.MPI_TAG, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
-  return buffer;
 }
 
 // --- ranks 1..P-1 ---------------------------------------------------------------

@@ -53,6 +53,7 @@
 #include <map>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -69,6 +70,11 @@ struct CompareOptions {
   /// Identity of a configuration for the simulation cache (e.g. io::to_toml);
   /// empty: a built-in key over the fields the diagnosis varies.
   std::function<std::string(const model::SimulationConfig&)> config_key;
+  /// Runs a prepared simulation elsewhere (another MPI rank: sweep/simulation_pool.hpp) and
+  /// returns what ModelComparison::evaluate would return there, or nullopt when it has no
+  /// idle capacity (the simulation then runs in this process). Empty: always here. Called
+  /// concurrently from the diagnosis's threads. Errors are rethrown as the same types.
+  std::function<std::optional<ModelSpectra>(const model::SimulationConfig&, bool keep_sensor_inputs)> remote;
 };
 
 /// One model scored on one window.
@@ -103,6 +109,9 @@ public:
   /// its spectra. keep_sensor_inputs: also keep the ring forces for sensor-only changes.
   std::shared_ptr<const ModelSpectra> simulate(const model::SimulationConfig& config,
                                                bool keep_sensor_inputs = false) const;
+  /// validate + simulate + model_spectra of an already prepared configuration (what
+  /// simulate() runs on a cache miss; a remote rank runs this for its requests). Uncached.
+  ModelSpectra evaluate(const model::SimulationConfig& prepared, bool keep_sensor_inputs) const;
   long simulations() const;
   double simulation_seconds() const;
 
