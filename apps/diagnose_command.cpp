@@ -22,9 +22,6 @@
 #include <iostream>
 #include <memory>
 
-#ifdef _OPENMP
-#include <omp.h>
-#endif
 
 #ifndef PLANETWEAR_SOURCE_DIR
 #define PLANETWEAR_SOURCE_DIR ""
@@ -134,13 +131,8 @@ void diagnose_and_report(const DiagnoseCommandOptions& o, const std::string& com
   diagnose::DiagnoseOptions opt;
   opt.alpha = o.alpha;
   opt.max_candidates = o.max_candidates;
-  int local_threads = o.threads;
-#ifdef _OPENMP
-  if (local_threads <= 0) local_threads = omp_get_max_threads();
-#else
-  local_threads = 1;
-#endif
-  opt.threads = local_threads + (ranks - 1);
+  opt.threads = o.threads;
+  opt.remote_slots = ranks - 1;
   opt.only_candidates = o.candidates;
   opt.always_fit_candidates = o.always_fit;
   opt.compare = compare_options(o);

@@ -272,6 +272,7 @@ Diagnosis diagnose(const Recording& recording, const model::SimulationConfig& co
 #else
   threads = 1;
 #endif
+  threads += std::max(0, o.remote_slots);
   Diagnosis d;
   d.timing.threads = threads;
 

@@ -49,6 +49,9 @@ struct DiagnoseOptions {
   bool always_fit_candidates = false;  ///< fit candidates even when the noise test passes
   std::vector<std::string> only_candidates;  ///< restrict the library (tests, expert use); empty = all
   int threads = 0;              ///< OpenMP threads (0: default)
+  /// Simulation slots served elsewhere (compare.remote, e.g. other MPI ranks): that many more
+  /// simulations run side by side, their threads mostly waiting.
+  int remote_slots = 0;
   /// Progress messages; may be empty.
   std::function<void(const std::string&)> progress;
 };
