@@ -28,7 +28,7 @@ COMMON="--speed-rpm 800 --power-w 20000 --seconds $SECONDS_REC --noise 0.07 --dc
 "$PW" synth -q $COMMON --seed 6 --set 'imperfections.teeth=[{body="sun",tooth=5,stiffness_factor=0.6}]' \
   -o "$WORK/sun_tooth.csv"
 MPIRUN=${MPIEXEC:-mpiexec}
-if "$MPIRUN" --version 2>&1 | grep -q -i "open mpi"; then
+if "$MPIRUN" --version 2>&1 | grep -q -i -e "Open MPI" -e "OpenRTE" -e "open-mpi.org"; then
   MPIRUN="$MPIRUN --oversubscribe"
   [ "$(id -u)" -ne 0 ] || MPIRUN="$MPIRUN --allow-run-as-root"
 fi
