@@ -22,7 +22,6 @@
 #include <iostream>
 #include <memory>
 
-
 #ifndef PLANETWEAR_SOURCE_DIR
 #define PLANETWEAR_SOURCE_DIR ""
 #endif

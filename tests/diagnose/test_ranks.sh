@@ -3,7 +3,9 @@
 # recording (1200 rpm, 20 kW, 5 % noise) diagnosed without mpirun on one thread and
 # with `mpirun -np 2 --threads 1` (rank 1 serves simulations) gives identical
 # report.json files (timing and command line aside), the -np 2 run reports 2 ranks,
-# and the fault is found (so candidate screening and fits ran across ranks).
+# and the fault is found (so candidate screening and fits ran across ranks). Bad input
+# under mpirun: rank 0 names the option, the job exits non-zero, nothing is written
+# and no rank hangs.
 # Usage: test_ranks.sh <planetwear> <mpiexec> <workdir> <tests/sweep>
 set -eu
 PW=$1; T=$4
@@ -15,6 +17,10 @@ rm -rf "$3"; mkdir -p "$3"; cd "$3"
   --sensor-angle-deg 40 --decimate 40 --start-mesh-cycle 450 --set solver.time_step_s=2.5e-6 \
   --set solver.periodicity_tolerance=1e-3 --set 'imperfections.teeth=[{body="sun",tooth=5,stiffness_factor=0.6}]' \
   -o rec.csv
+run $MPIRUN -np 2 "$PW" diagnose -q -r rec.csv --meta missing.json -o bad > bad.log 2>&1
+[ "$RC" -ne 0 ] || fail "missing sidecar under mpirun: exit 0"
+grep -q -- "--meta" bad.log || fail "missing sidecar under mpirun: no message naming --meta"
+[ ! -e bad ] || fail "missing sidecar under mpirun: the report directory was written"
 D="diagnose -r rec.csv --candidates stiffness_level,damping_level,sun_tooth_damage --no-plots -q --threads 1"
 run env OMP_NUM_THREADS=1 "$PW" $D -o np1
 [ "$RC" -eq 0 ] || fail "-np 1: exit $RC"
