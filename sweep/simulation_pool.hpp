@@ -13,7 +13,7 @@
 // Results do not depend on the number of ranks: a configuration travels as TOML
 // (exact round trip) and every rank computes bit-identical spectra from it, which
 // travel back as raw doubles; the diagnosis's decisions only see those spectra.
-// The physics library stays free of MPI: this is the only diagnose file with mpi.h.
+// The physics library stays free of MPI: simulation_pool.cpp is the only diagnose code using it.
 #pragma once
 
 #include "diagnose/order_analysis.hpp"
