@@ -221,8 +221,7 @@ std::vector<char> encode_spectra(const diagnose::ModelSpectra& s) {
   write_matrix(w, s.ring_force);
   w.f64s(s.carrier_angle);
   w.f64s(s.planet_angles_rad);
-  w.f64s(s.angle_phi);
-  w.f64s(s.angle_weight);
+  w.f64s(s.angle_theta);
   return w.take();
 }
 
@@ -237,8 +236,7 @@ diagnose::ModelSpectra decode_spectra(std::span<const char> bytes) {
   s.ring_force = read_matrix(r);
   s.carrier_angle = r.f64s();
   s.planet_angles_rad = r.f64s();
-  s.angle_phi = r.f64s();
-  s.angle_weight = r.f64s();
+  s.angle_theta = r.f64s();
   return s;
 }
 

@@ -4,6 +4,7 @@
 #include "diagnose/features.hpp"
 #include "model/sensor.hpp"
 #include "signal/fft.hpp"
+#include "signal/resample.hpp"
 #include "signal/spectrum.hpp"
 
 #include <algorithm>
@@ -599,11 +600,10 @@ namespace {
 
 /// The model's angle reference over the compared window, as the recording's: the integral of
 /// the same speed channel averaged over one mesh period (or uniform time when the recording's
-/// angle came from a tacho or a constant speed). Returns N (samples in R revolutions), the
-/// deviation phi_j = theta_j - 2 pi R j / N and the trapezoid weights relative to uniform.
+/// angle came from a tacho or a constant speed). theta_j [rad] from theta_0 = 0 at the record's
+/// first sample up to a few samples past 2 pi R (the interpolation stencil's right end).
 struct ModelAngle {
-  std::size_t N = 0;
-  std::vector<double> phi, weight;
+  std::vector<double> theta;
 };
 
 ModelAngle model_angle(const model::SimulationResult& r, const RecordingSpectra& s, const model::StageSpec& st) {
@@ -631,51 +631,42 @@ ModelAngle model_angle(const model::SimulationResult& r, const RecordingSpectra&
   }
   const double end = 2 * kPi * R;
   const std::size_t i = static_cast<std::size_t>(std::lower_bound(th.begin(), th.end(), end) - th.begin());
-  if (i >= n)
+  constexpr std::size_t kStencilTail = 3;  // samples past 2 pi R that the cubic stencil may read
+  if (i + kStencilTail > n)
     throw SolverError(detail::concat("diagnose: the simulated record covers ", th.back() / (2 * kPi),
                                      " carrier revolutions, fewer than the ", R, " compared"));
-  const double js = static_cast<double>(i - 1) + (end - th[i - 1]) / (th[i] - th[i - 1]);
-  ModelAngle a;
-  a.N = static_cast<std::size_t>(std::llround(js));
-  const double step = end / static_cast<double>(a.N);
-  a.phi.resize(a.N);
-  a.weight.resize(a.N);
-  for (std::size_t j = 0; j < a.N; ++j) {
-    a.phi[j] = th[j] - step * static_cast<double>(j);
-    const double lo = j > 0 ? th[j - 1] : th[a.N - 1] - end, hi = th[j + 1];
-    a.weight[j] = 0.5 * (hi - lo) / step;
-  }
-  return a;
+  th.resize(i + kStencilTail);
+  return ModelAngle{std::move(th)};
 }
 
-/// |c_k|, k = 0 .. max_bin, of the N samples of y against the angle `a`:
-/// c_k = (1/N) sum_j y_j w_j e^{-2 pi i j k / N} e^{-i q phi_j}, q = k / R, expanded to
-/// fourth order in q phi (|q phi| stays below ~0.1 at a controlled speed).
+/// |c_k|, k = 0 .. max_bin, of y (sampled at the angles a.theta) over its first R carrier
+/// revolutions: y is resampled onto a uniform angle grid of about as many points as it has
+/// samples there (cubic Lagrange; the model is sampled far above the analysed band, so the
+/// interpolation error is negligible there) and transformed, c_k = (1/M) sum_j y(theta_j)
+/// e^{-2 pi i j k / M}. *Why resampling, not an expansion in the angle deviation:* a torque
+/// ripple of a few percent swings the angle by ~0.01 rad, q phi then reaches tens of radians at
+/// the analysed orders q, where no truncated series holds.
 std::vector<double> angle_spectrum(std::span<const double> y, const ModelAngle& a, int R, int max_bin) {
-  const std::size_t N = a.N;
-  double mean = 0, wsum = 0;
-  for (std::size_t j = 0; j < N; ++j) mean += y[j] * a.weight[j], wsum += a.weight[j];
-  mean /= wsum;
-  signal::RealFft fft(N);
-  constexpr int kTerms = 5;
-  std::vector<std::vector<std::complex<double>>> Y(kTerms, std::vector<std::complex<double>>(fft.bins()));
-  std::vector<double> z(N);
-  bool any_phi = false;
-  for (double p : a.phi) any_phi = any_phi || p != 0;
-  for (int m = 0; m < (any_phi ? kTerms : 1); ++m) {
-    for (std::size_t j = 0; j < N; ++j) z[j] = (y[j] - mean) * a.weight[j] * std::pow(a.phi[j], m);
-    fft.forward(z, Y[static_cast<std::size_t>(m)]);
-  }
+  const std::size_t n = a.theta.size();
+  const std::size_t inside = static_cast<std::size_t>(
+      std::lower_bound(a.theta.begin(), a.theta.end(), 2 * kPi * R) - a.theta.begin());
+  const int per_rev = std::max(2 * (max_bin / R + 1), static_cast<int>((inside + R / 2) / static_cast<std::size_t>(R)));
+  const std::size_t M = static_cast<std::size_t>(per_rev) * static_cast<std::size_t>(R);
+  std::vector<double> index(n);
+  for (std::size_t j = 0; j < n; ++j) index[j] = static_cast<double>(j);
+  const auto u = signal::angular_resample(index, y.first(n), a.theta, per_rev, signal::Interpolation::Cubic);
+  if (u.values.size() < M)
+    throw SolverError(detail::concat("diagnose: resampled record has ", u.values.size(), " points, fewer than ", M));
+  std::vector<double> z(u.values.begin(), u.values.begin() + static_cast<long>(M));
+  double mean = 0;
+  for (double v : z) mean += v;
+  mean /= static_cast<double>(M);
+  for (double& v : z) v -= mean;
+  signal::RealFft fft(M);
+  std::vector<std::complex<double>> Y(fft.bins());
+  fft.forward(z, Y);
   std::vector<double> out(static_cast<std::size_t>(max_bin) + 1, 0.0);
-  for (std::size_t k = 1; k < out.size() && k < fft.bins(); ++k) {
-    const double q = static_cast<double>(k) / R;
-    std::complex<double> c = 0, f = 1;  // f = (-i q)^m / m!
-    for (int m = 0; m < (any_phi ? kTerms : 1); ++m) {
-      c += f * Y[static_cast<std::size_t>(m)][k];
-      f *= std::complex<double>(0, -q) / static_cast<double>(m + 1);
-    }
-    out[k] = std::abs(c) / static_cast<double>(N);
-  }
+  for (std::size_t k = 1; k < out.size() && k < Y.size(); ++k) out[k] = std::abs(Y[k]) / static_cast<double>(M);
   return out;
 }
 
@@ -685,7 +676,7 @@ ModelSpectra model_spectra(const model::SimulationResult& r, const Recording& re
                            const model::SimulationConfig& config, bool keep) {
   const int R = s.layout.revolutions;
   const ModelAngle ang = model_angle(r, s, config.stage);
-  const std::size_t N = ang.N;
+  const std::size_t N = ang.theta.size();
   const model::Channel* ca = r.find("carrier/angle");
   ModelSpectra m;
   m.time_step_s = r.time_step_s;
@@ -731,8 +722,7 @@ ModelSpectra model_spectra(const model::SimulationResult& r, const Recording& re
     for (const auto& f : forces) m.ring_force.emplace_back(f.begin(), f.end());
     m.carrier_angle.assign(ca->values.begin(), ca->values.begin() + static_cast<long>(N));
     m.planet_angles_rad = psi;
-    m.angle_phi = ang.phi;
-    m.angle_weight = ang.weight;
+    m.angle_theta = ang.theta;
   }
   return m;
 }
@@ -746,11 +736,7 @@ std::vector<double> housing_spectrum(const ModelSpectra& m, const model::SensorS
   std::vector<std::span<const double>> f;
   for (const auto& v : m.ring_force) f.emplace_back(v);
   const auto y = model::housing_acceleration_history(s, m.planet_angles_rad, m.carrier_angle, f);
-  ModelAngle a;
-  a.N = y.size();
-  a.phi = m.angle_phi;
-  a.weight = m.angle_weight;
-  return angle_spectrum(y, a, revolutions, max_bin);
+  return angle_spectrum(y, ModelAngle{m.angle_theta}, revolutions, max_bin);
 }
 
 } // namespace pw::diagnose

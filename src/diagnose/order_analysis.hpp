@@ -184,7 +184,7 @@ struct ModelSpectra {
   std::vector<std::vector<double>> ring_force;
   std::vector<double> carrier_angle;
   std::vector<double> planet_angles_rad;
-  std::vector<double> angle_phi, angle_weight;  ///< the angle reference (see model_spectra)
+  std::vector<double> angle_theta;  ///< the angle reference at each kept sample [rad] (see model_spectra)
 };
 
 /// Model channel that predicts a recording channel ("sun/speed", ...; "" for

@@ -20,8 +20,7 @@ diagnose::ModelSpectra sample_spectra() {
   s.ring_force = {{1.0, -2.0}, {3.5}, {}};
   s.carrier_angle = {0.0, std::nextafter(1.0, 2.0)};
   s.planet_angles_rad = {0.0, 2.0943951023931953, 4.1887902047863905};
-  s.angle_phi = {1e-9};
-  s.angle_weight = {};
+  s.angle_theta = {0.0, 1e-9};
   return s;
 }
 
@@ -38,8 +37,7 @@ TEST(SimulationPool, SpectraSurviveTheRoundTripBitForBit) {
   EXPECT_EQ(a.ring_force, b.ring_force);
   EXPECT_EQ(a.carrier_angle, b.carrier_angle);
   EXPECT_EQ(a.planet_angles_rad, b.planet_angles_rad);
-  EXPECT_EQ(a.angle_phi, b.angle_phi);
-  EXPECT_EQ(a.angle_weight, b.angle_weight);
+  EXPECT_EQ(a.angle_theta, b.angle_theta);
 }
 
 TEST(SimulationPool, TruncatedBytesAreRejectedNotMisread) {
