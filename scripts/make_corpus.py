@@ -102,8 +102,8 @@ SETTINGS = {"A": SLOW, "B": SLOW, "C": SLOW, "D": FAST, "E": FAST, "Q1": QUICK, 
 
 
 BACKLASH_NOTE = "weak: with zero backlash the ring-mesh force reverses only briefly at this speed"
-RIPPLE_NOTE = ("the simulator's warm-up fixes the load torque after 3 mesh cycles, biased by the ripple: the mean "
-               "speed settles 4-9 % below nominal")
+RIPPLE_NOTE = ("the sun speed swings by about the ripple fraction at its order (no input inertia); the mean speed "
+               "holds the nominal (400 rpm case: 399.94 rpm, 300 rpm case: 300.004 rpm, measured 2026-11-24)")
 
 
 def teeth(body, tooth, factor, planet=0):
