@@ -56,6 +56,36 @@ void NewmarkSolver::factor_jacobian() {
 }
 
 int NewmarkSolver::step(NewmarkState& s) {
+  const int it = attempt(s);
+  return it >= 0 ? it : halved_steps(s, 1);
+}
+
+int NewmarkSolver::halved_steps(NewmarkState& s, int depth) {
+  if (depth > kMaxHalvings)
+    throw SolverError(detail::concat("Newton iteration of the Newmark step at t = ", s.t + dt_, " s did not converge in ",
+                                     newton_.max_iterations, " iterations, nor in steps ", 1 << kMaxHalvings,
+                                     " times shorter (set solver.time_step_s smaller or raise "
+                                     "solver.newton_max_iterations)"));
+  // The iteration matrix belongs to the step length: refactorized on the way in and out.
+  struct Restore {
+    NewmarkSolver& solver;
+    double dt;
+    ~Restore() {
+      solver.dt_ = dt;
+      solver.have_lu_ = false;
+    }
+  } restore{*this, dt_};
+  dt_ *= 0.5;
+  have_lu_ = false;
+  int iterations = 0;
+  for (int half = 0; half < 2; ++half) {
+    const int it = attempt(s);
+    iterations += it >= 0 ? it : halved_steps(s, depth + 1);
+  }
+  return iterations;
+}
+
+int NewmarkSolver::attempt(NewmarkState& s) {
   const double dt = dt_;
   const double b = scheme_.beta, gm = scheme_.gamma;
   const double t1 = s.t + dt;
@@ -112,10 +142,7 @@ int NewmarkSolver::step(NewmarkState& s) {
     }
     fresh = false;
   }
-  throw SolverError(detail::concat("Newton iteration of the Newmark step at t = ", t1, " s did not converge in ",
-                                   newton_.max_iterations,
-                                   " iterations (set solver.time_step_s smaller or raise "
-                                   "solver.newton_max_iterations)"));
+  return -1;
 }
 
 } // namespace pw::dynamics

@@ -63,13 +63,25 @@ public:
 
   /// Sets state.a from M a = g(t, q, v).
   void initialize(NewmarkState& state);
-  /// Advances one step; returns the Newton iterations used. Throws
-  /// pw::SolverError if Newton does not converge or the state is not finite.
+  /// Advances one step; returns the Newton iterations used. If Newton does not
+  /// converge, the step is taken as two half steps (recursively, down to
+  /// dt / 2^kMaxHalvings). *Why:* with backlash the mesh force jumps when teeth
+  /// separate (the viscous term c v drops to zero), and a step that straddles
+  /// the jump may have no consistent root; a shorter step ends before or after
+  /// it. Steps that converge are untouched, so results without such events do
+  /// not change. Throws pw::SolverError if even the shortest steps fail or the
+  /// state is not finite.
   int step(NewmarkState& state);
+  static constexpr int kMaxHalvings = 6;
 
   double time_step() const { return dt_; }
 
 private:
+  /// One Newmark step of the current dt_: Newton iterations used, or -1 (state untouched)
+  /// if Newton did not converge.
+  int attempt(NewmarkState& state);
+  /// Two steps of dt_ / 2 (each halved again if it fails); depth counts the halvings.
+  int halved_steps(NewmarkState& state, int depth);
   /// Evaluates R(a_) into r_ (and K_, C_ when `tangents`); returns |R|_inf,
   /// sets the force scale.
   double residual(double t1, double& scale, bool tangents);
