@@ -59,6 +59,13 @@ LmResult levenberg_marquardt(const ResidualFn& f, const std::vector<Bound>& boun
   res.evaluations = 1;
   double cost = norm2(r);
   res.initial_cost = cost;
+  if (p == 0) {  // nothing to fit (e.g. --candidates without the nuisance candidates): the model as it is
+    res.residual = std::move(r);
+    res.cost = cost;
+    res.converged = true;
+    res.message = "no parameters";
+    return res;
+  }
   const std::size_t m = r.size();
   double lambda = o.lambda0;
   Eigen::MatrixXd J(static_cast<Eigen::Index>(m), static_cast<Eigen::Index>(p));

@@ -61,5 +61,24 @@ TEST(Fit, StaysInsideTheBoxAndFlagsTheBound) {
   EXPECT_TRUE(r.at_bound[0]);
 }
 
+TEST(Fit, WithNoParametersReturnsTheModelAsItIsWithoutIterating) {
+  // `diagnose --candidates backlash` leaves no nuisance parameters: the fit is one
+  // evaluation (this crashed in the covariance step before).
+  int calls = 0;
+  ResidualFn f = [&](const std::vector<double>& x, const std::vector<double>*) {
+    ++calls;
+    EXPECT_TRUE(x.empty());
+    return std::vector<double>{3.0, 4.0};
+  };
+  LmOptions o;
+  o.threads = 1;
+  const LmResult r = levenberg_marquardt(f, {}, {}, o);
+  EXPECT_EQ(calls, 1);
+  EXPECT_DOUBLE_EQ(r.cost, 25.0);
+  EXPECT_TRUE(r.x.empty());
+  EXPECT_TRUE(r.std_error.empty());
+  EXPECT_TRUE(r.converged);
+}
+
 } // namespace
 } // namespace pw::diagnose
