@@ -331,6 +331,8 @@ void visit_config(V& v, Config& c) {
   v.field("warmup_max_mesh_cycles", c.solver.warmup_max_mesh_cycles, "warm-up limit [mesh periods]");
   v.field("periodicity_tolerance", c.solver.periodicity_tolerance, "steady-state criterion [-]");
   v.field("record_mesh_cycles", c.solver.record_mesh_cycles, "recorded mesh periods after warm-up [-]");
+  v.field("engagement_smoothing", c.solver.engagement_smoothing,
+          "true: tooth pairs enter and leave contact over one time step (sub-step engagement instant)");
 
   v.section("wear");
   v.field("mesh_cycles", c.wear.mesh_cycles, "mesh cycles to wear the stage through [-]; 0 = no wear (seed: 2e5)");

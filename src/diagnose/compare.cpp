@@ -49,7 +49,7 @@ std::string builtin_config_key(const model::SimulationConfig& c) {
   const auto& v = c.solver;
   add(static_cast<int>(v.level)); add(v.time_step_s); add(v.min_steps_per_mesh); add(v.steps_per_mode_period);
   add(v.newmark_beta); add(v.newmark_gamma); add(v.newton_tolerance); add(v.newton_max_iterations);
-  add(v.warmup_max_mesh_cycles); add(v.periodicity_tolerance); add(v.record_mesh_cycles);
+  add(v.warmup_max_mesh_cycles); add(v.periodicity_tolerance); add(v.record_mesh_cycles); add(v.engagement_smoothing);
   k += "|";
   add(c.sensor.angle_rad); add(c.sensor.gain_m_s2_per_N); add(c.sensor.window_width_rad);
   add(static_cast<int>(c.sensor.window));

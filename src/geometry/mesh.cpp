@@ -432,17 +432,25 @@ std::vector<PlanetPhases> mesh_phases(const model::StageSpec& spec, const StageG
 }
 
 int pairs_in_contact(const MeshGeometry& mesh, const MeshPhase& phase, int teeth_a, int teeth_b, double s_m,
-                     std::vector<ContactPair>& out) {
+                     std::vector<ContactPair>& out, double margin_m) {
   out.clear();
   const double pb = mesh.base_pitch_m;
   const double u = phase.xi0_m + s_m;  // xi_n = u - n p_b
-  const double n_first = std::ceil((u - mesh.end_active_m) / pb);
-  const double n_last = std::floor((u - mesh.start_active_m) / pb);
+  const double n_first = std::ceil((u - mesh.end_active_m - margin_m) / pb);
+  const double n_last = std::floor((u - mesh.start_active_m + margin_m) / pb);
   for (double n = n_first; n <= n_last; n += 1.0) {
     const long long k = static_cast<long long>(n);
     out.push_back({u - n * pb, wrap_index(phase.tooth_a0 + k, teeth_a), wrap_index(phase.tooth_b0 + k, teeth_b)});
   }
   return static_cast<int>(out.size());
+}
+
+double engagement_weight(const MeshGeometry& mesh, double xi_m, double half_width_m) {
+  if (!(half_width_m > 0)) return (xi_m >= mesh.start_active_m && xi_m <= mesh.end_active_m) ? 1.0 : 0.0;
+  const double w2 = 2 * half_width_m;
+  const double in = std::clamp((xi_m - (mesh.start_active_m - half_width_m)) / w2, 0.0, 1.0);
+  const double out = std::clamp(((mesh.end_active_m + half_width_m) - xi_m) / w2, 0.0, 1.0);
+  return std::min(in, out);
 }
 
 } // namespace pw::geometry

@@ -165,8 +165,23 @@ struct ContactPair {
 /// written into `out` (cleared first, capacity reused; no allocation when
 /// out.capacity() >= the number of pairs, which is at most ceil(epsilon) + 1).
 /// Ordered by n, i.e. the pair nearest to leaving (largest xi) first. Returns
-/// their number. Tooth indices are in [0, z).
+/// their number. Tooth indices are in [0, z). A margin > 0 widens the window
+/// to [start - margin, end + margin] (pairs about to enter or just left, for
+/// engagement_weight; at most ceil(epsilon + 2 margin / p_b) + 1 pairs).
 int pairs_in_contact(const MeshGeometry& mesh, const MeshPhase& phase, int teeth_a, int teeth_b, double s_m,
-                     std::vector<ContactPair>& out);
+                     std::vector<ContactPair>& out, double margin_m = 0.0);
+
+/// Share of a time step during which a pair at roll coordinate xi is in
+/// contact, when the step covers a roll distance 2 h centred on xi: a ramp
+/// from 0 at start - h to 1 at start + h, and back to 0 from end - h to end + h
+/// (1 inside, 0 outside, for h = 0). A time-stepping model that switches a
+/// pair on at the first step after it reaches `start` quantizes the instant of
+/// engagement to the step; the stiffness jump then lands up to one step late,
+/// by an amount that varies from event to event, an O(dt) error that is
+/// erratic in dt. Weighting the pair by the share of the step it spends in
+/// contact makes the mesh force a continuous function of the engagement
+/// instant (its impulse over the step is exact to first order); the ramp
+/// vanishes as dt -> 0 (docs/derivation.md §3.4).
+double engagement_weight(const MeshGeometry& mesh, double xi_m, double half_width_m);
 
 } // namespace pw::geometry

@@ -2,8 +2,10 @@
 
 #include "core/error.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
+#include <string>
 
 namespace pw::model {
 
@@ -64,6 +66,13 @@ PlanetaryDynamics::PlanetaryDynamics(const SimulationConfig& cfg, dynamics::Lump
     d_planet += ec * Eigen::Vector2d{std::cos(ph), std::sin(ph)};
     static_offset_.push_back(sp ? -mc.normal.dot(d_planet) : mc.normal.dot(d_planet));
   }
+  engage_half_width_m_.assign(static_cast<std::size_t>(nm), 0.0);
+}
+
+void PlanetaryDynamics::set_engagement_smoothing(double dt_s) {
+  require(dt_s >= 0 && std::isfinite(dt_s), "engagement smoothing", "time step ", dt_s, " s must be >= 0");
+  for (std::size_t m = 0; m < engage_half_width_m_.size(); ++m)
+    engage_half_width_m_[m] = 0.5 * std::fabs(structure_.meshes[m].nominal_roll_rate_m_s) * dt_s;
 }
 
 const FlankSet& PlanetaryDynamics::flank_a(int m) const {
@@ -120,17 +129,25 @@ void PlanetaryDynamics::force(double t, const Eigen::VectorXd& q, const Eigen::V
     st.roll_m = mc.nominal_roll_rate_m_s * t + mc.roll.dot(q_roll_);
     st.deflection_m = mc.g.dot(q) + imposed_deflection(m, t);
     st.velocity_m_s = mc.g.dot(v);
+    const double h = engage_half_width_m_[m];
     const int np =
-        geometry::pairs_in_contact(fam.geometry, phase, fam.teeth_a, fam.teeth_b, st.roll_m, pairs_);
-    st.pairs = std::min(np, MeshState::kMaxPairs);
+        geometry::pairs_in_contact(fam.geometry, phase, fam.teeth_a, fam.teeth_b, st.roll_m, pairs_, h);
+    if (np > MeshState::kMaxPairs)
+      throw SolverError("more than " + std::to_string(MeshState::kMaxPairs) +
+                        " tooth pairs in one mesh (contact ratio too high for MeshState)");
+    st.pairs = np;
 
-    // Elastic forces pair by pair.
+    // Elastic forces pair by pair; a pair entering or leaving contact within the step
+    // counts with the share of the step it spends in contact (engagement_weight).
+    const double xi_lo = fam.geometry.start_active_m, xi_hi = fam.geometry.end_active_m;
     double k_sum = 0, k_active = 0, F_el = 0;
     std::array<double, MeshState::kMaxPairs> k_loaded{};  // k_j of pairs whose flanks touch
     for (int j = 0; j < st.pairs; ++j) {
       const geometry::ContactPair& p = pairs_[j];
       st.pair[j] = p;
-      const double k = fam.stiffness(p.xi_m) * fa.stiffness_factor(p.tooth_a) * fb.stiffness_factor(p.tooth_b);
+      const double w = geometry::engagement_weight(fam.geometry, p.xi_m, h);
+      const double k = w * fam.stiffness(std::clamp(p.xi_m, xi_lo, xi_hi)) * fa.stiffness_factor(p.tooth_a) *
+                       fb.stiffness_factor(p.tooth_b);
       const double e = fa.deviation_m(p.tooth_a, p.xi_m) + fb.deviation_m(p.tooth_b, p.xi_m) + mesh_error_[m];
       const double pen = st.deflection_m - e;
       k_sum += k;

@@ -96,6 +96,13 @@ public:
   /// Backlash of mesh m [m] (initial; grows with wear).
   double backlash_m(int mesh) const { return backlash_[mesh]; }
   void set_backlash_m(int mesh, double b) { backlash_[mesh] = b; }
+  /// Spreads each pair's entry into and exit from contact over the roll distance
+  /// the mesh covers in dt_s at its nominal speed (geometry::engagement_weight):
+  /// the force then depends continuously on the engagement instant instead of
+  /// jumping at the first step past it. 0 = sharp switching. The simulation sets
+  /// its time step (docs/derivation.md §3.4).
+  void set_engagement_smoothing(double dt_s);
+  double engagement_half_width_m(int mesh) const { return engage_half_width_m_[mesh]; }
   /// Absolute sun angle perturbation row: theta_s = Omega_s t + row . q.
   const Eigen::RowVectorXd& sun_theta_row() const { return sun_row_; }
   const Eigen::RowVectorXd& carrier_theta_row() const { return carrier_row_; }
@@ -116,6 +123,7 @@ private:
   Eigen::RowVectorXd sun_row_, carrier_row_;
   Eigen::VectorXd supp_force_, h_;  // work vectors, sized once
   Eigen::VectorXd q_roll_;          // state that fixes the roll distances
+  std::vector<double> engage_half_width_m_;  // per mesh: half the roll per smoothing step [m]
   double power_ = 0, sun_speed_ = 0, carrier_speed_ = 0, sun_speed_rel_ = 0;
   double load_torque_ = 0;
   double mu_ = 0, v_eps_ = 1;

@@ -228,6 +228,8 @@ PreparedStage prepare(const SimulationConfig& c) {
   p.dynamics = std::make_unique<PlanetaryDynamics>(c, std::move(structure), std::move(sp), std::move(pr),
                                                    geometry::mesh_phases(c.stage, geo), std::move(surf),
                                                    p.sun_speed_rad_s, p.carrier_speed_rad_s);
+  // Sub-step engagement (derivation §3.4): pairs enter and leave contact over one step.
+  p.dynamics->set_engagement_smoothing(c.solver.engagement_smoothing ? p.time_step_s : 0.0);
   return p;
 }
 

@@ -129,6 +129,10 @@ struct SolverSettings {
   int warmup_max_mesh_cycles = 400; ///< limit on reaching the periodic steady state
   double periodicity_tolerance = 1e-6; ///< relative change of the state over one mesh period [-]
   int record_mesh_cycles = 24;     ///< mesh periods stored after the warm-up [-]
+  /// Tooth pairs enter and leave contact over one time step, weighted by the share
+  /// of the step they spend in contact (derivation §3.4): the response then varies
+  /// smoothly with the step instead of erratically. false = switch at the first step.
+  bool engagement_smoothing = true;
 };
 
 /// Archard wear on every tooth flank, coupled to the dynamics (seed §4-5;

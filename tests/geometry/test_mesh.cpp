@@ -538,4 +538,49 @@ TEST(PairsInContact, ReusesTheCallersBufferAndKeepsIndicesInRangeForAnyRoll) {
 }
 
 } // namespace
+
+TEST(EngagementWeight, RampsLinearlyOverOneStepCentredOnTheEngagementPointsAndIsSharpForZeroWidth) {
+  const model::StageSpec spec;
+  const StageGeometry g = make_stage_geometry(spec);
+  const MeshGeometry& m = g.sun_planet;
+  const double a = m.start_active_m, b = m.end_active_m, h = 20e-6;
+  EXPECT_DOUBLE_EQ(engagement_weight(m, a - h, h), 0.0);
+  EXPECT_DOUBLE_EQ(engagement_weight(m, a - 2 * h, h), 0.0);
+  EXPECT_NEAR(engagement_weight(m, a, h), 0.5, 1e-12);
+  EXPECT_NEAR(engagement_weight(m, a + 0.5 * h, h), 0.75, 1e-9);
+  EXPECT_DOUBLE_EQ(engagement_weight(m, a + h, h), 1.0);
+  EXPECT_DOUBLE_EQ(engagement_weight(m, 0.5 * (a + b), h), 1.0);
+  EXPECT_NEAR(engagement_weight(m, b, h), 0.5, 1e-12);
+  EXPECT_DOUBLE_EQ(engagement_weight(m, b + h, h), 0.0);
+  // h = 0: the indicator of the active path.
+  EXPECT_DOUBLE_EQ(engagement_weight(m, a - 1e-9, 0.0), 0.0);
+  EXPECT_DOUBLE_EQ(engagement_weight(m, a, 0.0), 1.0);
+  EXPECT_DOUBLE_EQ(engagement_weight(m, b + 1e-9, 0.0), 0.0);
+}
+
+TEST(EngagementWeight, WeightedPairCountAveragedOverTheRollEqualsTheContactRatio) {
+  // The ramps are centred on the engagement points, so smoothing moves no contact
+  // time: the mean of sum_j w_j over a mesh cycle stays the contact ratio (path
+  // length / base pitch), for any margin below half the path.
+  const model::StageSpec spec;
+  const StageGeometry g = make_stage_geometry(spec);
+  for (int fam = 0; fam < 2; ++fam) {
+    const MeshGeometry& m = fam == 0 ? g.sun_planet : g.planet_ring;
+    const MeshPhase phase = fam == 0 ? mesh_phases(spec, g)[0].sun_planet : mesh_phases(spec, g)[0].planet_ring;
+    const int za = fam == 0 ? 21 : 30, zb = fam == 0 ? 30 : 81;
+    const double eps = (m.end_active_m - m.start_active_m) / m.base_pitch_m;
+    std::vector<ContactPair> out;
+    for (double h : {0.0, 1e-5, 2e-4}) {
+      const int n = 20000;
+      double sum = 0;
+      for (int k = 0; k < n; ++k) {
+        const double s = (k + 0.5) / n * m.base_pitch_m;
+        pairs_in_contact(m, phase, za, zb, s, out, h);
+        for (const ContactPair& c : out) sum += engagement_weight(m, c.xi_m, h);
+      }
+      EXPECT_NEAR(sum / n, eps, 2.0 / n) << "family " << fam << ", h = " << h;
+    }
+  }
+}
+
 } // namespace pw::geometry

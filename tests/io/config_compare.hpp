@@ -92,6 +92,7 @@ inline void expect_config_eq(const model::SimulationConfig& a, const model::Simu
   EXPECT_EQ(a.solver.warmup_max_mesh_cycles, b.solver.warmup_max_mesh_cycles);
   EXPECT_EQ(a.solver.periodicity_tolerance, b.solver.periodicity_tolerance);
   EXPECT_EQ(a.solver.record_mesh_cycles, b.solver.record_mesh_cycles);
+  EXPECT_EQ(a.solver.engagement_smoothing, b.solver.engagement_smoothing);
 
   EXPECT_EQ(a.wear.mesh_cycles, b.wear.mesh_cycles);
   EXPECT_EQ(a.wear.coefficient_m2_N, b.wear.coefficient_m2_N);
@@ -176,6 +177,7 @@ inline model::SimulationConfig nondefault_config() {
   c.solver.warmup_max_mesh_cycles = 300;
   c.solver.periodicity_tolerance = 1e-7;
   c.solver.record_mesh_cycles = 12;
+  c.solver.engagement_smoothing = false;
 
   c.wear.mesh_cycles = 2e5 + 0.1;
   c.wear.coefficient_m2_N = (0.1 + 0.2) * 1e-16;
