@@ -54,10 +54,17 @@ json candidate_json(const dg::CandidateResult& r, const std::vector<std::string>
   j["evidence_z"] = num(r.evidence_z);
   j["predicted_improvement"] = num(r.predicted_improvement);
   json ps = json::array();
-  for (const auto& p : r.parameters)
-    ps.push_back({{"name", p.name}, {"unit", p.unit}, {"value", num(p.value)}, {"std_error", num(p.std_error)},
-                  {"lower", num(p.lower)}, {"upper", num(p.upper)}, {"initial", num(p.initial)},
-                  {"at_bound", p.at_bound}, {"nuisance", p.nuisance}, {"moved", p.moved}});
+  for (const auto& p : r.parameters) {
+    json pj = {{"name", p.name}, {"unit", p.unit}, {"value", num(p.value)}, {"std_error", num(p.std_error)},
+               {"lower", num(p.lower)}, {"upper", num(p.upper)}, {"initial", num(p.initial)},
+               {"at_bound", p.at_bound}, {"nuisance", p.nuisance}, {"moved", p.moved}};
+    // Saturating: only a lower limit is identifiable (null when it was not profiled).
+    if (p.saturates) {
+      pj["saturates"] = true;
+      pj["lower_limit"] = num(p.lower_limit);
+    }
+    ps.push_back(std::move(pj));
+  }
   j["parameters"] = ps;
   j["overrides"] = r.overrides;
   j["fit_half"] = score_json(r.fit, channels);
@@ -71,6 +78,7 @@ json candidate_json(const dg::CandidateResult& r, const std::vector<std::string>
   j["significant"] = r.significant;
   j["holds_on_held_out"] = r.holds;
   j["parameters_differ_from_absent"] = r.non_null;
+  if (std::isfinite(r.null_chi2_fit)) j["chi2_fit_at_absent"] = num(r.null_chi2_fit);
   j["simulations"] = r.simulations;
   j["seconds"] = r.seconds;
   if (!r.failed.empty()) j["failed"] = r.failed;
@@ -86,8 +94,11 @@ std::string g(double v, int prec = 4) {
 }
 
 std::string param_cell(const dg::FittedParameter& p) {
-  std::string s = g(p.value) + " ± " + (std::isfinite(p.std_error) ? g(p.std_error, 2) : std::string("n/a"));
-  if (p.unit != "1" && !p.unit.empty()) s += " " + p.unit;
+  const std::string unit = (p.unit != "1" && !p.unit.empty()) ? " " + p.unit : "";
+  if (p.saturates && std::isfinite(p.lower_limit))
+    return ">= " + g(p.lower_limit, 3) + unit + " (lower limit; fitted " + g(p.value) + ", any larger value fits as well)";
+  if (p.saturates) return g(p.value) + unit + " (saturating: only a lower limit is identifiable)";
+  std::string s = g(p.value) + " ± " + (std::isfinite(p.std_error) ? g(p.std_error, 2) : std::string("n/a")) + unit;
   if (p.at_bound) s += " (at bound)";
   return s;
 }
@@ -422,9 +433,15 @@ void write_diagnosis_report(const std::filesystem::path& dir, const dg::Diagnosi
   j["nuisance"] = candidate_json(d.nuisance, d.channels);
   if (d.winner == 0) {
     json ps = json::array();
-    for (const auto& p : d.candidates.front().parameters)
-      ps.push_back({{"name", p.name}, {"value", num(p.value)}, {"std_error", num(p.std_error)}, {"unit", p.unit},
-                    {"nuisance", p.nuisance}});
+    for (const auto& p : d.candidates.front().parameters) {
+      json pj = {{"name", p.name}, {"value", num(p.value)}, {"std_error", num(p.std_error)}, {"unit", p.unit},
+                 {"nuisance", p.nuisance}};
+      if (p.saturates) {
+        pj["saturates"] = true;
+        pj["lower_limit"] = num(p.lower_limit);
+      }
+      ps.push_back(std::move(pj));
+    }
     j["fitted_parameters"] = ps;
   }
   j["final_overrides"] = d.final_overrides;

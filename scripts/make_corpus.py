@@ -21,7 +21,8 @@ damaged sun / planet / ring tooth (stiffness factor 0.55-0.8), planet pin
 error, sun and carrier eccentricity (runout), mesh-stiffness level
 (stiffness.scale 0.8 / 1.25), mesh damping (0.02 / 0.1), friction (0.05 /
 0.15), input torque ripple, pre-existing worn profile (0.5 / 2 um), backlash
-(light load near the 1800-2200 rpm ring-mesh resonance), housing transfer path
+(19 500 / 21 000 rpm, near the primary mesh resonance, where the teeth
+separate), housing transfer path
 (window width / gain off by 2x); plus five control cases without effect.
 Magnitudes of the geometric errors are kept below the static mesh deflection
 at their load (2.7-7 um at 10-20 kW): larger errors with zero backlash jam
@@ -67,15 +68,19 @@ REPO = Path(__file__).resolve().parent.parent
 
 # Operating points (input speed [rpm], input power [W]). Every effect and the
 # controls share them, so the operating point says nothing about the effect.
-# 10-20 kW load the seed gears to 2.7-7 um static deflection; 1800/2200 rpm at
-# 1 kW is a light load near a ring-mesh resonance, where the ring-mesh force
-# briefly reverses (the only regime in which backlash shows).
+# 10-20 kW load the seed gears to 2.7-7 um static deflection. F and G lie near
+# the primary mesh resonance (mesh frequency ~5.4-5.8 kHz), where the dynamic
+# mesh force exceeds the static one and teeth with play separate: the only
+# regime in which backlash shows (sun-planet acceleration RMS with 20 um play
+# vs none, `planetwear simulate --set contact.backlash_*=...`: +12 % at 19 500
+# rpm / 2 kW, -6 % at 21 000 rpm / 10 kW; at the old points 1800 / 2200 rpm,
+# 1 kW it was 0.05 %, below any noise, measured 2026-11-24).
 OPERATING = {
     "A": (400.0, 10000.0),
     "B": (200.0, 10000.0),
     "C": (300.0, 20000.0),
-    "D": (1800.0, 1000.0),
-    "E": (2200.0, 1000.0),
+    "F": (19500.0, 2000.0),
+    "G": (19250.0, 5000.0),
 }
 QUICK_OPERATING = {"Q1": (800.0, 20000.0), "Q2": (1200.0, 20000.0)}
 
@@ -89,19 +94,22 @@ QUICK_OPERATING = {"Q1": (800.0, 20000.0), "Q2": (1200.0, 20000.0)}
 #    0.05 a slowly decaying start-up transient stays in the file, and the
 #    diagnosis rightly calls the controls "unexplained residual" (chi2 2440 vs
 #    bound 2427 on the quick corpus's 800 rpm control, 2396 <= 2429 at 1e-3);
-#  * at 1800/2200 rpm and 1 kW the load-torque update of the warm-up settles
-#    slowly (a speed transient with a 0.2 s time constant): warm up for up to
-#    380 mesh cycles and start the file at mesh cycle 1500, when the
-#    transient has died out (the mean speed then sits 0.1-0.4 % off nominal).
+#  * at 19 500 / 21 000 rpm: warm up for up to 380 mesh cycles and start the
+#    file at mesh cycle 1500 (0.26-0.28 s), when the load-torque update's speed
+#    transient has died out; sample at 50 kHz (decimation by 8), 8.6 x the
+#    mesh frequency; record 40 carrier revolutions (0.6 s: 3.5 would be 52 ms,
+#    82 lines per channel, too few to tell a softened mesh from a stiffness level).
 SLOW = {"sets": ["solver.time_step_s=2.5e-6", "solver.periodicity_tolerance=1e-3"], "start_mesh_cycle": 120}
-FAST = {"sets": ["solver.time_step_s=2.5e-6", "solver.warmup_max_mesh_cycles=380"], "start_mesh_cycle": 1500}
+FAST = {"sets": ["solver.time_step_s=2.5e-6", "solver.warmup_max_mesh_cycles=380"], "start_mesh_cycle": 1500,
+        "decimate": 8, "carrier_revolutions": 40}
 # The quick set's 800/1200 rpm: 120 mesh cycles are 0.03-0.05 s, less than a pinned planet's
 # warm-up may take (up to the 400-cycle cap); start after it.
 QUICK = {"sets": SLOW["sets"], "start_mesh_cycle": 450}
-SETTINGS = {"A": SLOW, "B": SLOW, "C": SLOW, "D": FAST, "E": FAST, "Q1": QUICK, "Q2": QUICK}
+SETTINGS = {"A": SLOW, "B": SLOW, "C": SLOW, "F": FAST, "G": FAST, "Q1": QUICK, "Q2": QUICK}
 
 
-BACKLASH_NOTE = "weak: with zero backlash the ring-mesh force reverses only briefly at this speed"
+BACKLASH_NOTE = ("the teeth separate by less than 0.1 um, so any play beyond that acts alike: only a lower "
+                 "limit of the size is identifiable (docs/diagnose.md)")
 RIPPLE_NOTE = ("the sun speed swings by about the ripple fraction at its order (no input inertia); the mean speed "
                "holds the nominal (400 rpm case: 399.94 rpm, 300 rpm case: 300.004 rpm, measured 2026-11-24)")
 
@@ -147,15 +155,15 @@ CASES = [
      {"torque_ripple_fraction": 0.1, "torque_ripple_order": 2, "note": RIPPLE_NOTE}),
     ("worn_profile", "A", ["imperfections.worn_profile_depth_m=0.5e-6"], {"worn_profile_depth_m": 0.5e-6}),
     ("worn_profile", "B", ["imperfections.worn_profile_depth_m=2e-6"], {"worn_profile_depth_m": 2e-6}),
-    ("backlash", "D", ["contact.backlash_sun_planet_m=2e-5", "contact.backlash_planet_ring_m=2e-5"],
+    ("backlash", "F", ["contact.backlash_sun_planet_m=2e-5", "contact.backlash_planet_ring_m=2e-5"],
      {"backlash_sun_planet_m": 2e-5, "backlash_planet_ring_m": 2e-5, "note": BACKLASH_NOTE}),
-    ("backlash", "E", ["contact.backlash_sun_planet_m=5e-5", "contact.backlash_planet_ring_m=5e-5"],
+    ("backlash", "G", ["contact.backlash_sun_planet_m=5e-5", "contact.backlash_planet_ring_m=5e-5"],
      {"backlash_sun_planet_m": 5e-5, "backlash_planet_ring_m": 5e-5, "note": BACKLASH_NOTE}),
     ("sensor_transfer_path", "C", ["sensor.window_width_rad=1.0"],
      {"window_width_rad": 1.0, "nominal_window_width_rad": 0.5}),
     ("sensor_transfer_path", "B", ["sensor.gain_m_s2_per_N=0.0005"],
      {"gain_m_s2_per_N": 5e-4, "nominal_gain_m_s2_per_N": 1e-3}),
-] + [("none", op, [], {}) for op in "ABCDE"]
+] + [("none", op, [], {}) for op in "ABCFG"]
 
 QUICK_CASES = [
     ("none", "Q1", [], {}),
@@ -166,7 +174,7 @@ QUICK_CASES = [
     ("worn_profile", "Q1", ["imperfections.worn_profile_depth_m=1e-6"], {"worn_profile_depth_m": 1e-6}),
 ]
 
-# Decimation by 40: ~10 kHz, far above 7.5 x the mesh frequency (4.6 kHz at 2200 rpm).
+# Decimation by 40 (default; SETTINGS may override): ~10 kHz, 12 x the mesh frequency at 400 rpm.
 DECIMATE = 40
 CARRIER_REVOLUTIONS = 3.5  # the reader needs >= 3
 QUICK_CARRIER_REVOLUTIONS = 3.2
@@ -242,7 +250,8 @@ def main():
             "set": sets,
             "speed_rpm": rpm,
             "power_W": power,
-            "seconds": round(revolutions * carrier_revolution_s(gearset, rpm), 6),
+            "seconds": round(SETTINGS[op].get("carrier_revolutions", revolutions) * carrier_revolution_s(gearset, rpm),
+                             6),
             "noise_fraction_of_rms": round(rng.uniform(0.05, 0.10), 4),
             "dc_offset_fraction_of_rms": round(rng.choice([-1, 1]) * rng.uniform(0.1, 0.5), 4),
             "sensor_angle_deg": float(rng.randrange(0, 360, 5)),
@@ -253,7 +262,8 @@ def main():
                           "--speed-rpm", repr(rpm), "--power-w", repr(power),
                           "--seconds", repr(job["seconds"]), "--noise", repr(job["noise_fraction_of_rms"]),
                           "--dc-offset", repr(job["dc_offset_fraction_of_rms"]), "--seed", str(job["noise_seed"]),
-                          "--sensor-angle-deg", repr(job["sensor_angle_deg"]), "--decimate", str(DECIMATE),
+                          "--sensor-angle-deg", repr(job["sensor_angle_deg"]),
+                          "--decimate", str(SETTINGS[op].get("decimate", DECIMATE)),
                           "--start-mesh-cycle", str(SETTINGS[op]["start_mesh_cycle"])]
         job["command"] += ["--tacho"] if job["tacho"] else []
         job["recording_settings"] = SETTINGS[op]
@@ -286,7 +296,7 @@ def main():
     truth = {
         "description": "answers for the recordings in recordings/ (keep away from the diagnosis)",
         "gearset": "gearset.toml",
-        "settings": {"decimate": DECIMATE, "carrier_revolutions": revolutions, "seed": args.seed,
+        "settings": {"decimate_default": DECIMATE, "carrier_revolutions": revolutions, "seed": args.seed,
                      "quick": args.quick},
         "recordings": {
             j["name"]: {k: j[k] for k in ("effect", "parameters", "set", "speed_rpm", "power_W", "seconds",

@@ -123,6 +123,7 @@ std::vector<FittedParameter> describe(const std::vector<ParameterSpec>& specs, c
     p.initial = specs[i].initial;
     p.at_bound = r.at_bound[offset + i];
     p.nuisance = nuisance;
+    p.saturates = specs[i].saturates;
     out.push_back(p);
   }
   return out;
@@ -130,8 +131,15 @@ std::vector<FittedParameter> describe(const std::vector<ParameterSpec>& specs, c
 
 std::string param_text(const FittedParameter& p) {
   char buf[200];
-  std::snprintf(buf, sizeof buf, "%s = %.4g ± %.2g %s", p.name.c_str(), p.value, p.std_error,
-                p.unit == "1" ? "" : p.unit.c_str());
+  if (p.saturates && std::isfinite(p.lower_limit))
+    std::snprintf(buf, sizeof buf, "%s >= %.3g %s (any larger value fits as well)", p.name.c_str(), p.lower_limit,
+                  p.unit == "1" ? "" : p.unit.c_str());
+  else if (p.saturates)
+    std::snprintf(buf, sizeof buf, "%s = %.4g %s (saturating: not identifiable above the effect's onset)",
+                  p.name.c_str(), p.value, p.unit == "1" ? "" : p.unit.c_str());
+  else
+    std::snprintf(buf, sizeof buf, "%s = %.4g ± %.2g %s", p.name.c_str(), p.value, p.std_error,
+                  p.unit == "1" ? "" : p.unit.c_str());
   std::string s = buf;
   while (!s.empty() && s.back() == ' ') s.pop_back();
   return s;
@@ -220,6 +228,12 @@ CandidateResult fit_model(Context& ctx, const Candidate* cand, const Variant& v,
   }
   res.fit = summarize(fit);
   res.held_out = summarize(held);
+  if (std::any_of(cspec.begin(), cspec.end(), [](const ParameterSpec& p) { return p.saturates; })) {
+    std::vector<double> null_x;
+    for (const auto& p : cspec) null_x.push_back(p.null_value);
+    const auto c0 = ctx.make(cand, v, null_x, nx, nullptr);
+    res.null_chi2_fit = ctx.cmp.score(ctx.amplitudes(c0, sensor_only && !fit_nuisance), 0, ctx.nuisance_gains, true).chi2;
+  }
   res.lm_message = lm.message;
   res.simulations = static_cast<int>(ctx.cmp.simulations() - sims0);
   return res;
@@ -449,6 +463,7 @@ Diagnosis diagnose(const Recording& recording, const model::SimulationConfig& co
       std::vector<double> start, nuisance_start;
       double S = 0;
       bool failed = false;
+      bool visible = false;  ///< saturating: its effect, beyond what the nuisance can mimic, exceeds chi2_{1-alpha}(k)
     };
     std::vector<Screen> screens;
     struct Task {
@@ -530,9 +545,46 @@ Diagnosis diagnose(const Recording& recording, const model::SimulationConfig& co
       for (std::size_t i = 0; i < p; ++i) sc.start[i] = sc.spec[i].null_value;
       sc.nuisance_start = ctx.nuisance_x;
       if (sc.failed) continue;
+      // A saturating candidate has no useful linearization (its secant spans the onset of the
+      // effect): its score is the chi2 change actually simulated, null -> screen value.
+      const bool saturating =
+          std::any_of(sc.spec.begin(), sc.spec.end(), [](const ParameterSpec& ps) { return ps.saturates; });
+      // The nuisance parameters re-fitted (linearized) at both ends: a nuisance fit that absorbed
+      // part of the effect (a softened mesh read as a lower stiffness level) gives it back.
+      if (saturating) {
+        auto refit = [&](const Eigen::VectorXd& r, Eigen::VectorXd* dn) {
+          if (nuse.empty()) return r.squaredNorm();
+          Eigen::MatrixXd Jn(m_res, static_cast<Eigen::Index>(nuse.size()));
+          for (std::size_t a = 0; a < nuse.size(); ++a)
+            for (Eigen::Index k = 0; k < m_res; ++k) Jn(k, static_cast<Eigen::Index>(a)) = ncols[nuse[a]][static_cast<std::size_t>(k)];
+          const Eigen::VectorXd step = -(Jn.transpose() * Jn).ldlt().solve(Jn.transpose() * r);
+          if (dn) *dn = step;
+          return (r + Jn * step).squaredNorm();
+        };
+        const double c0 = refit(r_res, nullptr);
+        for (std::size_t i = 0; i < p; ++i) {
+          const auto& ps = sc.spec[i];
+          Eigen::VectorXd r1 = r_res;
+          for (Eigen::Index k = 0; k < m_res; ++k)
+            r1(k) += sc.cols[i][static_cast<std::size_t>(k)] * (ps.screen_value - ps.null_value);
+          Eigen::VectorXd dn;
+          const double c1 = refit(r1, &dn);
+          // Visible: the change itself, with the nuisance refitted to it, exceeds the LR threshold.
+          // Its chi2 at fixed nuisance may still be worse (a nuisance fit that absorbed the effect
+          // lies far from the nuisance values that go with it), so a visible one is fitted jointly.
+          if (refit(r1 - r_res, nullptr) > chi2_quantile(static_cast<int>(p), o.alpha)) sc.visible = true;
+          if (c0 - c1 > sc.S) {
+            sc.S = c0 - c1;
+            for (std::size_t a = 0; a < nuse.size(); ++a)
+              sc.nuisance_start[nuse[a]] = std::clamp(ctx.nuisance_x[nuse[a]] + dn(static_cast<Eigen::Index>(a)),
+                                                      nspec[nuse[a]].lower, nspec[nuse[a]].upper);
+          }
+          if (c0 > c1) sc.start[i] = ps.screen_value;
+        }
+      }
       // Joint Gauss-Newton step (candidate + nuisance) with an active set: candidate parameters
       // whose step leaves their box are held at their null value.
-      std::vector<bool> active(p, true);
+      std::vector<bool> active(p, !saturating);
       for (int pass = 0; pass < static_cast<int>(p) + 1; ++pass) {
         std::vector<const std::vector<double>*> cols;
         std::vector<std::size_t> idx;
@@ -588,7 +640,7 @@ Diagnosis diagnose(const Recording& recording, const model::SimulationConfig& co
     std::vector<std::size_t> shortlist;
     int heavy = 0;
     for (std::size_t i : best_of) {
-      if (screens[i].c->sensor_only()) {
+      if (screens[i].c->sensor_only() || screens[i].visible) {
         shortlist.push_back(i);
         continue;
       }
@@ -684,6 +736,24 @@ Diagnosis diagnose(const Recording& recording, const model::SimulationConfig& co
         std::vector<double> x0 = sc.start;
         if (joint) x0.insert(x0.end(), sc.nuisance_start.begin(), sc.nuisance_start.end());
         r = fit_model(ctx, sc.c, sc.v, joint, 1, o.max_iterations, &x0);
+        // A saturating candidate has no gradient to lead the nuisance parameters back from
+        // where the nuisance-only fit took them to absorb its effect: also start them at
+        // their configured values, keep the better fit.
+        if (joint && std::any_of(sc.spec.begin(), sc.spec.end(), [](const ParameterSpec& ps) { return ps.saturates; })) {
+          std::vector<double> x1 = sc.start;
+          for (const Candidate* n : ctx.nuisance)
+            for (const auto& ps : n->parameters(ctx.base)) x1.push_back(ps.initial);
+          try {
+            CandidateResult r1 = fit_model(ctx, sc.c, sc.v, joint, 1, o.max_iterations, &x1);
+            if (r1.fit.chi2 < r.fit.chi2) {
+              r1.simulations += r.simulations;
+              r = std::move(r1);
+            } else {
+              r.simulations += r1.simulations;
+            }
+          } catch (const SolverError&) {
+          }
+        }
       } catch (const SolverError& e) {
         r.name = sc.c->name();
         r.physics = sc.c->physics();
@@ -711,10 +781,16 @@ Diagnosis diagnose(const Recording& recording, const model::SimulationConfig& co
       r.non_null = false;
       if (const Candidate* cand = find_candidate(r.name); cand && r.failed.empty()) {
         const auto spec = cand->parameters(ctx.base);
-        const double zw = normal_quantile(o.alpha / (2.0 * k));
-        for (std::size_t i = 0; i < spec.size() && i < r.parameters.size(); ++i) {
-          const FittedParameter& p = r.parameters[i];
-          if (p.std_error > 0 && std::fabs(p.value - spec[i].null_value) > zw * p.std_error) r.non_null = true;
+        // A saturating parameter has no meaningful standard error: 'absent' is tested by the
+        // likelihood ratio against the same model with its own parameters at 'absent'.
+        if (std::isfinite(r.null_chi2_fit)) {
+          r.non_null = r.null_chi2_fit - r.fit.chi2 > r.lr_threshold;
+        } else {
+          const double zw = normal_quantile(o.alpha / (2.0 * k));
+          for (std::size_t i = 0; i < spec.size() && i < r.parameters.size(); ++i) {
+            const FittedParameter& p = r.parameters[i];
+            if (p.std_error > 0 && std::fabs(p.value - spec[i].null_value) > zw * p.std_error) r.non_null = true;
+          }
         }
       }
       const double kt = static_cast<double>(d.nuisance.parameters.size() + static_cast<std::size_t>(r.own_parameters));
@@ -865,6 +941,52 @@ Diagnosis diagnose(const Recording& recording, const model::SimulationConfig& co
           }
         }
         d.timing.phase_s = seconds_since(t);
+      }
+      // 8. A saturating winner (backlash wider than the teeth ever separate): the data bound
+      //    its size from below only. Profile along x(s) = null + s (x_fit - null), nuisance
+      //    fixed, on a log grid of s; the lower limit is the smallest s whose fit-half chi2
+      //    stays within chi2_{1-alpha}(1) of the fit's, refined once between grid points.
+      std::vector<ParameterSpec> wspec = cand->parameters(ctx.base);
+      if (std::any_of(wspec.begin(), wspec.end(), [](const ParameterSpec& p) { return p.saturates; })) {
+        own.clear();
+        nx_w.clear();
+        for (const auto& p : w.parameters)
+          if (!p.nuisance) own.push_back(p.value);
+          else if (p.name.rfind("sensor.gain", 0) != 0) nx_w.push_back(p.value);
+        if (nx_w.size() != ctx.nuisance_x.size()) nx_w = ctx.nuisance_x;
+        const double limit = w.fit.chi2 + chi2_quantile(1, o.alpha);
+        auto chi2_at = [&](double s) {
+          std::vector<double> x(own.size());
+          for (std::size_t i = 0; i < own.size(); ++i) x[i] = wspec[i].null_value + s * (own[i] - wspec[i].null_value);
+          try {
+            const auto c = ctx.make(cand, w.chosen, x, nx_w, nullptr);
+            return cmp.score(ctx.amplitudes(c, false), 0, ctx.nuisance_gains, true).chi2;
+          } catch (const SolverError&) {
+            return std::numeric_limits<double>::infinity();
+          }
+        };
+        // Grid: s = 10^-6 .. 1 in 12 steps, then 6 steps inside the bracketing interval.
+        auto scan = [&](double lo, double hi, int n) {
+          std::vector<double> s(static_cast<std::size_t>(n)), chi(static_cast<std::size_t>(n));
+          for (int i = 0; i < n; ++i) s[static_cast<std::size_t>(i)] = lo * std::pow(hi / lo, static_cast<double>(i) / (n - 1));
+          parallel_for(n, threads, [&](int i) { chi[static_cast<std::size_t>(i)] = chi2_at(s[static_cast<std::size_t>(i)]); });
+          // Smallest s from which every larger grid point fits within the limit.
+          int first = n;
+          while (first > 0 && chi[static_cast<std::size_t>(first - 1)] <= limit) --first;
+          return std::pair<std::vector<double>, int>(s, first);
+        };
+        say("profiling the saturating parameter(s) of " + w.name + " for their lower limit");
+        auto [s1, f1] = scan(1e-6, 1.0, 13);
+        double s_low = 1.0;
+        if (f1 == 0)
+          s_low = s1.front();
+        else if (f1 < static_cast<int>(s1.size())) {
+          auto [s2, f2] = scan(s1[static_cast<std::size_t>(f1 - 1)], s1[static_cast<std::size_t>(f1)], 6);
+          s_low = s2[static_cast<std::size_t>(std::min(f2, static_cast<int>(s2.size()) - 1))];
+        }
+        for (std::size_t i = 0; i < wspec.size() && i < w.parameters.size(); ++i)
+          if (wspec[i].saturates)
+            w.parameters[i].lower_limit = wspec[i].null_value + s_low * (own[i] - wspec[i].null_value);
       }
     }
     if (d.winner == 0) {

@@ -34,6 +34,7 @@
 #include "model/stage.hpp"
 
 #include <functional>
+#include <limits>
 #include <string>
 #include <utility>
 #include <vector>
@@ -62,6 +63,10 @@ struct FittedParameter {
   bool at_bound = false;
   bool nuisance = false;
   bool moved = false;           ///< nuisance: differs from its start by > z_{1-alpha/2} standard errors and > 5 %
+  bool saturates = false;       ///< ParameterSpec::saturates: only a lower limit is identifiable
+  /// Saturating parameter of the winner: the smallest value whose fit-half chi2 is within
+  /// chi2_{1-alpha}(1) of the fit (profile along the line from 'absent' to the fit); NaN if not computed.
+  double lower_limit = std::numeric_limits<double>::quiet_NaN();
 };
 
 /// Chi-square of one model on one half.
@@ -92,6 +97,10 @@ struct CandidateResult {
   /// chi2 gain with a parameter indistinguishable from "absent" is the nuisance fit
   /// converging further, not evidence for this physics.
   bool non_null = false;
+  /// Candidates with a saturating parameter: fit-half chi2 with its own parameters at their
+  /// 'absent' values and the nuisance parameters as fitted (likelihood-ratio test of
+  /// 'absent' in place of Wald); NaN otherwise.
+  double null_chi2_fit = std::numeric_limits<double>::quiet_NaN();
   bool counts() const { return significant && holds && non_null; }
   int simulations = 0;
   double seconds = 0;                    ///< wall time of its fit

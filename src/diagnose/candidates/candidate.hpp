@@ -34,6 +34,11 @@ struct ParameterSpec {
   /// the secant between them is its direction in the residual space.
   double null_value = 0;
   double screen_value = 0;
+  /// The effect stops changing beyond some value (a backlash wider than the teeth ever
+  /// separate behaves like an infinite one): above it the value is not identifiable, its
+  /// standard error is meaningless and "absent" is tested by likelihood ratio instead of
+  /// Wald; the report gives the smallest value that fits as well (docs/diagnose.md §5).
+  bool saturates = false;
 };
 
 /// What locate() found, as far as candidates need it to propose variants.
