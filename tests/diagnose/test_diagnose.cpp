@@ -7,7 +7,10 @@
 // the noise and a realistic model/recording mismatch separate them:
 //  * the control (no effect) gives "no missing physics found";
 //  * a damaged sun tooth is located, named, and its stiffness factor fitted
-//    within 20 %.
+//    within 20 %;
+//  * at the mesh resonance (19 500 rpm, ~50 kHz, 40 carrier revolutions) the
+//    control gives "no missing physics" and 20 um of backlash is named, with a
+//    lower limit of its size at or below the truth.
 #include "diagnose/diagnose.hpp"
 #include "model/simulation.hpp"
 
@@ -56,24 +59,26 @@ std::vector<double> decimate(const std::vector<double>& x, int k, std::size_t fi
   return y;
 }
 
-/// A recording of `truth` (3.2 carrier revolutions) made with other solver settings.
-Recording synthesize(model::SimulationConfig truth, double noise, unsigned seed) {
+/// A recording of `truth` (`revolutions` carrier revolutions, sampled every ~sample_s,
+/// starting skip_s after the warm-up) made with other solver settings.
+Recording synthesize(model::SimulationConfig truth, double noise, unsigned seed, double revolutions = 3.2,
+                     double sample_s = 1e-4, double skip_s = 0.1, double periodicity = 1e-3) {
   const Kinematics k = kinematics(truth.stage, truth.operating.input_speed_rpm);
   truth.solver.steps_per_mode_period = 40;
-  truth.solver.periodicity_tolerance = 1e-3;
-  const double skip_s = 0.1, seconds = 3.2 / k.carrier_Hz;
+  truth.solver.periodicity_tolerance = periodicity;
+  const double seconds = revolutions / k.carrier_Hz;
   truth.solver.record_mesh_cycles = static_cast<int>(std::ceil((skip_s + seconds) * k.mesh_Hz)) + 8;
   const auto r = model::simulate(truth);
   double t0 = 0;
   for (const auto& s : r.scalars)
     if (s.name == "record_start_time") t0 = s.value;
   const double dt = r.time_step_s;
-  const int dec = static_cast<int>(std::lround(1e-4 / dt));  // ~10 kHz
+  const int dec = std::max(1, static_cast<int>(std::lround(sample_s / dt)));
   const std::size_t first = static_cast<std::size_t>(skip_s / dt);
   const std::size_t count = static_cast<std::size_t>(seconds / (dt * dec));
   Recording rec;
   rec.source = "synthetic";
-  rec.operating = fast_stage().operating;
+  rec.operating = truth.operating;
   for (std::size_t j = 0; j < count; ++j) rec.time_s.push_back(t0 + r.time_s[first + j * static_cast<std::size_t>(dec)]);
   std::mt19937_64 rng(seed);
   const struct {
@@ -131,6 +136,56 @@ TEST(Diagnose, DamagedSunToothIsLocatedNamedAndFittedWithin20Percent) {
   // The screening put the sun tooth first: the missing physics was located before it was fitted.
   ASSERT_FALSE(d.screening.empty());
   EXPECT_EQ(d.screening.front().name, "sun_tooth_damage");
+}
+
+/// 19 500 rpm, 2 kW: the mesh frequency (5.42 kHz) sits on the primary mesh mode, the dynamic
+/// mesh force exceeds the static one and, with play, the teeth separate (by < 0.1 um).
+model::SimulationConfig resonant_stage() {
+  model::SimulationConfig c;
+  c.operating.input_speed_rpm = 19500;
+  c.operating.input_power_W = 2000;
+  c.sensor.angle_rad = 0.6;
+  return c;
+}
+
+// At this speed and load the warm-up's speed loop converges slowly: stopped at a periodicity of
+// 1e-3, the recording kept a slow drift of the sun speed, which the diagnosis rightly found
+// (fitted as a 0.25 % torque ripple at order 1) even 0.4 s later. As in the corpus
+// (docs/recordings.md), these recordings warm up to the default 1e-6 and start 0.3 s later.
+constexpr double kResonantSkip_s = 0.3, kResonantPeriodicity = 1e-6;
+
+TEST(Diagnose, ControlAtTheMeshResonanceFindsNoMissingPhysics) {
+  // 40 carrier revolutions (0.6 s) at ~50 kHz, 5 % noise.
+  const Recording rec = synthesize(resonant_stage(), 0.05, 4, 40, 2e-5, kResonantSkip_s, kResonantPeriodicity);
+  const Diagnosis d = diagnose(rec, resonant_stage(), {});
+  EXPECT_EQ(d.verdict, Verdict::NoMissingPhysics) << d.summary;
+}
+
+TEST(Diagnose, BacklashAtTheMeshResonanceIsNamedWithALowerLimitAtOrBelowTheTruth) {
+  // The model has no backlash (a linear mesh whose contacts pull as well as push); the
+  // recording's stage has 20 um on both meshes. Beyond the separation depth the size does not
+  // matter, so the diagnosis must name backlash and bound its size from below only: the
+  // lower limit must not exceed the truth, and no standard error is claimed.
+  auto truth = resonant_stage();
+  truth.contact.backlash_sun_planet_m = 2e-5;
+  truth.contact.backlash_planet_ring_m = 2e-5;
+  const Recording rec = synthesize(truth, 0.05, 5, 40, 2e-5, kResonantSkip_s, kResonantPeriodicity);
+  const Diagnosis d = diagnose(rec, resonant_stage(), {});
+  ASSERT_EQ(d.verdict, Verdict::MissingPhysicsFound) << d.summary;
+  const auto& w = d.candidates.front();
+  EXPECT_EQ(w.name, "backlash") << d.summary;
+  int own = 0;
+  for (const auto& p : w.parameters) {
+    if (p.nuisance) continue;
+    ++own;
+    EXPECT_TRUE(p.saturates) << p.name;
+    ASSERT_TRUE(std::isfinite(p.lower_limit)) << p.name;
+    EXPECT_GT(p.lower_limit, 0.0) << p.name;
+    EXPECT_LE(p.lower_limit, 2e-5) << p.name;
+  }
+  EXPECT_EQ(own, 2);
+  // 'Absent' tested by the likelihood ratio: the fit with the play put back to 0 is worse.
+  EXPECT_GT(w.null_chi2_fit - w.fit.chi2, w.lr_threshold);
 }
 
 } // namespace
