@@ -69,12 +69,12 @@ REPO = Path(__file__).resolve().parent.parent
 # Operating points (input speed [rpm], input power [W]). Every effect and the
 # controls share them, so the operating point says nothing about the effect.
 # 10-20 kW load the seed gears to 2.7-7 um static deflection. F and G lie near
-# the primary mesh resonance (mesh frequency ~5.4-5.8 kHz), where the dynamic
+# the primary mesh resonance (mesh frequency 5.35-5.42 kHz), where the dynamic
 # mesh force exceeds the static one and teeth with play separate: the only
 # regime in which backlash shows (sun-planet acceleration RMS with 20 um play
 # vs none, `planetwear simulate --set contact.backlash_*=...`: +12 % at 19 500
-# rpm / 2 kW, -6 % at 21 000 rpm / 10 kW; at the old points 1800 / 2200 rpm,
-# 1 kW it was 0.05 %, below any noise, measured 2026-11-24).
+# rpm / 2 kW, +14 % at 19 250 rpm / 5 kW (50 um); at the old points 1800 / 2200 rpm,
+# 1 kW it was 0.05 % and 0.2 %, far below the noise, measured 2026-11-25).
 OPERATING = {
     "A": (400.0, 10000.0),
     "B": (200.0, 10000.0),
