@@ -129,6 +129,10 @@ std::vector<FittedParameter> describe(const std::vector<ParameterSpec>& specs, c
   return out;
 }
 
+bool any_saturates(const std::vector<ParameterSpec>& specs) {
+  return std::any_of(specs.begin(), specs.end(), [](const ParameterSpec& p) { return p.saturates; });
+}
+
 std::string param_text(const FittedParameter& p) {
   char buf[200];
   if (p.saturates && std::isfinite(p.lower_limit))
@@ -228,7 +232,7 @@ CandidateResult fit_model(Context& ctx, const Candidate* cand, const Variant& v,
   }
   res.fit = summarize(fit);
   res.held_out = summarize(held);
-  if (std::any_of(cspec.begin(), cspec.end(), [](const ParameterSpec& p) { return p.saturates; })) {
+  if (any_saturates(cspec)) {
     std::vector<double> null_x;
     for (const auto& p : cspec) null_x.push_back(p.null_value);
     const auto c0 = ctx.make(cand, v, null_x, nx, nullptr);
@@ -532,12 +536,13 @@ Diagnosis diagnose(const Recording& recording, const model::SimulationConfig& co
     const Eigen::Index m_res = static_cast<Eigen::Index>(res0.size());
     const Eigen::Map<const Eigen::VectorXd> r_res(res0.data(), m_res);
     double S_nuis = 0;
+    Eigen::MatrixXd Jn(m_res, static_cast<Eigen::Index>(nuse.size()));
+    for (std::size_t a = 0; a < nuse.size(); ++a)
+      for (Eigen::Index k = 0; k < m_res; ++k) Jn(k, static_cast<Eigen::Index>(a)) = ncols[nuse[a]][static_cast<std::size_t>(k)];
+    const Eigen::LDLT<Eigen::MatrixXd> JnTJn = (Jn.transpose() * Jn).ldlt();
     if (!nuse.empty()) {
-      Eigen::MatrixXd Jn(m_res, static_cast<Eigen::Index>(nuse.size()));
-      for (std::size_t a = 0; a < nuse.size(); ++a)
-        for (Eigen::Index k = 0; k < m_res; ++k) Jn(k, static_cast<Eigen::Index>(a)) = ncols[nuse[a]][static_cast<std::size_t>(k)];
       const Eigen::VectorXd gn = Jn.transpose() * r_res;
-      S_nuis = gn.dot((Jn.transpose() * Jn).ldlt().solve(gn));
+      S_nuis = gn.dot(JnTJn.solve(gn));
     }
     for (Screen& sc : screens) {
       const std::size_t p = sc.spec.size();
@@ -547,17 +552,13 @@ Diagnosis diagnose(const Recording& recording, const model::SimulationConfig& co
       if (sc.failed) continue;
       // A saturating candidate has no useful linearization (its secant spans the onset of the
       // effect): its score is the chi2 change actually simulated, null -> screen value.
-      const bool saturating =
-          std::any_of(sc.spec.begin(), sc.spec.end(), [](const ParameterSpec& ps) { return ps.saturates; });
+      const bool saturating = any_saturates(sc.spec);
       // The nuisance parameters re-fitted (linearized) at both ends: a nuisance fit that absorbed
       // part of the effect (a softened mesh read as a lower stiffness level) gives it back.
       if (saturating) {
         auto refit = [&](const Eigen::VectorXd& r, Eigen::VectorXd* dn) {
           if (nuse.empty()) return r.squaredNorm();
-          Eigen::MatrixXd Jn(m_res, static_cast<Eigen::Index>(nuse.size()));
-          for (std::size_t a = 0; a < nuse.size(); ++a)
-            for (Eigen::Index k = 0; k < m_res; ++k) Jn(k, static_cast<Eigen::Index>(a)) = ncols[nuse[a]][static_cast<std::size_t>(k)];
-          const Eigen::VectorXd step = -(Jn.transpose() * Jn).ldlt().solve(Jn.transpose() * r);
+          const Eigen::VectorXd step = -JnTJn.solve(Jn.transpose() * r);
           if (dn) *dn = step;
           return (r + Jn * step).squaredNorm();
         };
@@ -739,7 +740,7 @@ Diagnosis diagnose(const Recording& recording, const model::SimulationConfig& co
         // A saturating candidate has no gradient to lead the nuisance parameters back from
         // where the nuisance-only fit took them to absorb its effect: also start them at
         // their configured values, keep the better fit.
-        if (joint && std::any_of(sc.spec.begin(), sc.spec.end(), [](const ParameterSpec& ps) { return ps.saturates; })) {
+        if (joint && any_saturates(sc.spec)) {
           std::vector<double> x1 = sc.start;
           for (const Candidate* n : ctx.nuisance)
             for (const auto& ps : n->parameters(ctx.base)) x1.push_back(ps.initial);
@@ -947,7 +948,7 @@ Diagnosis diagnose(const Recording& recording, const model::SimulationConfig& co
       //    fixed, on a log grid of s; the lower limit is the smallest s whose fit-half chi2
       //    stays within chi2_{1-alpha}(1) of the fit's, refined once between grid points.
       std::vector<ParameterSpec> wspec = cand->parameters(ctx.base);
-      if (std::any_of(wspec.begin(), wspec.end(), [](const ParameterSpec& p) { return p.saturates; })) {
+      if (any_saturates(wspec)) {
         own.clear();
         nx_w.clear();
         for (const auto& p : w.parameters)
