@@ -140,12 +140,14 @@ void PlanetaryDynamics::force(double t, const Eigen::VectorXd& q, const Eigen::V
     // Elastic forces pair by pair; a pair entering or leaving contact within the step
     // counts with the share of the step it spends in contact (engagement_weight).
     const double xi_lo = fam.geometry.start_active_m, xi_hi = fam.geometry.end_active_m;
+    st.pairs_engaged = 0;
     double k_sum = 0, k_active = 0, F_el = 0;
     std::array<double, MeshState::kMaxPairs> k_loaded{};  // k_j of pairs whose flanks touch
     for (int j = 0; j < st.pairs; ++j) {
       const geometry::ContactPair& p = pairs_[j];
       st.pair[j] = p;
       const double w = geometry::engagement_weight(fam.geometry, p.xi_m, h);
+      st.pairs_engaged += w >= 0.5 ? 1 : 0;
       const double k = w * fam.stiffness(std::clamp(p.xi_m, xi_lo, xi_hi)) * fa.stiffness_factor(p.tooth_a) *
                        fb.stiffness_factor(p.tooth_b);
       const double e = fa.deviation_m(p.tooth_a, p.xi_m) + fb.deviation_m(p.tooth_b, p.xi_m) + mesh_error_[m];

@@ -39,7 +39,9 @@ struct MeshState {
   double damping_force_N = 0;   ///< [N]
   double stiffness_N_m = 0;     ///< sum of k_j over the pairs geometrically in mesh [N/m]
   double friction_N = 0;        ///< sum of signed friction forces [N]
-  int pairs = 0;                ///< pairs geometrically in mesh
+  int pairs = 0;                ///< pairs in the (engagement-widened) window: pair[0 .. pairs)
+  /// Pairs with engagement weight >= 1/2: the sharp count at the step's midpoint (output).
+  int pairs_engaged = 0;
   std::array<geometry::ContactPair, kMaxPairs> pair{};
   std::array<double, kMaxPairs> pair_force_N{};    ///< normal force incl. its damping share [N]
   std::array<double, kMaxPairs> sliding_m_s{};     ///< sliding speed of A on B [m/s]

@@ -451,7 +451,7 @@ void record(Run& r, int cycles, SimulationResult& out, const ProgressFn& report,
     add(b + "force", "N", "total dynamic normal mesh force (elastic + damping), summed over tooth pairs");
     add(b + "acceleration", "m/s^2", "relative acceleration of the two gears along the line of action");
     add(b + "stiffness", "N/m", "combined mesh stiffness of the pairs geometrically in mesh");
-    add(b + "pairs_in_contact", "1", "number of tooth pairs geometrically in mesh");
+    add(b + "pairs_in_contact", "1", "number of tooth pairs in mesh (engagement weight >= 1/2)");
     add(b + "friction_force", "N", "sum of signed tooth friction forces (A's sliding direction on B)");
   }
   add("sun/speed", "rad/s", "absolute sun speed");
@@ -485,7 +485,7 @@ void record(Run& r, int cycles, SimulationResult& out, const ProgressFn& report,
       c6[1][k] = ms[m].force_N;
       c6[2][k] = S.meshes[m].g.dot(r.st.a);
       c6[3][k] = ms[m].stiffness_N_m;
-      c6[4][k] = ms[m].pairs;
+      c6[4][k] = ms[m].pairs_engaged;
       c6[5][k] = ms[m].friction_N;
       if (m % 2 == 0) fsum += ms[m].force_N;
     }
