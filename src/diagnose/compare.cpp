@@ -130,6 +130,21 @@ ModelComparison::ModelComparison(const Recording& recording, const model::Simula
     classify(c, nullptr);
   }
   for (double v : vns_) ns_cells_ += v > 0 ? 1 : 0;
+  // The angle reference's linear drift (order_analysis.hpp): one N(0, D T) number per window
+  // that moves every amplitude along amplitude_drift; a column with a N(0, 1) weight.
+  drift_.assign(2, {});
+  if (!spec_.amplitude_drift.empty() && spec_.angle_diffusion_T > 0) {
+    const double sd = std::sqrt(spec_.angle_diffusion_T);
+    for (int w = 0; w < 2; ++w) {
+      auto& col = drift_[static_cast<std::size_t>(w)];
+      col.assign(m, 0.0);
+      for (int c = 0; c < nc; ++c)
+        for (int i = 0; i < ncell; ++i)
+          col[static_cast<std::size_t>(c * ncell + i)] =
+              sd * spec_.amplitude_drift[static_cast<std::size_t>(w)][static_cast<std::size_t>(c)]
+                                        [static_cast<std::size_t>(spec_.layout.cells[static_cast<std::size_t>(i)].bin)];
+    }
+  }
 }
 
 void ModelComparison::set_reference(const std::vector<std::vector<double>>& m, const std::vector<double>& gains_in) {
@@ -216,14 +231,16 @@ std::vector<double> ModelComparison::residual_vector(const std::vector<std::vect
 
 double ModelComparison::chi2_of(const std::vector<double>& r, int w, const std::vector<double>& gains,
                                 WindowScore* out) const {
-  const std::size_t m = r.size(), q = u_.size();
+  const auto& drift = drift_[static_cast<std::size_t>(w)];
+  const std::size_t m = r.size(), q = u_.size() + (drift.empty() ? 0 : 1);
   const int ncell = cells();
   const auto& D = d_[static_cast<std::size_t>(w)];
-  // z* = (I + U' D^-1 U)^-1 U' D^-1 r, with U's rows scaled by the channel gains.
+  // z* = (I + U' D^-1 U)^-1 U' D^-1 r, with the fidelity columns' rows scaled by the channel
+  // gains (they are model changes); the drift column is the recording's own, unscaled.
   Eigen::MatrixXd A = Eigen::MatrixXd::Identity(static_cast<Eigen::Index>(q), static_cast<Eigen::Index>(q));
   Eigen::VectorXd b = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(q));
   auto uval = [&](std::size_t col, std::size_t f) {
-    return u_[col][f] * gains[f / static_cast<std::size_t>(ncell)];
+    return col < u_.size() ? u_[col][f] * gains[f / static_cast<std::size_t>(ncell)] : drift[f];
   };
   for (std::size_t f = 0; f < m; ++f) {
     const double id = 1.0 / D[f];
@@ -318,6 +335,7 @@ double ModelComparison::null_quantile(const std::vector<std::vector<double>>& m,
   std::vector<double> gains = gains_in;
   if (gains.empty()) gains.assign(static_cast<std::size_t>(nc), 1.0);
   const std::size_t nf = static_cast<std::size_t>(features()), q = u_.size();
+  const auto& drift = drift_[static_cast<std::size_t>(w)];
   std::vector<double> a(nf), mu(nf);
   for (int c = 0; c < nc; ++c)
     for (int i = 0; i < ncell; ++i) {
@@ -340,6 +358,7 @@ double ModelComparison::null_quantile(const std::vector<std::vector<double>>& m,
     std::vector<double> z(q);
     for (double& v : z) v = nd(rng);
     for (double& v : eps) v = nd(rng);
+    const double zd = drift.empty() ? 0.0 : nd(rng);
     for (std::size_t f = 0; f < nf; ++f) {
       const std::size_t c = f / static_cast<std::size_t>(ncell), i = f % static_cast<std::size_t>(ncell);
       double af = a[f];
@@ -350,7 +369,7 @@ double ModelComparison::null_quantile(const std::vector<std::vector<double>>& m,
                                                      static_cast<std::size_t>(spec_.noise_group[c][i])]);
       const double s = std::sqrt(0.5 * s2_[f] * scale);
       const double x = af + s * nd(rng), y = s * nd(rng);
-      r[f] = std::hypot(x, y) - mu[f];
+      r[f] = std::hypot(x, y) - mu[f] + (drift.empty() ? 0.0 : zd * drift[f]);
     }
     chi[static_cast<std::size_t>(d)] = chi2_of(r, w, gains, nullptr);
   }

@@ -34,7 +34,14 @@
 //    recording's speed +- its standard error (half the difference). A column
 //    is a coherent pattern (a discretization error moves all resonant
 //    lines together), so it is a low-rank term with a N(0, 1) weight, not a
-//    diagonal variance.
+//    diagonal variance;
+//  * one more column per window when the recording's angle reference is an
+//    integrated speed channel: the window's linear angle drift (standard
+//    deviation sqrt(D T), order_analysis.hpp) times the derivative of the
+//    recording's amplitudes in it. Its leaks from the strong mesh harmonics
+//    into their neighbours are one random number for every cell and
+//    channel: correlated, so a column, not noise. WindowScore::fidelity_z
+//    ends with its weight.
 //
 // chi2 = r^T V^{-1} r = min_z |D^{-1/2}(r - U z)|^2 + |z|^2 (Woodbury), so
 // the whitened residual handed to the least-squares fit is
@@ -48,6 +55,7 @@
 #include "diagnose/recording.hpp"
 #include "model/stage.hpp"
 
+#include <cmath>
 #include <cstdint>
 #include <functional>
 #include <map>
@@ -124,6 +132,9 @@ public:
   void set_fidelity(std::vector<std::vector<double>> columns, std::vector<std::string> names);
   const std::vector<std::string>& fidelity_names() const { return u_names_; }
   const std::vector<std::vector<double>>& fidelity_columns() const { return u_; }
+  /// Standard deviation [rad] of the angle reference's linear drift over a window, carried as a
+  /// last column of U (0: none, the angle does not come from an integrated speed channel).
+  double angle_drift_std_rad() const { return drift_[0].empty() ? 0.0 : std::sqrt(spec_.angle_diffusion_T); }
 
   /// Scores model amplitudes ([channel][bin], housing at gain 1) on window w.
   /// profile_gain: fit the housing gains on this window (starting at `gains`);
@@ -162,6 +173,7 @@ private:
   std::vector<double> dispersion_;           // [channel]
   int ns_cells_ = 0;
   std::vector<std::vector<double>> u_;       // [column][feature]
+  std::vector<std::vector<double>> drift_;   // [window][feature]: angle-drift column (empty: none)
   std::vector<std::string> u_names_;
 
   mutable std::mutex mutex_;

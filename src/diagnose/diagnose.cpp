@@ -381,6 +381,9 @@ Diagnosis diagnose(const Recording& recording, const model::SimulationConfig& co
   set_fidelity(ctx, d.nuisance.config, &ctx.nuisance_sim);
   cmp.set_reference(ctx.nuisance_sim->amplitude, ctx.nuisance_gains);
   d.fidelity = cmp.fidelity_names();
+  if (cmp.angle_drift_std_rad() > 0)
+    d.fidelity.push_back("linear drift of the angle reference over the window (sd " +
+                         fmt("%.3g", cmp.angle_drift_std_rad()) + " rad)");
   {
     const WindowScore nf = cmp.score(ctx.nuisance_sim->amplitude, 0, ctx.nuisance_gains, true);
     ctx.nuisance_gains = nf.gains;

@@ -283,7 +283,8 @@ std::vector<double> carrier_angle(const Recording& r, const model::StageSpec& st
 }
 
 std::vector<std::complex<double>> angle_fourier(std::span<const double> x, std::span<const double> angle,
-                                                double a0, int R, int max_bin) {
+                                                double a0, int R, int max_bin,
+                                                std::vector<std::complex<double>>* drift) {
   const std::size_t n = x.size();
   require(n == angle.size() && n >= 4, "signal", "need >= 4 samples with angles");
   const double span = 2 * kPi * R, a1 = a0 + span;
@@ -313,14 +314,28 @@ std::vector<std::complex<double>> angle_fourier(std::span<const double> x, std::
     w[i] = 0.5 * ((i + 1 < m ? phi[i + 1] : phi[i]) - (i > 0 ? phi[i - 1] : phi[i])) / span;
   double mean = 0;
   for (std::size_t i = 0; i < m; ++i) mean += w[i] * val[i];
-  std::vector<double> re(static_cast<std::size_t>(max_bin) + 1, 0.0), im(re.size(), 0.0);
+  const std::size_t nb = static_cast<std::size_t>(max_bin) + 1;
+  std::vector<double> re(nb, 0.0), im(nb, 0.0), gre(drift ? nb : 0, 0.0), gim(gre.size(), 0.0);
   for (std::size_t i = 0; i < m; ++i) {
     const double y = w[i] * (val[i] - mean);
     if (y == 0) continue;
     const double step = -phi[i] / R;
     const double cr = std::cos(step), ci = std::sin(step);
     double zr = y, zi = 0;  // y e^{-i k phi / R}, k = 0, 1, ...
-    for (std::size_t k = 0; k < re.size(); ++k) {
+    if (drift) {
+      const double f = phi[i];
+      for (std::size_t k = 0; k < nb; ++k) {
+        re[k] += zr;
+        im[k] += zi;
+        gre[k] += f * zr;
+        gim[k] += f * zi;
+        const double t = zr * cr - zi * ci;
+        zi = zr * ci + zi * cr;
+        zr = t;
+      }
+      continue;
+    }
+    for (std::size_t k = 0; k < nb; ++k) {
       re[k] += zr;
       im[k] += zi;
       const double t = zr * cr - zi * ci;
@@ -328,8 +343,17 @@ std::vector<std::complex<double>> angle_fourier(std::span<const double> x, std::
       zr = t;
     }
   }
-  std::vector<std::complex<double>> c(re.size());
-  for (std::size_t k = 0; k < re.size(); ++k) c[k] = {re[k], im[k]};
+  std::vector<std::complex<double>> c(nb);
+  for (std::size_t k = 0; k < nb; ++k) c[k] = {re[k], im[k]};
+  if (drift) {
+    const double y1 = val.back() - mean;
+    drift->assign(nb, {0.0, 0.0});
+    for (std::size_t k = 1; k < nb; ++k) {
+      const std::complex<double> dk = y1 - c[k] + std::complex<double>(0.0, static_cast<double>(k) / R) *
+                                                      std::complex<double>(gre[k], gim[k]);
+      (*drift)[k] = dk / span;
+    }
+  }
   return c;
 }
 
@@ -431,15 +455,23 @@ RecordingSpectra analyse_recording(const Recording& rec, const model::StageSpec&
   s.windows.push_back(window("held_out", total - 2 * kPi * R - 1e-9 * total));
   const std::size_t nc = s.channels.size();
   s.amplitude.assign(2, std::vector<std::vector<double>>(nc));
+  const bool drifts = s.angle_reference == AngleReference::SunSpeed || s.angle_reference == AngleReference::CarrierSpeed;
+  if (drifts) s.amplitude_drift.assign(2, std::vector<std::vector<double>>(nc));
 #pragma omp parallel for schedule(dynamic, 1) collapse(2)
   for (int w = 0; w < 2; ++w)
     for (int c = 0; c < static_cast<int>(nc); ++c) {
       const auto& ch = rec.channels[static_cast<std::size_t>(s.channels[static_cast<std::size_t>(c)])];
+      std::vector<std::complex<double>> dX;
       const auto X = angle_fourier(ch.values, s.carrier_angle, s.windows[static_cast<std::size_t>(w)].angle_begin_rad,
-                                   R, s.layout.max_bin);
-      std::vector<double> a(X.size());
-      for (std::size_t k = 0; k < X.size(); ++k) a[k] = std::abs(X[k]);
+                                   R, s.layout.max_bin, drifts ? &dX : nullptr);
+      std::vector<double> a(X.size()), da(drifts ? X.size() : 0, 0.0);
+      for (std::size_t k = 0; k < X.size(); ++k) {
+        a[k] = std::abs(X[k]);
+        // d|c|/d delta = Re(conj(c) dc/d delta) / |c|
+        if (drifts && a[k] > 0) da[k] = std::real(std::conj(X[k]) * dX[k]) / a[k];
+      }
       s.amplitude[static_cast<std::size_t>(w)][static_cast<std::size_t>(c)] = std::move(a);
+      if (drifts) s.amplitude_drift[static_cast<std::size_t>(w)][static_cast<std::size_t>(c)] = std::move(da);
     }
   // Noise (docs/diagnose.md §2). The features' own bins are no place to measure it: lines that
   // are not integer orders leak into every bin of a rectangular window. So, per channel, the
@@ -548,13 +580,20 @@ RecordingSpectra analyse_recording(const Recording& rec, const model::StageSpec&
     }
   }
   // The angle reference integrates a speed channel with white noise (per-sample variance
-  // s_w^2): its error is a random walk with diffusion D = s_w^2 dt k^2 (k = Zs/(Zs+Zr) for the
-  // sun speed, 1 for the carrier speed) whose Fourier coefficient d bins away has
-  // E|c_d|^2 = D T / (2 pi^2 d^2) over a window of length T (Brownian motion, integrated by
-  // parts). A line of amplitude A at order o is phase modulated by o times that error and
-  // leaks A^2 o^2 D T / (2 pi^2 d^2) into the bins d away: extra noise power there. With the
-  // per-bin noise variance of the speed channel, s_b^2 = s_w^2 / n, D T = s_b^2 T^2 k^2.
-  if (s.angle_reference == AngleReference::SunSpeed || s.angle_reference == AngleReference::CarrierSpeed) {
+  // s_w^2): its error is a random walk B with diffusion D = s_w^2 dt k^2 (k = Zs/(Zs+Zr) for
+  // the sun speed, 1 for the carrier speed). Over a window of length T, B(t) = B(T) t/T + a
+  // Brownian bridge, independent of each other. A line of amplitude A at order o is phase
+  // modulated by o times the error:
+  //  * the linear part is one number per window, delta = B(T) ~ N(0, D T), shared by every
+  //    line of every channel: the amplitudes move together along amplitude_drift (their
+  //    derivative in delta). The comparison carries it as one low-rank column per window
+  //    (compare.hpp), not as independent noise, because its leaks are correlated;
+  //  * the bridge's Fourier coefficient d bins away has E|c_d|^2 = D T / (4 pi^2 d^2) (half the
+  //    Brownian motion's D T / (2 pi^2 d^2), the other half being the linear part's
+  //    E|B(T)|^2 / (4 pi^2 d^2)), so the line leaks A^2 o^2 D T / (4 pi^2 d^2) into the bins d
+  //    away: independent extra noise power there.
+  // With the per-bin noise variance of the speed channel, s_b^2 = s_w^2 / n, D T = s_b^2 T^2 k^2.
+  if (drifts) {
     const Quantity q = s.angle_reference == AngleReference::SunSpeed ? Quantity::SunSpeed : Quantity::CarrierSpeed;
     const double k = q == Quantity::SunSpeed ? stage.sun.teeth / static_cast<double>(stage.sun.teeth + stage.ring.teeth) : 1.0;
     for (std::size_t c = 0; c < nc; ++c) {
@@ -576,7 +615,7 @@ RecordingSpectra analyse_recording(const Recording& rec, const model::StageSpec&
             p += 0.5 * a * a;
           }
           const double ord = static_cast<double>(bl) / R;
-          leak += std::max(0.0, p - s.noise_variance[c][i]) * ord * ord * s.angle_diffusion_T / (2 * kPi * kPi * d * d);
+          leak += std::max(0.0, p - s.noise_variance[c][i]) * ord * ord * s.angle_diffusion_T / (4 * kPi * kPi * d * d);
         }
         s.noise_variance[c][i] += leak;
       }

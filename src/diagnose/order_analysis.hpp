@@ -68,8 +68,16 @@ std::vector<double> mesh_period_average(std::span<const double> x, double width)
 /// intervals by linear interpolation), after removing the window's mean.
 /// Exact (to rounding) for band-limited signals sampled uniformly in time at
 /// constant speed. Throws pw::InputError if the samples do not cover the window.
+///
+/// drift (optional): dc_k/d delta, k = 0 .. max_bin, where delta [rad] is a
+/// linear error of the angle reference over the window (the reference reads
+/// delta too much at its end): the coefficients of x against the corrected
+/// angle a0 + (angle - a0)(1 - delta / 2 pi R). With eps = delta / 2 pi R,
+/// dc_k/d eps = y(a1) - c_k + (i k / R) G_k, G_k = (1/2 pi R) ∫ y phi e^{-i k phi/R} dphi
+/// (differentiate under the integral, integrate by parts; y = x minus its mean).
 std::vector<std::complex<double>> angle_fourier(std::span<const double> x, std::span<const double> angle,
-                                                double angle_begin, int revolutions, int max_bin);
+                                                double angle_begin, int revolutions, int max_bin,
+                                                std::vector<std::complex<double>>* drift = nullptr);
 
 /// Mean of exponentially distributed values (|c_k|^2 of noise bins) that may
 /// contain a few outliers (lines): truncated at the 99 % point of the
@@ -151,9 +159,14 @@ struct RecordingSpectra {
   std::vector<bool> noise_local;     ///< per channel: coloured noise, local estimates used
   std::vector<double> noise_floor;   ///< per channel: mean over cells (for the report)
   std::vector<double> noise_sample_variance;  ///< per channel: white-noise variance per sample s_w^2
-  /// D T of the angle reference's random walk [rad^2] (0 without a speed channel): strong
-  /// lines leak A^2 o^2 D T / (2 pi^2 d^2) into the bins d away, added to noise_variance.
+  /// D T of the angle reference's random walk [rad^2] (0 without a speed channel): the
+  /// variance of its linear drift delta over a window, and strong lines leak the rest (the
+  /// Brownian bridge) as A^2 o^2 D T / (4 pi^2 d^2) into the bins d away, added to noise_variance.
   double angle_diffusion_T = 0;
+  /// amplitude_drift[w][c][k] = d|c_k|/d delta [unit/rad]: how window w's amplitudes move with
+  /// a linear angle-reference error delta over the window (angle_fourier); empty without a
+  /// speed channel as the angle reference.
+  std::vector<std::vector<std::vector<double>>> amplitude_drift;
   std::vector<int> noise_bins_used;  ///< per channel
   std::vector<double> carrier_angle; ///< per sample (for synchronous averages)
 };

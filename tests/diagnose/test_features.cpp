@@ -97,6 +97,57 @@ TEST(OrderAnalysis, AngleFourierIsExactForIntegerOrdersAtAVaryingSpeed) {
   EXPECT_LT(std::abs(c[150]), 2e-4);
 }
 
+TEST(OrderAnalysis, AngleFourierDriftDerivativeMatchesAFiniteDifferenceOfTheCorrectedAngle) {
+  // Lines at integer and fractional orders plus deterministic "noise"; a window of R = 2
+  // revolutions that starts between samples. The analytic dc_k/d delta against the central
+  // difference of the coefficients over the corrected angle a0 + (theta - a0)(1 - delta / 4 pi)
+  // with delta = +-1e-5 rad (truncation O(delta^2) ~ 1e-10 relative; rounding ~1e-16 / 1e-5).
+  const double dt = 1e-4, Omega = 7.3, a0 = 0.0123;
+  const int R = 2;
+  std::vector<double> th, x;
+  for (int j = 0; j < 30000; ++j) {
+    const double a = Omega * j * dt;
+    th.push_back(a);
+    x.push_back(2 * std::cos(81 * a + 0.3) + 0.7 * std::cos(96.5 * a) + 0.05 * std::sin(1e3 * std::sin(0.37 * j)) + 1.0);
+  }
+  std::vector<std::complex<double>> d;
+  angle_fourier(x, th, a0, R, 300, &d);
+  auto corrected = [&](double delta) {
+    std::vector<double> t(th.size());
+    for (std::size_t j = 0; j < th.size(); ++j) t[j] = a0 + (th[j] - a0) * (1 - delta / (2 * kPi * R));
+    return angle_fourier(x, t, a0, R, 300);
+  };
+  const double h = 1e-5;
+  const auto cp = corrected(h), cm = corrected(-h);
+  double worst = 0, scale = 0;
+  for (int k = 1; k <= 300; ++k) {
+    const auto fd = (cp[static_cast<std::size_t>(k)] - cm[static_cast<std::size_t>(k)]) / (2 * h);
+    worst = std::max(worst, std::abs(fd - d[static_cast<std::size_t>(k)]));
+    scale = std::max(scale, std::abs(fd));
+  }
+  EXPECT_GT(scale, 10.0);  // the order-162 line's derivative is ~ A k / 2 ~ 80 per rad
+  EXPECT_LT(worst, 1e-4 * scale);
+}
+
+TEST(OrderAnalysis, FirstOrderDriftCorrectionRemovesTheLeakOfADriftedAngleReference) {
+  // A line at carrier order 81 recorded against an angle reference that reads delta = 2e-4 rad
+  // too much at the end of a one-revolution window: the line leaks ~A 81 delta / (2 pi d) into
+  // the bins d away. c_k + delta dc_k/d delta restores the clean coefficients to O(delta^2).
+  const double dt = 1e-4, Omega = 8.6, delta = 2e-4;
+  std::vector<double> th, x;
+  for (int j = 0; j < 9000; ++j) {
+    const double a = Omega * j * dt;
+    th.push_back(a * (1 + delta / (2 * kPi)));
+    x.push_back(2 * std::cos(81 * a + 0.3));
+  }
+  std::vector<std::complex<double>> d;
+  const auto c = angle_fourier(x, th, 0.0, 1, 200, &d);
+  const double leak = std::abs(c[82]);
+  EXPECT_GT(leak, 0.5 * 81 * delta / (2 * kPi));  // the leak is there
+  for (int k : {80, 82, 83, 120}) EXPECT_LT(std::abs(c[static_cast<std::size_t>(k)] + delta * d[static_cast<std::size_t>(k)]), 0.02 * leak) << k;
+  EXPECT_NEAR(std::abs(c[81] + delta * d[81]), 1.0, 1e-4);
+}
+
 TEST(OrderAnalysis, RiceMeanAndVarianceMatchMonteCarlo) {
   std::mt19937_64 rng(3);
   std::normal_distribution<double> nd(0.0, 1.0);
