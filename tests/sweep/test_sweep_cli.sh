@@ -81,7 +81,14 @@ cmp -s out.h5 keep.h5 || fail "refused MPI run changed the archive"
 
 # A second run on an archive in use is refused (journal lock).
 start_session "$PW" sweep --quiet --force "$T/data/kill.toml" -o busy.h5
-sleep 0.5
+# Wait for its journal lock (created, then flock'ed at once): a fixed sleep was too short on a
+# loaded machine (the second run then took the lock itself).
+waited=0
+while [ ! -e busy.h5.journal/lock ]; do
+  sleep 0.05; waited=$((waited + 1))
+  [ "$waited" -lt 1200 ] || { kill_session "$SESSION"; fail "the first sweep never locked its journal (60 s)"; }
+done
+sleep 0.2
 run "$PW" sweep --quiet --resume "$T/data/kill.toml" -o busy.h5 2> err.txt
 kill_session "$SESSION"
 [ "$RC" -eq 3 ] && grep -q "another planetwear sweep is running" err.txt || { cat err.txt; fail "concurrent run: exit $RC"; }
