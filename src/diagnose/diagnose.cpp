@@ -911,23 +911,68 @@ Diagnosis diagnose(const Recording& recording, const model::SimulationConfig& co
         if (!p.nuisance) own.push_back(p.value);
         else if (p.name.rfind("sensor.gain", 0) != 0) nx_w.push_back(p.value);
       if (nx_w.size() != ctx.nuisance_x.size()) nx_w = ctx.nuisance_x;
-      const auto phases = cand->phase_variants(v, ctx.base, map);
+      const auto phases = cand->phase_variants(v, d.location.evidence, ctx.base, map);
       if (!phases.empty()) {
         t = Clock::now();
-        say("screening " + std::to_string(phases.size()) + " phase variants of " + w.name);
-        std::vector<double> chi(phases.size(), std::numeric_limits<double>::infinity());
-        parallel_for(static_cast<int>(phases.size()), threads, [&](int i) {
+        // Phases that trade off against the parameters are screened with the parameters
+        // profiled: one Gauss-Newton step from the winner's values on the secant to a point
+        // half their distance from "absent" further out (the screening value if at "absent").
+        const bool profile = cand->phase_trades_with_parameters();
+        const std::vector<ParameterSpec> pspec = cand->parameters(ctx.base);
+        std::vector<double> h(own.size(), 0.0);
+        if (profile)
+          for (std::size_t k = 0; k < own.size(); ++k) {
+            double x1 = own[k] + 0.5 * (own[k] - pspec[k].null_value);
+            if (x1 == own[k]) x1 = pspec[k].screen_value;
+            h[k] = std::clamp(x1, pspec[k].lower, pspec[k].upper) - own[k];
+          }
+        const std::size_t per = profile ? 1 + own.size() : 1;
+        say("screening " + std::to_string(phases.size()) + " phase variants of " + w.name +
+            (profile ? " with its parameters profiled (" + std::to_string(phases.size() * per) + " simulations)" : ""));
+        std::vector<std::vector<double>> res(phases.size() * per);
+        parallel_for(static_cast<int>(res.size()), threads, [&](int ti) {
+          const std::size_t i = static_cast<std::size_t>(ti) / per, k = static_cast<std::size_t>(ti) % per;
+          std::vector<double> x = own;
+          if (k > 0) x[k - 1] += h[k - 1];
           try {
-            const auto c = ctx.make(cand, phases[static_cast<std::size_t>(i)], own, nx_w, nullptr);
-            chi[static_cast<std::size_t>(i)] = cmp.score(ctx.amplitudes(c, false), 0, ctx.nuisance_gains, true).chi2;
+            const auto c = ctx.make(cand, phases[i], x, nx_w, nullptr);
+            res[static_cast<std::size_t>(ti)] = cmp.score(ctx.amplitudes(c, false), 0, ctx.nuisance_gains, true).residual;
           } catch (const SolverError&) {
           }
         });
+        std::vector<double> chi(phases.size(), std::numeric_limits<double>::infinity());
+        std::vector<std::vector<double>> xstart(phases.size(), own);
+        for (std::size_t i = 0; i < phases.size(); ++i) {
+          const auto& r0 = res[i * per];
+          if (r0.empty()) continue;
+          const Eigen::Map<const Eigen::VectorXd> e0(r0.data(), static_cast<Eigen::Index>(r0.size()));
+          chi[i] = e0.squaredNorm();
+          if (!profile) continue;
+          Eigen::MatrixXd J(e0.size(), static_cast<Eigen::Index>(own.size()));
+          bool ok = true;
+          for (std::size_t k = 0; k < own.size() && ok; ++k) {
+            const auto& rk = res[i * per + 1 + k];
+            ok = !rk.empty() && rk.size() == r0.size() && h[k] != 0;
+            if (ok)
+              J.col(static_cast<Eigen::Index>(k)) =
+                  (Eigen::Map<const Eigen::VectorXd>(rk.data(), e0.size()) - e0) / h[k];
+          }
+          if (!ok) continue;
+          const Eigen::VectorXd dx = (J.transpose() * J).ldlt().solve(-J.transpose() * e0);
+          std::vector<double> x = own;
+          Eigen::VectorXd step(static_cast<Eigen::Index>(own.size()));
+          for (std::size_t k = 0; k < own.size(); ++k) {
+            x[k] = std::clamp(own[k] + dx(static_cast<Eigen::Index>(k)), pspec[k].lower, pspec[k].upper);
+            step(static_cast<Eigen::Index>(k)) = x[k] - own[k];
+          }
+          const double predicted = (e0 + J * step).squaredNorm();
+          if (std::isfinite(predicted) && predicted < chi[i]) chi[i] = predicted, xstart[i] = x;
+        }
         const std::size_t b = static_cast<std::size_t>(std::min_element(chi.begin(), chi.end()) - chi.begin());
         if (chi[b] < w.fit.chi2) {
           CandidateResult r2;
           try {
-            std::vector<double> x0 = own;
+            std::vector<double> x0 = xstart[b];
             x0.insert(x0.end(), nx_w.begin(), nx_w.end());
             r2 = fit_model(ctx, cand, phases[b], true, threads, std::max(2, o.max_iterations / 2), &x0);
           } catch (const SolverError&) {
@@ -938,7 +983,7 @@ Diagnosis diagnose(const Recording& recording, const model::SimulationConfig& co
             r2.evidence_z = w.evidence_z;
             r2.predicted_improvement = w.predicted_improvement;
             r2.reason = w.reason + "; " + phases[b].label + " among " + std::to_string(phases.size() + 1) + " phases";
-            r2.simulations += w.simulations + static_cast<int>(phases.size());
+            r2.simulations += w.simulations + static_cast<int>(phases.size() * per);
             r2.seconds = w.seconds;
             w = std::move(r2);
             v = w.chosen;

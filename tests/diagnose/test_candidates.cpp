@@ -1,9 +1,10 @@
-// Candidate library (src/diagnose/candidates): the near-alias start mapping
+// Candidate library (src/diagnose/candidates): the ring-tooth places screened as phase variants, and the near-alias start mapping
 // between planet pin errors and a carrier eccentricity. Both displace the
 // planet centres in the carrier; a pin error along the carrier tangent
 // e_t = (-sin psi, cos psi), the eccentricity by one vector (x, y) whose
 // tangential part at planet i is -x sin psi_i + y cos psi_i.
 #include "diagnose/candidates/candidate.hpp"
+#include "diagnose/kinematics.hpp"
 
 #include <gtest/gtest.h>
 
@@ -59,6 +60,45 @@ TEST(Candidates, FourPlanetPinPatternKeepsOnlyItsFirstHarmonic) {
   ASSERT_EQ(e.size(), 2u);
   EXPECT_NEAR(e[0], 0.0, 1e-18);
   EXPECT_NEAR(e[1], 0.0, 1e-18);
+}
+
+TEST(Candidates, RingPlacesCoverOnePlanetSpacingAtAQuarterOfTheSensorWindow) {
+  // Seed stage: 3 equally spaced planets, Zr = 81 (a multiple of 3), so the housing sensor sees
+  // the same stage after 27 teeth; sigma = 0.5 rad is 6.4 tooth pitches, so every tooth of one
+  // spacing is a place (step floor(6.4 / 4) = 1): 26 besides the chosen one.
+  model::SimulationConfig base;
+  const ToothMap map(base);
+  const int z = map.teeth(model::Body::Ring);
+  ASSERT_EQ(z % base.stage.planet_count, 0);
+  const Candidate* ring = find_candidate("ring_tooth_damage");
+  ASSERT_NE(ring, nullptr);
+  EXPECT_TRUE(ring->phase_trades_with_parameters());
+  EXPECT_FALSE(find_candidate("sun_tooth_damage")->phase_trades_with_parameters());
+  LocatedEvidence ev;
+  ev.housing_sensor_angles_rad = {1.0};
+  const Variant chosen = ring->variants(ev, base, map).front();
+  auto places = [&](const model::SimulationConfig& c) {
+    std::vector<int> t;
+    for (const auto& v : ring->phase_variants(chosen, ev, c, map)) t.push_back(v.tooth);
+    return t;
+  };
+  const auto all = places(base);
+  const int span = z / base.stage.planet_count;
+  ASSERT_EQ(static_cast<int>(all.size()), span - 1);
+  for (std::size_t k = 0; k < all.size(); ++k) EXPECT_EQ(all[k], (chosen.tooth + 1 + static_cast<int>(k)) % z);
+  // A wide window: places a quarter of it apart (floor(2 / 4 / (2 pi / 81)) = 6 teeth).
+  model::SimulationConfig wide = base;
+  wide.sensor.window_width_rad = 2.0;
+  const int step = static_cast<int>(std::floor(2.0 / 4 / (2 * std::numbers::pi / z)));
+  const auto coarse = places(wide);
+  ASSERT_EQ(static_cast<int>(coarse.size()), (span - 1) / step);
+  EXPECT_EQ(coarse.front(), (chosen.tooth + step) % z);
+  // Unequally spaced planets: no symmetry, the places go all round.
+  model::SimulationConfig uneven = base;
+  uneven.stage.planet_angles_rad = {0.0, 2.0, 4.3};
+  EXPECT_EQ(static_cast<int>(places(uneven).size()), z - 1);
+  // Without a housing sensor the ring tooth's place changes no amplitude: none to screen.
+  EXPECT_TRUE(ring->phase_variants(chosen, LocatedEvidence{}, base, map).empty());
 }
 
 } // namespace

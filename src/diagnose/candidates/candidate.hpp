@@ -75,13 +75,18 @@ public:
   virtual std::vector<Variant> variants(const LocatedEvidence& evidence, const model::SimulationConfig& base,
                                         const ToothMap& teeth) const;
   /// Variants that differ from `chosen` only in a phase the amplitudes cannot
-  /// see directly but the beats inside a short window can (which tooth); the
-  /// winner's are screened at its fitted parameters (default: none).
-  virtual std::vector<Variant> phase_variants(const Variant& chosen, const model::SimulationConfig& base,
-                                              const ToothMap& teeth) const {
-    (void)chosen, (void)base, (void)teeth;
+  /// see directly but the beats inside a short window (which tooth) or the
+  /// housing sensor's transfer path (where a ring tooth is) can; the winner's
+  /// are screened at its fitted parameters (default: none).
+  virtual std::vector<Variant> phase_variants(const Variant& chosen, const LocatedEvidence& evidence,
+                                              const model::SimulationConfig& base, const ToothMap& teeth) const {
+    (void)chosen, (void)evidence, (void)base, (void)teeth;
     return {};
   }
+  /// The phase variants trade off against the parameters (a ring tooth far from the sensor
+  /// sounds like a milder one near it): screen each with its parameters profiled by one
+  /// Gauss-Newton step, not at the winner's values (docs/diagnose.md §5 step 12).
+  virtual bool phase_trades_with_parameters() const { return false; }
   /// Writes parameters x (physical units, one per parameters()) into config;
   /// appends the equivalent "key=value" overrides to `overrides` if given.
   virtual void apply(model::SimulationConfig& config, const Variant& variant, std::span<const double> x,

@@ -4,7 +4,11 @@
 // which tooth (no phase); the severity is fitted on a canonical tooth, the
 // planet variants are screened (the mesh channels belong to one planet), and
 // other teeth are tried as phase variants of the winner (every third planet
-// tooth: all of them would cost as much as the rest of the diagnosis).
+// tooth: all of them would cost as much as the rest of the diagnosis). A ring
+// tooth's place relative to a housing sensor is visible (the transfer path
+// weighs its impacts by the meshing planet's distance from the sensor) and
+// trades off against the severity: ring places are screened with the severity
+// profiled, spaced by a quarter of the sensor window's width.
 #include "diagnose/candidates/factories.hpp"
 
 #include <algorithm>
@@ -13,6 +17,8 @@
 
 namespace pw::diagnose::candidates {
 namespace {
+
+constexpr double kPi = 3.141592653589793;
 
 const char* body_name(model::Body b) {
   switch (b) {
@@ -68,13 +74,10 @@ public:
       const double phi = ev.housing_sensor_angles_rad.front();
       const int z = map.teeth(model::Body::Ring);
       for (double deg : {0.0, 45.0, 90.0, 180.0}) {
-        // Ring tooth j sits at the housing angle where planet 0 meshes with it: 2 pi u_j / Zr.
         int best = 0;
         double best_d = 1e300;
         for (int j = 0; j < z; ++j) {
-          const double a = 2 * 3.141592653589793 *
-                           map.passage_mesh_cycle(model::Body::Ring, 0, j, ToothMap::Mesh::PlanetRing) / z;
-          const double d = std::fabs(std::remainder(a - phi - deg * 3.141592653589793 / 180, 2 * 3.141592653589793));
+          const double d = std::fabs(std::remainder(ring_tooth_from_sensor(map, j, phi) - deg * kPi / 180, 2 * kPi));
           if (d < best_d) best_d = d, best = j;
         }
         char buf[64];
@@ -86,12 +89,13 @@ public:
     }
     return out;
   }
-  std::vector<Variant> phase_variants(const Variant& chosen, const model::SimulationConfig&,
-                                      const ToothMap& map) const override {
+  bool phase_trades_with_parameters() const override { return body_ == model::Body::Ring; }
+  std::vector<Variant> phase_variants(const Variant& chosen, const LocatedEvidence& ev,
+                                      const model::SimulationConfig& base, const ToothMap& map) const override {
+    if (body_ == model::Body::Ring) return ring_places(chosen, ev, base, map);
     // Which tooth sets where, in the hunting cycle, its impacts meet the housing sensor's
     // planet-pass window, i.e. how the non-synchronous lines beat with the synchronous ones
     // inside a window of a few revolutions. No reference tells it; it is screened instead.
-    if (body_ == model::Body::Ring) return {};
     std::vector<Variant> out;
     const int z = map.teeth(body_);
     // Planets: every third tooth (30 would cost as much as the rest of the diagnosis).
@@ -121,6 +125,40 @@ public:
   }
 
 private:
+  /// Angle [rad, (-pi, pi]] from the first housing sensor to ring tooth j: the housing angle
+  /// at which planet 0 meshes with it, 2 pi u_j / Zr.
+  static double ring_tooth_from_sensor(const ToothMap& map, int j, double sensor_rad) {
+    const int z = map.teeth(model::Body::Ring);
+    const double a = 2 * kPi * map.passage_mesh_cycle(model::Body::Ring, 0, j, ToothMap::Mesh::PlanetRing) / z;
+    return std::remainder(a - sensor_rad, 2 * kPi);
+  }
+
+  /// The ring's phase variants: with a housing sensor, ring teeth spaced by at most a quarter
+  /// of the transfer-path window's width sigma (model/stage.hpp SensorSettings), so the best is
+  /// within sigma / 8 of the damaged tooth. Over one planet spacing only when the planets are
+  /// equally spaced and Zr is a multiple of N: the stage then looks the same from the sensor
+  /// after a shift by Zr / N teeth (the amplitudes cannot tell which planet is which). Without
+  /// a housing sensor the place is invisible (none).
+  std::vector<Variant> ring_places(const Variant& chosen, const LocatedEvidence& ev,
+                                   const model::SimulationConfig& base, const ToothMap& map) const {
+    if (ev.housing_sensor_angles_rad.empty()) return {};
+    const int z = map.teeth(model::Body::Ring), n = base.stage.planet_count;
+    const bool symmetric = base.stage.planet_angles_rad.empty() && n > 0 && z % n == 0;
+    const int span = symmetric ? z / n : z;
+    const int step = std::max(1, static_cast<int>(std::floor(base.sensor.window_width_rad / 4 / (2 * kPi / z))));
+    std::vector<Variant> out;
+    for (int k = step; k < span; k += step) {
+      Variant v = chosen;
+      v.tooth = (chosen.tooth + k) % z;
+      char buf[96];
+      std::snprintf(buf, sizeof buf, "ring tooth %d (%.0f deg from the housing sensor)", v.tooth,
+                    ring_tooth_from_sensor(map, v.tooth, ev.housing_sensor_angles_rad.front()) * 180 / kPi);
+      v.label = buf;
+      out.push_back(v);
+    }
+    return out;
+  }
+
   model::Body body_;
 };
 } // namespace
