@@ -14,11 +14,12 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <numbers>
 
 namespace pw::diagnose::candidates {
 namespace {
 
-constexpr double kPi = 3.141592653589793;
+constexpr double kPi = std::numbers::pi;
 
 const char* body_name(model::Body b) {
   switch (b) {
