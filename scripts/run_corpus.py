@@ -156,6 +156,9 @@ def main():
     ap.add_argument("--jobs", type=int, default=1, help="recordings diagnosed at once (default 1)")
     ap.add_argument("--threads", type=int, default=2, help="OpenMP threads per diagnosis (default 2)")
     ap.add_argument("--plots", action="store_true", help="draw the PNGs too")
+    ap.add_argument("--reuse", action="store_true",
+                    help="score an existing OUTPUT/<recording>/report.json instead of diagnosing again "
+                         "(resume an interrupted run; only recordings without a report are diagnosed)")
     ap.add_argument("--min-accuracy", type=float, default=0.0, help="fail below this fraction of correct names")
     ap.add_argument("--require-controls", action="store_true", help="fail unless every control says 'none'")
     ap.add_argument("--max-parameter-error", type=float, default=None,
@@ -174,6 +177,13 @@ def main():
                "--meta", str(rec.with_suffix(".json")), "-o", str(out / name), "--threads", str(args.threads)]
         if not args.plots:
             cmd.append("--no-plots")
+        existing = out / name / "report.json"
+        if args.reuse and existing.exists():
+            report = json.loads(existing.read_text())
+            wall = float(report.get("timing", {}).get("total_s", 0.0))
+            print(f"{name}: reused {existing}  truth {truth[name]['effect']:<22} -> "
+                  f"{named_effect(report, nominal)}", flush=True)
+            return name, report, wall, None
         t0 = time.monotonic()
         p = subprocess.run(cmd, capture_output=True, text=True)
         wall = time.monotonic() - t0
