@@ -12,6 +12,7 @@
 #include <exception>
 #include <limits>
 #include <mutex>
+#include <numeric>
 #include <numbers>
 
 #ifdef _OPENMP
@@ -49,6 +50,12 @@ void parallel_for(int n, int threads, F&& body) {
   }
   if (error) std::rethrow_exception(error);
 }
+
+/// Local minima of the one-step phase profile followed further, and the Broyden steps each gets.
+constexpr std::size_t kRefinedPhases = 4;
+constexpr int kRefinementRounds = 2;
+/// Passes of the phase screening for phases that trade off against the parameters.
+constexpr int kPhasePasses = 3;
 
 using Clock = std::chrono::steady_clock;
 /// A nuisance parameter counts as recalibrated beyond this relative change (and z_{1-alpha/2} standard errors).
@@ -901,19 +908,25 @@ Diagnosis diagnose(const Recording& recording, const model::SimulationConfig& co
       r.reason = buf;
     }
     // 7. The winner: its phase variants at its fitted parameters (a refit replaces it if it
-    //    fits the fit half better and still counts).
+    //    fits the fit half better and still counts). Phases that trade off against the
+    //    parameters are screened again from a replacement's parameters, until the place
+    //    stays (at most kPhasePasses passes): place and parameters by alternating descent.
     if (d.winner == 0) {
       CandidateResult& w = d.candidates.front();
       const Candidate* cand = find_candidate(w.name);
       Variant v = w.chosen;
       std::vector<double> own, nx_w;
-      for (const auto& p : w.parameters)
-        if (!p.nuisance) own.push_back(p.value);
-        else if (p.name.rfind("sensor.gain", 0) != 0) nx_w.push_back(p.value);
-      if (nx_w.size() != ctx.nuisance_x.size()) nx_w = ctx.nuisance_x;
-      const auto phases = cand->phase_variants(v, d.location.evidence, ctx.base, map);
-      if (!phases.empty()) {
-        t = Clock::now();
+      t = Clock::now();
+      for (int pass = 0; pass < kPhasePasses; ++pass) {
+        own.clear();
+        nx_w.clear();
+        for (const auto& p : w.parameters)
+          if (!p.nuisance) own.push_back(p.value);
+          else if (p.name.rfind("sensor.gain", 0) != 0) nx_w.push_back(p.value);
+        if (nx_w.size() != ctx.nuisance_x.size()) nx_w = ctx.nuisance_x;
+        const auto phases = cand->phase_variants(v, d.location.evidence, ctx.base, map);
+        if (phases.empty()) break;
+        bool replaced = false;
         // Phases that trade off against the parameters are screened with the parameters
         // profiled: one Gauss-Newton step from the winner's values on the secant to a point
         // half their distance from "absent" further out (the screening value if at "absent").
@@ -927,6 +940,7 @@ Diagnosis diagnose(const Recording& recording, const model::SimulationConfig& co
             h[k] = std::clamp(x1, pspec[k].lower, pspec[k].upper) - own[k];
           }
         const std::size_t per = profile ? 1 + own.size() : 1;
+        int per_refined = 0;
         say("screening " + std::to_string(phases.size()) + " phase variants of " + w.name +
             (profile ? " with its parameters profiled (" + std::to_string(phases.size() * per) + " simulations)" : ""));
         std::vector<std::vector<double>> res(phases.size() * per);
@@ -942,6 +956,9 @@ Diagnosis diagnose(const Recording& recording, const model::SimulationConfig& co
         });
         std::vector<double> chi(phases.size(), std::numeric_limits<double>::infinity());
         std::vector<std::vector<double>> xstart(phases.size(), own);
+        std::vector<SecantProfile> prof(phases.size());
+        std::vector<Bound> box;
+        for (const auto& p : pspec) box.push_back({p.lower, p.upper, p.log_scale});
         for (std::size_t i = 0; i < phases.size(); ++i) {
           const auto& r0 = res[i * per];
           if (r0.empty()) continue;
@@ -958,15 +975,66 @@ Diagnosis diagnose(const Recording& recording, const model::SimulationConfig& co
                   (Eigen::Map<const Eigen::VectorXd>(rk.data(), e0.size()) - e0) / h[k];
           }
           if (!ok) continue;
-          const Eigen::VectorXd dx = (J.transpose() * J).ldlt().solve(-J.transpose() * e0);
-          std::vector<double> x = own;
-          Eigen::VectorXd step(static_cast<Eigen::Index>(own.size()));
-          for (std::size_t k = 0; k < own.size(); ++k) {
-            x[k] = std::clamp(own[k] + dx(static_cast<Eigen::Index>(k)), pspec[k].lower, pspec[k].upper);
-            step(static_cast<Eigen::Index>(k)) = x[k] - own[k];
+          prof[i] = SecantProfile(own, e0, J);
+          const auto step = prof[i].gauss_newton_step(box);
+          if (std::isfinite(step.predicted_cost) && step.predicted_cost < chi[i])
+            chi[i] = step.predicted_cost, xstart[i] = step.x;
+        }
+        // The one-step profile is a linearization about the winner's severity; a place that
+        // needs a very different one can be ranked too low. The best few local minima are
+        // followed by Broyden-updated Gauss-Newton steps, each one simulation, and ranked by
+        // the chi2 they reach at a simulated point (docs/diagnose.md §5, step 11).
+        if (profile) {
+          // Neighbouring places share one basin; distinct hypotheses (e.g. mirror places either
+          // side of a symmetric sensor window) are distinct local minima along the closed path
+          // winner, phases[0], ..., phases[n-1], winner. The best few minima are followed.
+          const auto path_chi = [&](std::ptrdiff_t i) {
+            const auto n = static_cast<std::ptrdiff_t>(phases.size());
+            return i < 0 || i >= n ? w.fit.chi2 : chi[static_cast<std::size_t>(i)];
+          };
+          std::vector<std::size_t> order;
+          for (std::size_t i = 0; i < phases.size(); ++i) {
+            const auto j = static_cast<std::ptrdiff_t>(i);
+            if (prof[i].usable() && std::isfinite(chi[i]) && chi[i] < w.fit.chi2 && chi[i] <= path_chi(j - 1) &&
+                chi[i] <= path_chi(j + 1))
+              order.push_back(i);
           }
-          const double predicted = (e0 + J * step).squaredNorm();
-          if (std::isfinite(predicted) && predicted < chi[i]) chi[i] = predicted, xstart[i] = x;
+          std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t c) { return chi[a] < chi[c]; });
+          order.resize(std::min(order.size(), kRefinedPhases));
+          std::string minima = "one-step profile's local minima:";
+          for (std::size_t i : order) minima += " " + phases[i].label + " " + fmt("%.0f", chi[i]) + ";";
+          say(minima);
+          for (int round = 0; round < kRefinementRounds; ++round) {
+            std::vector<std::vector<double>> rr(order.size());
+            parallel_for(static_cast<int>(order.size()), threads, [&](int ti) {
+              const std::size_t i = order[static_cast<std::size_t>(ti)];
+              try {
+                const auto c = ctx.make(cand, phases[i], xstart[i], nx_w, nullptr);
+                rr[static_cast<std::size_t>(ti)] =
+                    cmp.score(ctx.amplitudes(c, false), 0, ctx.nuisance_gains, true).residual;
+              } catch (const SolverError&) {
+              }
+            });
+            for (std::size_t o2 = 0; o2 < order.size(); ++o2) {
+              const std::size_t i = order[o2];
+              if (rr[o2].size() != res[i * per].size()) continue;
+              prof[i].accept(xstart[i], Eigen::Map<const Eigen::VectorXd>(rr[o2].data(),
+                                                                        static_cast<Eigen::Index>(rr[o2].size())));
+              const auto step = prof[i].gauss_newton_step(box);
+              xstart[i] = std::isfinite(step.predicted_cost) && step.predicted_cost < prof[i].best_cost()
+                              ? step.x : prof[i].best_x();
+            }
+            per_refined += static_cast<int>(order.size());
+          }
+          for (std::size_t i : order) chi[i] = prof[i].best_cost(), xstart[i] = prof[i].best_x();
+          std::vector<std::size_t> ranked(phases.size());
+          std::iota(ranked.begin(), ranked.end(), std::size_t{0});
+          std::sort(ranked.begin(), ranked.end(), [&](std::size_t a, std::size_t c) { return chi[a] < chi[c]; });
+          std::string top = "best places (fit-half chi2, simulated for the followed minima, predicted for the rest; "
+                            "winner " + fmt("%.0f", w.fit.chi2) + "):";
+          for (std::size_t r = 0; r < std::min<std::size_t>(ranked.size(), kRefinedPhases); ++r)
+            top += " " + phases[ranked[r]].label + " " + fmt("%.0f", chi[ranked[r]]) + ";";
+          say(top);
         }
         const std::size_t b = static_cast<std::size_t>(std::min_element(chi.begin(), chi.end()) - chi.begin());
         if (chi[b] < w.fit.chi2) {
@@ -983,14 +1051,16 @@ Diagnosis diagnose(const Recording& recording, const model::SimulationConfig& co
             r2.evidence_z = w.evidence_z;
             r2.predicted_improvement = w.predicted_improvement;
             r2.reason = w.reason + "; " + phases[b].label + " among " + std::to_string(phases.size() + 1) + " phases";
-            r2.simulations += w.simulations + static_cast<int>(phases.size() * per);
+            r2.simulations += w.simulations + static_cast<int>(phases.size() * per) + per_refined;
             r2.seconds = w.seconds;
             w = std::move(r2);
             v = w.chosen;
+            replaced = true;
           }
         }
-        d.timing.phase_s = seconds_since(t);
+        if (!replaced || !profile) break;
       }
+      d.timing.phase_s = seconds_since(t);
       // 8. A saturating winner (backlash wider than the teeth ever separate): the data bound
       //    its size from below only. Profile along x(s) = null + s (x_fit - null), nuisance
       //    fixed, on a log grid of s; the lower limit is the smallest s whose fit-half chi2

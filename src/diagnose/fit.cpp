@@ -8,6 +8,7 @@
 #include <cmath>
 #include <exception>
 #include <limits>
+#include <stdexcept>
 
 #ifdef _OPENMP
 #include <omp.h>
@@ -174,6 +175,37 @@ LmResult levenberg_marquardt(const ResidualFn& f, const std::vector<Bound>& boun
     }
   }
   return res;
+}
+
+SecantProfile::SecantProfile(std::vector<double> x0, Eigen::VectorXd r0, Eigen::MatrixXd J0)
+    : x_(x0), best_x_(std::move(x0)), r_(std::move(r0)), jacobian_(std::move(J0)), best_cost_(r_.squaredNorm()) {
+  if (jacobian_.rows() != r_.size() || jacobian_.cols() != static_cast<Eigen::Index>(x_.size()))
+    throw std::invalid_argument("SecantProfile: the Jacobian's shape does not match the residual and parameters");
+}
+
+SecantProfile::Step SecantProfile::gauss_newton_step(const std::vector<Bound>& bounds) const {
+  // Least-squares solve (rank-revealing): a column that does not move the residual gets no step.
+  const Eigen::VectorXd dx = jacobian_.colPivHouseholderQr().solve(-r_);
+  Step s{x_, 0.0};
+  Eigen::VectorXd taken(dx.size());
+  for (std::size_t k = 0; k < x_.size(); ++k) {
+    const auto i = static_cast<Eigen::Index>(k);
+    s.x[k] = std::clamp(x_[k] + (std::isfinite(dx(i)) ? dx(i) : 0.0), bounds[k].lower, bounds[k].upper);
+    taken(i) = s.x[k] - x_[k];
+  }
+  s.predicted_cost = (r_ + jacobian_ * taken).squaredNorm();
+  return s;
+}
+
+void SecantProfile::accept(const std::vector<double>& x, const Eigen::Ref<const Eigen::VectorXd>& r) {
+  if (x.size() != x_.size() || r.size() != r_.size())
+    throw std::invalid_argument("SecantProfile::accept: size mismatch");
+  Eigen::VectorXd s(static_cast<Eigen::Index>(x.size()));
+  for (std::size_t k = 0; k < x.size(); ++k) s(static_cast<Eigen::Index>(k)) = x[k] - x_[k];
+  if (s.squaredNorm() > 0) jacobian_ += (r - r_ - jacobian_ * s) * s.transpose() / s.squaredNorm();
+  r_ = r;
+  x_ = x;
+  if (r.squaredNorm() < best_cost_) best_cost_ = r.squaredNorm(), best_x_ = x;
 }
 
 } // namespace pw::diagnose

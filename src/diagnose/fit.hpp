@@ -17,6 +17,8 @@
 // algorithm: implementation and theory", LNM 630, 1978.
 #pragma once
 
+#include <Eigen/Core>
+
 #include <functional>
 #include <string>
 #include <vector>
@@ -68,5 +70,36 @@ struct LmResult {
 /// point propagates.
 LmResult levenberg_marquardt(const ResidualFn& residual, const std::vector<Bound>& bounds, std::vector<double> x0,
                              const LmOptions& options = {});
+
+/// A parameter vector profiled by bounded Gauss-Newton steps on a secant Jacobian that
+/// Broyden's rank-one update (J += (y - J s) s^T / s^T s, Nocedal & Wright, Numerical
+/// Optimization, 2nd ed., eq. 11.27) refreshes from each new evaluation: one model
+/// evaluation per step and no finite differences, for following many starting points
+/// cheaply. It keeps the best evaluated point.
+class SecantProfile {
+public:
+  SecantProfile() = default;
+  /// x0 evaluated to residual r0; J0 approximates dr/dx there (e.g. by secants).
+  SecantProfile(std::vector<double> x0, Eigen::VectorXd r0, Eigen::MatrixXd J0);
+
+  bool usable() const { return jacobian_.size() > 0; }
+  /// Best evaluated parameters and their |r|^2.
+  const std::vector<double>& best_x() const { return best_x_; }
+  double best_cost() const { return best_cost_; }
+
+  struct Step {
+    std::vector<double> x;  ///< the bounded Gauss-Newton point from the last evaluation
+    double predicted_cost;  ///< |r + J dx|^2 there
+  };
+  Step gauss_newton_step(const std::vector<Bound>& bounds) const;
+  /// The residual r at a new point x: the Jacobian takes the secant from the last point.
+  void accept(const std::vector<double>& x, const Eigen::Ref<const Eigen::VectorXd>& r);
+
+private:
+  std::vector<double> x_, best_x_;
+  Eigen::VectorXd r_;
+  Eigen::MatrixXd jacobian_;
+  double best_cost_ = 0;
+};
 
 } // namespace pw::diagnose

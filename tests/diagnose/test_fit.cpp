@@ -1,6 +1,7 @@
 // Levenberg-Marquardt on an analytic model with a known covariance.
 #include "diagnose/fit.hpp"
 
+#include <Eigen/Dense>
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -78,6 +79,54 @@ TEST(Fit, WithNoParametersReturnsTheModelAsItIsWithoutIterating) {
   EXPECT_TRUE(r.x.empty());
   EXPECT_TRUE(r.std_error.empty());
   EXPECT_TRUE(r.converged);
+}
+
+// SecantProfile: Gauss-Newton on a Broyden-updated secant Jacobian.
+
+TEST(SecantProfile, OneStepReachesTheLeastSquaresSolutionOfALinearResidualAndPredictsItsCost) {
+  // r(x) = A x - b with the exact Jacobian: one Gauss-Newton step is the normal-equation
+  // solution, and the predicted cost is the true one (to round-off, 1e-10 relative).
+  Eigen::MatrixXd A(3, 2);
+  A << 1, 2, 0, 1, 3, -1;
+  const Eigen::Vector3d b(1, -2, 0.5);
+  const std::vector<double> x0{0.3, -0.1};
+  const Eigen::VectorXd r0 = A * Eigen::Vector2d(x0[0], x0[1]) - b;
+  const SecantProfile p(x0, r0, A);
+  const auto s = p.gauss_newton_step({{-10, 10}, {-10, 10}});
+  const Eigen::Vector2d xs = (A.transpose() * A).ldlt().solve(A.transpose() * b);
+  EXPECT_NEAR(s.x[0], xs(0), 1e-12);
+  EXPECT_NEAR(s.x[1], xs(1), 1e-12);
+  const double cost = (A * xs - b).squaredNorm();
+  EXPECT_NEAR(s.predicted_cost, cost, 1e-10 * cost);
+}
+
+TEST(SecantProfile, BroydenStepsFromAPoorSecantConvergeOnANonlinearResidual) {
+  // r(x) = (x^2 - 2, 0.5 (x^2 - 2)): the minimum is sqrt(2). Starting at x = 1 with a
+  // Jacobian from a far secant (x = 1 to 3: slope 4 instead of 2), the secant iteration
+  // converges superlinearly: 8 steps reach 1e-9.
+  auto r = [](double x) { return Eigen::Vector2d(x * x - 2, 0.5 * (x * x - 2)); };
+  Eigen::MatrixXd J(2, 1);
+  J.col(0) = (r(3.0) - r(1.0)) / 2.0;
+  SecantProfile p({1.0}, r(1.0), J);
+  for (int it = 0; it < 8; ++it) {
+    const auto s = p.gauss_newton_step({{0.5, 5.0}});
+    p.accept(s.x, r(s.x[0]));
+  }
+  EXPECT_NEAR(p.best_x()[0], std::sqrt(2.0), 1e-9);
+  EXPECT_LT(p.best_cost(), 1e-16);
+}
+
+TEST(SecantProfile, StepStaysInsideTheBoxAndKeepsTheBestEvaluatedPoint) {
+  // The unconstrained minimum x = 4 lies outside [0, 1]: the step stops at the bound.
+  auto r = [](double x) { return Eigen::Matrix<double, 1, 1>(x - 4); };
+  SecantProfile p({0.0}, r(0.0), Eigen::MatrixXd::Ones(1, 1));
+  const auto s = p.gauss_newton_step({{0.0, 1.0}});
+  EXPECT_EQ(s.x[0], 1.0);
+  EXPECT_DOUBLE_EQ(s.predicted_cost, 9.0);
+  p.accept(s.x, r(s.x[0]));
+  p.accept({0.5}, r(0.5));  // a worse point does not replace the best
+  EXPECT_EQ(p.best_x()[0], 1.0);
+  EXPECT_DOUBLE_EQ(p.best_cost(), 9.0);
 }
 
 } // namespace

@@ -77,7 +77,10 @@ public:
   /// Variants that differ from `chosen` only in a phase the amplitudes cannot
   /// see directly but the beats inside a short window (which tooth) or the
   /// housing sensor's transfer path (where a ring tooth is) can; the winner's
-  /// are screened at its fitted parameters (default: none).
+  /// are screened at its fitted parameters (default: none). When they trade off
+  /// against the parameters (phase_trades_with_parameters), they are listed in order
+  /// round the gear, starting next to `chosen` and ending next to it again (a closed
+  /// path through `chosen`): the screening follows local minima along it.
   virtual std::vector<Variant> phase_variants(const Variant& chosen, const LocatedEvidence& evidence,
                                               const model::SimulationConfig& base, const ToothMap& teeth) const {
     (void)chosen, (void)evidence, (void)base, (void)teeth;
