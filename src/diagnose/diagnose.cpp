@@ -988,19 +988,10 @@ Diagnosis diagnose(const Recording& recording, const model::SimulationConfig& co
           // Neighbouring places share one basin; distinct hypotheses (e.g. mirror places either
           // side of a symmetric sensor window) are distinct local minima along the closed path
           // winner, phases[0], ..., phases[n-1], winner. The best few minima are followed.
-          const auto path_chi = [&](std::ptrdiff_t i) {
-            const auto n = static_cast<std::ptrdiff_t>(phases.size());
-            return i < 0 || i >= n ? w.fit.chi2 : chi[static_cast<std::size_t>(i)];
-          };
-          std::vector<std::size_t> order;
-          for (std::size_t i = 0; i < phases.size(); ++i) {
-            const auto j = static_cast<std::ptrdiff_t>(i);
-            if (prof[i].usable() && std::isfinite(chi[i]) && chi[i] < w.fit.chi2 && chi[i] <= path_chi(j - 1) &&
-                chi[i] <= path_chi(j + 1))
-              order.push_back(i);
-          }
-          std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t c) { return chi[a] < chi[c]; });
-          order.resize(std::min(order.size(), kRefinedPhases));
+          std::vector<double> usable_chi = chi;
+          for (std::size_t i = 0; i < phases.size(); ++i)
+            if (!prof[i].usable()) usable_chi[i] = std::numeric_limits<double>::infinity();
+          const std::vector<std::size_t> order = local_minima_on_closed_path(usable_chi, w.fit.chi2, kRefinedPhases);
           std::string minima = "one-step profile's local minima:";
           for (std::size_t i : order) minima += " " + phases[i].label + " " + fmt("%.0f", chi[i]) + ";";
           say(minima);

@@ -208,4 +208,18 @@ void SecantProfile::accept(const std::vector<double>& x, const Eigen::Ref<const 
   if (r.squaredNorm() < best_cost_) best_cost_ = r.squaredNorm(), best_x_ = x;
 }
 
+std::vector<std::size_t> local_minima_on_closed_path(const std::vector<double>& f, double end, std::size_t max_count) {
+  // A neighbour that could not be evaluated (NaN) is no better than any value.
+  const auto at = [&](std::size_t i, bool before) {
+    const double v = before ? (i == 0 ? end : f[i - 1]) : (i + 1 == f.size() ? end : f[i + 1]);
+    return std::isnan(v) ? std::numeric_limits<double>::infinity() : v;
+  };
+  std::vector<std::size_t> out;
+  for (std::size_t i = 0; i < f.size(); ++i)
+    if (std::isfinite(f[i]) && f[i] < end && f[i] <= at(i, true) && f[i] <= at(i, false)) out.push_back(i);
+  std::stable_sort(out.begin(), out.end(), [&](std::size_t a, std::size_t b) { return f[a] < f[b]; });
+  if (out.size() > max_count) out.resize(max_count);
+  return out;
+}
+
 } // namespace pw::diagnose

@@ -102,4 +102,12 @@ private:
   double best_cost_ = 0;
 };
 
+/// Indices i of the local minima of f along the closed path  end, f[0], ..., f[n-1], end
+/// (f[i] <= both neighbours and < end; non-finite values are never minima and a NaN
+/// neighbour counts as +infinity), best first, at
+/// most `max_count`. For screening places round a gear starting and ending next to the
+/// current one, whose value is `end`: neighbouring places share a basin, so distinct
+/// hypotheses are distinct minima.
+std::vector<std::size_t> local_minima_on_closed_path(const std::vector<double>& f, double end, std::size_t max_count);
+
 } // namespace pw::diagnose

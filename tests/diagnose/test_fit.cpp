@@ -129,5 +129,21 @@ TEST(SecantProfile, StepStaysInsideTheBoxAndKeepsTheBestEvaluatedPoint) {
   EXPECT_DOUBLE_EQ(p.best_cost(), 9.0);
 }
 
+TEST(LocalMinimaOnClosedPath, FindsEachBasinOnceBestFirstWithTheEndsNextToTheCurrentValue) {
+  // Two basins (indices 1 and 5) and a shoulder; index 0 and the last index neighbour the
+  // current value 10 at both ends. A NaN is never a minimum, nor a better neighbour.
+  const double nan = std::nan("");
+  const std::vector<double> f{9, 4, 6, 7, nan, 3, 5, 8};
+  const auto m = local_minima_on_closed_path(f, 10.0, 4);
+  ASSERT_EQ(m.size(), 2u);
+  EXPECT_EQ(m[0], 5u);
+  EXPECT_EQ(m[1], 1u);
+  // The path's ends count: a value below `end` at the first index is a minimum there.
+  EXPECT_EQ(local_minima_on_closed_path({2, 5, 6}, 10.0, 4), (std::vector<std::size_t>{0}));
+  // Nothing below the current value: no minima; the count is capped.
+  EXPECT_TRUE(local_minima_on_closed_path({12, 11, 13}, 10.0, 4).empty());
+  EXPECT_EQ(local_minima_on_closed_path({1, 2, 1, 2, 1}, 10.0, 2).size(), 2u);
+}
+
 } // namespace
 } // namespace pw::diagnose
