@@ -916,14 +916,18 @@ Diagnosis diagnose(const Recording& recording, const model::SimulationConfig& co
       const Candidate* cand = find_candidate(w.name);
       Variant v = w.chosen;
       std::vector<double> own, nx_w;
-      t = Clock::now();
-      for (int pass = 0; pass < kPhasePasses; ++pass) {
+      // The winner's own parameters and its fitted nuisance vector (gains are profiled, not in it).
+      const auto split_winner = [&] {
         own.clear();
         nx_w.clear();
         for (const auto& p : w.parameters)
           if (!p.nuisance) own.push_back(p.value);
           else if (p.name.rfind("sensor.gain", 0) != 0) nx_w.push_back(p.value);
         if (nx_w.size() != ctx.nuisance_x.size()) nx_w = ctx.nuisance_x;
+      };
+      t = Clock::now();
+      for (int pass = 0; pass < kPhasePasses; ++pass) {
+        split_winner();
         const auto phases = cand->phase_variants(v, d.location.evidence, ctx.base, map);
         if (phases.empty()) break;
         bool replaced = false;
@@ -1058,12 +1062,7 @@ Diagnosis diagnose(const Recording& recording, const model::SimulationConfig& co
       //    stays within chi2_{1-alpha}(1) of the fit's, refined once between grid points.
       std::vector<ParameterSpec> wspec = cand->parameters(ctx.base);
       if (any_saturates(wspec)) {
-        own.clear();
-        nx_w.clear();
-        for (const auto& p : w.parameters)
-          if (!p.nuisance) own.push_back(p.value);
-          else if (p.name.rfind("sensor.gain", 0) != 0) nx_w.push_back(p.value);
-        if (nx_w.size() != ctx.nuisance_x.size()) nx_w = ctx.nuisance_x;
+        split_winner();
         const double limit = w.fit.chi2 + chi2_quantile(1, o.alpha);
         auto chi2_at = [&](double s) {
           std::vector<double> x(own.size());
