@@ -947,16 +947,21 @@ Diagnosis diagnose(const Recording& recording, const model::SimulationConfig& co
         int per_refined = 0;
         say("screening " + std::to_string(phases.size()) + " phase variants of " + w.name +
             (profile ? " with its parameters profiled (" + std::to_string(phases.size() * per) + " simulations)" : ""));
+        // Whitened fit-half residual of phase i at parameters x; empty if the solver fails there.
+        const auto phase_residual = [&](std::size_t i, const std::vector<double>& x) -> std::vector<double> {
+          try {
+            const auto c = ctx.make(cand, phases[i], x, nx_w, nullptr);
+            return cmp.score(ctx.amplitudes(c, false), 0, ctx.nuisance_gains, true).residual;
+          } catch (const SolverError&) {
+            return {};
+          }
+        };
         std::vector<std::vector<double>> res(phases.size() * per);
         parallel_for(static_cast<int>(res.size()), threads, [&](int ti) {
           const std::size_t i = static_cast<std::size_t>(ti) / per, k = static_cast<std::size_t>(ti) % per;
           std::vector<double> x = own;
           if (k > 0) x[k - 1] += h[k - 1];
-          try {
-            const auto c = ctx.make(cand, phases[i], x, nx_w, nullptr);
-            res[static_cast<std::size_t>(ti)] = cmp.score(ctx.amplitudes(c, false), 0, ctx.nuisance_gains, true).residual;
-          } catch (const SolverError&) {
-          }
+          res[static_cast<std::size_t>(ti)] = phase_residual(i, x);
         });
         std::vector<double> chi(phases.size(), std::numeric_limits<double>::infinity());
         std::vector<std::vector<double>> xstart(phases.size(), own);
@@ -998,17 +1003,13 @@ Diagnosis diagnose(const Recording& recording, const model::SimulationConfig& co
           const std::vector<std::size_t> order = local_minima_on_closed_path(usable_chi, w.fit.chi2, kRefinedPhases);
           std::string minima = "one-step profile's local minima:";
           for (std::size_t i : order) minima += " " + phases[i].label + " " + fmt("%.0f", chi[i]) + ";";
+          if (order.empty()) minima += " none below the winner's chi2 " + fmt("%.0f", w.fit.chi2);
           say(minima);
           for (int round = 0; round < kRefinementRounds; ++round) {
             std::vector<std::vector<double>> rr(order.size());
             parallel_for(static_cast<int>(order.size()), threads, [&](int ti) {
               const std::size_t i = order[static_cast<std::size_t>(ti)];
-              try {
-                const auto c = ctx.make(cand, phases[i], xstart[i], nx_w, nullptr);
-                rr[static_cast<std::size_t>(ti)] =
-                    cmp.score(ctx.amplitudes(c, false), 0, ctx.nuisance_gains, true).residual;
-              } catch (const SolverError&) {
-              }
+              rr[static_cast<std::size_t>(ti)] = phase_residual(i, xstart[i]);
             });
             for (std::size_t o2 = 0; o2 < order.size(); ++o2) {
               const std::size_t i = order[o2];

@@ -87,8 +87,8 @@ public:
     return {};
   }
   /// The phase variants trade off against the parameters (a ring tooth far from the sensor
-  /// sounds like a milder one near it): screen each with its parameters profiled by one
-  /// Gauss-Newton step, not at the winner's values (docs/diagnose.md §5 step 12).
+  /// sounds like a milder one near it): screen each with its parameters profiled (Gauss-Newton
+  /// steps from the winner's values), not at the winner's values (docs/diagnose.md §5 step 11).
   virtual bool phase_trades_with_parameters() const { return false; }
   /// Writes parameters x (physical units, one per parameters()) into config;
   /// appends the equivalent "key=value" overrides to `overrides` if given.
