@@ -1,6 +1,7 @@
-// Candidate library (src/diagnose/candidates): the ring-tooth places screened as phase variants, and the near-alias start mapping
-// between planet pin errors and a carrier eccentricity. Both displace the
-// planet centres in the carrier; a pin error along the carrier tangent
+// Candidate library (src/diagnose/candidates): the ring-tooth places screened as
+// phase variants, and the near-alias start mapping between planet pin errors and
+// a carrier eccentricity. Both displace the planet centres in the carrier; a pin
+// error along the carrier tangent
 // e_t = (-sin psi, cos psi), the eccentricity by one vector (x, y) whose
 // tangential part at planet i is -x sin psi_i + y cos psi_i.
 #include "diagnose/candidates/candidate.hpp"
