@@ -163,7 +163,8 @@ void ModelComparison::set_reference(const std::vector<std::vector<double>>& m, c
 
 bool ModelComparison::is_housing(int c) const { return housing_.at(static_cast<std::size_t>(c)); }
 
-std::shared_ptr<const ModelSpectra> ModelComparison::simulate(const model::SimulationConfig& config, bool keep) const {
+std::shared_ptr<const ModelSpectra> ModelComparison::simulate(const model::SimulationConfig& config, bool keep,
+                                                              std::atomic<long>* tally) const {
   model::SimulationConfig c = config;
   c.solver.record_mesh_cycles = base_.solver.record_mesh_cycles;
   // With tooth-level features the warm-up runs until the mean speed holds to
@@ -182,6 +183,7 @@ std::shared_ptr<const ModelSpectra> ModelComparison::simulate(const model::Simul
   std::optional<ModelSpectra> remote = opt_.remote ? opt_.remote(c, keep) : std::nullopt;
   auto s = std::make_shared<const ModelSpectra>(remote ? std::move(*remote) : evaluate(c, keep));
   const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  if (tally) ++*tally;
   std::lock_guard<std::mutex> lock(mutex_);
   ++sims_;
   sim_seconds_ += secs;

@@ -55,6 +55,7 @@
 #include "diagnose/recording.hpp"
 #include "model/stage.hpp"
 
+#include <atomic>
 #include <cmath>
 #include <cstdint>
 #include <functional>
@@ -115,8 +116,11 @@ public:
 
   /// Simulates `config` (warm-up + R carrier revolutions; cached) and extracts
   /// its spectra. keep_sensor_inputs: also keep the ring forces for sensor-only changes.
+  /// tally (optional): incremented when this call ran a simulation (a cache miss), so a caller
+  /// can count its own simulations while others run on other threads.
   std::shared_ptr<const ModelSpectra> simulate(const model::SimulationConfig& config,
-                                               bool keep_sensor_inputs = false) const;
+                                               bool keep_sensor_inputs = false,
+                                               std::atomic<long>* tally = nullptr) const;
   /// validate + simulate + model_spectra of an already prepared configuration (what
   /// simulate() runs on a cache miss; a remote rank runs this for its requests). Uncached.
   ModelSpectra evaluate(const model::SimulationConfig& prepared, bool keep_sensor_inputs) const;

@@ -101,9 +101,11 @@ struct Context {
     if (cand) cand->apply(c, v, cx, overrides);
     return c;
   }
-  /// Model amplitudes of a configuration (sensor-only candidates: the nuisance simulation with new housing channels).
-  std::vector<std::vector<double>> amplitudes(const model::SimulationConfig& c, bool sensor_only) const {
-    if (!sensor_only) return cmp.simulate(c)->amplitude;
+  /// Model amplitudes of a configuration (sensor-only candidates: the nuisance simulation with new
+  /// housing channels). tally: counts the simulations this call ran (ModelComparison::simulate).
+  std::vector<std::vector<double>> amplitudes(const model::SimulationConfig& c, bool sensor_only,
+                                              std::atomic<long>* tally = nullptr) const {
+    if (!sensor_only) return cmp.simulate(c, false, tally)->amplitude;
     auto a = nuisance_sim->amplitude;
     const Recording& rec = cmp.recording();
     for (int ch = 0; ch < cmp.channels(); ++ch)
@@ -160,7 +162,7 @@ std::string param_text(const FittedParameter& p) {
 /// parameters are fitted too (else fixed at ctx.nuisance_x). Starts at x_start if given.
 CandidateResult fit_model(Context& ctx, const Candidate* cand, const Variant& v, bool joint, int lm_threads,
                           int max_iterations, const std::vector<double>* x_start = nullptr) {
-  const long sims0 = ctx.cmp.simulations();
+  std::atomic<long> sims{0};  // this fit's own simulations, whatever runs beside it
   const bool sensor_only = cand && cand->sensor_only();
   std::vector<ParameterSpec> cspec = cand ? cand->parameters(ctx.base) : std::vector<ParameterSpec>{};
   std::vector<ParameterSpec> nspec;
@@ -191,7 +193,7 @@ CandidateResult fit_model(Context& ctx, const Candidate* cand, const Variant& v,
     std::vector<double> cx, nx;
     split(x, cx, nx);
     const auto c = ctx.make(cand, v, cx, nx, nullptr);
-    return ctx.cmp.score(ctx.amplitudes(c, sensor_only && !fit_nuisance), 0, ctx.nuisance_gains, true).residual;
+    return ctx.cmp.score(ctx.amplitudes(c, sensor_only && !fit_nuisance, &sims), 0, ctx.nuisance_gains, true).residual;
   };
   LmOptions lo;
   lo.max_iterations = max_iterations;
@@ -214,7 +216,7 @@ CandidateResult fit_model(Context& ctx, const Candidate* cand, const Variant& v,
     res.parameters.insert(res.parameters.end(), np.begin(), np.end());
   }
   res.config = ctx.make(cand, v, cx, nx, &res.overrides);
-  const auto amp = ctx.amplitudes(res.config, sensor_only && !fit_nuisance);
+  const auto amp = ctx.amplitudes(res.config, sensor_only && !fit_nuisance, &sims);
   const WindowScore fit = ctx.cmp.score(amp, 0, ctx.nuisance_gains, true);
   const WindowScore held = ctx.cmp.score(amp, 1, fit.gains, false);
   res.gains = fit.gains;
@@ -243,10 +245,11 @@ CandidateResult fit_model(Context& ctx, const Candidate* cand, const Variant& v,
     std::vector<double> null_x;
     for (const auto& p : cspec) null_x.push_back(p.null_value);
     const auto c0 = ctx.make(cand, v, null_x, nx, nullptr);
-    res.null_chi2_fit = ctx.cmp.score(ctx.amplitudes(c0, sensor_only && !fit_nuisance), 0, ctx.nuisance_gains, true).chi2;
+    res.null_chi2_fit =
+        ctx.cmp.score(ctx.amplitudes(c0, sensor_only && !fit_nuisance, &sims), 0, ctx.nuisance_gains, true).chi2;
   }
   res.lm_message = lm.message;
-  res.simulations = static_cast<int>(ctx.cmp.simulations() - sims0);
+  res.simulations = static_cast<int>(sims.load());
   return res;
 }
 

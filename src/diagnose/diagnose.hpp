@@ -102,8 +102,8 @@ struct CandidateResult {
   /// 'absent' in place of Wald); NaN otherwise.
   double null_chi2_fit = std::numeric_limits<double>::quiet_NaN();
   bool counts() const { return significant && holds && non_null; }
-  /// Simulations run while it was fitted. Candidates are fitted side by side, so this also
-  /// counts simulations of fits running at the same time (the run's total: timing.simulations).
+  /// Simulations its own fit ran (cache hits not counted; a configuration another fit had
+  /// already simulated is free). The run's total is timing.simulations.
   int simulations = 0;
   double seconds = 0;                    ///< wall time of its fit
   std::string lm_message;
