@@ -282,6 +282,32 @@ std::vector<double> carrier_angle(const Recording& r, const model::StageSpec& st
   return th;
 }
 
+namespace {
+/// Adds y e^{-i k phi / R}, k = 0 .. re.size() - 1, to (re, im) by one complex
+/// rotation per k (no trigonometric call per bin); with_drift also adds
+/// phi y e^{-i k phi / R} to (gre, gim) for angle_fourier's drift derivative.
+/// A template so the plain transform's inner loop carries no branch and no
+/// second accumulator.
+template <bool with_drift>
+void add_rotating_terms(double y, double phi, int R, std::vector<double>& re, std::vector<double>& im,
+                        std::vector<double>& gre, std::vector<double>& gim) {
+  const double step = -phi / R;
+  const double cr = std::cos(step), ci = std::sin(step);
+  double zr = y, zi = 0;
+  for (std::size_t k = 0; k < re.size(); ++k) {
+    re[k] += zr;
+    im[k] += zi;
+    if constexpr (with_drift) {
+      gre[k] += phi * zr;
+      gim[k] += phi * zi;
+    }
+    const double t = zr * cr - zi * ci;
+    zi = zr * ci + zi * cr;
+    zr = t;
+  }
+}
+}  // namespace
+
 std::vector<std::complex<double>> angle_fourier(std::span<const double> x, std::span<const double> angle,
                                                 double a0, int R, int max_bin,
                                                 std::vector<std::complex<double>>* drift) {
@@ -319,29 +345,10 @@ std::vector<std::complex<double>> angle_fourier(std::span<const double> x, std::
   for (std::size_t i = 0; i < m; ++i) {
     const double y = w[i] * (val[i] - mean);
     if (y == 0) continue;
-    const double step = -phi[i] / R;
-    const double cr = std::cos(step), ci = std::sin(step);
-    double zr = y, zi = 0;  // y e^{-i k phi / R}, k = 0, 1, ...
-    if (drift) {
-      const double f = phi[i];
-      for (std::size_t k = 0; k < nb; ++k) {
-        re[k] += zr;
-        im[k] += zi;
-        gre[k] += f * zr;
-        gim[k] += f * zi;
-        const double t = zr * cr - zi * ci;
-        zi = zr * ci + zi * cr;
-        zr = t;
-      }
-      continue;
-    }
-    for (std::size_t k = 0; k < nb; ++k) {
-      re[k] += zr;
-      im[k] += zi;
-      const double t = zr * cr - zi * ci;
-      zi = zr * ci + zi * cr;
-      zr = t;
-    }
+    if (drift)
+      add_rotating_terms<true>(y, phi[i], R, re, im, gre, gim);
+    else
+      add_rotating_terms<false>(y, phi[i], R, re, im, gre, gim);
   }
   std::vector<std::complex<double>> c(nb);
   for (std::size_t k = 0; k < nb; ++k) c[k] = {re[k], im[k]};
