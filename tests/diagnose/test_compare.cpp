@@ -31,7 +31,11 @@ model::SimulationConfig stage_1200rpm() {
 /// mesh phase (harmonic k sees k times it) — the skirt that slow speed or load
 /// wander spreads around every mesh harmonic. sideband_m_s2: a stationary
 /// line at carrier order 2 Zr + 3 (a carrier-family fault signature).
-Recording synthetic(double phase_jitter_rad, double sideband_m_s2, unsigned seed) {
+/// speed_bias: relative error of the speed channel (the integrated angle reference then
+/// drifts linearly against the true shaft angle). noise_m_s2: acceleration noise per sample;
+/// speed_noise_rad_s: speed-channel noise per sample (its integral is the angle reference's random walk).
+Recording synthetic(double phase_jitter_rad, double sideband_m_s2, unsigned seed, double speed_bias = 0.0,
+                    double noise_m_s2 = 0.5, double speed_noise_rad_s = 0.01) {
   const auto cfg = stage_1200rpm();
   const Kinematics k = kinematics(cfg.stage, cfg.operating.input_speed_rpm);
   const double fs = 10000, seconds = 3.2 / k.carrier_Hz;
@@ -48,9 +52,9 @@ Recording synthetic(double phase_jitter_rad, double sideband_m_s2, unsigned seed
   for (std::size_t i = 0; i < n; ++i) {
     const double t = static_cast<double>(i) / fs;
     r.time_s.push_back(t);
-    w.values.push_back(omega + 0.01 * nd(rng));
+    w.values.push_back(omega * (1 + speed_bias) + speed_noise_rad_s * nd(rng));
     phase += phase_jitter_rad * nd(rng);
-    double x = 0.5 * nd(rng);
+    double x = noise_m_s2 * nd(rng);
     for (int h = 1; h <= 8; ++h) x += (10.0 / h) * std::cos(2 * kPi * h * k.mesh_Hz * t + h * phase);
     x += sideband_m_s2 * std::cos(2 * kPi * (2 * k.ring_teeth + 3) * k.carrier_Hz * t + 0.4);
     a.values.push_back(x);
@@ -79,6 +83,65 @@ TEST(Compare, DispersionMeasuresTheSkirtOfAJitteredMeshHarmonic) {
   EXPECT_GT(cmp.dispersion(1), 1.0);
   const ModelComparison more(synthetic(4e-3, 0.0, 4), stage_1200rpm());
   EXPECT_GT(more.dispersion(1), cmp.dispersion(1));
+}
+
+TEST(Compare, DriftColumnTakesALinearAngleReferenceErrorWithItsSignAndSizeAndRemovesItsLeak) {
+  // Copies of one recording (the same noise draws): "exact" with a noiseless speed channel (its
+  // amplitudes serve as the model); "clean" with speed-channel noise, whose integral, the angle
+  // reference, wanders by a random drift delta_0 over each window; and "biased" copies of the
+  // clean one whose speed channel reads eps too high (a calibration error): the angle reads
+  // delta = 2 pi R eps more at the end of each window, and every strong line leaks
+  // ~A o delta / (2 pi d) into the bins d away. Scored against the exact amplitudes, the drift
+  // column (compare.hpp: sd times the amplitudes' derivative under the *correction* of the
+  // angle, weight z ~ N(0, 1)) must
+  // (a) carry the injected drift with a minus sign and its size: dz = z_biased - z_clean (both
+  //     carry the same -delta_0 / sd) lies in [-delta/sd, -delta/(2 sd)]. The fit is ridge-like,
+  //     dz = -(delta/sd) S/(1 + S) with S = u'D^-1u; S >= 1 when the column resolves a drift of
+  //     one standard deviation. S is not a constant: the derivative is taken at the recording,
+  //     whose leak bins also hold noise (|n + delta g| turns linear in delta only well above
+  //     the floor), so dz is not exactly proportional to delta (measured: 63 % of delta/sd at
+  //     4 sd, 74 % at 8 sd); a larger drift must still get a larger weight;
+  // (b) remove most of the leak's chi2: the biased copy's chi2 exceeds the clean one's by
+  //     less than half of what the leak adds without a column (summed squared amplitude
+  //     differences over the noise variance).
+  // A column of the wrong sign, a wrong scale (a lost 2 pi or R) or no column fails (a).
+  // Low acceleration noise puts the leaks of a few-sd drift well above the floor; at 0.05 m/s^2
+  // they sit at it and the amplitude-domain linearization takes only ~40 % of a 4 sd drift.
+  const double noise = 0.005;  // m/s^2 per sample: lines of 10/h m/s^2 stand 2000:1 above it
+  const ModelComparison exact(synthetic(0.0, 0.0, 7, 0.0, noise, 1e-9), stage_1200rpm());
+  const ModelComparison clean(synthetic(0.0, 0.0, 7, 0.0, noise), stage_1200rpm());
+  const double sd = clean.angle_drift_std_rad();
+  ASSERT_GT(sd, 0.0);
+  const int R = clean.spectra().layout.revolutions, nc = clean.channels(), ncell = clean.cells();
+  double dz_first = 0;
+  for (double drift_in_sd : {4.0, 8.0}) {
+    const double delta = drift_in_sd * sd, eps = delta / (2 * kPi * R);
+    const ModelComparison biased(synthetic(0.0, 0.0, 7, eps, noise), stage_1200rpm());
+    ASSERT_NEAR(biased.angle_drift_std_rad(), sd, 0.05 * sd);  // the bias does not change the noise
+    for (int w = 0; w < 2; ++w) {
+      const auto& model = exact.spectra().amplitude[static_cast<std::size_t>(w)];
+      const WindowScore c = clean.score(model, w, {}, false);
+      const WindowScore b = biased.score(model, w, {}, false);
+      ASSERT_FALSE(b.fidelity_z.empty());
+      const double dz = b.fidelity_z.back() - c.fidelity_z.back();
+      EXPECT_LT(dz, -0.5 * drift_in_sd) << drift_in_sd << " sd, window " << w;
+      EXPECT_GT(dz, -drift_in_sd) << drift_in_sd << " sd, window " << w;
+      if (drift_in_sd == 4.0 && w == 0) dz_first = dz;
+      if (drift_in_sd == 8.0 && w == 0) {
+        EXPECT_GT(dz / dz_first, 1.5);
+      }
+      double leak = 0;
+      for (int ch = 0; ch < nc; ++ch)
+        for (int i = 0; i < ncell; ++i) {
+          const auto k = static_cast<std::size_t>(clean.spectra().layout.cells[static_cast<std::size_t>(i)].bin);
+          const double d = biased.spectra().amplitude[static_cast<std::size_t>(w)][static_cast<std::size_t>(ch)][k] -
+                           clean.spectra().amplitude[static_cast<std::size_t>(w)][static_cast<std::size_t>(ch)][k];
+          leak += d * d / clean.spectra().noise_variance[static_cast<std::size_t>(ch)][static_cast<std::size_t>(i)];
+        }
+      EXPECT_GT(leak, 50.0) << drift_in_sd << " sd, window " << w;  // the leak is far above the noise
+      EXPECT_LT(b.chi2 - c.chi2, 0.5 * leak) << drift_in_sd << " sd, window " << w;
+    }
+  }
 }
 
 } // namespace
