@@ -8,6 +8,7 @@
 // acceleration made of 8 mesh harmonics plus white noise.
 #include "diagnose/compare.hpp"
 #include "diagnose/kinematics.hpp"
+#include "diagnose/stage_1200rpm.hpp"
 
 #include <gtest/gtest.h>
 
@@ -20,12 +21,7 @@ namespace {
 
 constexpr double kPi = std::numbers::pi;
 
-model::SimulationConfig stage_1200rpm() {
-  model::SimulationConfig c;
-  c.operating.input_speed_rpm = 1200;
-  c.operating.input_power_W = 20000;
-  return c;
-}
+using test::stage_1200rpm;
 
 /// phase_jitter_rad: standard deviation per sample of a random walk in the
 /// mesh phase (harmonic k sees k times it) — the skirt that slow speed or load

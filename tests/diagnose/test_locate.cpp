@@ -19,6 +19,7 @@
 // revolutions at 10 kHz, so two analysis windows of 3 revolutions each.
 #include "diagnose/compare.hpp"
 #include "diagnose/kinematics.hpp"
+#include "diagnose/stage_1200rpm.hpp"
 #include "diagnose/locate.hpp"
 
 #include <gtest/gtest.h>
@@ -33,12 +34,7 @@ namespace {
 
 constexpr double kPi = std::numbers::pi;
 
-model::SimulationConfig stage_1200rpm() {
-  model::SimulationConfig c;
-  c.operating.input_speed_rpm = 1200;
-  c.operating.input_power_W = 20000;
-  return c;
-}
+using test::stage_1200rpm;
 
 /// The modulated mesh signal on a line of action (sun-planet for the sun and planet
 /// families, planet-ring for the carrier family). beta = 0: the unmodulated model;
