@@ -114,65 +114,114 @@ RIPPLE_NOTE = ("the sun speed swings by about the ripple fraction at its order (
                "holds the nominal (400 rpm case: 399.94 rpm, 300 rpm case: 300.004 rpm, measured 2026-11-24)")
 
 
+def pins(planets, which, offset_m):
+    """imperfections.pin_error_m with offset_m on planet `which` (mod the planet count), 0 elsewhere."""
+    p = [0.0] * planets
+    p[which % planets] = offset_m
+    return p
+
+
+def pin_set(pattern):
+    return "imperfections.pin_error_m=[" + ",".join(f"{v:g}" for v in pattern) + "]"
+
+
+def tooth_case(n, body, tooth, factor, planet=0):
+    """(--set list, truth parameters) for a damaged tooth, indices modulo the gear set's counts."""
+    tooth %= n[body]
+    planet %= n["planets"]
+    truth = {"tooth": tooth, "stiffness_factor": factor}
+    if body == "planet":
+        truth = {"planet": planet, **truth}
+    return [teeth(body, tooth, factor, planet)], truth
+
+
 def teeth(body, tooth, factor, planet=0):
     t = f'{{body="{body}",tooth={tooth},stiffness_factor={factor}' + (f",planet={planet}" if body == "planet" else "")
     return f"imperfections.teeth=[{t}}}]"
 
 
-# (effect, operating point, --set overrides, parameters for truth.json)
-CASES = [
-    ("sun_tooth_damage", "A", [teeth("sun", 5, 0.6)], {"tooth": 5, "stiffness_factor": 0.6}),
-    ("sun_tooth_damage", "B", [teeth("sun", 14, 0.75)], {"tooth": 14, "stiffness_factor": 0.75}),
-    ("planet_tooth_damage", "C", [teeth("planet", 7, 0.55, planet=1)],
-     {"planet": 1, "tooth": 7, "stiffness_factor": 0.55}),
-    ("planet_tooth_damage", "A", [teeth("planet", 20, 0.8, planet=2)],
-     {"planet": 2, "tooth": 20, "stiffness_factor": 0.8}),
-    ("ring_tooth_damage", "B", [teeth("ring", 30, 0.6)], {"tooth": 30, "stiffness_factor": 0.6}),
-    ("ring_tooth_damage", "C", [teeth("ring", 61, 0.7)], {"tooth": 61, "stiffness_factor": 0.7}),
-    ("planet_pin_error", "B", ["imperfections.pin_error_m=[0,3e-6,0]"], {"pin_error_m": [0, 3e-6, 0]}),
-    ("planet_pin_error", "C", ["imperfections.pin_error_m=[0,0,5e-6]"], {"pin_error_m": [0, 0, 5e-6]}),
-    ("sun_eccentricity", "A", ["imperfections.sun_eccentricity_m=1.5e-6",
-                               "imperfections.sun_eccentricity_phase_rad=0.7"],
-     {"sun_eccentricity_m": 1.5e-6, "sun_eccentricity_phase_rad": 0.7}),
-    ("sun_eccentricity", "C", ["imperfections.sun_eccentricity_m=5e-6",
-                               "imperfections.sun_eccentricity_phase_rad=2.0"],
-     {"sun_eccentricity_m": 5e-6, "sun_eccentricity_phase_rad": 2.0}),
-    ("carrier_eccentricity", "B", ["imperfections.carrier_eccentricity_m=2e-6",
-                                   "imperfections.carrier_eccentricity_phase_rad=1.0"],
-     {"carrier_eccentricity_m": 2e-6, "carrier_eccentricity_phase_rad": 1.0}),
-    ("carrier_eccentricity", "C", ["imperfections.carrier_eccentricity_m=3e-6",
-                                   "imperfections.carrier_eccentricity_phase_rad=4.0"],
-     {"carrier_eccentricity_m": 3e-6, "carrier_eccentricity_phase_rad": 4.0}),
-    ("mesh_stiffness_level", "A", ["stiffness.scale=0.8"], {"stiffness_scale": 0.8}),
-    ("mesh_stiffness_level", "C", ["stiffness.scale=1.25"], {"stiffness_scale": 1.25}),
-    ("mesh_damping_level", "A", ["contact.mesh_damping_ratio=0.02"], {"mesh_damping_ratio": 0.02}),
-    ("mesh_damping_level", "B", ["contact.mesh_damping_ratio=0.1"], {"mesh_damping_ratio": 0.1}),
-    ("friction_coefficient", "B", ["contact.friction_coefficient=0.05"], {"friction_coefficient": 0.05}),
-    ("friction_coefficient", "A", ["contact.friction_coefficient=0.15"], {"friction_coefficient": 0.15}),
-    ("input_torque_ripple", "C", ["imperfections.torque_ripple_fraction=0.05", "imperfections.torque_ripple_order=1"],
-     {"torque_ripple_fraction": 0.05, "torque_ripple_order": 1, "note": RIPPLE_NOTE}),
-    ("input_torque_ripple", "A", ["imperfections.torque_ripple_fraction=0.1", "imperfections.torque_ripple_order=2"],
-     {"torque_ripple_fraction": 0.1, "torque_ripple_order": 2, "note": RIPPLE_NOTE}),
-    ("worn_profile", "A", ["imperfections.worn_profile_depth_m=0.5e-6"], {"worn_profile_depth_m": 0.5e-6}),
-    ("worn_profile", "B", ["imperfections.worn_profile_depth_m=2e-6"], {"worn_profile_depth_m": 2e-6}),
-    ("backlash", "F", ["contact.backlash_sun_planet_m=2e-5", "contact.backlash_planet_ring_m=2e-5"],
-     {"backlash_sun_planet_m": 2e-5, "backlash_planet_ring_m": 2e-5, "note": BACKLASH_NOTE}),
-    ("backlash", "G", ["contact.backlash_sun_planet_m=5e-5", "contact.backlash_planet_ring_m=5e-5"],
-     {"backlash_sun_planet_m": 5e-5, "backlash_planet_ring_m": 5e-5, "note": BACKLASH_NOTE}),
-    ("sensor_transfer_path", "C", ["sensor.window_width_rad=1.0"],
-     {"window_width_rad": 1.0, "nominal_window_width_rad": 0.5}),
-    ("sensor_transfer_path", "B", ["sensor.gain_m_s2_per_N=0.0005"],
-     {"gain_m_s2_per_N": 5e-4, "nominal_gain_m_s2_per_N": 1e-3}),
-] + [("none", op, [], {}) for op in "ABCFG"]
+# (effect, operating point, --set overrides, parameters for truth.json). Planet and tooth
+# indices are taken modulo the gear set's counts (n), so any gear set gets the same kinds
+# of cases; for the seed set (3 planets; 21, 30, 81 teeth) they are as written.
+def full_cases(n):
+    pin_b, pin_c = pins(n["planets"], 1, 3e-6), pins(n["planets"], 2, 5e-6)
+    return [
+        ("sun_tooth_damage", "A", *tooth_case(n, "sun", 5, 0.6)),
+        ("sun_tooth_damage", "B", *tooth_case(n, "sun", 14, 0.75)),
+        ("planet_tooth_damage", "C", *tooth_case(n, "planet", 7, 0.55, planet=1)),
+        ("planet_tooth_damage", "A", *tooth_case(n, "planet", 20, 0.8, planet=2)),
+        ("ring_tooth_damage", "B", *tooth_case(n, "ring", 30, 0.6)),
+        ("ring_tooth_damage", "C", *tooth_case(n, "ring", 61, 0.7)),
+        ("planet_pin_error", "B", [pin_set(pin_b)], {"pin_error_m": pin_b}),
+        ("planet_pin_error", "C", [pin_set(pin_c)], {"pin_error_m": pin_c}),
+        ("sun_eccentricity", "A", ["imperfections.sun_eccentricity_m=1.5e-6",
+                                   "imperfections.sun_eccentricity_phase_rad=0.7"],
+         {"sun_eccentricity_m": 1.5e-6, "sun_eccentricity_phase_rad": 0.7}),
+        ("sun_eccentricity", "C", ["imperfections.sun_eccentricity_m=5e-6",
+                                   "imperfections.sun_eccentricity_phase_rad=2.0"],
+         {"sun_eccentricity_m": 5e-6, "sun_eccentricity_phase_rad": 2.0}),
+        ("carrier_eccentricity", "B", ["imperfections.carrier_eccentricity_m=2e-6",
+                                       "imperfections.carrier_eccentricity_phase_rad=1.0"],
+         {"carrier_eccentricity_m": 2e-6, "carrier_eccentricity_phase_rad": 1.0}),
+        ("carrier_eccentricity", "C", ["imperfections.carrier_eccentricity_m=3e-6",
+                                       "imperfections.carrier_eccentricity_phase_rad=4.0"],
+         {"carrier_eccentricity_m": 3e-6, "carrier_eccentricity_phase_rad": 4.0}),
+        ("mesh_stiffness_level", "A", *level_case(n, "stiffness_scale", "stiffness.scale", 0.8)),
+        ("mesh_stiffness_level", "C", *level_case(n, "stiffness_scale", "stiffness.scale", 1.25)),
+        ("mesh_damping_level", "A", *level_case(n, "mesh_damping_ratio", "contact.mesh_damping_ratio", 0.4)),
+        ("mesh_damping_level", "B", *level_case(n, "mesh_damping_ratio", "contact.mesh_damping_ratio", 2.0)),
+        ("friction_coefficient", "B", *level_case(n, "friction_coefficient", "contact.friction_coefficient", 0.5)),
+        ("friction_coefficient", "A", *level_case(n, "friction_coefficient", "contact.friction_coefficient", 1.5)),
+        ("input_torque_ripple", "C", ["imperfections.torque_ripple_fraction=0.05", "imperfections.torque_ripple_order=1"],
+         {"torque_ripple_fraction": 0.05, "torque_ripple_order": 1, "note": RIPPLE_NOTE}),
+        ("input_torque_ripple", "A", ["imperfections.torque_ripple_fraction=0.1", "imperfections.torque_ripple_order=2"],
+         {"torque_ripple_fraction": 0.1, "torque_ripple_order": 2, "note": RIPPLE_NOTE}),
+        ("worn_profile", "A", ["imperfections.worn_profile_depth_m=0.5e-6"], {"worn_profile_depth_m": 0.5e-6}),
+        ("worn_profile", "B", ["imperfections.worn_profile_depth_m=2e-6"], {"worn_profile_depth_m": 2e-6}),
+        ("backlash", "F", ["contact.backlash_sun_planet_m=2e-5", "contact.backlash_planet_ring_m=2e-5"],
+         {"backlash_sun_planet_m": 2e-5, "backlash_planet_ring_m": 2e-5, "note": BACKLASH_NOTE}),
+        ("backlash", "G", ["contact.backlash_sun_planet_m=5e-5", "contact.backlash_planet_ring_m=5e-5"],
+         {"backlash_sun_planet_m": 5e-5, "backlash_planet_ring_m": 5e-5, "note": BACKLASH_NOTE}),
+        sensor_case(n, "C", "window_width_rad", 2.0),
+        sensor_case(n, "B", "gain_m_s2_per_N", 0.5),
+    ] + [("none", op, [], {}) for op in "ABCFG"]
 
-QUICK_CASES = [
-    ("none", "Q1", [], {}),
-    ("none", "Q2", [], {}),
-    ("sun_tooth_damage", "Q1", [teeth("sun", 5, 0.6)], {"tooth": 5, "stiffness_factor": 0.6}),
-    ("planet_pin_error", "Q2", ["imperfections.pin_error_m=[0,1e-6,0]"], {"pin_error_m": [0, 1e-6, 0]}),
-    ("mesh_stiffness_level", "Q2", ["stiffness.scale=0.8"], {"stiffness_scale": 0.8}),
-    ("worn_profile", "Q1", ["imperfections.worn_profile_depth_m=1e-6"], {"worn_profile_depth_m": 1e-6}),
-]
+
+def sensor_case(n, op, key, factor):
+    sets, truth = level_case(n, key, "sensor." + key, factor)
+    return ("sensor_transfer_path", op, sets, {**truth, "nominal_" + key: n[key]})
+
+
+def quick_cases(n):
+    pin = pins(n["planets"], 1, 1e-6)
+    return [
+        ("none", "Q1", [], {}),
+        ("none", "Q2", [], {}),
+        ("sun_tooth_damage", "Q1", *tooth_case(n, "sun", 5, 0.6)),
+        ("planet_pin_error", "Q2", [pin_set(pin)], {"pin_error_m": pin}),
+        ("mesh_stiffness_level", "Q2", *level_case(n, "stiffness_scale", "stiffness.scale", 0.8)),
+        ("worn_profile", "Q1", ["imperfections.worn_profile_depth_m=1e-6"], {"worn_profile_depth_m": 1e-6}),
+    ]
+
+
+def nominal(gearset):
+    """Planet and tooth counts and the nominal values the level cases scale, of a gear set
+    (TOML as a dict; a missing key takes its default, config/seed.toml)."""
+    stage, contact = gearset.get("stage", {}), gearset.get("contact", {})
+    sensor = gearset.get("sensor", {})
+    return {"planets": stage.get("planet_count", 3), "sun": stage.get("sun", {}).get("teeth", 21),
+            "planet": stage.get("planet", {}).get("teeth", 30), "ring": stage.get("ring", {}).get("teeth", 81),
+            "stiffness_scale": gearset.get("stiffness", {}).get("scale", 1.0),
+            "mesh_damping_ratio": contact.get("mesh_damping_ratio", 0.05),
+            "friction_coefficient": contact.get("friction_coefficient", 0.1),
+            "window_width_rad": sensor.get("window_width_rad", 0.5),
+            "gain_m_s2_per_N": sensor.get("gain_m_s2_per_N", 1e-3)}
+
+
+def level_case(n, key, setting, factor):
+    """(--set list, truth parameters) for a nuisance-level effect: the nominal value times factor."""
+    v = float(f"{n[key] * factor:.6g}")
+    return [f"{setting}={v!r}"], {key: v}
 
 # Decimation by 40 (default; SETTINGS may override): ~10 kHz, 12 x the mesh frequency at 400 rpm.
 DECIMATE = 40
@@ -193,8 +242,8 @@ def find_planetwear(given):
 
 
 def carrier_revolution_s(gearset, rpm):
-    zs = gearset.get("stage", {}).get("sun", {}).get("teeth", 21)
-    zr = gearset.get("stage", {}).get("ring", {}).get("teeth", 81)
+    n = nominal(gearset)
+    zs, zr = n["sun"], n["ring"]
     return 60.0 / (rpm * zs / (zs + zr))
 
 
@@ -225,7 +274,7 @@ def main():
     gearset = tomllib.loads(gearset_text)
     (out / "gearset.toml").write_text(gearset_text)
 
-    cases = QUICK_CASES if args.quick else CASES
+    cases = (quick_cases if args.quick else full_cases)(nominal(gearset))
     if args.only:
         keep = {e.strip() for e in args.only.split(",") if e.strip()}
         known = {c[0] for c in cases}

@@ -92,12 +92,13 @@ def find_planetwear(given):
     sys.exit("run_corpus: no planetwear executable (pass --planetwear)")
 
 
-def named_effect(report, nominal):
+def named_effect(report):
     if report.get("verdict") == "missing_physics_found":
         name = report.get("missing_physics")
         return CANDIDATE_TO_EFFECT.get(name, name)
     for p in report.get("nuisance", {}).get("parameters", []):
-        start, se = nominal.get(p["name"]), p.get("std_error")
+        # "initial": the gear set's nominal value the diagnosis started the nuisance fit from
+        start, se = p.get("initial"), p.get("std_error")
         if start is None or se is None or not se or se != se:
             continue
         if abs(p["value"] - start) > 3 * se and abs(p["value"] - start) > 0.05 * abs(start):
@@ -169,7 +170,6 @@ def main():
     out = Path(args.output) if args.output else corpus / "diagnoses"
     out.mkdir(parents=True, exist_ok=True)
     pw = find_planetwear(args.planetwear)
-    nominal = {"stiffness.scale": 1.0, "contact.mesh_damping_ratio": 0.05, "sensor.gain_m_s2_per_N": 1e-3}
 
     def run(name):
         rec = corpus / "recordings" / f"{name}.csv"
@@ -182,7 +182,7 @@ def main():
             report = json.loads(existing.read_text())
             wall = float(report.get("timing", {}).get("total_s", 0.0))
             print(f"{name}: reused {existing}  truth {truth[name]['effect']:<22} -> "
-                  f"{named_effect(report, nominal)}", flush=True)
+                  f"{named_effect(report)}", flush=True)
             return name, report, wall, None
         t0 = time.monotonic()
         p = subprocess.run(cmd, capture_output=True, text=True)
@@ -191,7 +191,7 @@ def main():
         if p.returncode == 0 and (out / name / "report.json").exists():
             report = json.loads((out / name / "report.json").read_text())
         print(f"{name}: {wall:6.1f} s  exit {p.returncode}  truth {truth[name]['effect']:<22} -> "
-              f"{named_effect(report, nominal) if report else 'FAILED: ' + p.stderr.strip()[:200]}", flush=True)
+              f"{named_effect(report) if report else 'FAILED: ' + p.stderr.strip()[:200]}", flush=True)
         return name, report, wall, p
 
     names = sorted(truth)
@@ -205,7 +205,7 @@ def main():
             crashed.append(name)
             rows.append({"recording": name, "truth": t["effect"], "named": "crashed", "wall_s": wall})
             continue
-        named = named_effect(report, nominal)
+        named = named_effect(report)
         row = {"recording": name, "truth": t["effect"], "named": named, "verdict": report["verdict"],
                "wall_s": round(wall, 1), "speed_rpm": t["speed_rpm"], "power_W": t["power_W"],
                "summary": report["summary"]}

@@ -36,6 +36,18 @@ TEST(ConfigToml, SeedTomlEqualsTheDefaults) {
   test::expect_config_eq(config, model::SimulationConfig{});
 }
 
+TEST(ConfigToml, FourPlanetsTomlIsTheSeedWithFourPlanetsAndItsOwnTeethAndValidates) {
+  // config/four_planets.toml: the second gear set (generality checks, make_corpus --gearset).
+  const auto config = read_config(test::source_dir() / "config" / "four_planets.toml");
+  model::SimulationConfig expected;
+  expected.stage.planet_count = 4;
+  expected.stage.sun.teeth = 20;
+  expected.stage.planet.teeth = 30;
+  expected.stage.ring.teeth = 80;
+  test::expect_config_eq(config, expected);
+  EXPECT_NO_THROW(model::validate(config));
+}
+
 TEST(ConfigToml, SeedTomlWritesOutEveryKey) {
   // Collect "section.key" from the "key = value" lines of the sample.
   std::istringstream in(test::read_text(test::source_dir() / "config" / "seed.toml"));
