@@ -95,8 +95,8 @@ TEST(Compare, DriftColumnTakesALinearAngleReferenceErrorWithItsSignAndSizeAndRem
   //     dz = -(delta/sd) S/(1 + S) with S = u'D^-1u; S >= 1 when the column resolves a drift of
   //     one standard deviation. S is not a constant: the derivative is taken at the recording,
   //     whose leak bins also hold noise (|n + delta g| turns linear in delta only well above
-  //     the floor), so dz is not exactly proportional to delta (measured: 63 % of delta/sd at
-  //     4 sd, 74 % at 8 sd); a larger drift must still get a larger weight;
+  //     the floor), so dz is not exactly proportional to delta (measured: 53–63 % of delta/sd at
+  //     4 sd in the two windows, 74 % at 8 sd); a larger drift must still get a larger weight;
   // (b) remove most of the leak's chi2: the biased copy's chi2 exceeds the clean one's by
   //     less than half of what the leak adds without a column (summed squared amplitude
   //     differences over the noise variance).
