@@ -114,15 +114,12 @@ RIPPLE_NOTE = ("the sun speed swings by about the ripple fraction at its order (
                "holds the nominal (400 rpm case: 399.94 rpm, 300 rpm case: 300.004 rpm, measured 2026-11-24)")
 
 
-def pins(planets, which, offset_m):
-    """imperfections.pin_error_m with offset_m on planet `which` (mod the planet count), 0 elsewhere."""
-    p = [0.0] * planets
-    p[which % planets] = offset_m
-    return p
-
-
-def pin_set(pattern):
-    return "imperfections.pin_error_m=[" + ",".join(f"{v:g}" for v in pattern) + "]"
+def pin_case(n, which, offset_m):
+    """(--set list, truth parameters) for a pin error of offset_m on planet `which` (modulo the
+    planet count), 0 on the others."""
+    p = [0.0] * n["planets"]
+    p[which % n["planets"]] = offset_m
+    return ["imperfections.pin_error_m=[" + ",".join(f"{v:g}" for v in p) + "]"], {"pin_error_m": p}
 
 
 def tooth_case(n, body, tooth, factor, planet=0):
@@ -144,7 +141,6 @@ def teeth(body, tooth, factor, planet=0):
 # indices are taken modulo the gear set's counts (n), so any gear set gets the same kinds
 # of cases; for the seed set (3 planets; 21, 30, 81 teeth) they are as written.
 def full_cases(n):
-    pin_b, pin_c = pins(n["planets"], 1, 3e-6), pins(n["planets"], 2, 5e-6)
     return [
         ("sun_tooth_damage", "A", *tooth_case(n, "sun", 5, 0.6)),
         ("sun_tooth_damage", "B", *tooth_case(n, "sun", 14, 0.75)),
@@ -152,8 +148,8 @@ def full_cases(n):
         ("planet_tooth_damage", "A", *tooth_case(n, "planet", 20, 0.8, planet=2)),
         ("ring_tooth_damage", "B", *tooth_case(n, "ring", 30, 0.6)),
         ("ring_tooth_damage", "C", *tooth_case(n, "ring", 61, 0.7)),
-        ("planet_pin_error", "B", [pin_set(pin_b)], {"pin_error_m": pin_b}),
-        ("planet_pin_error", "C", [pin_set(pin_c)], {"pin_error_m": pin_c}),
+        ("planet_pin_error", "B", *pin_case(n, 1, 3e-6)),
+        ("planet_pin_error", "C", *pin_case(n, 2, 5e-6)),
         ("sun_eccentricity", "A", ["imperfections.sun_eccentricity_m=1.5e-6",
                                    "imperfections.sun_eccentricity_phase_rad=0.7"],
          {"sun_eccentricity_m": 1.5e-6, "sun_eccentricity_phase_rad": 0.7}),
@@ -193,12 +189,11 @@ def sensor_case(n, op, key, factor):
 
 
 def quick_cases(n):
-    pin = pins(n["planets"], 1, 1e-6)
     return [
         ("none", "Q1", [], {}),
         ("none", "Q2", [], {}),
         ("sun_tooth_damage", "Q1", *tooth_case(n, "sun", 5, 0.6)),
-        ("planet_pin_error", "Q2", [pin_set(pin)], {"pin_error_m": pin}),
+        ("planet_pin_error", "Q2", *pin_case(n, 1, 1e-6)),
         ("mesh_stiffness_level", "Q2", *level_case(n, "stiffness_scale", "stiffness.scale", 0.8)),
         ("worn_profile", "Q1", ["imperfections.worn_profile_depth_m=1e-6"], {"worn_profile_depth_m": 1e-6}),
     ]

@@ -17,10 +17,11 @@ How a diagnosis is read as a named effect (the mapping is fixed, not tuned):
     corpus's effect names (pin_error -> planet_pin_error, sun_runout ->
     sun_eccentricity, carrier_runout -> carrier_eccentricity, torque_ripple ->
     input_torque_ripple, friction -> friction_coefficient);
-  * otherwise, if a nuisance parameter moved from its nominal value by more
-    than 3 standard errors, that recalibration is the named effect
-    (stiffness.scale -> mesh_stiffness_level, mesh_damping_ratio ->
-    mesh_damping_level, sensor gain -> sensor_transfer_path);
+  * otherwise, if a nuisance parameter moved from its nominal value (the gear
+    set's, reported as "initial" in report.json) by more than 3 standard
+    errors and 5 %, that recalibration is the named effect (stiffness.scale ->
+    mesh_stiffness_level, mesh_damping_ratio -> mesh_damping_level, sensor
+    gain -> sensor_transfer_path);
   * otherwise "none" (no missing physics), or "unexplained".
 
 Usage:

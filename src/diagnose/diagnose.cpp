@@ -6,6 +6,7 @@
 #include <Eigen/Dense>
 
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -947,14 +948,14 @@ Diagnosis diagnose(const Recording& recording, const model::SimulationConfig& co
             h[k] = std::clamp(x1, pspec[k].lower, pspec[k].upper) - own[k];
           }
         const std::size_t per = profile ? 1 + own.size() : 1;
-        int per_refined = 0;
+        std::atomic<long> phase_sims{0};  // simulations this pass's screening and refinement ran
         say("screening " + std::to_string(phases.size()) + " phase variants of " + w.name +
             (profile ? " with its parameters profiled (" + std::to_string(phases.size() * per) + " simulations)" : ""));
         // Whitened fit-half residual of phase i at parameters x; empty if the solver fails there.
         const auto phase_residual = [&](std::size_t i, const std::vector<double>& x) -> std::vector<double> {
           try {
             const auto c = ctx.make(cand, phases[i], x, nx_w, nullptr);
-            return cmp.score(ctx.amplitudes(c, false), 0, ctx.nuisance_gains, true).residual;
+            return cmp.score(ctx.amplitudes(c, false, &phase_sims), 0, ctx.nuisance_gains, true).residual;
           } catch (const SolverError&) {
             return {};
           }
@@ -1023,7 +1024,6 @@ Diagnosis diagnose(const Recording& recording, const model::SimulationConfig& co
               xstart[i] = std::isfinite(step.predicted_cost) && step.predicted_cost < prof[i].best_cost()
                               ? step.x : prof[i].best_x();
             }
-            per_refined += static_cast<int>(order.size());
           }
           for (std::size_t i : order) chi[i] = prof[i].best_cost(), xstart[i] = prof[i].best_x();
           std::vector<std::size_t> ranked(phases.size());
@@ -1050,7 +1050,7 @@ Diagnosis diagnose(const Recording& recording, const model::SimulationConfig& co
             r2.evidence_z = w.evidence_z;
             r2.predicted_improvement = w.predicted_improvement;
             r2.reason = w.reason + "; " + phases[b].label + " among " + std::to_string(phases.size() + 1) + " phases";
-            r2.simulations += w.simulations + static_cast<int>(phases.size() * per) + per_refined;
+            r2.simulations += w.simulations + static_cast<int>(phase_sims.load());
             r2.seconds = w.seconds;
             w = std::move(r2);
             v = w.chosen;
