@@ -116,6 +116,25 @@ Eigen::MatrixXd point_map(const Body& b, const Eigen::Vector2d& p) {
   return P;
 }
 
+SparseCoupling sparse_coupling(const MeshCoupling& m) {
+  SparseCoupling c;
+  const auto n = m.g.size();
+  for (Eigen::Index i = 0; i < n; ++i) {
+    const bool used = m.g(i) != 0 || m.h0(i) != 0 || m.h1(i) != 0 || (m.roll.size() == n && m.roll(i) != 0);
+    if (!used) continue;
+    if (c.entries == SparseCoupling::kMaxEntries)
+      throw SolverError(detail::concat("mesh ", m.name, " couples more than ", SparseCoupling::kMaxEntries,
+                                       " coordinates (SparseCoupling::kMaxEntries)"));
+    const int k = c.entries++;
+    c.dof[k] = static_cast<int>(i);
+    c.g[k] = m.g(i);
+    c.h0[k] = m.h0(i);
+    c.h1[k] = m.h1(i);
+    c.roll[k] = m.roll.size() == n ? m.roll(i) : 0.0;
+  }
+  return c;
+}
+
 void assemble(LumpedStructure& s) {
   const int n = s.dofs;
   s.mass = Eigen::MatrixXd::Zero(n, n);

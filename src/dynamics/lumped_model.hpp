@@ -24,6 +24,7 @@
 
 #include <Eigen/Dense>
 
+#include <array>
 #include <string>
 #include <vector>
 
@@ -55,6 +56,23 @@ struct MeshCoupling {
   /// Nominal speeds of A and B relative to the carrier [rad/s], CCW positive.
   double nominal_speed_a_rad_s = 0, nominal_speed_b_rad_s = 0;
 };
+
+/// A mesh's coupling vectors restricted to the coordinates the mesh touches:
+/// the union of the non-zeros of g, h0, h1 and roll (Eqs. 1, 2), in ascending
+/// coordinate order. A torsional mesh touches 3 coordinates (sun or ring,
+/// carrier, planet), a lateral-torsional one 7; the time step works on these
+/// instead of the length-n vectors (rank-1 tangent updates of kMaxEntries^2
+/// instead of n^2 entries, no allocation).
+struct SparseCoupling {
+  static constexpr int kMaxEntries = 12;
+  int entries = 0;
+  std::array<int, kMaxEntries> dof{};
+  std::array<double, kMaxEntries> g{}, h0{}, h1{}, roll{};
+};
+
+/// The sparse form of `mesh`; throws pw::SolverError if it touches more than
+/// SparseCoupling::kMaxEntries coordinates.
+SparseCoupling sparse_coupling(const MeshCoupling& mesh);
 
 /// Linear spring between a body point and ground (body_b < 0) or another body.
 struct Spring {

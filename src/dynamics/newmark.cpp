@@ -13,7 +13,7 @@ NewmarkSolver::NewmarkSolver(SecondOrderSystem& system, double dt_s, NewmarkSche
   require(scheme.gamma >= 0.5 && scheme.gamma <= 1.0, "solver.newmark_gamma", "must be in [0.5, 1], got ",
           scheme.gamma);
   const int n = sys_.size();
-  for (Eigen::VectorXd* w : {&q_pred_, &v_pred_, &q_, &v_, &a_, &a_prev_, &g_, &r_, &da_}) w->setZero(n);
+  for (Eigen::VectorXd* w : {&q_pred_, &v_pred_, &q_, &v_, &a_, &a_prev_, &g_, &r_, &da_, &a_last_, &a_n_}) w->setZero(n);
   K_.setZero(n, n);
   C_.setZero(n, n);
   J_.setZero(n, n);
@@ -25,6 +25,7 @@ void NewmarkSolver::initialize(NewmarkState& s) {
   lu_.compute(sys_.mass());
   s.a = lu_.solve(g_);
   have_lu_ = false;  // lu_ now holds M, not the iteration matrix
+  have_last_ = false;
 }
 
 double NewmarkSolver::residual(double t1, double& scale, bool tangents) {
@@ -56,8 +57,16 @@ void NewmarkSolver::factor_jacobian() {
 }
 
 int NewmarkSolver::step(NewmarkState& s) {
-  const int it = attempt(s);
-  return it >= 0 ? it : halved_steps(s, 1);
+  // The extrapolation needs the previous acceleration one full step back; a
+  // state set from outside (or a halved step) starts from a_n instead.
+  const bool extrapolate = newton_.extrapolate_start && have_last_ && s.t == t_end_;
+  a_n_ = s.a;  // kept for the next step's extrapolation
+  int it = attempt(s, extrapolate);
+  if (it < 0) it = halved_steps(s, 1);
+  a_last_.swap(a_n_);
+  t_end_ = s.t;
+  have_last_ = true;
+  return it;
 }
 
 int NewmarkSolver::halved_steps(NewmarkState& s, int depth) {
@@ -79,19 +88,22 @@ int NewmarkSolver::halved_steps(NewmarkState& s, int depth) {
   have_lu_ = false;
   int iterations = 0;
   for (int half = 0; half < 2; ++half) {
-    const int it = attempt(s);
+    const int it = attempt(s, false);
     iterations += it >= 0 ? it : halved_steps(s, depth + 1);
   }
   return iterations;
 }
 
-int NewmarkSolver::attempt(NewmarkState& s) {
+int NewmarkSolver::attempt(NewmarkState& s, bool extrapolate) {
   const double dt = dt_;
   const double b = scheme_.beta, gm = scheme_.gamma;
   const double t1 = s.t + dt;
   q_pred_ = s.q + dt * s.v + (dt * dt * (0.5 - b)) * s.a;
   v_pred_ = s.v + (dt * (1.0 - gm)) * s.a;
-  a_ = s.a;  // previous acceleration is the initial guess
+  if (extrapolate)
+    a_ = 2.0 * s.a - a_last_;
+  else
+    a_ = s.a;  // previous acceleration is the initial guess
   double scale = 0;
   // Chord (modified Newton) iterations reuse the factorized iteration matrix
   // of an earlier step while they contract fast (residual / 10 per

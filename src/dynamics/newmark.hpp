@@ -30,6 +30,11 @@ struct NewtonSettings {
   /// Reuse the iteration matrix across iterations and steps while the chord
   /// iteration contracts by 10x per iteration (modified Newton).
   bool reuse_jacobian = true;
+  /// Start Newton from the acceleration extrapolated linearly from the last two
+  /// steps (a_n + (a_n - a_{n-1})) instead of a_n: the start is then O(dt^2)
+  /// from the root instead of O(dt), which saves about one force evaluation per
+  /// step. The root is the same to the Newton tolerance.
+  bool extrapolate_start = true;
 };
 
 /// A second-order ODE system M a = g(t, q, v) with constant mass matrix.
@@ -79,7 +84,7 @@ public:
 private:
   /// One Newmark step of the current dt_: Newton iterations used, or -1 (state untouched)
   /// if Newton did not converge.
-  int attempt(NewmarkState& state);
+  int attempt(NewmarkState& state, bool extrapolate);
   /// Two steps of dt_ / 2 (each halved again if it fails); depth counts the halvings.
   int halved_steps(NewmarkState& state, int depth);
   /// Evaluates R(a_) into r_ (and K_, C_ when `tangents`); returns |R|_inf,
@@ -93,6 +98,9 @@ private:
   NewmarkScheme scheme_;
   NewtonSettings newton_;
   Eigen::VectorXd q_pred_, v_pred_, q_, v_, a_, a_prev_, g_, r_, da_;
+  Eigen::VectorXd a_last_, a_n_;  // accelerations one full step before the state's, and the state's
+  double t_end_ = 0;         // time of the state the last step() returned: a_last_ is valid for it
+  bool have_last_ = false;
   Eigen::MatrixXd K_, C_, J_;
   Eigen::PartialPivLU<Eigen::MatrixXd> lu_;
   bool have_lu_ = false;

@@ -8,6 +8,23 @@
 #include <string>
 
 namespace pw::model {
+namespace {
+
+/// tanh(x), the smoothed sign of the sliding speed, with its saturated tails
+/// taken exactly: for |x| > 19.07 the double nearest tanh(x) is +-1 (checked
+/// against glibc over [19, 23] in steps of 1e-7), so pairs that slide faster
+/// than 19 v_eps skip the exp.
+/// Inside, tanh x = (e^{2x} - 1) / (e^{2x} + 1) with one exp (glibc's tanh
+/// goes through expm1, 3x the cost): the same function to an absolute error of
+/// a few ulp of 1, i.e. a friction force changed by < 1e-15 of mu F_n.
+double smooth_sign(double x) {
+  constexpr double kSaturated = 19.1;
+  if (std::fabs(x) > kSaturated) return std::copysign(1.0, x);
+  const double e = std::exp(2 * x);
+  return (e - 1) / (e + 1);
+}
+
+} // namespace
 
 PlanetaryDynamics::PlanetaryDynamics(const SimulationConfig& cfg, dynamics::LumpedStructure structure,
                                      MeshFamily sun_planet, MeshFamily planet_ring,
@@ -67,12 +84,22 @@ PlanetaryDynamics::PlanetaryDynamics(const SimulationConfig& cfg, dynamics::Lump
     static_offset_.push_back(sp ? -mc.normal.dot(d_planet) : mc.normal.dot(d_planet));
   }
   engage_half_width_m_.assign(static_cast<std::size_t>(nm), 0.0);
+  for (const dynamics::MeshCoupling& mc : structure_.meshes) sparse_.push_back(dynamics::sparse_coupling(mc));
+  pair_geometry_.assign(static_cast<std::size_t>(nm), {});
+  imposed_.assign(static_cast<std::size_t>(nm), 0.0);
+  for (Eigen::Index i = 0; i < sun_row_.size(); ++i)
+    if (sun_row_(i) != 0) sun_row_nz_.push_back(static_cast<int>(i));
+  const Eigen::MatrixXd& S = structure_.support_stiffness;
+  for (Eigen::Index j = 0; j < S.cols(); ++j)
+    for (Eigen::Index i = 0; i < S.rows(); ++i)
+      if (S(i, j) != 0) support_nz_.push_back({static_cast<int>(i), static_cast<int>(j), S(i, j)});
 }
 
 void PlanetaryDynamics::set_engagement_smoothing(double dt_s) {
   require(dt_s >= 0 && std::isfinite(dt_s), "engagement smoothing", "time step ", dt_s, " s must be >= 0");
   for (std::size_t m = 0; m < engage_half_width_m_.size(); ++m)
     engage_half_width_m_[m] = 0.5 * std::fabs(structure_.meshes[m].nominal_roll_rate_m_s) * dt_s;
+  ++contact_epoch_;
 }
 
 const FlankSet& PlanetaryDynamics::flank_a(int m) const {
@@ -99,11 +126,143 @@ double PlanetaryDynamics::imposed_deflection(int m, double t) const {
   return d;
 }
 
+void PlanetaryDynamics::update_contact_geometry(double t) {
+  const int nm = static_cast<int>(structure_.meshes.size());
+  for (int m = 0; m < nm; ++m) {
+    const dynamics::MeshCoupling& mc = structure_.meshes[m];
+    const dynamics::SparseCoupling& sc = sparse_[m];
+    const MeshFamily& fam = family(m);
+    const geometry::MeshPhase& phase = (m % 2 == 0) ? phases_[m / 2].sun_planet : phases_[m / 2].planet_ring;
+    const FlankSet& fa = flank_a(m);
+    const FlankSet& fb = flank_b(m);
+    MeshState& st = states_[m];
+
+    double roll_q = 0;
+    for (int k = 0; k < sc.entries; ++k) roll_q += sc.roll[k] * q_roll_(sc.dof[k]);
+    st.roll_m = mc.nominal_roll_rate_m_s * t + roll_q;
+    imposed_[m] = imposed_deflection(m, t);
+    const double h = engage_half_width_m_[m];
+    const int np = geometry::pairs_in_contact(fam.geometry, phase, fam.teeth_a, fam.teeth_b, st.roll_m, pairs_, h);
+    if (np > MeshState::kMaxPairs)
+      throw SolverError("more than " + std::to_string(MeshState::kMaxPairs) +
+                        " tooth pairs in one mesh (contact ratio too high for MeshState)");
+    st.pairs = np;
+
+    // A pair entering or leaving contact within the step counts with the
+    // share of the step it spends in contact (engagement_weight).
+    const double xi_lo = fam.geometry.start_active_m, xi_hi = fam.geometry.end_active_m;
+    st.pairs_engaged = 0;
+    double k_sum = 0;
+    for (int j = 0; j < np; ++j) {
+      const geometry::ContactPair& p = pairs_[j];
+      st.pair[j] = p;
+      PairGeometry& pg = pair_geometry_[m][j];
+      const double w = geometry::engagement_weight(fam.geometry, p.xi_m, h);
+      st.pairs_engaged += w >= 0.5 ? 1 : 0;
+      pg.k_N_m = w * fam.stiffness(std::clamp(p.xi_m, xi_lo, xi_hi)) * fa.stiffness_factor(p.tooth_a) *
+                 fb.stiffness_factor(p.tooth_b);
+      pg.deviation_m = fa.deviation_m(p.tooth_a, p.xi_m) + fb.deviation_m(p.tooth_b, p.xi_m) + mesh_error_[m];
+      pg.slide_nominal_m_s = mc.nominal_slide0_m_s + p.xi_m * mc.nominal_slide1_1_s;
+      for (int k = 0; k < sc.entries; ++k) pg.h[k] = sc.h0[k] + p.xi_m * sc.h1[k];
+      k_sum += pg.k_N_m;
+    }
+    st.stiffness_N_m = k_sum;
+  }
+  geometry_t_ = t;
+  geometry_epoch_ = contact_epoch_;
+}
+
+void PlanetaryDynamics::add_mesh_force(int m, const Eigen::VectorXd& q, const Eigen::VectorXd& v, Eigen::VectorXd& g,
+                                       Eigen::MatrixXd* K, Eigen::MatrixXd* C) {
+  const bool tangents = (K != nullptr && C != nullptr);
+  const dynamics::SparseCoupling& sc = sparse_[m];
+  const auto& pgs = pair_geometry_[m];
+  const int ne = sc.entries;
+  MeshState& st = states_[m];
+
+  double gq = 0, gv = 0;
+  for (int k = 0; k < ne; ++k) {
+    gq += sc.g[k] * q(sc.dof[k]);
+    gv += sc.g[k] * v(sc.dof[k]);
+  }
+  st.deflection_m = gq + imposed_[m];
+  st.velocity_m_s = gv;
+
+  // Elastic forces pair by pair (drive flanks).
+  const double k_sum = st.stiffness_N_m;
+  double k_active = 0, F_el = 0;
+  std::array<double, MeshState::kMaxPairs> k_loaded{};  // k_j of pairs whose flanks touch
+  for (int j = 0; j < st.pairs; ++j) {
+    const double k = pgs[j].k_N_m;
+    const double pen = st.deflection_m - pgs[j].deviation_m;
+    st.pair_force_N[j] = 0;
+    if (pen > 0) {
+      st.pair_force_N[j] = k * pen;
+      k_loaded[j] = k;
+      F_el += k * pen;
+      k_active += k;
+    }
+  }
+  // Coast-flank contact once the backlash is closed. The coast flanks'
+  // pairs are approximated by the drive-side combined stiffness (the mesh
+  // is symmetric; only the phase differs), see derivation §3.3.
+  double F_back = 0;
+  if (st.deflection_m < -backlash_[m] && k_sum > 0) {
+    F_back = k_sum * (st.deflection_m + backlash_[m]);
+    k_active += k_sum;
+  }
+  const bool contact = (F_el > 0 || F_back < 0);
+  const double c = contact ? damping_[m] : 0.0;
+  st.damping_force_N = c * st.velocity_m_s;
+  st.force_N = F_el + F_back + st.damping_force_N;
+  for (int k = 0; k < ne; ++k) g(sc.dof[k]) -= st.force_N * sc.g[k];
+  if (tangents) {
+    for (int b = 0; b < ne; ++b)
+      for (int a = 0; a < ne; ++a) {
+        (*K)(sc.dof[a], sc.dof[b]) += (k_active * sc.g[a]) * sc.g[b];
+        if (c > 0) (*C)(sc.dof[a], sc.dof[b]) += (c * sc.g[a]) * sc.g[b];
+      }
+  }
+
+  // Friction on the drive-flank pairs, each carrying its elastic force and
+  // a stiffness-weighted share of the damping force.
+  st.friction_N = 0;
+  for (int j = 0; j < st.pairs; ++j) {
+    const auto& h = pgs[j].h;
+    double hv = 0;
+    for (int k = 0; k < ne; ++k) hv += h[k] * v(sc.dof[k]);
+    const double vs = pgs[j].slide_nominal_m_s + hv;
+    st.sliding_m_s[j] = vs;
+    if (st.pair_force_N[j] <= 0) continue;
+    const double kj = k_loaded[j];
+    const double share = (k_sum > 0) ? kj / k_sum : 0.0;
+    const double Fn = std::max(0.0, st.pair_force_N[j] + share * st.damping_force_N);
+    st.pair_force_N[j] = Fn;
+    if (mu_ == 0) continue;
+    const double th = smooth_sign(vs / v_eps_);
+    const double Ff = mu_ * Fn * th;
+    st.friction_N += Ff;
+    for (int k = 0; k < ne; ++k) g(sc.dof[k]) -= Ff * h[k];
+    if (tangents) {
+      const double kk = mu_ * th * kj;
+      const double cc = mu_ * Fn * (1 - th * th) / v_eps_;
+      const double cd = mu_ * th * share * c;
+      for (int b = 0; b < ne; ++b)
+        for (int a = 0; a < ne; ++a) {
+          (*K)(sc.dof[a], sc.dof[b]) += (kk * h[a]) * sc.g[b];
+          (*C)(sc.dof[a], sc.dof[b]) += (cc * h[a]) * h[b];
+          if (c > 0) (*C)(sc.dof[a], sc.dof[b]) += (cd * h[a]) * sc.g[b];
+        }
+    }
+  }
+}
+
 void PlanetaryDynamics::force(double t, const Eigen::VectorXd& q, const Eigen::VectorXd& v, Eigen::VectorXd& g,
                               Eigen::MatrixXd* K, Eigen::MatrixXd* C) {
   const bool tangents = (K != nullptr && C != nullptr);
-  supp_force_.noalias() = structure_.support_stiffness * q;
-  g = -supp_force_;
+  // Support springs: g = -S q over S's non-zeros.
+  g.setZero();
+  for (const SupportEntry& e : support_nz_) g(e.row) -= e.k * q(e.col);
   if (tangents) {
     *K = structure_.support_stiffness;
     C->setZero();
@@ -111,98 +270,23 @@ void PlanetaryDynamics::force(double t, const Eigen::VectorXd& q, const Eigen::V
 
   // Input: constant power P at the actual sun speed, with optional ripple;
   // dT/dw = -T/w enters C (it damps the rigid-body mode).
-  const double w_s = sun_speed_ + sun_row_.dot(v);
-  const double T_s = input_torque_Nm(t, q, v);
-  g.noalias() += T_s * sun_row_.transpose();
-  g.noalias() -= load_torque_ * carrier_row_.transpose();
-  if (tangents) C->noalias() += (T_s / w_s) * sun_row_.transpose() * sun_row_;
+  double w_rel = 0;
+  for (int i : sun_row_nz_) w_rel += sun_row_(i) * v(i);
+  const double w_s = sun_speed_ + w_rel;
+  double T_s = power_ / w_s;
+  if (ripple_ != 0) T_s *= 1.0 + ripple_ * std::sin(ripple_order_ * (sun_speed_ * t + sun_row_.dot(q)));
+  for (int i : sun_row_nz_) g(i) += T_s * sun_row_(i);
+  for (Eigen::Index i = 0; i < carrier_row_.size(); ++i)
+    if (carrier_row_(i) != 0) g(i) -= load_torque_ * carrier_row_(i);
+  if (tangents)
+    for (int b : sun_row_nz_)
+      for (int a : sun_row_nz_) (*C)(a, b) += ((T_s / w_s) * sun_row_(a)) * sun_row_(b);
 
+  // The contact geometry (pairs, stiffnesses, deviations) is fixed by the
+  // lagged roll reference: evaluated once per step, reused by Newton.
+  if (geometry_epoch_ != contact_epoch_ || geometry_t_ != t) update_contact_geometry(t);
   const int nm = static_cast<int>(structure_.meshes.size());
-  for (int m = 0; m < nm; ++m) {
-    const dynamics::MeshCoupling& mc = structure_.meshes[m];
-    const MeshFamily& fam = family(m);
-    const geometry::MeshPhase& phase = (m % 2 == 0) ? phases_[m / 2].sun_planet : phases_[m / 2].planet_ring;
-    const FlankSet& fa = flank_a(m);
-    const FlankSet& fb = flank_b(m);
-    MeshState& st = states_[m];
-
-    st.roll_m = mc.nominal_roll_rate_m_s * t + mc.roll.dot(q_roll_);
-    st.deflection_m = mc.g.dot(q) + imposed_deflection(m, t);
-    st.velocity_m_s = mc.g.dot(v);
-    const double h = engage_half_width_m_[m];
-    const int np =
-        geometry::pairs_in_contact(fam.geometry, phase, fam.teeth_a, fam.teeth_b, st.roll_m, pairs_, h);
-    if (np > MeshState::kMaxPairs)
-      throw SolverError("more than " + std::to_string(MeshState::kMaxPairs) +
-                        " tooth pairs in one mesh (contact ratio too high for MeshState)");
-    st.pairs = np;
-
-    // Elastic forces pair by pair; a pair entering or leaving contact within the step
-    // counts with the share of the step it spends in contact (engagement_weight).
-    const double xi_lo = fam.geometry.start_active_m, xi_hi = fam.geometry.end_active_m;
-    st.pairs_engaged = 0;
-    double k_sum = 0, k_active = 0, F_el = 0;
-    std::array<double, MeshState::kMaxPairs> k_loaded{};  // k_j of pairs whose flanks touch
-    for (int j = 0; j < st.pairs; ++j) {
-      const geometry::ContactPair& p = pairs_[j];
-      st.pair[j] = p;
-      const double w = geometry::engagement_weight(fam.geometry, p.xi_m, h);
-      st.pairs_engaged += w >= 0.5 ? 1 : 0;
-      const double k = w * fam.stiffness(std::clamp(p.xi_m, xi_lo, xi_hi)) * fa.stiffness_factor(p.tooth_a) *
-                       fb.stiffness_factor(p.tooth_b);
-      const double e = fa.deviation_m(p.tooth_a, p.xi_m) + fb.deviation_m(p.tooth_b, p.xi_m) + mesh_error_[m];
-      const double pen = st.deflection_m - e;
-      k_sum += k;
-      st.pair_force_N[j] = 0;
-      if (pen > 0) {
-        st.pair_force_N[j] = k * pen;
-        k_loaded[j] = k;
-        F_el += k * pen;
-        k_active += k;
-      }
-    }
-    // Coast-flank contact once the backlash is closed. The coast flanks'
-    // pairs are approximated by the drive-side combined stiffness (the mesh
-    // is symmetric; only the phase differs), see derivation §3.3.
-    double F_back = 0;
-    if (st.deflection_m < -backlash_[m] && k_sum > 0) {
-      F_back = k_sum * (st.deflection_m + backlash_[m]);
-      k_active += k_sum;
-    }
-    const bool contact = (F_el > 0 || F_back < 0);
-    const double c = contact ? damping_[m] : 0.0;
-    st.damping_force_N = c * st.velocity_m_s;
-    st.force_N = F_el + F_back + st.damping_force_N;
-    st.stiffness_N_m = k_sum;
-    g.noalias() -= st.force_N * mc.g;
-    if (tangents) K->noalias() += k_active * mc.g * mc.g.transpose();
-    if (tangents && c > 0) C->noalias() += c * mc.g * mc.g.transpose();
-
-    // Friction on the drive-flank pairs, each carrying its elastic force and
-    // a stiffness-weighted share of the damping force.
-    st.friction_N = 0;
-    for (int j = 0; j < st.pairs; ++j) {
-      const double xi = st.pair[j].xi_m;
-      const double vs = mc.nominal_slide0_m_s + xi * mc.nominal_slide1_1_s + (mc.h0 + xi * mc.h1).dot(v);
-      st.sliding_m_s[j] = vs;
-      if (st.pair_force_N[j] <= 0) continue;
-      const double kj = k_loaded[j];
-      const double share = (k_sum > 0) ? kj / k_sum : 0.0;
-      const double Fn = std::max(0.0, st.pair_force_N[j] + share * st.damping_force_N);
-      st.pair_force_N[j] = Fn;
-      if (mu_ == 0) continue;
-      const double th = std::tanh(vs / v_eps_);
-      const double Ff = mu_ * Fn * th;
-      st.friction_N += Ff;
-      g.noalias() -= Ff * (mc.h0 + xi * mc.h1);
-      if (tangents) {
-        h_ = mc.h0 + xi * mc.h1;
-        K->noalias() += (mu_ * th * kj) * h_ * mc.g.transpose();
-        C->noalias() += (mu_ * Fn * (1 - th * th) / v_eps_) * h_ * h_.transpose();
-        if (c > 0) C->noalias() += (mu_ * th * share * c) * h_ * mc.g.transpose();
-      }
-    }
-  }
+  for (int m = 0; m < nm; ++m) add_mesh_force(m, q, v, g, K, C);
 }
 
 } // namespace pw::model

@@ -76,14 +76,23 @@ public:
   /// step (an error of r w dt^2, far below a microelement) so that the pair
   /// set does not change inside Newton's iterations, where the jump of a pair
   /// entering contact would stall convergence. Call after every accepted step.
-  void set_roll_reference(const Eigen::VectorXd& q) { q_roll_ = q; }
+  void set_roll_reference(const Eigen::VectorXd& q) {
+    q_roll_ = q;
+    ++contact_epoch_;
+  }
 
   const dynamics::LumpedStructure& structure() const { return structure_; }
   const MeshFamily& family(int mesh) const { return mesh % 2 == 0 ? sun_planet_ : planet_ring_; }
   /// States of all 2N meshes at the last force evaluation (sun-planet i at
   /// 2i, planet-ring i at 2i+1).
   const std::vector<MeshState>& mesh_states() const { return states_; }
-  ToothSurfaces& surfaces() { return surfaces_; }
+  /// Mutable flank state (wear, tests). Changing the surfaces through a reference kept
+  /// from here is seen from the next set_roll_reference() on (the contact geometry is
+  /// evaluated once per step, see force()).
+  ToothSurfaces& surfaces() {
+    ++contact_epoch_;
+    return surfaces_;
+  }
   const ToothSurfaces& surfaces() const { return surfaces_; }
 
   /// Load torque on the carrier [N m], acting against the carrier's rotation.
@@ -110,6 +119,20 @@ public:
   const Eigen::RowVectorXd& carrier_theta_row() const { return carrier_row_; }
 
 private:
+  /// What the step's contact geometry fixes for one tooth pair: with the roll
+  /// lagged (set_roll_reference) the pairs, their roll coordinates, stiffnesses,
+  /// profile deviations and friction directions do not change within a step.
+  struct PairGeometry {
+    double k_N_m = 0;          ///< engagement-weighted, damage-scaled pair stiffness [N/m]
+    double deviation_m = 0;    ///< e_j: profile deviations of both flanks + mesh error [m]
+    double slide_nominal_m_s = 0;  ///< sliding speed of the nominal motion at xi [m/s]
+    std::array<double, dynamics::SparseCoupling::kMaxEntries> h{};  ///< h0 + xi h1 on the mesh's entries
+  };
+  /// Evaluates the contact geometry of every mesh at time t (once per step).
+  void update_contact_geometry(double t);
+  /// Adds mesh m's normal, damping and friction forces at (q, v) to g (and tangents).
+  void add_mesh_force(int m, const Eigen::VectorXd& q, const Eigen::VectorXd& v, Eigen::VectorXd& g,
+                      Eigen::MatrixXd* K, Eigen::MatrixXd* C);
   const FlankSet& flank_a(int mesh) const;
   const FlankSet& flank_b(int mesh) const;
   double imposed_deflection(int mesh, double t) const;
@@ -126,6 +149,17 @@ private:
   Eigen::VectorXd supp_force_, h_;  // work vectors, sized once
   Eigen::VectorXd q_roll_;          // state that fixes the roll distances
   std::vector<double> engage_half_width_m_;  // per mesh: half the roll per smoothing step [m]
+  std::vector<dynamics::SparseCoupling> sparse_;  // per mesh: g, h0, h1, roll on the coordinates it touches
+  std::vector<std::array<PairGeometry, MeshState::kMaxPairs>> pair_geometry_;  // per mesh, this step's pairs
+  std::vector<double> imposed_;                // per mesh: imposed deflection at the step's time [m]
+  std::vector<int> sun_row_nz_;                // coordinates of the non-zeros of sun_row_
+  struct SupportEntry {
+    int row, col;
+    double k;
+  };
+  std::vector<SupportEntry> support_nz_;       // non-zeros of the support stiffness, column by column
+  long contact_epoch_ = 0, geometry_epoch_ = -1;  // geometry_epoch_ == contact_epoch_: geometry valid at geometry_t_
+  double geometry_t_ = 0;
   double power_ = 0, sun_speed_ = 0, carrier_speed_ = 0, sun_speed_rel_ = 0;
   double load_torque_ = 0;
   double mu_ = 0, v_eps_ = 1;
