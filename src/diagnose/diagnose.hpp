@@ -134,6 +134,27 @@ struct ScreenResult {
   bool fitted = false;               ///< shortlisted
 };
 
+/// The best candidate and why it is, or is not, named (verdict.hpp).
+struct LeadAssessment {
+  int candidate = -1;                 ///< index into Diagnosis::candidates; -1: no lead
+  /// B_lead: 1 - alpha/2 quantile of its held-out chi2 under "its fitted model is the truth".
+  double bound_held_out = std::numeric_limits<double>::quiet_NaN();
+  /// Share of the held-out excess over the noise bound it removes:
+  /// (chi2_nuisance,h - chi2_lead,h) / (chi2_nuisance,h - bound_held_out); NaN without an excess.
+  double explained_fraction = std::numeric_limits<double>::quiet_NaN();
+  bool counts = false;                ///< CandidateResult::counts()
+  bool within_bound = false;          ///< condition (a): chi2_lead,h <= B_lead
+  std::vector<std::string> at_bound;  ///< condition (b) failures: "stiffness.scale at its bound 2"
+  std::string failed;                 ///< which condition failed, with numbers (empty: named)
+};
+
+/// A channel's share of the held-out chi2 excess of the nuisance-fitted model.
+struct ChannelExcess {
+  std::string channel;
+  double excess = 0;  ///< chi2 - features on that channel (the null's mean), >= 0
+  double share = 0;   ///< of the summed excess
+};
+
 struct Timing {
   double total_s = 0, analysis_s = 0, baseline_s = 0, nuisance_s = 0, locate_s = 0, screening_s = 0, candidates_s = 0,
          phase_s = 0,
@@ -168,6 +189,8 @@ struct Diagnosis {
   std::vector<ScreenResult> screening;    ///< every candidate, largest S first
   std::vector<CandidateResult> candidates;  ///< fitted ones, ranked, best first
   int winner = -1;                       ///< index into candidates, -1 if none
+  LeadAssessment lead;                   ///< the best candidate, named or not (verdict.hpp)
+  std::vector<ChannelExcess> excess_by_channel;  ///< largest share first
   std::vector<std::string> final_overrides;
   std::vector<PlotSeries> plots;
   Timing timing;

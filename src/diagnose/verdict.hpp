@@ -1,0 +1,56 @@
+// The verdict of a diagnosis (docs/diagnose.md §5, "Verdict"): a pure function
+// of the numbers diagnose() computed, so that it can be tested on hand-built
+// values.
+//
+// A candidate that counts (CandidateResult::counts(): significant on the fit
+// half, holds on the held-out half, a parameter away from 'absent') is named
+// as the missing physics only if also
+//   (a) its fitted model explains the held-out half: chi2_h <= B_lead, the
+//       1 - alpha/2 quantile of the held-out chi2 under "this fitted model is
+//       the truth" (ModelComparison::null_quantile with the model's own
+//       amplitudes, the same Monte-Carlo null as the noise test, plus 2 chi2(k)
+//       for its k parameters fitted on the other half: see null_quantile);
+//   (b) no parameter that carries the finding sits at a bound: none of its own
+//       (saturating ones excepted: only their lower limit is claimed, and
+//       "any larger value fits as well" means the fit may stop at the top of
+//       the box), and no nuisance parameter of its joint fit that moved
+//       (recalibrated: kRecalibration and z_{1-alpha/2} standard errors, as
+//       for the nuisance-only fit).
+// Otherwise the verdict is "unexplained residual", with the best candidate
+// reported as a lead, never as a finding.
+//
+// Under a correct finding from a model that can reproduce the recording,
+// (a) fails with probability <= alpha/2 (the quantile's definition; the
+// 2 chi2(k) term bounds the parameter-estimation error from above), and (b)
+// fails only when the truth lies on the edge of a box.
+#pragma once
+
+#include "diagnose/diagnose.hpp"
+
+#include <string>
+
+namespace pw::diagnose {
+
+/// A nuisance parameter counts as recalibrated beyond this relative change (and
+/// z_{1-alpha/2} standard errors): smaller shifts are within the model's fidelity
+/// (a discretization difference moves the fitted stiffness level by a few 0.1 %).
+constexpr double kRecalibration = 0.05;
+
+/// value moved from initial by > z standard errors and > kRecalibration relative.
+bool recalibrated(const FittedParameter& p, double z);
+
+/// What the verdict needs beyond the Diagnosis itself.
+struct VerdictInputs {
+  bool noise_consistent = false;  ///< nuisance-fitted chi2 within bound_fit and bound_held_out
+  /// B_lead: 1 - alpha/2 null quantile of the lead's held-out chi2 (NaN: no lead or not computed).
+  double lead_bound_held_out = std::numeric_limits<double>::quiet_NaN();
+  double alpha = 0.01;
+};
+
+/// Sets d.verdict, d.winner (0 = candidates.front() named, else -1), d.lead,
+/// d.excess_by_channel and d.summary; appends the verdict rule with its numbers
+/// to d.rule. Expects d.candidates ranked (counting ones first) and d.winner = 0
+/// iff candidates.front() counts. Marks `moved` on the lead's nuisance parameters.
+void decide_verdict(Diagnosis& d, const VerdictInputs& in);
+
+} // namespace pw::diagnose
