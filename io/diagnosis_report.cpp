@@ -171,7 +171,8 @@ Doc build(const dg::Diagnosis& d, const ReportContext& ctx) {
   if (d.lead.candidate == 0)
     rows.push_back({(d.winner == 0 ? "with " : "lead (not a finding): with ") + d.candidates.front().name,
                     g(d.candidates.front().fit.chi2, 6), g(d.candidates.front().held_out.chi2, 6),
-                    "its own: " + g(d.lead.bound_held_out, 5) + " held out"});
+                    "its own (its fidelity): " + g(d.lead.held_out_chi2, 6) + " vs " + g(d.lead.bound_held_out, 5) +
+                        " held out"});
   doc.table(rows);
   if (d.lead.candidate == 0)
     doc.p("Best candidate `" + d.candidates.front().name + "`: explains " +
@@ -417,8 +418,8 @@ void write_diagnosis_report(const std::filesystem::path& dir, const dg::Diagnosi
   if (d.lead.candidate == 0) {
     const dg::CandidateResult& l = d.candidates.front();
     j["lead"] = {{"name", l.name}, {"variant", l.variant}, {"named", d.winner == 0}, {"counts", d.lead.counts},
-                 {"held_out_chi2", num(l.held_out.chi2)}, {"bound_held_out", num(d.lead.bound_held_out)},
-                 {"within_bound", d.lead.within_bound}, {"explained_fraction", num(d.lead.explained_fraction)},
+                 {"held_out_chi2", num(d.lead.held_out_chi2)}, {"bound_held_out", num(d.lead.bound_held_out)},
+                 {"replicate_chi2", num(d.lead.replicate_chi2)}, {"within_bound", d.lead.within_bound}, {"explained_fraction", num(d.lead.explained_fraction)},
                  {"at_bound", d.lead.at_bound}, {"failed", d.lead.failed}};
   } else {
     j["lead"] = nullptr;

@@ -336,6 +336,14 @@ WindowScore ModelComparison::score(const std::vector<std::vector<double>>& m, in
   return s;
 }
 
+double ModelComparison::replicate_chi2(const std::vector<double>& gains_in) const {
+  std::vector<double> gains = gains_in;
+  if (gains.empty()) gains.assign(static_cast<std::size_t>(channels()), 1.0);
+  std::vector<double> r(static_cast<std::size_t>(features()));
+  for (std::size_t f = 0; f < r.size(); ++f) r[f] = a_rec_[1][f] - a_rec_[0][f];
+  return chi2_of(r, 1, gains, nullptr);
+}
+
 double ModelComparison::null_quantile(const std::vector<std::vector<double>>& m, const std::vector<double>& gains_in,
                                       int w, double alpha, int fitted_parameters) const {
   const int nc = channels(), ncell = cells();

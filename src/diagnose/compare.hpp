@@ -160,6 +160,11 @@ public:
   double null_quantile(const std::vector<std::vector<double>>& model_amplitude, const std::vector<double>& gains,
                        int window, double alpha, int fitted_parameters = 0) const;
 
+  /// chi2 of the recording's fit half used as the prediction of its held-out half
+  /// (r = A_held - A_fit, the held-out window's V, housing gains `gains` for the fidelity
+  /// columns): a model-free benchmark, E ~ 2m (noise in both halves) for a stationary recording.
+  double replicate_chi2(const std::vector<double>& gains) const;
+
   /// Per feature: the recording's amplitude in window w, its Rician variance, v_ns.
   double recording_amplitude(int window, int feature) const { return a_rec_[static_cast<std::size_t>(window)][static_cast<std::size_t>(feature)]; }
   double noise_variance(int feature) const { return s2_[static_cast<std::size_t>(feature)]; }

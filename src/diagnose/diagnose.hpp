@@ -137,13 +137,18 @@ struct ScreenResult {
 /// The best candidate and why it is, or is not, named (verdict.hpp).
 struct LeadAssessment {
   int candidate = -1;                 ///< index into Diagnosis::candidates; -1: no lead
-  /// B_lead: 1 - alpha/2 quantile of its held-out chi2 under "its fitted model is the truth".
+  /// Its held-out chi2 with the fidelity directions recomputed at its own fitted model (the
+  /// discretization and speed changes of the lines it adds; verdict.hpp).
+  double held_out_chi2 = std::numeric_limits<double>::quiet_NaN();
+  /// B_lead: 1 - alpha/2 quantile of that chi2 under "its fitted model is the truth".
   double bound_held_out = std::numeric_limits<double>::quiet_NaN();
   /// Share of the held-out excess over the noise bound it removes:
   /// (chi2_nuisance,h - chi2_lead,h) / (chi2_nuisance,h - bound_held_out); NaN without an excess.
   double explained_fraction = std::numeric_limits<double>::quiet_NaN();
   bool counts = false;                ///< CandidateResult::counts()
-  bool within_bound = false;          ///< condition (a): chi2_lead,h <= B_lead
+  /// chi2 of the recording's fit half as the prediction of its held-out half (model-free budget).
+  double replicate_chi2 = std::numeric_limits<double>::quiet_NaN();
+  bool within_bound = false;          ///< condition (a): chi2_lead,h <= max(B_lead, replicate_chi2)
   std::vector<std::string> at_bound;  ///< condition (b) failures: "stiffness.scale at its bound 2"
   std::string failed;                 ///< which condition failed, with numbers (empty: named)
 };
