@@ -24,6 +24,9 @@
 //      the fit half AND on the held-out half; among those the lowest BIC
 //      summed over both halves wins; its phase variants (which tooth, which
 //      planet) are tried last.
+//   7. verdict (verdict.hpp): the winner is named only if its own fitted model
+//      explains the held-out half within its budget and nothing it rests on
+//      sits at a bound; otherwise "unexplained residual" with it as a lead.
 #pragma once
 
 #include "diagnose/compare.hpp"
