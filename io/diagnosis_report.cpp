@@ -168,10 +168,23 @@ Doc build(const dg::Diagnosis& d, const ReportContext& ctx) {
   rows.push_back({"nominal (as configured, at the recording's speed)", g(d.nominal_fit.chi2, 6),
                   g(d.nominal_held_out.chi2, 6), g(d.bound_fit, 5) + " / " + g(d.bound_held_out, 5)});
   rows.push_back({"nuisance fitted", g(d.nuisance.fit.chi2, 6), g(d.nuisance.held_out.chi2, 6), ""});
-  if (d.winner == 0)
-    rows.push_back({"with " + d.candidates.front().name, g(d.candidates.front().fit.chi2, 6),
-                    g(d.candidates.front().held_out.chi2, 6), ""});
+  if (d.lead.candidate == 0)
+    rows.push_back({(d.winner == 0 ? "with " : "lead (not a finding): with ") + d.candidates.front().name,
+                    g(d.candidates.front().fit.chi2, 6), g(d.candidates.front().held_out.chi2, 6),
+                    "its own (its fidelity): " + g(d.lead.held_out_chi2, 6) + " vs " + g(d.lead.bound_held_out, 5) +
+                        " held out"});
   doc.table(rows);
+  if (d.lead.candidate == 0)
+    doc.p("Best candidate `" + d.candidates.front().name + "`: explains " +
+          (std::isfinite(d.lead.explained_fraction) ? g(100 * d.lead.explained_fraction, 3) + " %" : std::string("n/a")) +
+          " of the held-out excess over the noise bound; " +
+          (d.lead.failed.empty() ? std::string("named (within its own bound, no parameter at a bound).")
+                                 : "not named: " + d.lead.failed + "."));
+  if (!d.excess_by_channel.empty() && d.verdict != dg::Verdict::NoMissingPhysics) {
+    std::vector<std::vector<std::string>> ex{{"channel", "held-out chi2 excess (nuisance fitted)", "share"}};
+    for (const auto& e : d.excess_by_channel) ex.push_back({e.channel, g(e.excess, 5), g(100 * e.share, 3) + " %"});
+    doc.table(ex);
+  }
   {
     std::vector<std::vector<std::string>> pc{{"channel", "noise per bin (rms)", "chi2/m nominal (fit, held out)",
                                               "chi2/m final (fit, held out)"}};
@@ -402,6 +415,21 @@ void write_diagnosis_report(const std::filesystem::path& dir, const dg::Diagnosi
     if (p.moved) moved.push_back(p.name);
   j["recalibrated_nuisance"] = moved;
   j["decision_rule"] = d.rule;
+  if (d.lead.candidate == 0) {
+    const dg::CandidateResult& l = d.candidates.front();
+    j["lead"] = {{"name", l.name}, {"variant", l.variant}, {"named", d.winner == 0}, {"counts", d.lead.counts},
+                 {"held_out_chi2", num(d.lead.held_out_chi2)}, {"bound_held_out", num(d.lead.bound_held_out)},
+                 {"replicate_chi2", num(d.lead.replicate_chi2)}, {"within_bound", d.lead.within_bound}, {"explained_fraction", num(d.lead.explained_fraction)},
+                 {"at_bound", d.lead.at_bound}, {"failed", d.lead.failed}};
+  } else {
+    j["lead"] = nullptr;
+  }
+  j["explained_fraction"] = num(d.lead.explained_fraction);
+  j["at_bound"] = d.lead.at_bound;
+  json exc = json::array();
+  for (const auto& e : d.excess_by_channel)
+    exc.push_back({{"channel", e.channel}, {"excess", num(e.excess)}, {"share", num(e.share)}});
+  j["excess_by_channel"] = exc;
   j["speed"] = {{"input_rpm", d.speed.input_rpm}, {"relative_std", d.speed.relative_std}, {"source", d.speed.source},
                 {"model_input_rpm", d.model_speed_rpm}};
   j["angle_source"] = d.angle_source;

@@ -288,6 +288,7 @@ WindowScore ModelComparison::score(const std::vector<std::vector<double>>& m, in
   for (int c = 0; c < nc; ++c)
     if (!is_housing(c)) gains[static_cast<std::size_t>(c)] = 1.0;
   std::vector<double> gain_se(static_cast<std::size_t>(nc), 0.0);
+  std::vector<bool> gain_edge(static_cast<std::size_t>(nc), false);
   if (profile_gain) {
     const auto& D = d_[static_cast<std::size_t>(w)];
     for (int c = 0; c < nc; ++c) {
@@ -307,7 +308,8 @@ WindowScore ModelComparison::score(const std::vector<std::vector<double>>& m, in
         gg[static_cast<std::size_t>(c)] = std::exp(lg);
         return chi2_of(residual_vector(m, w, gg), w, gg, nullptr);
       };
-      double lo = std::log(g0) - 0.4, hi = std::log(g0) + 0.4;
+      const double lo0 = std::log(g0) - 0.4, hi0 = std::log(g0) + 0.4;
+      double lo = lo0, hi = hi0;
       const double gr = (std::sqrt(5.0) - 1) / 2;
       double x1 = hi - gr * (hi - lo), x2 = lo + gr * (hi - lo), f1 = cost(x1), f2 = cost(x2);
       for (int it = 0; it < 30; ++it) {
@@ -319,6 +321,8 @@ WindowScore ModelComparison::score(const std::vector<std::vector<double>>& m, in
       }
       const double lg = 0.5 * (lo + hi);
       gains[static_cast<std::size_t>(c)] = std::exp(lg);
+      // Within the final bracket of an initial edge: the optimum may lie beyond it.
+      gain_edge[static_cast<std::size_t>(c)] = lg - lo0 <= hi - lo || hi0 - lg <= hi - lo;
       // Standard error from the curvature of chi2 in ln g: se(ln g) = sqrt(2 / chi2'').
       const double h = 1e-3;
       const double curv = (cost(lg + h) - 2 * cost(lg) + cost(lg - h)) / (h * h);
@@ -328,11 +332,20 @@ WindowScore ModelComparison::score(const std::vector<std::vector<double>>& m, in
   WindowScore s;
   chi2_of(residual_vector(m, w, gains), w, gains, &s);
   s.gain_std = gain_se;
+  s.gain_at_edge = gain_edge;
   return s;
 }
 
+double ModelComparison::replicate_chi2(const std::vector<double>& gains_in) const {
+  std::vector<double> gains = gains_in;
+  if (gains.empty()) gains.assign(static_cast<std::size_t>(channels()), 1.0);
+  std::vector<double> r(static_cast<std::size_t>(features()));
+  for (std::size_t f = 0; f < r.size(); ++f) r[f] = a_rec_[1][f] - a_rec_[0][f];
+  return chi2_of(r, 1, gains, nullptr);
+}
+
 double ModelComparison::null_quantile(const std::vector<std::vector<double>>& m, const std::vector<double>& gains_in,
-                                      int w, double alpha) const {
+                                      int w, double alpha, int fitted_parameters) const {
   const int nc = channels(), ncell = cells();
   std::vector<double> gains = gains_in;
   if (gains.empty()) gains.assign(static_cast<std::size_t>(nc), 1.0);
@@ -374,6 +387,12 @@ double ModelComparison::null_quantile(const std::vector<std::vector<double>>& m,
       r[f] = std::hypot(x, y) - mu[f] + (drift.empty() ? 0.0 : zd * drift[f]);
     }
     chi[static_cast<std::size_t>(d)] = chi2_of(r, w, gains, nullptr);
+    // Parameters fitted on the other window (see the header): + 2 chi2(k), drawn after this
+    // draw's other numbers so that k = 0 reproduces the plain null exactly.
+    for (int k = 0; k < fitted_parameters; ++k) {
+      const double v = nd(rng);
+      chi[static_cast<std::size_t>(d)] += 2 * v * v;
+    }
   }
   std::sort(chi.begin(), chi.end());
   const std::size_t idx = std::min(chi.size() - 1, static_cast<std::size_t>(std::ceil((1 - alpha) * static_cast<double>(chi.size()))));

@@ -97,6 +97,9 @@ struct WindowScore {
   std::vector<double> fidelity_z;         ///< z*
   std::vector<double> gains;              ///< per channel (1 unless housing)
   std::vector<double> gain_std;           ///< standard error of profiled gains (0 if not profiled)
+  /// Per channel: the profiled gain ended within the search's final bracket of an edge of its
+  /// initial bracket (ln g of the weighted least-squares start +- 0.4): not an interior optimum.
+  std::vector<bool> gain_at_edge;
 };
 
 class ModelComparison {
@@ -148,8 +151,19 @@ public:
 
   /// 1 - alpha quantile of chi2 under "the model explains the recording" on
   /// window w (Monte Carlo with the model's own amplitudes, see the top).
+  /// fitted_parameters = k > 0: the model's k parameters were fitted on the OTHER window,
+  /// and each draw adds 2 chi2(k). Why: linearized, the held-out residual is e + J_h d with
+  /// d ~ N(0, (J_f'J_f)^-1) from the fit window, J_h ~ J_f, so its chi2 is
+  /// |(I-P)e|^2 + 2|P u|^2 = chi2(m-k) + 2 chi2(k) (P: projection on J's range, u ~ N(0, I)),
+  /// which the draw |e|^2 + 2 chi2(k) dominates stochastically: a correct model exceeds
+  /// the returned quantile with probability <= alpha. k = 0 leaves the draws unchanged.
   double null_quantile(const std::vector<std::vector<double>>& model_amplitude, const std::vector<double>& gains,
-                       int window, double alpha) const;
+                       int window, double alpha, int fitted_parameters = 0) const;
+
+  /// chi2 of the recording's fit half used as the prediction of its held-out half
+  /// (r = A_held - A_fit, the held-out window's V, housing gains `gains` for the fidelity
+  /// columns): a model-free benchmark, E ~ 2m (noise in both halves) for a stationary recording.
+  double replicate_chi2(const std::vector<double>& gains) const;
 
   /// Per feature: the recording's amplitude in window w, its Rician variance, v_ns.
   double recording_amplitude(int window, int feature) const { return a_rec_[static_cast<std::size_t>(window)][static_cast<std::size_t>(feature)]; }

@@ -24,6 +24,9 @@
 //      the fit half AND on the held-out half; among those the lowest BIC
 //      summed over both halves wins; its phase variants (which tooth, which
 //      planet) are tried last.
+//   7. verdict (verdict.hpp): the winner is named only if its own fitted model
+//      explains the held-out half within its budget and nothing it rests on
+//      sits at a bound; otherwise "unexplained residual" with it as a lead.
 #pragma once
 
 #include "diagnose/compare.hpp"
@@ -134,6 +137,32 @@ struct ScreenResult {
   bool fitted = false;               ///< shortlisted
 };
 
+/// The best candidate and why it is, or is not, named (verdict.hpp).
+struct LeadAssessment {
+  int candidate = -1;                 ///< index into Diagnosis::candidates; -1: no lead
+  /// Its held-out chi2 with the fidelity directions recomputed at its own fitted model (the
+  /// discretization and speed changes of the lines it adds; verdict.hpp).
+  double held_out_chi2 = std::numeric_limits<double>::quiet_NaN();
+  /// B_lead: 1 - alpha/2 quantile of that chi2 under "its fitted model is the truth".
+  double bound_held_out = std::numeric_limits<double>::quiet_NaN();
+  /// Share of the held-out excess over the noise bound it removes:
+  /// (chi2_nuisance,h - chi2_lead,h) / (chi2_nuisance,h - bound_held_out); NaN without an excess.
+  double explained_fraction = std::numeric_limits<double>::quiet_NaN();
+  bool counts = false;                ///< CandidateResult::counts()
+  /// chi2 of the recording's fit half as the prediction of its held-out half (model-free budget).
+  double replicate_chi2 = std::numeric_limits<double>::quiet_NaN();
+  bool within_bound = false;          ///< condition (a): chi2_lead,h <= max(B_lead, replicate_chi2)
+  std::vector<std::string> at_bound;  ///< condition (b) failures: "stiffness.scale at its bound 2"
+  std::string failed;                 ///< which condition failed, with numbers (empty: named)
+};
+
+/// A channel's share of the held-out chi2 excess of the nuisance-fitted model.
+struct ChannelExcess {
+  std::string channel;
+  double excess = 0;  ///< chi2 - features on that channel (the null's mean), >= 0
+  double share = 0;   ///< of the summed excess
+};
+
 struct Timing {
   double total_s = 0, analysis_s = 0, baseline_s = 0, nuisance_s = 0, locate_s = 0, screening_s = 0, candidates_s = 0,
          phase_s = 0,
@@ -168,6 +197,8 @@ struct Diagnosis {
   std::vector<ScreenResult> screening;    ///< every candidate, largest S first
   std::vector<CandidateResult> candidates;  ///< fitted ones, ranked, best first
   int winner = -1;                       ///< index into candidates, -1 if none
+  LeadAssessment lead;                   ///< the best candidate, named or not (verdict.hpp)
+  std::vector<ChannelExcess> excess_by_channel;  ///< largest share first
   std::vector<std::string> final_overrides;
   std::vector<PlotSeries> plots;
   Timing timing;

@@ -1,0 +1,226 @@
+#include "diagnose/verdict.hpp"
+
+#include "diagnose/locate.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+
+namespace pw::diagnose {
+
+namespace {
+
+std::string fmt(const char* f, double v) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, f, v);
+  return buf;
+}
+
+std::string param_text(const FittedParameter& p) {
+  char buf[200];
+  if (p.saturates && std::isfinite(p.lower_limit))
+    std::snprintf(buf, sizeof buf, "%s >= %.3g %s (any larger value fits as well)", p.name.c_str(), p.lower_limit,
+                  p.unit == "1" ? "" : p.unit.c_str());
+  else if (p.saturates)
+    std::snprintf(buf, sizeof buf, "%s = %.4g %s (saturating: not identifiable above the effect's onset)",
+                  p.name.c_str(), p.value, p.unit == "1" ? "" : p.unit.c_str());
+  else
+    std::snprintf(buf, sizeof buf, "%s = %.4g ± %.2g %s", p.name.c_str(), p.value, p.std_error,
+                  p.unit == "1" ? "" : p.unit.c_str());
+  std::string s = buf;
+  while (!s.empty() && s.back() == ' ') s.pop_back();
+  return s;
+}
+
+bool is_gain(const FittedParameter& p) { return p.name.rfind("sensor.gain", 0) == 0; }
+
+/// "stiffness.scale at its bound 2" (the nearer end of its box); gains have no box, only the
+/// bracket of their profile search.
+std::string at_bound_text(const FittedParameter& p) {
+  if (is_gain(p)) return p.name + " at the edge of its profile search (" + fmt("%.4g", p.value) + ")";
+  const double b = std::fabs(p.value - p.upper) < std::fabs(p.value - p.lower) ? p.upper : p.lower;
+  return p.name + " at its bound " + fmt("%.4g", b);
+}
+
+std::vector<ChannelExcess> channel_excess(const Diagnosis& d) {
+  std::vector<ChannelExcess> out;
+  const ScoreSummary& s = d.nuisance.held_out;
+  double total = 0;
+  for (std::size_t c = 0; c < d.channels.size() && c < s.chi2_per_channel.size(); ++c) {
+    const int m = c < s.features_per_channel.size() ? s.features_per_channel[c] : 0;
+    // E[rho^2] = 1 per feature under the null: the channel's excess is chi2 - m.
+    ChannelExcess e{d.channels[c], std::max(0.0, s.chi2_per_channel[c] - m), 0};
+    total += e.excess;
+    out.push_back(e);
+  }
+  for (auto& e : out) e.share = total > 0 ? e.excess / total : 0;
+  std::stable_sort(out.begin(), out.end(), [](const ChannelExcess& a, const ChannelExcess& b) { return a.share > b.share; });
+  return out;
+}
+
+/// Families located (z above the family threshold), the strongest lines' orders, and the
+/// channels that carry most (more than half) of the held-out excess.
+std::string located_text(const Diagnosis& d) {
+  if (!d.located) return "not located";
+  std::string fam;
+  for (const auto& f : d.location.families)
+    if (f.z > d.location.significance_z)
+      fam += (fam.empty() ? "" : ", ") + std::string(to_string(f.family)) + " family (z = " + fmt("%.1f", f.z) + ")";
+  if (fam.empty()) fam = "no family above z = " + fmt("%.2f", d.location.significance_z);
+  // Presentation only: the three strongest lines (report.json lists all that were kept).
+  constexpr std::size_t kLinesNamed = 3;
+  std::string orders;
+  for (std::size_t i = 0; i < d.location.lines.size() && i < kLinesNamed; ++i)
+    orders += (orders.empty() ? "" : ", ") + fmt("%.4g", d.location.lines[i].order) + " (" +
+              d.location.lines[i].channel + ")";
+  std::string chans;
+  double share = 0;
+  for (const auto& e : d.excess_by_channel) {
+    if (share > 0.5 || e.share <= 0) break;
+    chans += (chans.empty() ? "" : ", ") + e.channel;
+    share += e.share;
+  }
+  std::string s = fam;
+  if (!orders.empty()) s += ", strongest lines at carrier orders " + orders;
+  if (!chans.empty()) s += "; channels " + chans + " (" + fmt("%.0f", 100 * share) + " % of the held-out excess)";
+  return s;
+}
+
+LeadAssessment assess_lead(Diagnosis& d, const VerdictInputs& in) {
+  LeadAssessment a;
+  a.bound_held_out = in.lead_bound_held_out;
+  if (d.candidates.empty() || !d.candidates.front().failed.empty() ||
+      !std::isfinite(d.candidates.front().held_out.chi2))
+    return a;
+  a.candidate = 0;
+  CandidateResult& w = d.candidates.front();
+  a.counts = d.winner == 0 && w.counts();
+  const double excess = d.nuisance.held_out.chi2 - d.bound_held_out;
+  if (excess > 0) a.explained_fraction = (d.nuisance.held_out.chi2 - w.held_out.chi2) / excess;
+  a.held_out_chi2 = std::isfinite(in.lead_held_out_chi2) ? in.lead_held_out_chi2 : w.held_out.chi2;
+  a.replicate_chi2 = in.replicate_chi2;
+  a.within_bound = std::isfinite(a.bound_held_out) &&
+                   (a.held_out_chi2 <= a.bound_held_out ||
+                    (std::isfinite(a.replicate_chi2) && a.held_out_chi2 <= a.replicate_chi2));
+  const double z = normal_quantile(in.alpha / 2);
+  for (FittedParameter& p : w.parameters) {
+    if (p.nuisance) p.moved = recalibrated(p, z);
+    if (!p.at_bound) continue;
+    if (!p.nuisance && p.saturates) continue;  // only its lower limit is claimed
+    if (p.nuisance && !p.moved) continue;      // not what the finding rests on
+    a.at_bound.push_back(at_bound_text(p));
+  }
+  std::vector<std::string> why;
+  if (!a.counts) why.push_back("it does not count: " + w.reason);
+  if (!a.within_bound)
+    why.push_back(std::isfinite(a.bound_held_out)
+                      ? "its fit leaves " + fmt("%.1f", a.held_out_chi2 / a.bound_held_out) +
+                            " times its bound on the held-out half (chi2 " + fmt("%.0f", a.held_out_chi2) + " > " +
+                            fmt("%.0f", a.bound_held_out) +
+                            (std::isfinite(a.replicate_chi2)
+                                 ? ", and > " + fmt("%.0f", a.replicate_chi2) + " of the recording's own fit half"
+                                 : std::string()) +
+                            ")"
+                      : "its held-out bound was not computed");
+  for (const auto& s : a.at_bound) why.push_back(s);
+  for (std::size_t i = 0; i < why.size(); ++i) a.failed += (i ? "; " : "") + why[i];
+  return a;
+}
+
+std::string nuisance_text(const Diagnosis& d) {
+  std::string s;
+  for (const auto& p : d.nuisance.parameters)
+    s += (s.empty() ? "" : ", ") + param_text(p) + (p.moved ? " (recalibrated)" : "");
+  return s;
+}
+
+std::string named_summary(const Diagnosis& d) {
+  const CandidateResult& w = d.candidates.front();
+  std::string ps;
+  for (const auto& p : w.parameters)
+    if (!p.nuisance) ps += (ps.empty() ? "" : ", ") + param_text(p);
+  std::string where;
+  if (d.located && d.location.screened_family >= 0)
+    where = " Located in the " + std::string(to_string(static_cast<Component>(d.location.screened_family))) +
+            " family (the signature of " + d.location.screened_candidate + " explains " +
+            fmt("%.0f", d.location.screened_S) + " of the chi2 excess at first order).";
+  return "Missing physics: " + w.name + (w.variant.empty() ? "" : " (" + w.variant + ")") + " — " + w.physics +
+         "; fitted " + ps + "; chi2 " + fmt("%.0f", d.nuisance.fit.chi2) + " -> " + fmt("%.0f", w.fit.chi2) +
+         " on the fit half and " + fmt("%.0f", d.nuisance.held_out.chi2) + " -> " + fmt("%.0f", w.held_out.chi2) +
+         " held out (noise bound " + fmt("%.0f", d.bound_held_out) + "; its own bound " +
+         fmt("%.0f", d.lead.bound_held_out) + ")." + where;
+}
+
+std::string unexplained_summary(const Diagnosis& d) {
+  std::string s = "Unexplained residual: ";
+  const bool lead = d.lead.candidate == 0;
+  if (lead && std::isfinite(d.lead.bound_held_out))
+    s += "held-out chi2 " + fmt("%.0f", d.lead.held_out_chi2) + " left against a bound of " +
+         fmt("%.0f", d.lead.bound_held_out) + " after the best fit (" + fmt("%.0f", d.nuisance.held_out.chi2) +
+         " with the nuisance parameters alone, bound " + fmt("%.0f", d.bound_held_out) + ")";
+  else
+    s += "chi2 " + fmt("%.0f", d.nuisance.fit.chi2) + " (fit half, bound " + fmt("%.0f", d.bound_fit) + ") and " +
+         fmt("%.0f", d.nuisance.held_out.chi2) + " (held out, bound " + fmt("%.0f", d.bound_held_out) +
+         ") after the nuisance fit";
+  s += "; located: " + located_text(d);
+  if (!lead) return s + "; no candidate in the library could be fitted.";
+  const CandidateResult& w = d.candidates.front();
+  s += "; closest lead: " + w.name + (w.variant.empty() ? "" : " (" + w.variant + ")");
+  if (std::isfinite(d.lead.explained_fraction))
+    s += ", explains " + fmt("%.0f", 100 * d.lead.explained_fraction) + " % of the held-out excess";
+  return s + " — not a finding (" + d.lead.failed + ").";
+}
+
+std::string verdict_rule(const Diagnosis& d) {
+  std::string r = " A counting candidate is named only if (a) its own fitted model explains the held-out half: chi2 "
+                  "<= the 1 - alpha/2 quantile of its Monte-Carlo null (its own amplitudes, plus 2 chi2(k) for its k "
+                  "parameters fitted on the other half)";
+  if (d.lead.candidate == 0) {
+    const CandidateResult& w = d.candidates.front();
+    r += " — " + w.name + ": " + fmt("%.1f", d.lead.held_out_chi2) + " against " +
+         fmt("%.1f", d.lead.bound_held_out) + " (k = " + std::to_string(w.parameters.size()) +
+         "; fidelity directions at its own fitted model)";
+  r += ", or no worse than the recording's own fit half predicts the held-out half (chi2 " +
+       fmt("%.1f", d.lead.replicate_chi2) + ")";
+  }
+  r += "; and (b) none of its own parameters (saturating ones excepted: only their lower limit is claimed) and none "
+       "of its recalibrated nuisance parameters sits at a bound — ";
+  r += d.lead.at_bound.empty() ? std::string("none") : d.lead.at_bound.front();
+  for (std::size_t i = 1; i < d.lead.at_bound.size(); ++i) r += ", " + d.lead.at_bound[i];
+  r += ". Otherwise 'unexplained residual' with the best candidate as a lead. Result: " +
+       std::string(to_string(d.verdict)) + (d.lead.failed.empty() ? "" : " (" + d.lead.failed + ")") + ".";
+  return r;
+}
+
+} // namespace
+
+bool recalibrated(const FittedParameter& p, double z) {
+  const double shift = std::fabs(p.value - p.initial);
+  return std::isfinite(p.std_error) && p.std_error > 0 && shift > z * p.std_error &&
+         shift > kRecalibration * std::fabs(p.initial);
+}
+
+void decide_verdict(Diagnosis& d, const VerdictInputs& in) {
+  d.excess_by_channel = channel_excess(d);
+  d.lead = assess_lead(d, in);
+  const bool named = d.lead.candidate == 0 && d.lead.failed.empty();
+  d.winner = named ? 0 : -1;
+  if (d.lead.counts && !named) d.candidates.front().reason += "; not named, a lead only: " + d.lead.failed;
+  if (named) {
+    d.verdict = Verdict::MissingPhysicsFound;
+    d.summary = named_summary(d);
+  } else if (in.noise_consistent) {  // the nuisance-fitted model already explains the recording
+    d.verdict = Verdict::NoMissingPhysics;
+    d.summary = "No missing physics found: with the nuisance parameters fitted (" + nuisance_text(d) +
+                ") the residual is consistent with the measurement noise and the model's fidelity (chi2 " +
+                fmt("%.0f", d.nuisance.fit.chi2) + " <= " + fmt("%.0f", d.bound_fit) + " on the fit half, " +
+                fmt("%.0f", d.nuisance.held_out.chi2) + " <= " + fmt("%.0f", d.bound_held_out) + " held out; m = " +
+                std::to_string(d.features) + ").";
+  } else {
+    d.verdict = Verdict::Unexplained;
+    d.summary = unexplained_summary(d);
+  }
+  d.rule += verdict_rule(d);
+}
+
+} // namespace pw::diagnose
