@@ -101,21 +101,33 @@ int run_simulate(const SimulateOptions& o) {
   // Output names are checked before the (possibly long) run.
   io::AtomicOutput h5(o.output);
   ProgressPrinter progress(o.common.quiet);
-  const auto t0 = std::chrono::steady_clock::now();
-  const model::SimulationResult result = model::simulate(config, std::ref(progress));
-  const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  using clock = std::chrono::steady_clock;
+  auto seconds_since = [](clock::time_point t) { return std::chrono::duration<double>(clock::now() - t).count(); };
+  const auto t0 = clock::now();
+  for (const std::string& name : o.output_selection.channels)
+    require(!name.empty(), "--channels", "an empty channel name (check for a doubled comma)");
+  const model::SimulationResult result = model::simulate(config, std::ref(progress), o.output_selection);
+  const double t_sim = seconds_since(t0);
+  const auto t1 = clock::now();
+  const std::vector<io::SpectrumRecord> spectra = spectra_of(result);
+  const double t_spectra = seconds_since(t1);
+  const auto t2 = clock::now();
   {
     io::H5File f = io::H5File::create(h5.temp_path());
-    io::write_simulation(f, config, result, spectra_of(result));
+    io::write_simulation(f, config, result, spectra);
     f.close();
   }
   if (!o.csv.empty()) io::write_csv(o.csv, result);
   h5.commit();
+  const double t_write = seconds_since(t2);
   if (!o.common.quiet) {
     const auto* fm = find_scalar(result, "mesh_frequency");
     const auto* dt = find_scalar(result, "time_step");
-    std::fprintf(stderr, "wrote %s: %zu samples, dt = %.3g s, mesh frequency %.4g Hz, wall time %.2f s\n",
-                 o.output.c_str(), result.time_s.size(), dt ? dt->value : 0.0, fm ? fm->value : 0.0, wall);
+    std::fprintf(stderr,
+                 "wrote %s: %zu samples x %zu channels every %.3g s (time step %.3g s), mesh frequency %.4g Hz, "
+                 "wall time %.2f s (simulate %.2f s, spectra %.2f s, write %.2f s)\n",
+                 o.output.c_str(), result.time_s.size(), result.channels.size(), result.time_step_s,
+                 dt ? dt->value : 0.0, fm ? fm->value : 0.0, seconds_since(t0), t_sim, t_spectra, t_write);
     const model::WearHistory& w = result.wear;
     if (!w.mesh_cycles.empty())
       std::fprintf(stderr, "wear: %zu updates to %.6g mesh cycles\n", w.mesh_cycles.size() - 1, w.mesh_cycles.back());

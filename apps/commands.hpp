@@ -3,6 +3,8 @@
 // propagate as pw::InputError / pw::SolverError / pw::io::IoError.
 #pragma once
 
+#include "model/simulation.hpp"
+
 #include <optional>
 #include <string>
 #include <vector>
@@ -21,6 +23,7 @@ struct SimulateOptions {
   std::optional<double> mesh_cycles;  ///< wear.mesh_cycles
   std::optional<double> kappa_m2_N;   ///< wear.coefficient_m2_N
   std::string output, csv;
+  model::OutputSelection output_selection;  ///< --time-history-decimation, --channels
 };
 
 struct StiffnessOptions {

@@ -55,6 +55,14 @@ int main(int argc, char** argv) {
       ->take_all();
   s->add_option("-o,--output", sim.output, "output HDF5 file")->required();
   s->add_option("--csv", sim.csv, "also write the time histories as CSV");
+  s->add_option("--time-history-decimation", sim.output_selection.decimation,
+                "store every k-th time step of the recorded mesh periods (as a campaign's "
+                "output.time_history_decimation; default 1 = every step)")
+      ->check(CLI::Range(1, 1000000));
+  s->add_option("--channels", sim.output_selection.channels,
+                "store only these time-history channels (comma-separated names as in docs/output-format.md; a "
+                "name ending in '/' selects everything below it, e.g. --channels sun_planet/0/,housing/acceleration)")
+      ->delimiter(',');
   s->add_flag("-q,--quiet", sim.common.quiet, "no progress on stderr");
 
   pw::app::StiffnessOptions stf;

@@ -178,7 +178,11 @@ int run_synth(const SynthOptions& o) {
       std::fprintf(stderr, "\r[%-9s] %5.1f %%", phase.c_str(), 100 * f);
       if (f >= 1.0) std::fprintf(stderr, "\n");
     };
-  const model::SimulationResult r = model::simulate(config, progress);
+  // Only what the recording's columns come from is stored (simulation.hpp's OutputSelection).
+  const model::OutputSelection columns{{"sun/speed", "carrier/speed", "sun_planet/0/acceleration",
+                                        "planet_ring/0/acceleration", "housing/acceleration", "sun/angle"},
+                                       1};
+  const model::SimulationResult r = model::simulate(config, progress, columns);
 
   // 3. Channels, at the simulation's rate; output j is simulated sample
   //    first + j k, n_out of them. first: the filter's margin after the

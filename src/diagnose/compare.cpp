@@ -193,7 +193,7 @@ std::shared_ptr<const ModelSpectra> ModelComparison::simulate(const model::Simul
 
 ModelSpectra ModelComparison::evaluate(const model::SimulationConfig& c, bool keep) const {
   model::validate(c);
-  return model_spectra(model::simulate(c), rec_, spec_, c, keep);
+  return model_spectra(model::simulate(c, {}, model_channels(rec_, spec_, c)), rec_, spec_, c, keep);
 }
 
 long ModelComparison::simulations() const {

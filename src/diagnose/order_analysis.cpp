@@ -718,6 +718,18 @@ std::vector<double> angle_spectrum(std::span<const double> y, const ModelAngle& 
 
 } // namespace
 
+model::OutputSelection model_channels(const Recording& rec, const RecordingSpectra& s,
+                                      const model::SimulationConfig& config) {
+  model::OutputSelection sel;
+  sel.channels = {"carrier/angle", "sun/speed", "carrier/speed"};
+  for (int i = 0; i < config.stage.planet_count; ++i) sel.channels.push_back("planet_ring/" + std::to_string(i) + "/force");
+  for (int ch : s.channels) {
+    const std::string name = model_channel_name(rec.channels[static_cast<std::size_t>(ch)]);
+    if (!name.empty()) sel.channels.push_back(name);
+  }
+  return sel;
+}
+
 ModelSpectra model_spectra(const model::SimulationResult& r, const Recording& rec, const RecordingSpectra& s,
                            const model::SimulationConfig& config, bool keep) {
   const int R = s.layout.revolutions;

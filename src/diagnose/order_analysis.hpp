@@ -31,6 +31,7 @@
 #include "diagnose/kinematics.hpp"
 #include "diagnose/recording.hpp"
 #include "model/result.hpp"
+#include "model/simulation.hpp"
 #include "model/stage.hpp"
 
 #include <complex>
@@ -203,6 +204,13 @@ struct ModelSpectra {
 /// Model channel that predicts a recording channel ("sun/speed", ...; "" for
 /// housing accelerometers, computed from the ring forces, and tachos).
 std::string model_channel_name(const SignalChannel& c);
+
+/// The simulation channels model_spectra reads for this recording: the angle
+/// references (carrier angle, both speeds), every planet's ring-mesh force
+/// (housing sensors and the kept sensor inputs) and the channel that predicts
+/// each recorded signal. The other ~35 channels are not stored.
+model::OutputSelection model_channels(const Recording& recording, const RecordingSpectra& spectra,
+                                      const model::SimulationConfig& config);
 
 /// Features of a simulation result for the recording's channels and layout.
 /// `sensor` is the configuration's sensor (angle replaced by each housing

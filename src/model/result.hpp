@@ -65,7 +65,7 @@ struct WearHistory {
 };
 
 struct SimulationResult {
-  double time_step_s = 0;
+  double time_step_s = 0;           ///< sample interval of the channels [s] (the time step times the decimation)
   std::vector<double> time_s;       ///< sample times of every channel [s]
   std::vector<Channel> channels;    ///< all equally long as time_s
   std::vector<Scalar> scalars;

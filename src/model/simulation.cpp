@@ -429,22 +429,27 @@ WarmupStats warm_up(Run& r, const ProgressFn& report, double f0, double f1) {
   return w;
 }
 
-/// Recording of `cycles` mesh periods into the named channels of `r_out`.
-void record(Run& r, int cycles, SimulationResult& out, const ProgressFn& report, double f0, double f1) {
-  PreparedStage& p = r.p;
-  PlanetaryDynamics& sys = r.sys();
-  const auto& S = sys.structure();
-  const int nm = static_cast<int>(S.meshes.size());
-  const int N = r.c.stage.planet_count;
-  const int spm = p.steps_per_mesh;
-  const int nrec = cycles * spm;
-  out.time_step_s = p.time_step_s;
-  out.time_s.resize(nrec);
+/// Per-planet means over every recorded step that the summary scalars need
+/// whether or not the force channels are stored.
+struct RecordStats {
+  std::vector<double> mean_sun_planet_force_N;  ///< per planet [N]
+};
+
+/// One output channel of the recording: its name, unit and description, and
+/// where its samples go (null: not stored).
+struct RecordChannel {
+  std::string name, unit, description;
+  double* samples = nullptr;
+};
+
+/// The channels of the recording in their documented order (docs/output-format.md).
+std::vector<RecordChannel> record_channels(const dynamics::LumpedStructure& S, int planets) {
+  std::vector<RecordChannel> ch;
   auto add = [&](std::string name, std::string unit, std::string desc) {
-    out.channels.push_back({std::move(name), std::move(unit), std::move(desc), std::vector<double>(nrec)});
+    ch.push_back({std::move(name), std::move(unit), std::move(desc), nullptr});
   };
-  for (int m = 0; m < nm; ++m) {
-    const std::string b = S.meshes[m].name + "/";
+  for (const dynamics::MeshCoupling& mesh : S.meshes) {
+    const std::string b = mesh.name + "/";
     add(b + "deflection", "m",
         "mesh deflection along the line of action incl. imposed errors (seed: penetration depth at the meshing "
         "line); positive compresses the drive flanks");
@@ -459,54 +464,108 @@ void record(Run& r, int cycles, SimulationResult& out, const ProgressFn& report,
   add("transmission_error", "m",
       "r_bs (theta_s - theta_c (Zs+Zr)/Zs), angular transmission error of the stage at the sun's base circle");
   add("sun/input_torque", "N m", "input torque on the sun");
-  for (int i = 0; i < N; ++i)
+  for (int i = 0; i < planets; ++i)
     add("load_sharing/" + std::to_string(i), "1", "N F_sp,i / sum_k F_sp,k: instantaneous load share of planet i");
-  const std::size_t g_angle = out.channels.size();
   add("sun/angle", "rad", "absolute sun angle Omega_s t + perturbation (t = simulation time, 0 at the start)");
   add("carrier/angle", "rad",
       "absolute carrier angle Omega_c t + perturbation; planet i is at psi_i + carrier/angle in the housing frame");
   add("housing/acceleration", "m/s^2",
       "housing accelerometer at sensor.angle_rad: planet-ring mesh force fluctuations through the transfer-path "
       "window (model/sensor.hpp)");
-  std::vector<double*> col(out.channels.size());
-  for (std::size_t k = 0; k < out.channels.size(); ++k) col[k] = out.channels[k].values.data();
+  return ch;
+}
+
+/// Recording of `cycles` mesh periods into the selected channels of `out`.
+RecordStats record(Run& r, int cycles, SimulationResult& out, const OutputSelection& sel, const ProgressFn& report,
+                   double f0, double f1) {
+  PreparedStage& p = r.p;
+  PlanetaryDynamics& sys = r.sys();
+  const auto& S = sys.structure();
+  const int nm = static_cast<int>(S.meshes.size());
+  const int N = r.c.stage.planet_count;
+  const int spm = p.steps_per_mesh;
+  const int nrec = cycles * spm;
+  const int dec = std::max(1, sel.decimation);
+  const int nstore = (nrec + dec - 1) / dec;  // steps k = 0, dec, 2 dec, ... < nrec
+  out.time_step_s = p.time_step_s * dec;
+  out.time_s.resize(static_cast<std::size_t>(nstore));
+
+  std::vector<RecordChannel> ch = record_channels(S, N);
+  const std::size_t g0 = 6 * static_cast<std::size_t>(nm);       // first stage-level channel
+  const std::size_t g_angle = g0 + 4 + static_cast<std::size_t>(N);  // sun/angle
+  const std::size_t g_housing = g_angle + 2;
+  // The housing sensor is computed from the ring-mesh forces and the carrier
+  // angle after the run: store those too while it is wanted, drop them after.
+  std::vector<bool> wanted(ch.size()), needed(ch.size());
+  for (std::size_t k = 0; k < ch.size(); ++k) wanted[k] = needed[k] = sel.selects(ch[k].name);
+  if (wanted[g_housing]) {
+    needed[g_angle + 1] = true;
+    for (int i = 0; i < N; ++i) needed[6 * static_cast<std::size_t>(2 * i + 1) + 1] = true;
+  }
+  std::vector<std::size_t> stored_index(ch.size(), 0);
+  for (std::size_t k = 0; k < ch.size(); ++k) {
+    if (!needed[k] || k == g_housing) continue;
+    stored_index[k] = out.channels.size();
+    out.channels.push_back({ch[k].name, ch[k].unit, ch[k].description, std::vector<double>(nstore)});
+  }
+  for (std::size_t k = 0; k < ch.size(); ++k)
+    if (needed[k] && k != g_housing) ch[k].samples = out.channels[stored_index[k]].values.data();
+
+  auto put = [&](std::size_t k, int j, double v) {
+    if (ch[k].samples) ch[k].samples[j] = v;
+  };
   const double ratio = (r.c.stage.sun.teeth + r.c.stage.ring.teeth) / static_cast<double>(r.c.stage.sun.teeth);
   const double rbs = p.geometry.sun.base_radius_m;
   const double t0 = r.st.t;
-  const std::size_t g0 = 6 * static_cast<std::size_t>(nm);
+  RecordStats stats;
+  stats.mean_sun_planet_force_N.assign(static_cast<std::size_t>(N), 0.0);
   for (int k = 0; k < nrec; ++k) {
     r.step();
-    out.time_s[k] = r.st.t - t0;
     const auto& ms = sys.mesh_states();
+    for (int i = 0; i < N; ++i) stats.mean_sun_planet_force_N[i] += ms[2 * i].force_N / static_cast<double>(nrec);
+    if (report && k % spm == 0) report(f0 + (f1 - f0) * k / nrec, "recording");
+    if (k % dec != 0) continue;
+    const int j = k / dec;
+    out.time_s[j] = r.st.t - t0;
     double fsum = 0;
     for (int m = 0; m < nm; ++m) {
-      double** c6 = &col[6 * static_cast<std::size_t>(m)];
-      c6[0][k] = ms[m].deflection_m;
-      c6[1][k] = ms[m].force_N;
-      c6[2][k] = S.meshes[m].g.dot(r.st.a);
-      c6[3][k] = ms[m].stiffness_N_m;
-      c6[4][k] = ms[m].pairs_engaged;
-      c6[5][k] = ms[m].friction_N;
+      const std::size_t c6 = 6 * static_cast<std::size_t>(m);
+      put(c6, j, ms[m].deflection_m);
+      put(c6 + 1, j, ms[m].force_N);
+      if (ch[c6 + 2].samples) put(c6 + 2, j, S.meshes[m].g.dot(r.st.a));
+      put(c6 + 3, j, ms[m].stiffness_N_m);
+      put(c6 + 4, j, ms[m].pairs_engaged);
+      put(c6 + 5, j, ms[m].friction_N);
       if (m % 2 == 0) fsum += ms[m].force_N;
     }
-    col[g0][k] = p.sun_speed_rad_s + sys.sun_theta_row().dot(r.st.v);
-    col[g0 + 1][k] = p.carrier_speed_rad_s + sys.carrier_theta_row().dot(r.st.v);
-    col[g0 + 2][k] = rbs * (sys.sun_theta_row().dot(r.st.q) - ratio * sys.carrier_theta_row().dot(r.st.q));
-    col[g0 + 3][k] = sys.input_torque_Nm(r.st.t, r.st.q, r.st.v);
-    for (int i = 0; i < N; ++i) col[g0 + 4 + i][k] = fsum != 0 ? N * ms[2 * i].force_N / fsum : 0.0;
-    col[g_angle][k] = p.sun_speed_rad_s * r.st.t + sys.sun_theta_row().dot(r.st.q);
-    col[g_angle + 1][k] = p.carrier_speed_rad_s * r.st.t + sys.carrier_theta_row().dot(r.st.q);
-    if (report && k % spm == 0) report(f0 + (f1 - f0) * k / nrec, "recording");
+    put(g0, j, p.sun_speed_rad_s + sys.sun_theta_row().dot(r.st.v));
+    put(g0 + 1, j, p.carrier_speed_rad_s + sys.carrier_theta_row().dot(r.st.v));
+    if (ch[g0 + 2].samples)
+      put(g0 + 2, j, rbs * (sys.sun_theta_row().dot(r.st.q) - ratio * sys.carrier_theta_row().dot(r.st.q)));
+    if (ch[g0 + 3].samples) put(g0 + 3, j, sys.input_torque_Nm(r.st.t, r.st.q, r.st.v));
+    for (int i = 0; i < N; ++i) put(g0 + 4 + i, j, fsum != 0 ? N * ms[2 * i].force_N / fsum : 0.0);
+    put(g_angle, j, p.sun_speed_rad_s * r.st.t + sys.sun_theta_row().dot(r.st.q));
+    put(g_angle + 1, j, p.carrier_speed_rad_s * r.st.t + sys.carrier_theta_row().dot(r.st.q));
   }
-  // Housing accelerometer (needs each planet's mean ring-mesh force over the record).
-  std::vector<std::span<const double>> ring_force;
-  for (int i = 0; i < N; ++i) ring_force.emplace_back(out.find("planet_ring/" + std::to_string(i) + "/force")->values);
-  out.channels[g_angle + 2].values = housing_acceleration_history(r.c.sensor, p.geometry.planet_angles_rad,
-                                                                  out.channels[g_angle + 1].values, ring_force);
+  if (wanted[g_housing]) {
+    // Housing accelerometer (needs each planet's mean ring-mesh force over the record).
+    std::vector<std::span<const double>> ring_force;
+    for (int i = 0; i < N; ++i)
+      ring_force.emplace_back(out.channels[stored_index[6 * static_cast<std::size_t>(2 * i + 1) + 1]].values);
+    std::vector<double> h = housing_acceleration_history(r.c.sensor, p.geometry.planet_angles_rad,
+                                                         out.channels[stored_index[g_angle + 1]].values, ring_force);
+    // In the documented place: after carrier/angle.
+    std::size_t at = 0;
+    while (at < out.channels.size() && out.channels[at].name != "carrier/angle") ++at;
+    out.channels.insert(out.channels.begin() + static_cast<long>(std::min(at + 1, out.channels.size())),
+                        {ch[g_housing].name, ch[g_housing].unit, ch[g_housing].description, std::move(h)});
+  }
+  std::erase_if(out.channels, [&](const Channel& c) { return !sel.selects(c.name); });
   out.scalars.push_back({"record_start_time", "s",
                          "simulation time at which the recording starts: time_history/time + record_start_time is "
                          "the time of the absolute angles (sun/angle, carrier/angle)",
                          t0});
+  return stats;
 }
 
 /// Chordal tooth thickness on the reference circle [m] (external gears
@@ -727,12 +786,40 @@ WearHistory run_wear(Run& r, const ProgressFn& report, double f0, double f1) {
 
 } // namespace
 
-SimulationResult simulate(const SimulationConfig& c, const ProgressFn& progress) {
+namespace {
+
+/// Every selected name must select some channel: a typo would otherwise
+/// silently store nothing.
+void check_selection(const OutputSelection& sel, const std::vector<RecordChannel>& channels) {
+  for (const std::string& name : sel.channels) {
+    const OutputSelection one{{name}, 1};
+    bool found = false;
+    for (const RecordChannel& c : channels) found = found || one.selects(c.name);
+    if (found) continue;
+    std::string list;
+    for (const RecordChannel& c : channels) list += (list.empty() ? "" : ", ") + c.name;
+    throw InputError("output.channels", "no time-history channel '" + name + "'; channels are: " + list);
+  }
+}
+
+} // namespace
+
+bool OutputSelection::selects(const std::string& channel) const {
+  if (channels.empty()) return true;
+  for (const std::string& c : channels)
+    if (c == channel || (c.ends_with('/') && channel.starts_with(c))) return true;
+  return false;
+}
+
+SimulationResult simulate(const SimulationConfig& c, const ProgressFn& progress, const OutputSelection& output) {
+  require(output.decimation >= 1, "output.time_history_decimation", "must be >= 1 (every k-th step), got ",
+          output.decimation);
   PreparedStage p = prepare(c);
   PlanetaryDynamics& sys = *p.dynamics;
   const auto& S = sys.structure();
   const int nm = static_cast<int>(S.meshes.size());
   const int N = c.stage.planet_count;
+  check_selection(output, record_channels(S, N));
   const bool wear_on = c.wear.mesh_cycles > 0;
   const double f_warm = wear_on ? 0.05 : 0.3, f_wear = wear_on ? 0.9 : f_warm;
 
@@ -741,7 +828,7 @@ SimulationResult simulate(const SimulationConfig& c, const ProgressFn& progress)
   const WarmupStats warm = warm_up(run, progress, 0.0, f_warm);
   SimulationResult r;
   if (wear_on) r.wear = run_wear(run, progress, f_warm, f_wear);
-  record(run, c.solver.record_mesh_cycles, r, progress, f_wear, 1.0);
+  const RecordStats rec = record(run, c.solver.record_mesh_cycles, r, output, progress, f_wear, 1.0);
   if (progress) progress(1.0, "done");
 
   const double dt = p.time_step_s;
@@ -771,11 +858,7 @@ SimulationResult simulate(const SimulationConfig& c, const ProgressFn& progress)
   for (int m = 0; m < nm; ++m)
     scalar("mesh_damping/" + S.meshes[m].name, "N s/m", "viscous mesh damping coefficient", sys.mesh_damping_N_s_m(m));
   // Load-sharing factor per planet: N mean(F_sp,i) / sum_k mean(F_sp,k).
-  std::vector<double> mean_f(N, 0.0);
-  for (int i = 0; i < N; ++i) {
-    const auto& v = r.channels[6 * static_cast<std::size_t>(2 * i) + 1].values;
-    for (double x : v) mean_f[i] += x / static_cast<double>(v.size());
-  }
+  const std::vector<double>& mean_f = rec.mean_sun_planet_force_N;
   double tot = 0;
   for (double x : mean_f) tot += x;
   for (int i = 0; i < N; ++i)

@@ -57,7 +57,21 @@ PreparedStage prepare(const SimulationConfig& config);
 std::vector<Curve> stiffness_curves(const PreparedStage& stage);
 std::vector<Scalar> stiffness_scalars(const PreparedStage& stage);
 
+/// What simulate() stores of the recorded mesh periods. The default stores
+/// every channel (docs/output-format.md) at every time step. Unstored channels
+/// cost nothing: their samples are neither computed nor allocated.
+struct OutputSelection {
+  /// Channel names to store ("sun_planet/0/force", "housing/acceleration", ...); a name
+  /// ending in '/' selects every channel below it ("planet_ring/1/"). Empty = all.
+  std::vector<std::string> channels;
+  /// Store every k-th time step [-], k >= 1 (campaigns' output.time_history_decimation).
+  /// SimulationResult::time_step_s is then k times the integration step.
+  int decimation = 1;
+  bool selects(const std::string& channel) const;
+};
+
 /// Steps 1-6.
-SimulationResult simulate(const SimulationConfig& config, const ProgressFn& progress = {});
+SimulationResult simulate(const SimulationConfig& config, const ProgressFn& progress = {},
+                          const OutputSelection& output = {});
 
 } // namespace pw::model
