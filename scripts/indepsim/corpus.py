@@ -226,7 +226,7 @@ def run_batch(job):
     return job["name"], fs, res, info
 
 
-def build(out, quick=False, jobs=1, seed=1):
+def build(out, quick=False, jobs=1, seed=1, limit=None, duration=None):
     rnd = random.Random(seed)
     gsets = gearsets()
     P = plan(quick)
@@ -241,11 +241,15 @@ def build(out, quick=False, jobs=1, seed=1):
     for (g, op, eff, kw, dur) in P:
         entries.append(dict(gearset=g, op=op, effect=eff, role="effect" if eff != "none" else "control", fk=kw,
                             dur=dur))
+    if limit:
+        entries = entries[:limit]
     # per-entry randomness: sensor angle (5 deg steps), noise seed
     for e in entries:
         rpm, W, dur = ops[e["gearset"]][e["op"]]
         e["rpm"], e["W"] = rpm, W
         e["duration_s"] = min(e["dur"] or dur, 2.0) if quick else (e["dur"] or dur)
+        if duration:
+            e["duration_s"] = duration
         e["sensor_angle_phys_deg"] = 5.0 * rnd.randrange(72)
         e["seed"] = rnd.randrange(2 ** 31)
     # held out: ~25 % of effect recordings + one control per gear set

@@ -162,6 +162,7 @@ class Rig:
     housing_kappa: float = 4.0
     iso_cm: float = 0.8
     iso_cr: float = 1.0
+    stiffness_variation: bool = True       # False: constant mean mesh stiffness, no friction arms (tests)
 
 
 @dataclasses.dataclass
@@ -348,6 +349,9 @@ class Stage:
             kpeak = self.kmean_iso[key] / mean_shape
             self.kpeak[key] = kpeak
             tab = np.stack([ssum * kpeak] + [wsum[a] / ssum for a in ("s", "p", "c", "te")], axis=1)
+            if not self.rig.stiffness_variation:
+                tab[:, 0] = self.kmean_iso[key]
+                tab[:, 1:4] = 0.0
             self.tab[key] = tab
         # self-check of the mean
         for key in ("sp", "rp"):
@@ -369,6 +373,22 @@ class Stage:
         _, _, T0 = self.nominal(case)
         w = T0 / (self.N * self.r[0]) / (self.face_width * 1e3)
         return min(1.0, (max(w, 1e-3) / 100.0) ** 0.25)
+
+    def static_state(self, T0, kvec, e=None):
+        """Static deflection under input torque T0 (motor) balanced by the ideal output torque;
+        dyno angle fixed at 0. Returns (x (n,), mesh forces k (A x - e) (2N,))."""
+        n = self.n
+        Zs, _, Zr = self.Z
+        e = np.zeros(2 * self.N) if e is None else np.asarray(e, float)
+        K = self.stiffness_matrix(kvec)
+        f = np.zeros(n)
+        f[self.im] = T0
+        f[self.idy] = -T0 * (Zs + Zr) / Zs
+        f += self.A.T @ (kvec * e)
+        keep = [i for i in range(n) if i != self.idy]
+        x = np.zeros(n)
+        x[keep] = np.linalg.solve(K[np.ix_(keep, keep)], f[keep])
+        return x, kvec * (self.A @ x - e)
 
     def stiffness_matrix(self, kvec):
         return self.A.T @ (kvec[:, None] * self.A) + self.Ks
@@ -455,8 +475,13 @@ def choose_rates(stage, cases, dt_factor=1.0):
     return fs, D
 
 
+def encoder_sos(rig, fs_fine):
+    """Encoder speed channel: 2nd-order Butterworth low-pass at rig.encoder_bandwidth_Hz."""
+    return signal.butter(2, rig.encoder_bandwidth_Hz, fs=fs_fine, output="sos")
+
+
 def simulate_batch(stage, cases, warmup_s=0.6, chunk=1024, dt_factor=1.0, verbose=False,
-                   fs=None, D=None, keep_fine=False):
+                   fs=None, D=None, keep_fine=False, initial_offset=None):
     """Integrates every case of one gear set together (batch dimension B).
 
     Returns (fs, list of dicts with the DAQ channels in SI units before noise:
@@ -545,18 +570,12 @@ def simulate_batch(stage, cases, warmup_s=0.6, chunk=1024, dt_factor=1.0, verbos
     Y = np.zeros((B, 2 * n))
     for b in range(B):
         kk = np.r_[np.full(N, stage.kmean_iso["sp"]), np.full(N, stage.kmean_iso["rp"])] * kscale[b]
-        K = stage.stiffness_matrix(kk)
-        f = np.zeros(n)
-        f[stage.im] = T0[b]
-        f[stage.idy] = Q0[b, stage.idy]
-        f += stage.A.T @ (kk * e_const[b])
-        keep = [i for i in range(n) if i != stage.idy]
-        x = np.zeros(n)
-        x[keep] = np.linalg.solve(K[np.ix_(keep, keep)], f[keep])
-        Y[b, :n] = x
+        Y[b, :n] = stage.static_state(T0[b], kk, e_const[b])[0]
+    if initial_offset is not None:
+        Y += initial_offset
     # --- output channels on the fine grid: ws, wc, asp0, apr0, F_pr (N), wF (N), w (N)
     nch = 4 + 3 * N
-    sos = signal.butter(2, rig.encoder_bandwidth_Hz, fs=fs * D, output="sos")
+    sos = encoder_sos(rig, fs * D)
     zi = np.zeros((B, 2, sos.shape[0], 2))
     for b in range(B):
         for j, w0 in enumerate((Ws[b], Wc[b])):
@@ -687,3 +706,23 @@ def simulate_batch(stage, cases, warmup_s=0.6, chunk=1024, dt_factor=1.0, verbos
     info = dict(fs=fs, D=D, dt=dt, steps=nsteps, cpu_s=cpu, wall_s=time.time() - wall0, batch=B,
                 simulated_s=nsteps * dt, fine=np.concatenate(fine, axis=-1) if keep_fine else None)
     return fs, res, info
+
+
+def main(argv=None):
+    import argparse
+    ap = argparse.ArgumentParser(description="Simulate one recording (SI channels to a .npz); "
+                                 "the corpus is made by corpus.py")
+    ap.add_argument("-c", "--gearset", required=True, help="gear-set TOML ([stage], [stage.sun], ...)")
+    ap.add_argument("--speed-rpm", type=float, default=400.0)
+    ap.add_argument("--power-w", type=float, default=1000.0)
+    ap.add_argument("--seconds", type=float, default=1.0)
+    ap.add_argument("-o", "--out", required=True)
+    a = ap.parse_args(argv)
+    st = Stage(read_gearset_toml(a.gearset))
+    fs, res, info = simulate_batch(st, [Case(a.speed_rpm, a.power_w, a.seconds)], verbose=True)
+    np.savez(a.out, fs=fs, **{k: v for k, v in res[0].items()})
+    print(f"fs {fs} Hz, dt {info['dt']:.3g} s, cpu {info['cpu_s']:.1f} s for {info['simulated_s']:.2f} s simulated")
+
+
+if __name__ == "__main__":
+    main()
