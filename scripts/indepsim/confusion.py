@@ -3,7 +3,7 @@
 
     /usr/bin/python3 scripts/indepsim/confusion.py DIR --planetwear PATH/planetwear
         [--jobs N] [--threads 1] [--include-held-out] [--calibration-per-rig] [--timeout S]
-        [--only NAME,...] [--gearset G] [--dry-run]
+        [--only NAME,...] [--gearset G] [--dry-run] [--check-reader]
 
 For each recording DIR/<gearset>/recordings/rec_NN.csv (sidecar rec_NN.json) it runs
     planetwear diagnose -c DIR/<gearset>/gearset.toml -r rec.csv --meta rec.json
@@ -71,7 +71,11 @@ def read_report(path):
         if name is None:
             name = find_key(rep, ("winner", "candidate", "missing_physics_name"))
         label = str(name) if name else "missing_physics(?)"
-    ov = find_key(rep, ("set_overrides", "overrides", "final_overrides", "set"))
+    # the nuisance-only model's --set overrides (report.json "nuisance" -> "overrides")
+    nu = rep.get("nuisance")
+    ov = nu.get("overrides") if isinstance(nu, dict) else None
+    if ov is None:
+        ov = find_key(rep, ("overrides",))
     overrides = []
     if isinstance(ov, list):
         overrides = [str(x) for x in ov if isinstance(x, str) and "=" in x]
@@ -113,6 +117,39 @@ def run_one(exe, corpus, key, rec, outroot, threads, timeout, extra_sets=()):
     return key, "failed", ("failed", f"exit {p.returncode}", msg, []), dt, ""
 
 
+def check_reader(exe, corpus, rec, timeout=300):
+    """Starts `planetwear diagnose` (without -q) only until the recording has been read and
+    order-analysed (the "baseline model" progress line), then stops that process (by its pid).
+    -> ("accepted" | "refused" | "failed", message). No diagnosis is run."""
+    g = rec["gearset"]
+    csvp = os.path.join(corpus, rec["csv"])
+    out = os.path.join(corpus, "reader_check", g, rec["name"])
+    os.makedirs(out, exist_ok=True)
+    cmd = [exe, "diagnose", "-c", os.path.join(corpus, g, "gearset.toml"), "-r", csvp,
+           "--meta", os.path.splitext(csvp)[0] + ".json", "-o", out, "--threads", "1", "--no-plots"]
+    p = subprocess.Popen(cmd, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True,
+                         env=dict(os.environ, OMP_NUM_THREADS="1"))
+    t0 = time.time()
+    lines = []
+    try:
+        for line in p.stderr:
+            lines.append(line.strip())
+            if "baseline model" in line:
+                p.terminate()
+                p.wait(timeout=30)
+                return "accepted", lines[-1]
+            if time.time() - t0 > timeout:
+                p.terminate()
+                p.wait(timeout=30)
+                return "failed", "reader check timed out"
+        rc = p.wait(timeout=30)
+    finally:
+        if p.poll() is None:
+            p.kill()
+    msg = lines[-1] if lines else ""
+    return ("refused" if rc == 1 else "failed"), msg
+
+
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("corpus")
@@ -125,6 +162,9 @@ def main(argv=None):
     ap.add_argument("--only", default="", help="comma-separated gearset/rec_NN keys")
     ap.add_argument("--gearset", default="")
     ap.add_argument("--dry-run", action="store_true", help="score existing reports only, run nothing")
+    ap.add_argument("--check-reader", action="store_true",
+                    help="only check that planetwear's reader accepts each recording (stops each run after "
+                         "reading; no diagnosis); writes reader_check.json")
     a = ap.parse_args(argv)
     with open(os.path.join(a.corpus, "truth.json")) as f:
         truth = json.load(f)
@@ -132,6 +172,19 @@ def main(argv=None):
     keys = sorted(k for k, r in recs.items()
                   if (a.include_held_out or not r.get("held_out")) and (not a.gearset or r["gearset"] == a.gearset)
                   and (not a.only or k in a.only.split(",")))
+    if a.check_reader:
+        res = {}
+        for i, k in enumerate(keys):
+            how, msg = check_reader(a.planetwear, a.corpus, recs[k])
+            expect = "refused" if recs[k].get("reader_should_refuse") else "accepted"
+            res[k] = dict(result=how, expected=expect, message=msg)
+            print(f"[{i + 1}/{len(keys)}] {k}: {how} (expected {expect}) {msg if how != 'accepted' else ''}",
+                  flush=True)
+        with open(os.path.join(a.corpus, "reader_check.json"), "w") as f:
+            json.dump(res, f, indent=1)
+        bad = [k for k, v in res.items() if v["result"] != v["expected"]]
+        print(f"{len(keys) - len(bad)}/{len(keys)} as expected" + (f"; unexpected: {bad}" if bad else ""))
+        return 1 if bad else 0
     outroot = "diagnosis_cal" if a.calibration_per_rig else "diagnosis"
     results = {}
     t_start = time.time()
