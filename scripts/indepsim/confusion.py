@@ -1,0 +1,304 @@
+#!/usr/bin/env python3
+"""Runs `planetwear diagnose` on an indepsim corpus and scores it against truth.json.
+
+    /usr/bin/python3 scripts/indepsim/confusion.py DIR --planetwear PATH/planetwear
+        [--jobs N] [--threads 1] [--include-held-out] [--calibration-per-rig] [--timeout S]
+        [--only NAME,...] [--gearset G] [--dry-run] [--check-reader]
+
+For each recording DIR/<gearset>/recordings/rec_NN.csv (sidecar rec_NN.json) it runs
+    planetwear diagnose -c DIR/<gearset>/gearset.toml -r rec.csv --meta rec.json
+                        -o DIR/diagnosis/<gearset>/rec_NN --threads T --no-plots -q
+unless DIR/diagnosis/<gearset>/rec_NN/report.json exists (resumable), reads the report
+(docs/diagnose.md section 6), prints a confusion matrix truth effect x reported verdict
+(candidate name, "none" for no_missing_physics, "unexplained", "refused", "failed") and
+the counts: named right, controls clean, confident wrong names, refusals. Writes
+DIR/diagnosis/results.csv and results.json. Held-out recordings (truth "held_out") are
+skipped unless --include-held-out.
+
+--calibration-per-rig: the healthy baseline of each operating point is diagnosed first;
+the nuisance values it recalibrated (the report's --set overrides of stiffness.scale,
+contact.mesh_damping_ratio, sensor.*) are passed as --set to the other recordings of
+that operating point (outputs under DIR/diagnosis_cal/).
+"""
+import argparse
+import concurrent.futures as cf
+import csv
+import json
+import os
+import subprocess
+import sys
+import time
+
+NUISANCE_PREFIXES = ("stiffness.scale", "contact.mesh_damping_ratio", "sensor.")
+
+
+def find_key(obj, names):
+    """First value of any key in names, searched depth-first."""
+    if isinstance(obj, dict):
+        for k in names:
+            if k in obj:
+                return obj[k]
+        for v in obj.values():
+            r = find_key(v, names)
+            if r is not None:
+                return r
+    elif isinstance(obj, list):
+        for v in obj:
+            r = find_key(v, names)
+            if r is not None:
+                return r
+    return None
+
+
+def read_report(path):
+    """-> (verdict label, raw verdict, summary, overrides list)."""
+    with open(path) as f:
+        rep = json.load(f)
+    verdict = rep.get("verdict", "")
+    summary = rep.get("summary", "")
+    label = verdict
+    if verdict == "no_missing_physics":
+        label = "none"
+    elif verdict == "unexplained_residual":
+        label = "unexplained"
+    elif verdict == "missing_physics_found":
+        mp = rep.get("missing_physics")
+        name = None
+        if isinstance(mp, str):
+            name = mp
+        elif isinstance(mp, dict):
+            name = mp.get("candidate") or mp.get("name") or mp.get("physics")
+        if name is None:
+            name = find_key(rep, ("winner", "candidate", "missing_physics_name"))
+        label = str(name) if name else "missing_physics(?)"
+    # the nuisance-only model's --set overrides (report.json "nuisance" -> "overrides")
+    nu = rep.get("nuisance")
+    ov = nu.get("overrides") if isinstance(nu, dict) else None
+    if ov is None:
+        ov = find_key(rep, ("overrides",))
+    overrides = []
+    if isinstance(ov, list):
+        overrides = [str(x) for x in ov if isinstance(x, str) and "=" in x]
+    elif isinstance(ov, dict):
+        overrides = [f"{k}={v}" for k, v in ov.items()]
+    return label, verdict, summary, overrides
+
+
+def run_one(exe, corpus, key, rec, outroot, threads, timeout, extra_sets=()):
+    g, name = rec["gearset"], rec["name"]
+    out = os.path.join(corpus, outroot, g, name)
+    rj = os.path.join(out, "report.json")
+    refused = os.path.join(out, "refused.txt")
+    if os.path.exists(rj):
+        return key, "cached", read_report(rj), 0.0, ""
+    if os.path.exists(refused):
+        with open(refused) as f:
+            return key, "cached-refused", ("refused", "refused", f.read().strip(), []), 0.0, ""
+    os.makedirs(out, exist_ok=True)
+    csvp = os.path.join(corpus, rec["csv"])
+    cmd = [exe, "diagnose", "-c", os.path.join(corpus, g, "gearset.toml"), "-r", csvp,
+           "--meta", os.path.splitext(csvp)[0] + ".json", "-o", out, "--threads", str(threads), "--no-plots", "-q"]
+    for s in extra_sets:
+        cmd += ["--set", s]
+    env = dict(os.environ, OMP_NUM_THREADS=str(threads))
+    t0 = time.time()
+    try:
+        p = subprocess.run(cmd, capture_output=True, text=True, timeout=timeout, env=env)
+    except subprocess.TimeoutExpired:
+        return key, "timeout", ("failed", "timeout", f"timeout after {timeout} s", []), time.time() - t0, ""
+    dt = time.time() - t0
+    if p.returncode == 0 and os.path.exists(rj):
+        return key, "ran", read_report(rj), dt, p.stdout.strip()
+    msg = (p.stderr.strip().splitlines() or ["?"])[-1]
+    if p.returncode == 1:      # pw::InputError: the reader refused the recording
+        with open(refused, "w") as f:
+            f.write(msg + "\n")
+        return key, "refused", ("refused", "refused", msg, []), dt, ""
+    return key, "failed", ("failed", f"exit {p.returncode}", msg, []), dt, ""
+
+
+def check_reader(exe, corpus, rec, timeout=300):
+    """Starts `planetwear diagnose` (without -q) only until the recording has been read and
+    order-analysed (the "baseline model" progress line), then stops that process (by its pid).
+    -> ("accepted" | "refused" | "failed", message). No diagnosis is run."""
+    g = rec["gearset"]
+    csvp = os.path.join(corpus, rec["csv"])
+    out = os.path.join(corpus, "reader_check", g, rec["name"])
+    os.makedirs(out, exist_ok=True)
+    cmd = [exe, "diagnose", "-c", os.path.join(corpus, g, "gearset.toml"), "-r", csvp,
+           "--meta", os.path.splitext(csvp)[0] + ".json", "-o", out, "--threads", "1", "--no-plots"]
+    p = subprocess.Popen(cmd, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True,
+                         env=dict(os.environ, OMP_NUM_THREADS="1"))
+    t0 = time.time()
+    lines = []
+    try:
+        for line in p.stderr:
+            lines.append(line.strip())
+            if "baseline model" in line:
+                p.terminate()
+                p.wait(timeout=30)
+                return "accepted", lines[-1]
+            if time.time() - t0 > timeout:
+                p.terminate()
+                p.wait(timeout=30)
+                return "failed", "reader check timed out"
+        rc = p.wait(timeout=30)
+    finally:
+        if p.poll() is None:
+            p.kill()
+    msg = lines[-1] if lines else ""
+    return ("refused" if rc == 1 else "failed"), msg
+
+
+def main(argv=None):
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("corpus")
+    ap.add_argument("--planetwear", required=True)
+    ap.add_argument("--jobs", type=int, default=1)
+    ap.add_argument("--threads", type=int, default=1)
+    ap.add_argument("--include-held-out", action="store_true")
+    ap.add_argument("--calibration-per-rig", action="store_true")
+    ap.add_argument("--timeout", type=float, default=3 * 3600)
+    ap.add_argument("--only", default="", help="comma-separated gearset/rec_NN keys")
+    ap.add_argument("--gearset", default="")
+    ap.add_argument("--dry-run", action="store_true", help="score existing reports only, run nothing")
+    ap.add_argument("--check-reader", action="store_true",
+                    help="only check that planetwear's reader accepts each recording (stops each run after "
+                         "reading; no diagnosis); writes reader_check.json")
+    a = ap.parse_args(argv)
+    with open(os.path.join(a.corpus, "truth.json")) as f:
+        truth = json.load(f)
+    recs = truth["recordings"]
+    keys = sorted(k for k, r in recs.items()
+                  if (a.include_held_out or not r.get("held_out")) and (not a.gearset or r["gearset"] == a.gearset)
+                  and (not a.only or k in a.only.split(",")))
+    if a.check_reader:
+        res = {}
+        for i, k in enumerate(keys):
+            how, msg = check_reader(a.planetwear, a.corpus, recs[k])
+            expect = "refused" if recs[k].get("reader_should_refuse") else "accepted"
+            res[k] = dict(result=how, expected=expect, message=msg)
+            print(f"[{i + 1}/{len(keys)}] {k}: {how} (expected {expect}) {msg if how != 'accepted' else ''}",
+                  flush=True)
+        with open(os.path.join(a.corpus, "reader_check.json"), "w") as f:
+            json.dump(res, f, indent=1)
+        bad = [k for k, v in res.items() if v["result"] != v["expected"]]
+        print(f"{len(keys) - len(bad)}/{len(keys)} as expected" + (f"; unexpected: {bad}" if bad else ""))
+        return 1 if bad else 0
+    outroot = "diagnosis_cal" if a.calibration_per_rig else "diagnosis"
+    results = {}
+    t_start = time.time()
+    done_times = []
+
+    def progress(key, how, res, dt):
+        results[key] = (how, res, dt)
+        if how == "ran" or how in ("refused", "failed", "timeout"):
+            done_times.append(dt)
+        left = len(keys) - len(results)
+        eta = ""
+        if done_times:
+            per = sum(done_times) / len(done_times) / max(1, a.jobs)
+            eta = f", ETA {per * left / 60:.0f} min"
+        print(f"[{len(results)}/{len(keys)}] {key}: truth {recs[key]['effect']} -> {res[0]} ({how}, {dt:.0f} s){eta}",
+              flush=True)
+
+    def jobs_for(klist, extra=lambda k: ()):
+        if a.dry_run:
+            for k in klist:
+                r = recs[k]
+                rj = os.path.join(a.corpus, outroot, r["gearset"], r["name"], "report.json")
+                rf = os.path.join(a.corpus, outroot, r["gearset"], r["name"], "refused.txt")
+                if os.path.exists(rj):
+                    progress(k, "cached", read_report(rj), 0.0)
+                elif os.path.exists(rf):
+                    progress(k, "cached-refused", ("refused", "refused", open(rf).read().strip(), []), 0.0)
+            return
+        with cf.ThreadPoolExecutor(max_workers=max(1, a.jobs)) as ex:
+            futs = [ex.submit(run_one, a.planetwear, a.corpus, k, recs[k], outroot, a.threads, a.timeout, extra(k))
+                    for k in klist]
+            for fu in cf.as_completed(futs):
+                key, how, res, dt, _ = fu.result()
+                progress(key, how, res, dt)
+
+    if a.calibration_per_rig:
+        base_keys = sorted({recs[k]["baseline"] for k in keys})
+        # baselines first (also when held out: they are the rig's calibration runs)
+        jobs_for([k for k in base_keys])
+        cal = {}
+        for bk in base_keys:
+            if bk in results and results[bk][1][0] not in ("refused", "failed"):
+                cal[bk] = [s for s in results[bk][1][3] if s.startswith(NUISANCE_PREFIXES)]
+        jobs_for([k for k in keys if k not in results], extra=lambda k: cal.get(recs[k]["baseline"], []))
+    else:
+        jobs_for(keys)
+
+    # ---- scoring
+    rows = []
+    for k in keys:
+        if k not in results:
+            continue
+        how, (label, verdict, summary, ov), dt = results[k]
+        r = recs[k]
+        truth_eff = r["effect"]
+        if label == "refused":
+            outcome = "refused"
+        elif label in ("failed",):
+            outcome = "failed"
+        elif truth_eff == "none":
+            outcome = "control_clean" if label == "none" else ("control_unexplained" if label == "unexplained"
+                                                               else "control_false_name")
+        elif label == truth_eff:
+            outcome = "named_right"
+        elif label == "none":
+            outcome = "missed"
+        elif label == "unexplained":
+            outcome = "unexplained"
+        else:
+            outcome = "wrong_name"
+        rows.append(dict(key=k, gearset=r["gearset"], name=r["name"], role=r["role"], truth=truth_eff,
+                         reported=label, verdict=verdict, outcome=outcome, held_out=r.get("held_out", False),
+                         reader_should_refuse=r.get("reader_should_refuse", False), op=r["operating_point"],
+                         rpm=r["input_speed_rpm"], W=r["input_power_W"], duration_s=r["duration_s"],
+                         seconds=round(dt, 1), summary=summary.replace("\n", " ")[:300]))
+    odir = os.path.join(a.corpus, outroot)
+    os.makedirs(odir, exist_ok=True)
+    if rows:
+        with open(os.path.join(odir, "results.csv"), "w", newline="") as f:
+            w = csv.DictWriter(f, fieldnames=list(rows[0].keys()))
+            w.writeheader()
+            w.writerows(rows)
+    truths = sorted({r["truth"] for r in rows})
+    cols = sorted({r["reported"] for r in rows} - {"none", "unexplained", "refused", "failed"})
+    cols = ["none"] + cols + ["unexplained", "refused", "failed"]
+    mat = {t: {c: 0 for c in cols} for t in truths}
+    for r in rows:
+        mat[r["truth"]][r["reported"]] += 1
+    counts = {}
+    for r in rows:
+        counts[r["outcome"]] = counts.get(r["outcome"], 0) + 1
+    n_eff = sum(1 for r in rows if r["truth"] != "none" and r["outcome"] not in ("refused", "failed"))
+    n_ctl = sum(1 for r in rows if r["truth"] == "none" and r["outcome"] not in ("refused", "failed"))
+    summary = dict(
+        recordings=len(rows), effects_scored=n_eff, controls_scored=n_ctl,
+        named_right=counts.get("named_right", 0), controls_clean=counts.get("control_clean", 0),
+        confident_wrong_names=counts.get("wrong_name", 0) + counts.get("control_false_name", 0),
+        unexplained=counts.get("unexplained", 0) + counts.get("control_unexplained", 0),
+        missed=counts.get("missed", 0), refusals=counts.get("refused", 0), failures=counts.get("failed", 0),
+        refusals_expected=sum(1 for r in rows if r["outcome"] == "refused" and r["reader_should_refuse"]),
+        wall_s=round(time.time() - t_start, 1))
+    with open(os.path.join(odir, "results.json"), "w") as f:
+        json.dump(dict(summary=summary, confusion=mat, rows=rows), f, indent=1)
+    w0 = max([len(t) for t in truths] + [20])
+    short = {c: c[:11] for c in cols}
+    print()
+    print("truth \\ reported".ljust(w0) + " ".join(short[c].rjust(11) for c in cols))
+    for t in truths:
+        print(t.ljust(w0) + " ".join((str(mat[t][c]) if mat[t][c] else ".").rjust(11) for c in cols))
+    print()
+    for k, v in summary.items():
+        print(f"{k}: {v}")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

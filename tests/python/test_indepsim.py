@@ -1,0 +1,205 @@
+"""Physics and format tests of the independent simulator scripts/indepsim (sim.py, corpus.py).
+
+Run: /usr/bin/python3 -m pytest -q tests/python/test_indepsim.py   (ctest: python.postprocessing)
+Fast (well under 60 s on one core); numpy + scipy only, no planetwear binary needed.
+"""
+import csv
+import json
+import math
+import os
+import sys
+
+import numpy as np
+import pytest
+from scipy import signal
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+sys.path.insert(0, os.path.join(HERE, "..", "..", "scripts", "indepsim"))
+
+import corpus  # noqa: E402
+import sim  # noqa: E402
+
+SEED = sim.GearSet("seed3p", 3, sim.Gear(21), sim.Gear(30), sim.Gear(81))
+
+
+def kvec(stage):
+    N = stage.N
+    return np.r_[np.full(N, stage.kmean_iso["sp"]), np.full(N, stage.kmean_iso["rp"])]
+
+
+def test_static_load_sharing_is_one_over_n_and_closed_form():
+    for gs in (SEED, corpus.gearsets()["four4p"]):
+        st = sim.Stage(gs)
+        T0 = 250.0
+        x, F = st.static_state(T0, kvec(st))
+        N = st.N
+        expected = T0 / (N * st.rb[0])                       # F = T_s / (N r_bs)
+        np.testing.assert_allclose(F[:N], expected, rtol=1e-9)
+        np.testing.assert_allclose(F[N:], expected, rtol=1e-9)  # planet moment balance: F_rp = F_sp
+        # a pin error redistributes the load but keeps the sun's torque balance
+        e = np.zeros(2 * N)
+        e[1] = e[N + 1] = 2e-6 * math.cos(st.alpha)
+        x, F = st.static_state(T0, kvec(st), e)
+        assert F[1] < expected and F[0] > expected
+        np.testing.assert_allclose(F[:N].sum() * st.rb[0], T0, rtol=1e-9)
+        # carrier torque ratio (Zs + Zr) / Zs
+        Tc = (F[:N] * (st.rb[0] + st.rb[1])).sum() + (F[N:] * (st.rb[2] - st.rb[1])).sum()
+        np.testing.assert_allclose(Tc, T0 * sum(st.Z[::2]) / st.Z[0], rtol=1e-9)
+
+
+def test_contact_ratio_and_iso_stiffness():
+    st = sim.Stage(SEED)
+    # textbook contact ratios of 21/30 external and 30/81 internal, m = 3, alpha = 20 deg
+    assert abs(st.eps["sp"] - 1.611) < 2e-3 and abs(st.eps["rp"] - 1.936) < 2e-3
+    # ISO 6336-1: c' ~ 12-15 N/(mm um) for steel spur gears; mean of the tabulated mesh = c_gamma_alpha b
+    assert 11 < st.cprime["sp"] < 16
+    np.testing.assert_allclose(st.tab["sp"][:-1, 0].mean(), st.kmean_iso["sp"], rtol=2e-3)
+    # the single-pair law: 0.55 at the ends of the contact (before the ramps), 1 in the middle
+    assert abs(sim.pair_shape(0.5, 0.05) - 1.0) < 1e-12
+    assert sim.pair_shape(-0.01, 0.05) == 0.0 and sim.pair_shape(1.01, 0.05) == 0.0
+
+
+def _linear_rig():
+    """Constant mesh stiffness, no friction, no damping anywhere, dyno free (no speed loop)."""
+    return sim.Rig(stiffness_variation=False, input_shaft_damping_Nms=0.0, output_shaft_damping_Nms=0.0,
+                   speed_loop_bandwidth_Hz=0.0)
+
+
+def test_natural_frequency_of_free_vibration_matches_eigenvalues():
+    st = sim.Stage(SEED, _linear_rig())
+    case = sim.Case(60.0, 200.0, 0.01, faults=sim.Faults(friction_coefficient=0.0, damping_scale=0.0))
+    K = st.stiffness_matrix(kvec(st))
+    Mi = 1 / np.sqrt(st.M)
+    w2 = np.linalg.eigvalsh(Mi[:, None] * K * Mi[None, :])
+    np.testing.assert_allclose(np.sqrt(np.clip(w2, 0, None)) / (2 * math.pi), st.natural_frequencies(), atol=1e-6)
+    lf = st.load_factor(case)                          # ISO light-load reduction of c' applies in the run
+    K = st.stiffness_matrix(kvec(st) * lf)
+    w2, V = np.linalg.eigh(Mi[:, None] * K * Mi[None, :])
+    f = np.sqrt(np.clip(w2, 0, None)) / (2 * math.pi)
+    # pick the gear mode with the largest sun-planet mesh participation
+    modes = Mi[:, None] * V
+    part = np.abs(st.A[0] @ modes) * (f > 1000)
+    j = int(np.argmax(part))
+    phi = modes[:, j] / np.max(np.abs(st.A @ modes[:, j])) * 1e-7   # at most 0.1 um of mesh deflection
+    off = np.zeros((1, 2 * st.n))
+    off[0, :st.n] = phi
+    fs, res, info = sim.simulate_batch(st, [case], warmup_s=0.001, fs=20000.0, D=12, keep_fine=True,
+                                       initial_offset=off, chunk=512)
+    a = info["fine"][0, 2, :2048]                      # sun-planet acceleration of planet 0, every step
+    t = np.arange(a.size) * info["dt"]
+    # frequency from zero crossings (linear interpolation)
+    s = np.signbit(a)
+    idx = np.nonzero(s[1:] != s[:-1])[0]
+    tz = t[idx] - a[idx] * (t[idx + 1] - t[idx]) / (a[idx + 1] - a[idx])
+    f_meas = (len(tz) - 1) / (2 * (tz[-1] - tz[0]))
+    assert abs(f_meas / f[j] - 1) < 2e-3, (f_meas, f[j])
+
+
+def test_rk4_converges_at_fourth_order():
+    st = sim.Stage(SEED, _linear_rig())
+    case = sim.Case(300.0, 20000.0, 0.01, faults=sim.Faults(friction_coefficient=0.0, ripple_fraction=0.2,
+                                                         ripple_order=40.0, damping_scale=0.0))
+    # start off equilibrium so that every mode rings
+    rng = np.random.default_rng(3)
+    off = np.zeros((1, 2 * st.n))
+    off[0, st.ip] = rng.normal(0, 2e-6, st.N)      # < static deflection: no contact loss (a kink)
+    sig = {}
+    for D in (6, 12, 24, 96):                          # omega_max dt = 0.59 ... 0.04
+        fs, res, info = sim.simulate_batch(st, [case], warmup_s=0.001, fs=20000.0, D=D, keep_fine=True,
+                                           initial_offset=off, chunk=512)
+        x = info["fine"][0, 2]
+        k = D // 6
+        sig[D] = x[::k][:1000]                         # common times, 1000 x 8.3 us
+    e1 = np.max(np.abs(sig[6] - sig[96]))
+    e2 = np.max(np.abs(sig[12] - sig[96]))
+    e3 = np.max(np.abs(sig[24] - sig[96]))
+    order = math.log2(e2 / e3)
+    assert e1 > e2 > e3
+    assert 3.5 < order < 4.6, (e1, e2, e3, order)
+
+
+def test_encoder_filter_minus_3dB_at_its_bandwidth():
+    rig = sim.Rig()
+    fsf = 75000.0
+    sos = sim.encoder_sos(rig, fsf)
+    w, h = signal.sosfreqz(sos, worN=[rig.encoder_bandwidth_Hz, 10.0, 4 * rig.encoder_bandwidth_Hz], fs=fsf)
+    mag = np.abs(h)
+    assert abs(20 * np.log10(mag[0]) + 3.01) < 0.05
+    assert abs(mag[1] - 1) < 1e-3
+    assert mag[2] < 0.07                               # 2nd order: ~ -24 dB two octaves up
+    # on a sampled sine
+    t = np.arange(30000) / fsf
+    y = signal.sosfilt(sos, np.sin(2 * np.pi * rig.encoder_bandwidth_Hz * t))
+    amp = np.std(y[10000:]) * math.sqrt(2)
+    assert abs(amp - 1 / math.sqrt(2)) < 0.01
+
+
+def test_speed_control_holds_the_mean_speed():
+    st = sim.Stage(SEED)
+    cases = [sim.Case(600.0, 5000.0, 0.25, faults=sim.Faults(friction_coefficient=0.15)),
+             sim.Case(600.0, 5000.0, 0.25, faults=sim.Faults(ripple_fraction=0.1, ripple_order=2.0))]
+    fs, res, info = sim.simulate_batch(st, cases, warmup_s=0.5, fs=5000.0, D=15, chunk=1024)
+    Ws, Wc, _ = st.nominal(cases[0])
+    for r in res:
+        # whole number of ripple periods: 0.25 s at 10 Hz sun speed = 2.5 sun revs -> use 0.2 s
+        n = int(0.2 * fs)
+        assert abs(r["sun_speed"][:n].mean() / Ws - 1) < 2e-3
+        assert abs(r["carrier_speed"][:n].mean() / Wc - 1) < 2e-3
+    # friction loses power: the planet-ring forces fall short of the frictionless T/(N r_bs) by < 5 %
+    F = res[0]["mean_planet_ring_force"]
+    T0 = cases[0].power_W / Ws
+    assert np.all(F < T0 / (st.N * st.rb[0])) and np.all(F > 0.95 * T0 / (st.N * st.rb[0]))
+
+
+UNITS = {"sun_speed": {"rad/s", "rpm"}, "carrier_speed": {"rad/s", "rpm"},
+         "mesh_acceleration_sun_planet": {"m/s^2", "g"}, "mesh_acceleration_planet_ring": {"m/s^2", "g"},
+         "housing_acceleration": {"m/s^2", "g"}}
+
+
+def test_quick_corpus_smoke_writes_documented_format(tmp_path):
+    out = str(tmp_path / "c")
+    truth = corpus.build(out, quick=True, limit=2, duration=0.5)
+    recs = truth["recordings"]
+    assert len(recs) == 2
+    assert any(r["role"] == "baseline" for r in recs.values())
+    for key, r in recs.items():
+        assert os.path.exists(os.path.join(out, r["gearset"], "gearset.toml"))
+        assert not os.path.exists(os.path.join(out, r["gearset"], "recordings", "truth.json"))
+        csvp = os.path.join(out, r["csv"])
+        meta = json.load(open(os.path.splitext(csvp)[0] + ".json"))
+        assert set(meta) <= {"description", "generator", "operating", "time_column", "time_unit", "columns",
+                             "sample_rate_Hz"}
+        assert meta["operating"]["input_speed_rpm"] == r["input_speed_rpm"] > 0
+        assert meta["operating"]["input_power_W"] > 0
+        with open(csvp) as f:
+            lines = [ln for ln in f if not ln.startswith("#")]
+        header = next(csv.reader([lines[0]]))
+        data = np.loadtxt(lines[1:], delimiter=",")
+        assert header[0] == meta["time_column"] == "time"
+        assert data.shape[1] == len(header) and np.all(np.isfinite(data))
+        for name, c in meta["columns"].items():
+            assert name in header
+            assert c["unit"] in UNITS[c["quantity"]]
+            if c["quantity"].startswith("mesh_acceleration"):
+                assert c["planet"] == 0
+            assert ("sensor_angle_deg" in c) == (c["quantity"] == "housing_acceleration")
+        t = data[:, 0]
+        dtt = np.diff(t)
+        assert np.all(dtt > 0) and np.max(np.abs(t - t[0] - np.arange(t.size) * dtt.mean())) < 1e-7
+        fs = 1 / dtt.mean()
+        Zs, Zr = 21, 81
+        fm = Zs * Zr / (Zs + Zr) * r["input_speed_rpm"] / 60
+        assert fs >= 2.5 * 3 * fm
+        # speeds near nominal in the stated units
+        ws = data[:, header.index("w_sun")]
+        assert abs(ws.mean() / r["input_speed_rpm"] - 1) < 0.01
+        wc = data[:, header.index("w_carrier")]
+        assert abs(wc.mean() / (r["input_speed_rpm"] * 2 * math.pi / 60 * Zs / (Zs + Zr)) - 1) < 0.01
+        # 5 % noise + offsets present on the accelerometers: not constant, finite, plausible
+        for col in ("a_sp0", "a_pr0", "acc_housing"):
+            x = data[:, header.index(col)]
+            assert 0 < np.std(x) < 1e4
+    # gearset.toml reads back to the same geometry
+    g = sim.read_gearset_toml(os.path.join(out, "seed3p", "gearset.toml"))
+    assert (g.sun.teeth, g.planet.teeth, g.ring.teeth, g.planet_count) == (21, 30, 81, 3)
+    assert g.friction_coefficient == 0.06
