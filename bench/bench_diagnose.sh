@@ -5,6 +5,7 @@
 # block (docs/diagnose.md, "Status and measured results").
 #
 #   bench/bench_diagnose.sh [BUILD_DIR] [SECONDS]      (defaults: build, 2.0)
+#   RUNS="1x1" bench/bench_diagnose.sh build            (only some of the ranks x threads runs)
 #
 # Two recordings are synthesized with `planetwear synth` as the corpus makes
 # them (seed gear set, 800 rpm, 20 kW, 2 s = 5.5 carrier revolutions, 7 %
@@ -33,7 +34,7 @@ if "$MPIRUN" --version 2>&1 | grep -q -i -e "Open MPI" -e "OpenRTE" -e "open-mpi
   [ "$(id -u)" -ne 0 ] || MPIRUN="$MPIRUN --allow-run-as-root"
 fi
 for REC in control sun_tooth; do
-  for RUN in 1x1 1x2 2x1; do
+  for RUN in ${RUNS:-1x1 1x2 2x1}; do
     P=${RUN%x*}; T=${RUN#*x}
     LAUNCH=""
     [ "$P" -eq 1 ] || LAUNCH="$MPIRUN -x OMP_NUM_THREADS -np $P"
