@@ -1,5 +1,6 @@
 // End-to-end physics of model::simulate on the seed stage: statics, torque
 // balance, and each imperfection on its own. 400 rpm keeps the runs short.
+#include "core/error.hpp"
 #include "model/simulation.hpp"
 #include "signal/spectrum.hpp"
 
@@ -272,4 +273,52 @@ TEST(Simulation, SeparatingTeethWithBacklashNearResonanceIntegrateAndAgreeWithSh
   const double a_full = stddev(channel(full, "sun_planet/0/acceleration"));
   const double a_fine = stddev(channel(fine, "sun_planet/0/acceleration"));
   EXPECT_NEAR(a_full / a_fine, 1.0, 0.08) << a_full << " vs " << a_fine << " m/s^2";
+}
+
+// OutputSelection stores a subset of the very samples the full run stores:
+// the dynamics does not depend on what is recorded, so the selected channels
+// must equal the full run's every k-th sample exactly (same arithmetic).
+TEST(SimulationOutput, SelectedDecimatedChannelsAreExactlyTheFullRunsEveryKthSample) {
+  const SimulationConfig c = fast_seed(2);
+  const SimulationResult full = simulate(c);
+  constexpr int k = 7;
+  const SimulationResult part = simulate(c, {}, OutputSelection{{"sun/speed", "planet_ring/1/", "housing/acceleration"}, k});
+  EXPECT_DOUBLE_EQ(part.time_step_s, k * full.time_step_s);
+  ASSERT_EQ(part.time_s.size(), (full.time_s.size() + k - 1) / k);
+  for (const std::string name : {"sun/speed", "planet_ring/1/force", "planet_ring/1/acceleration"}) {
+    const auto& a = channel(full, name);
+    const auto& b = channel(part, name);
+    for (std::size_t j = 0; j < b.size(); ++j) ASSERT_EQ(b[j], a[j * k]) << name << " sample " << j;
+  }
+  EXPECT_EQ(part.find("sun_planet/0/force"), nullptr);
+  EXPECT_EQ(part.find("carrier/angle"), nullptr);  // needed for the housing sensor, then dropped
+  ASSERT_NE(part.find("housing/acceleration"), nullptr);
+  // The summary scalars use every step whatever is stored.
+  EXPECT_EQ(scalar(part, "load_sharing_factor/0"), scalar(full, "load_sharing_factor/0"));
+  EXPECT_EQ(scalar(part, "efficiency"), scalar(full, "efficiency"));
+}
+
+TEST(SimulationOutput, HousingChannelAloneEqualsTheFullRunsWithoutDecimation) {
+  const SimulationConfig c = fast_seed(2);
+  const SimulationResult full = simulate(c);
+  const SimulationResult part = simulate(c, {}, OutputSelection{{"housing/acceleration"}, 1});
+  ASSERT_EQ(part.channels.size(), 1u);
+  EXPECT_EQ(channel(part, "housing/acceleration"), channel(full, "housing/acceleration"));
+}
+
+TEST(SimulationOutput, UnknownChannelOrDecimationBelowOneIsAnInputErrorNamingTheKey) {
+  const SimulationConfig c = fast_seed(1);
+  try {
+    (void)simulate(c, {}, OutputSelection{{"sun/sped"}, 1});
+    FAIL() << "no error";
+  } catch (const pw::InputError& e) {
+    EXPECT_EQ(e.parameter(), "output.channels");
+    EXPECT_NE(std::string(e.what()).find("sun/sped"), std::string::npos);
+  }
+  try {
+    (void)simulate(c, {}, OutputSelection{{}, 0});
+    FAIL() << "no error";
+  } catch (const pw::InputError& e) {
+    EXPECT_EQ(e.parameter(), "output.time_history_decimation");
+  }
 }

@@ -79,8 +79,13 @@ run $MPIRUN -np 2 "$PW" sweep --quiet good.toml -o out.h5 2> err.txt
 [ "$RC" -eq 1 ] && grep -q "exists; use --resume" err.txt || { cat err.txt; fail "mpirun refusal: exit $RC"; }
 cmp -s out.h5 keep.h5 || fail "refused MPI run changed the archive"
 
-# A second run on an archive in use is refused (journal lock).
-start_session "$PW" sweep --quiet --force "$T/data/kill.toml" -o busy.h5
+# A second run on an archive in use is refused (journal lock). The busy campaign records 200
+# mesh periods per case (kill.toml: 2) so that it is still running, on any machine, when the
+# second run starts: with 2 the whole campaign took ~1.5 s and could finish first.
+sed 's/^solver.record_mesh_cycles = 2$/solver.record_mesh_cycles = 200/' "$T/data/kill.toml" > busy.toml
+grep -q "record_mesh_cycles = 200" busy.toml || fail "busy.toml: kill.toml's record_mesh_cycles line changed"
+cp "$T/data/kill_cases.csv" .
+start_session "$PW" sweep --quiet --force busy.toml -o busy.h5
 # Wait for its journal lock (created, then flock'ed at once): a fixed sleep was too short on a
 # loaded machine (the second run then took the lock itself).
 waited=0
@@ -89,7 +94,7 @@ while [ ! -e busy.h5.journal/lock ]; do
   [ "$waited" -lt 1200 ] || { kill_session "$SESSION"; fail "the first sweep never locked its journal (60 s)"; }
 done
 sleep 0.2
-run "$PW" sweep --quiet --resume "$T/data/kill.toml" -o busy.h5 2> err.txt
+run "$PW" sweep --quiet --resume busy.toml -o busy.h5 2> err.txt
 kill_session "$SESSION"
 [ "$RC" -eq 3 ] && grep -q "another planetwear sweep is running" err.txt || { cat err.txt; fail "concurrent run: exit $RC"; }
 echo "ok: concurrent run refused"
