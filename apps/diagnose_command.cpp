@@ -68,6 +68,12 @@ CLI::App* add_diagnose_command(CLI::App& app, DiagnoseCommandOptions& o) {
       ->required()
       ->check(CLI::ExistingFile);
   d->add_option("--meta", o.meta, "JSON sidecar describing the recording (default: the recording's name with .json)");
+  d->add_option("--column", o.columns,
+                "describe a column on the command line (repeatable; replaces a sidecar column of the same name): "
+                "NAME=QUANTITY[,unit=U][,planet=I][,sensor_angle_deg=A][,scale=S], e.g. "
+                "--column acc=housing_acceleration,unit=g,sensor_angle_deg=30 (docs/recordings.md)");
+  d->add_option("--speed-rpm", o.speed_rpm, "nominal input (sun) speed [rpm]; replaces the sidecar's");
+  d->add_option("--power-w", o.power_W, "input power [W]; replaces the sidecar's power or torque");
   d->add_option("-o,--output", o.output, "report directory (created if missing)")->required();
   d->add_option("--threads", o.threads,
                 "OpenMP threads simulating in parallel on rank 0 (default: OMP_NUM_THREADS or all); under "
@@ -102,12 +108,22 @@ Inputs read_inputs(const DiagnoseCommandOptions& o) {
   model::SimulationConfig config = o.common.config.empty() ? model::SimulationConfig{} : io::read_config(o.common.config);
   io::apply_overrides(config, o.common.assignments);
   const fs::path meta_path = o.meta.empty() ? io::sidecar_path(o.recording) : fs::path(o.meta);
-  if (!fs::exists(meta_path))
+  // The command line describes the recording on its own (no sidecar needed) or
+  // replaces parts of the sidecar (io::merge: the command line wins).
+  io::RecordingMeta cli;
+  cli.source = "command line";
+  cli.input_speed_rpm = o.speed_rpm;
+  cli.input_power_W = o.power_W;
+  for (const std::string& c : o.columns) cli.columns.push_back(io::parse_column_option(c, "--column"));
+  const bool described_here = !cli.columns.empty() && o.speed_rpm && o.power_W;
+  const bool have_sidecar = fs::exists(meta_path);
+  if (!have_sidecar && (!o.meta.empty() || !described_here))
     throw InputError("--meta", "no sidecar '" + meta_path.string() +
-                                   "': give the JSON description of the recording's columns (docs/recordings.md)");
+                                   "': give the JSON description of the recording's columns (docs/recordings.md), "
+                                   "or describe it with --column, --speed-rpm and --power-w");
   for (const auto& name : o.candidates)
     require(diagnose::find_candidate(name) != nullptr, "--candidates", "unknown candidate '", name, "'");
-  const io::RecordingMeta meta = io::read_recording_meta(meta_path);
+  const io::RecordingMeta meta = have_sidecar ? io::merge(io::read_recording_meta(meta_path), cli) : cli;
   diagnose::Recording rec = io::read_recording(o.recording, meta, config);
   return Inputs{std::move(config), std::move(rec)};
 }

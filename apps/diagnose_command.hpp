@@ -13,6 +13,7 @@
 
 #include "commands.hpp"
 
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -25,6 +26,8 @@ namespace pw::app {
 struct DiagnoseCommandOptions {
   CommonOptions common;
   std::string recording, meta, output;
+  std::vector<std::string> columns;          ///< --column NAME=QUANTITY[,unit=U]...: replace/add sidecar columns
+  std::optional<double> speed_rpm, power_W;  ///< --speed-rpm, --power-w: replace the sidecar's operating point
   int threads = 0;
   double alpha = 0.01;
   int max_candidates = 4;

@@ -28,6 +28,14 @@ check unknown-set-key 1 "nonsense" bad.h5 -- "$PW" simulate --set operating.nons
 check missing-output nz "output" "" -- "$PW" simulate
 check negative-mesh-cycles 1 "--mesh-cycles" bad.h5 -- "$PW" simulate --mesh-cycles -2e5 -o bad.h5
 check one-wear-element 1 "wear.elements_per_flank" bad.h5 -- "$PW" simulate --set wear.elements_per_flank=1 -o bad.h5
+check unknown-channel 1 "sun/sped" bad.h5 -- "$PW" simulate --channels sun/sped -o bad.h5
+check decimation-zero nz "time-history-decimation" bad.h5 -- "$PW" simulate --time-history-decimation 0 -o bad.h5
+# diagnose reads a recording described on the command line alone (no sidecar): a wrong
+# quantity names --column; a right description reaches the reader's sample-rate check.
+printf 'time [s],w [rpm]\n0,800\n0.001,800\n0.002,800\n' > cl.csv
+check column-bad-quantity 1 "--column" cl_rep -- "$PW" diagnose -r cl.csv -o cl_rep --column w=sun_sped,unit=rpm --speed-rpm 800 --power-w 2e4
+check column-described-here 1 "sample rate 1000 Hz is too low" cl_rep -- "$PW" diagnose -r cl.csv -o cl_rep --column w=sun_speed,unit=rpm --speed-rpm 800 --power-w 2e4
+check column-no-sidecar 1 "--meta" cl_rep -- "$PW" diagnose -r cl.csv -o cl_rep
 # A failing run must not touch an existing file at the destination.
 echo keep > existing.h5
 check keeps-existing 1 "operating.input_speed_rpm" "" -- "$PW" simulate --speed-rpm 0 -o existing.h5
