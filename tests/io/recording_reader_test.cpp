@@ -327,11 +327,14 @@ TEST(RecordingReader, SampleRateBelowTheAnalysedMeshHarmonicsIsRejected) {
   EXPECT_NEAR(io::required_sample_rate_Hz(config(), kRpm), 2.5 * 3 * 21.0 * 81.0 / 102.0 * kRpm / 60, 1e-9);
 }
 
-TEST(RecordingReader, ShorterThanThreeCarrierRevolutionsIsRejected) {
-  // 0.25 s < 3 carrier revolutions = 0.2914 s at 3000 rpm.
-  const std::string e = csv_error(standard_csv(2500), standard_meta());
-  EXPECT_TRUE(contains(e, "shorter than 3 carrier revolutions"));
-  EXPECT_TRUE(contains(e, "0.2914"));
+TEST(RecordingReader, FewerMeshCyclesThanTwoSunPeriodsAreRejected) {
+  // 0.045 s = 37.52 mesh cycles at 833.8 Hz < 2 Zs = 42 mesh cycles = 0.05037 s at 3000 rpm.
+  const std::string e = csv_error(standard_csv(450), standard_meta());
+  EXPECT_TRUE(contains(e, "needs at least 42 mesh cycles")) << e;
+  EXPECT_TRUE(contains(e, "holds 37.52")) << e;
+  EXPECT_TRUE(contains(e, "0.05037")) << e;
+  // 0.25 s (2.57 carrier revolutions, refused before the short-recording analysis) is accepted.
+  EXPECT_EQ(csv_error(standard_csv(2500), standard_meta()), "");
 }
 
 TEST(RecordingReader, DescriptionErrors) {
