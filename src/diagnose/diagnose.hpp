@@ -4,7 +4,10 @@
 //
 //   1. analyse the recording in the order domain (order_analysis.hpp): its
 //      speed, its carrier angle, a fit half and a held-out half of R whole
-//      carrier revolutions each, feature cells at the labelled lines, noise;
+//      carrier revolutions each (of Q whole mesh cycles when fewer than two
+//      revolutions are recorded: only the families resolved in Q are compared,
+//      the candidates of the others are listed as unresolved, not fitted),
+//      feature cells at the labelled lines, noise;
 //   2. simulate the model at the recording's speed, and the same model at a
 //      second discretization and at the speed +- its standard error: the
 //      model-fidelity directions (compare.hpp);

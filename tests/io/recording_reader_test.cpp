@@ -33,7 +33,7 @@ namespace {
 
 constexpr double kPi = std::numbers::pi;
 // Default gear set (Zs 21, Zr 81) at 3000 rpm: mesh 833.8 Hz, so the reader
-// needs >= 6253 Hz; 3 carrier revolutions last 0.2914 s.
+// needs >= 6253 Hz; 2 Zs = 42 mesh cycles last 0.05037 s.
 constexpr double kRpm = 3000;
 constexpr double kFs = 10000;
 const double kSunRadS = kRpm * 2 * kPi / 60;
