@@ -98,7 +98,8 @@ CLI::App* add_synth_command(CLI::App& app, SynthOptions& o) {
   s->add_option("--power-w", o.power_W, "input power [W]; overrides operating.input_power_W");
   s->add_option("--seconds", o.seconds,
                 "recorded duration [s] after the warm-up; 0 (default) = 4 carrier revolutions (the reader needs "
-                ">= 3)");
+                ">= 2 Zs mesh cycles; below 2 carrier revolutions the diagnosis compares only the families "
+                "resolved in halves of whole mesh cycles, docs/diagnose.md)");
   s->add_option("--noise", o.noise,
                 "white Gaussian noise per channel, std as a fraction of the channel's RMS about its mean "
                 "(default 0.05)");
@@ -269,16 +270,18 @@ int run_synth(const SynthOptions& o) {
     const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - clock0).count();
     std::fprintf(stderr, "wrote %s and %s: %zu samples at %.6g Hz (%.4g s, %.3g carrier revolutions), wall %.2f s\n",
                  o.output.c_str(), io::sidecar_path(out).c_str(), rec.time_s.size(), fs,
-                 static_cast<double>(rec.time_s.size()) / fs, seconds / io::required_duration_s(config, rpm) * 3,
+                 static_cast<double>(rec.time_s.size()) / fs,
+                 static_cast<double>(rec.time_s.size()) / fs * io::mesh_frequency_Hz(config, rpm) /
+                     config.stage.ring.teeth,
                  wall);
     if (fs < io::required_sample_rate_Hz(config, rpm))
       std::fprintf(stderr, "planetwear: warning: %.6g Hz is below the %.6g Hz the recording reader requires\n", fs,
                    io::required_sample_rate_Hz(config, rpm));
     if (static_cast<double>(rec.time_s.size()) / fs < io::required_duration_s(config, rpm))
-      std::fprintf(stderr, "planetwear: warning: %.4g s is shorter than the %.4g s (%g carrier revolutions) the "
+      std::fprintf(stderr, "planetwear: warning: %.4g s is shorter than the %.4g s (%d mesh cycles) the "
                            "recording reader requires\n",
                    static_cast<double>(rec.time_s.size()) / fs, io::required_duration_s(config, rpm),
-                   io::kMinCarrierRevolutions);
+                   io::required_mesh_cycles(config));
   }
   return 0;
 }

@@ -93,6 +93,20 @@ std::string g(double v, int prec = 4) {
   return buf;
 }
 
+std::string join(const std::vector<std::string>& v) {
+  std::string s;
+  for (const auto& x : v) s += (s.empty() ? "" : ", ") + x;
+  return s;
+}
+
+/// "halves of 3 whole carrier revolution(s)" or "halves of 42 whole mesh cycles (0.519 carrier
+/// revolutions each)" (recordings too short for two whole carrier revolutions).
+std::string halves_text(const dg::Diagnosis& d) {
+  if (d.window_mesh_cycles == 0) return "Halves of " + std::to_string(d.revolutions) + " whole carrier revolution(s)";
+  return "Halves of " + std::to_string(d.window_mesh_cycles) + " whole mesh cycles (" + g(d.window_revolutions, 3) +
+         " carrier revolutions each; the recording holds " + g(d.recording_revolutions, 3) + ")";
+}
+
 std::string param_cell(const dg::FittedParameter& p) {
   const std::string unit = (p.unit != "1" && !p.unit.empty()) ? " " + p.unit : "";
   if (p.saturates && std::isfinite(p.lower_limit))
@@ -155,13 +169,22 @@ Doc build(const dg::Diagnosis& d, const ReportContext& ctx) {
               g(k.planet_relative_Hz) + " Hz", g(k.mesh_Hz) + " Hz"},
              {"order " + g(k.sun_Hz / k.carrier_Hz), "order 1", "order " + g(k.sun_relative_Hz / k.carrier_Hz),
               "order " + g(k.planet_relative_Hz / k.carrier_Hz), "order " + g(k.mesh_Hz / k.carrier_Hz)}});
-  doc.p("Halves of " + std::to_string(d.revolutions) + " whole carrier revolution(s): fit t = " +
+  doc.p(halves_text(d) + ": fit t = " +
         g(d.fit_window.t_begin_s, 6) + " .. " + g(d.fit_window.t_end_s, 6) + " s, held out t = " +
         g(d.held_out_window.t_begin_s, 6) + " .. " + g(d.held_out_window.t_end_s, 6) + " s. " +
         std::to_string(d.cells) + " feature bins per channel up to carrier order " + g(d.max_order) + " (" +
         g(d.max_frequency_Hz) + " Hz, " + std::to_string(d.mesh_harmonics) + " mesh harmonics), " +
         std::to_string(d.features) + " features; " + std::to_string(d.nonstationary_features) +
         " differ between the halves beyond the noise (non-stationary).");
+  if (!d.unresolved_families.empty())
+    doc.p("**Could not be resolved in " + g(d.recording_revolutions, 3) + " carrier revolutions:** the " +
+          join(d.unresolved_families) + " families complete no whole period in " +
+          std::to_string(d.window_mesh_cycles) + " mesh cycles, so their lines are not compared" +
+          (d.unresolved_candidates.empty() ? std::string(".")
+                                           : "; candidates not fitted: " + join(d.unresolved_candidates) + ".") +
+          (d.dropped_channels.empty() ? std::string()
+                                      : " Channels not compared (their lines are all carrier-family lines): " +
+                                            join(d.dropped_channels) + "."));
 
   doc.h2("Residual before and after");
   std::vector<std::vector<std::string>> rows{{"model", "chi2 fit half", "chi2 held out", "null bound (fit / held out)"}};
@@ -222,8 +245,10 @@ Doc build(const dg::Diagnosis& d, const ReportContext& ctx) {
                    g(f.frequency_Hz, 4) + " Hz (order " + g(f.carrier_orders, 4) + ")", f.strongest_channel,
                    f.meaning});
     doc.table(t);
-    doc.p("A family counts as located above z = " + g(d.location.significance_z, 3) + ". With halves of " +
-          std::to_string(d.revolutions) + " revolution(s) the lines of different families share bins (z by labels); " +
+    doc.p("A family counts as located above z = " + g(d.location.significance_z, 3) + ". With " +
+          (d.window_mesh_cycles == 0 ? "halves of " + std::to_string(d.revolutions) + " revolution(s)"
+                                     : "halves of " + std::to_string(d.window_mesh_cycles) + " mesh cycles") +
+          " the lines of different families share bins (z by labels); " +
           (d.location.screened_family >= 0
                ? "by the candidates' own signatures (screening below) the residual is located in the **" +
                      std::string(dg::to_string(static_cast<dg::Component>(d.location.screened_family))) +
@@ -447,6 +472,14 @@ void write_diagnosis_report(const std::filesystem::path& dir, const dg::Diagnosi
   };
   j["halves"] = {{"fit", win(d.fit_window)}, {"held_out", win(d.held_out_window)},
                  {"carrier_revolutions_each", d.revolutions}};
+  if (d.window_mesh_cycles > 0) {
+    j["halves"]["mesh_cycles_each"] = d.window_mesh_cycles;
+    j["halves"]["window_carrier_revolutions"] = d.window_revolutions;
+    j["halves"]["recording_carrier_revolutions"] = d.recording_revolutions;
+  }
+  j["unresolved"] = {{"families", d.unresolved_families},
+                     {"candidates", d.unresolved_candidates},
+                     {"channels", d.dropped_channels}};
   j["features"] = {{"cells_per_channel", d.cells}, {"total", d.features}, {"max_carrier_order", d.max_order},
                    {"max_frequency_Hz", d.max_frequency_Hz}, {"mesh_harmonics", d.mesh_harmonics},
                    {"non_stationary", d.nonstationary_features}, {"fidelity_directions", d.fidelity}};

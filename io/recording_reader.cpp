@@ -6,6 +6,7 @@
 
 #include "io/hdf5_file.hpp"
 #include "io/io_error.hpp"
+#include "diagnose/order_analysis.hpp"
 
 #include "core/error.hpp"
 
@@ -666,9 +667,11 @@ diagnose::Recording finish(RawTable&& t, const RecordingMeta& meta, const model:
                                          fs_min, " Hz"));
   const double duration = static_cast<double>(n) * dt, d_min = required_duration_s(config, rpm);
   if (duration < d_min)
-    throw InputError(src, detail::concat("recording is ", duration, " s long, shorter than ",
-                                         kMinCarrierRevolutions, " carrier revolutions (", d_min, " s at ", rpm,
-                                         " rpm input)"));
+    throw InputError(src, detail::concat("recording is ", duration, " s long and holds ", duration * fm,
+                                         " mesh cycles at ", rpm, " rpm input; the diagnosis needs at least ",
+                                         required_mesh_cycles(config), " mesh cycles (", d_min,
+                                         " s): a fit and a held-out half of one sun period (Zs = ",
+                                         config.stage.sun.teeth, " mesh cycles) each"));
 
   // Channels: units, conversion, plausibility.
   const double zs = config.stage.sun.teeth, zr = config.stage.ring.teeth;
@@ -764,10 +767,12 @@ double required_sample_rate_Hz(const model::SimulationConfig& c, double speed_rp
   return kSampleRateMargin * kAnalysedMeshHarmonics * mesh_frequency_Hz(c, speed_rpm);
 }
 
+int required_mesh_cycles(const model::SimulationConfig& c) {
+  return diagnose::min_recording_mesh_cycles(c.stage.sun.teeth);
+}
+
 double required_duration_s(const model::SimulationConfig& c, double speed_rpm) {
-  const double zs = c.stage.sun.teeth, zr = c.stage.ring.teeth;
-  const double carrier_rev_per_s = speed_rpm / 60.0 * zs / (zs + zr);
-  return kMinCarrierRevolutions / carrier_rev_per_s;
+  return required_mesh_cycles(c) / mesh_frequency_Hz(c, speed_rpm);
 }
 
 RecordingMeta parse_recording_meta(std::string_view text, std::string_view source) {

@@ -95,12 +95,14 @@ const char* si_unit(diagnose::Quantity q);
 /// Checks a recording must pass (docs/recordings.md "Checks").
 inline constexpr int kAnalysedMeshHarmonics = 3;        ///< highest mesh harmonic the diagnosis analyses
 inline constexpr double kSampleRateMargin = 2.5;        ///< sample rate >= margin * that harmonic
-inline constexpr double kMinCarrierRevolutions = 3.0;   ///< shortest usable recording
 /// Mesh frequency Zs Zr / (Zs + Zr) n / 60 [Hz] of `config`'s gears at `speed_rpm`.
 double mesh_frequency_Hz(const model::SimulationConfig& config, double speed_rpm);
 /// kSampleRateMargin * kAnalysedMeshHarmonics * mesh frequency [Hz].
 double required_sample_rate_Hz(const model::SimulationConfig& config, double speed_rpm);
-/// kMinCarrierRevolutions carrier revolutions [s].
+/// Fewest mesh cycles a usable recording holds: two halves (fit, held-out) of one sun period
+/// Zs each, 2 Zs (diagnose::min_recording_mesh_cycles; docs/diagnose.md §2 "Short recordings").
+int required_mesh_cycles(const model::SimulationConfig& config);
+/// required_mesh_cycles at the mesh frequency [s].
 double required_duration_s(const model::SimulationConfig& config, double speed_rpm);
 
 /// Reads `path` (CSV or HDF5: by extension .csv/.txt/.dat/.h5/.hdf5, else by

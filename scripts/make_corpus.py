@@ -220,7 +220,7 @@ def level_case(n, key, setting, factor):
 
 # Decimation by 40 (default; SETTINGS may override): ~10 kHz, 12 x the mesh frequency at 400 rpm.
 DECIMATE = 40
-CARRIER_REVOLUTIONS = 3.5  # the reader needs >= 3
+CARRIER_REVOLUTIONS = 3.5  # halves of one whole carrier revolution (R = 1; docs/diagnose.md §2)
 QUICK_CARRIER_REVOLUTIONS = 3.2
 
 

@@ -64,7 +64,9 @@ ModelComparison::ModelComparison(const Recording& recording, const model::Simula
   base_.operating = rec_.operating;
   base_.operating.input_speed_rpm = spec_.speed.input_rpm;
   base_.solver.record_mesh_cycles =
-      static_cast<int>(std::ceil(spec_.layout.revolutions * spec_.kinematics.ring_teeth)) + 3;
+      (spec_.layout.mesh_cycles > 0 ? spec_.layout.mesh_cycles
+                                    : static_cast<int>(std::ceil(spec_.layout.revolutions * spec_.kinematics.ring_teeth))) +
+      3;
   model::validate(base_);
   const int nc = channels(), ncell = cells();
   for (int c = 0; c < nc; ++c)

@@ -117,7 +117,7 @@ public:
   int features() const { return channels() * cells(); }
   bool is_housing(int c) const;
 
-  /// Simulates `config` (warm-up + R carrier revolutions; cached) and extracts
+  /// Simulates `config` (warm-up + R carrier revolutions or Q mesh cycles, + 3 mesh cycles; cached) and extracts
   /// its spectra. keep_sensor_inputs: also keep the ring forces for sensor-only changes.
   /// tally (optional): incremented when this call ran a simulation (a cache miss), so a caller
   /// can count its own simulations while others run on other threads.

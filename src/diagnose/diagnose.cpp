@@ -113,7 +113,7 @@ struct Context {
         a[static_cast<std::size_t>(ch)] = housing_spectrum(
             *nuisance_sim, c.sensor,
             rec.channels[static_cast<std::size_t>(cmp.spectra().channels[static_cast<std::size_t>(ch)])].sensor_angle_rad,
-            cmp.spectra().layout.revolutions, cmp.spectra().layout.max_bin);
+            cmp.spectra().layout.window_revolutions, cmp.spectra().layout.max_bin);
     return a;
   }
 };
@@ -274,6 +274,44 @@ void set_fidelity(Context& ctx, const model::SimulationConfig& c, std::shared_pt
 
 } // namespace
 
+namespace {
+
+/// Whether a candidate's evidence lies in a family the layout compares. The mesh harmonics
+/// alone do not single out a candidate that also names another family (the nuisance level
+/// parameters and the mesh-only candidates move them too): such a candidate is resolvable
+/// only if one of its other families is resolved.
+bool resolvable(const Candidate& c, const FeatureLayout& L) {
+  const auto unresolved = [&](Component f) {
+    return std::find(L.unresolved.begin(), L.unresolved.end(), f) != L.unresolved.end();
+  };
+  bool other = false;
+  for (Component f : c.families()) {
+    if (f == Component::Mesh) continue;
+    other = true;
+    if (!unresolved(f)) return true;
+  }
+  return !other;
+}
+
+/// " Could not be resolved in 1.37 carrier revolutions (halves of 42 mesh cycles): carrier,
+/// planet, input_shaft lines; not fitted: ..." — empty when every family was compared.
+std::string unresolved_text(const Diagnosis& d) {
+  if (d.unresolved_families.empty()) return "";
+  auto join = [](const std::vector<std::string>& v) {
+    std::string s;
+    for (const auto& x : v) s += (s.empty() ? "" : ", ") + x;
+    return s;
+  };
+  std::string t = " Could not be resolved in " + fmt("%.3g", d.recording_revolutions) +
+                  " carrier revolutions (halves of " + std::to_string(d.window_mesh_cycles) +
+                  " mesh cycles): the " + join(d.unresolved_families) + " lines are not compared";
+  if (!d.unresolved_candidates.empty()) t += "; not fitted: " + join(d.unresolved_candidates);
+  if (!d.dropped_channels.empty()) t += "; channels not compared (carrier family only): " + join(d.dropped_channels);
+  return t + ".";
+}
+
+} // namespace
+
 Diagnosis diagnose(const Recording& recording, const model::SimulationConfig& config_in, const DiagnoseOptions& o) {
   const auto t_start = Clock::now();
   auto say = [&](const std::string& s) {
@@ -308,6 +346,16 @@ Diagnosis diagnose(const Recording& recording, const model::SimulationConfig& co
   d.fit_window = sp.windows[0];
   d.held_out_window = sp.windows[1];
   d.revolutions = sp.layout.revolutions;
+  d.window_mesh_cycles = sp.layout.mesh_cycles;
+  d.window_revolutions = sp.layout.window_revolutions;
+  d.recording_revolutions = sp.carrier_angle.back() / (2 * std::numbers::pi);
+  for (Component f : sp.layout.unresolved) d.unresolved_families.push_back(to_string(f));
+  for (const auto& ch : recording.channels)
+    if (ch.quantity != Quantity::Tacho &&
+        std::find(d.channels.begin(), d.channels.end(), ch.name) == d.channels.end())
+      d.dropped_channels.push_back(ch.name);
+  for (const auto& c : candidate_library())
+    if (!resolvable(*c, sp.layout)) d.unresolved_candidates.push_back(c->name());
   d.max_order = sp.layout.max_order;
   d.max_frequency_Hz = sp.layout.max_order * sp.kinematics.carrier_Hz;
   d.mesh_harmonics = sp.layout.mesh_harmonics;
@@ -473,7 +521,7 @@ Diagnosis diagnose(const Recording& recording, const model::SimulationConfig& co
     };
     std::vector<Task> tasks;
     for (const auto& c : candidate_library()) {
-      if (c->nuisance() || !allowed(*c) || (c->sensor_only() && !housing)) continue;
+      if (c->nuisance() || !allowed(*c) || (c->sensor_only() && !housing) || !resolvable(*c, sp.layout)) continue;
       for (const auto& v : c->variants(d.location.evidence, ctx.base, map)) {
         Screen sc;
         sc.c = c.get();
@@ -1111,6 +1159,7 @@ Diagnosis diagnose(const Recording& recording, const model::SimulationConfig& co
   }
   vin.replicate_chi2 = cmp.replicate_chi2(ctx.nuisance_gains);
   decide_verdict(d, vin);
+  d.summary += unresolved_text(d);
   if (d.winner == 0) {
     final_config = &d.candidates.front().config;
     final_gains = d.candidates.front().gains;
@@ -1126,7 +1175,8 @@ Diagnosis diagnose(const Recording& recording, const model::SimulationConfig& co
     const WindowScore before_fit = cmp.score(nominal->amplitude, 1, d.nuisance.gains, false);
     const WindowScore nuis_fit = cmp.score(ctx.nuisance_sim->amplitude, 1, d.nuisance.gains, false);
     const WindowScore after_fit = cmp.score(after, 1, final_gains, false);
-    const int R = sp.layout.revolutions, ncell = cmp.cells();
+    const double R = sp.layout.window_revolutions;
+    const int ncell = cmp.cells();
     for (int ch = 0; ch < cmp.channels(); ++ch) {
       const std::size_t c = static_cast<std::size_t>(ch);
       const std::string unit = recording.channels[static_cast<std::size_t>(sp.channels[c])].unit;

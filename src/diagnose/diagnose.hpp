@@ -4,7 +4,10 @@
 //
 //   1. analyse the recording in the order domain (order_analysis.hpp): its
 //      speed, its carrier angle, a fit half and a held-out half of R whole
-//      carrier revolutions each, feature cells at the labelled lines, noise;
+//      carrier revolutions each (of Q whole mesh cycles when fewer than two
+//      revolutions are recorded: only the families resolved in Q are compared,
+//      the candidates of the others are listed as unresolved, not fitted),
+//      feature cells at the labelled lines, noise;
 //   2. simulate the model at the recording's speed, and the same model at a
 //      second discretization and at the speed +- its standard error: the
 //      model-fidelity directions (compare.hpp);
@@ -184,7 +187,14 @@ struct Diagnosis {
   std::vector<bool> noise_coloured;
   std::vector<double> noise_dispersion;  ///< per channel: noise variance scale from the halves (1 = floor as measured)
   OrderWindow fit_window, held_out_window;
-  int revolutions = 0;                   ///< R per half
+  int revolutions = 0;                   ///< R per half (0: halves of Q mesh cycles)
+  int window_mesh_cycles = 0;            ///< Q per half when the recording is too short for R >= 1
+  double window_revolutions = 0;         ///< carrier revolutions per half (R, or Q / Zr)
+  double recording_revolutions = 0;      ///< carrier revolutions of the whole recording
+  /// Families without a whole period in a half, whose lines are not compared (halves of Q mesh
+  /// cycles only), and the candidates whose evidence lies only in them (not fitted).
+  std::vector<std::string> unresolved_families, unresolved_candidates;
+  std::vector<std::string> dropped_channels;  ///< housing channels not compared in halves of Q mesh cycles
   double max_order = 0, max_frequency_Hz = 0;
   int mesh_harmonics = 0, cells = 0, features = 0, nonstationary_features = 0;
   std::vector<std::string> fidelity;     ///< names of the fidelity directions

@@ -65,6 +65,18 @@ double Kinematics::frequency_Hz(Component c) const {
 
 double Kinematics::period_mesh_cycles(Component c) const { return mesh_Hz / frequency_Hz(c); }
 
+bool Kinematics::completes_periods(Component c, long q) const {
+  const long zs = sun_teeth, zp = planet_teeth, zr = ring_teeth;
+  switch (c) {
+  case Component::Mesh: return true;
+  case Component::Sun: return q % zs == 0;
+  case Component::Planet: return q % zp == 0;
+  case Component::Carrier: return q % zr == 0;
+  case Component::InputShaft: return (q * (zs + zr)) % (zs * zr) == 0;  // f_s / f_m = (Zs + Zr) / (Zs Zr)
+  }
+  return false;
+}
+
 Kinematics kinematics(const model::StageSpec& stage, double rpm) {
   require(std::isfinite(rpm) && rpm > 0, "operating.input_speed_rpm", "must be > 0, got ", rpm);
   Kinematics k;

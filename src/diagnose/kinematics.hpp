@@ -57,6 +57,12 @@ struct Kinematics {
   /// Its period in mesh cycles: Sun Zs, Planet Zp, Carrier Zr, Mesh 1,
   /// InputShaft f_m / f_s.
   double period_mesh_cycles(Component c) const;
+  /// True if `mesh_cycles` whole mesh cycles hold a whole number of the
+  /// family's periods (exact integer arithmetic): Mesh always, Sun if Zs
+  /// divides it, Planet if Zp does, Carrier if Zr does, InputShaft if
+  /// Zs Zr / (Zs + Zr) does (mesh_cycles (Zs + Zr) a multiple of Zs Zr).
+  /// Over such a window every line of the family falls on a DFT bin.
+  bool completes_periods(Component c, long mesh_cycles) const;
 };
 
 /// Nominal kinematics of `stage` at `input_speed_rpm`. Throws pw::InputError

@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <numeric>
 #include <numbers>
 
 namespace pw::diagnose {
@@ -289,7 +290,7 @@ namespace {
 /// A template so the plain transform's inner loop carries no branch and no
 /// second accumulator.
 template <bool with_drift>
-void add_rotating_terms(double y, double phi, int R, std::vector<double>& re, std::vector<double>& im,
+void add_rotating_terms(double y, double phi, double R, std::vector<double>& re, std::vector<double>& im,
                         std::vector<double>& gre, std::vector<double>& gim) {
   const double step = -phi / R;
   const double cr = std::cos(step), ci = std::sin(step);
@@ -309,7 +310,7 @@ void add_rotating_terms(double y, double phi, int R, std::vector<double>& re, st
 }  // namespace
 
 std::vector<std::complex<double>> angle_fourier(std::span<const double> x, std::span<const double> angle,
-                                                double a0, int R, int max_bin,
+                                                double a0, double R, int max_bin,
                                                 std::vector<std::complex<double>>* drift) {
   const std::size_t n = x.size();
   require(n == angle.size() && n >= 4, "signal", "need >= 4 samples with angles");
@@ -364,10 +365,32 @@ std::vector<std::complex<double>> angle_fourier(std::span<const double> x, std::
   return c;
 }
 
-FeatureLayout make_layout(const Kinematics& k, int planets, int R, double max_order, const LayoutOptions& o) {
-  require(R >= 1, "revolutions", "must be >= 1");
+namespace {
+/// In windows of Q mesh cycles (Q < Zr) the carrier family is unresolved. A housing
+/// accelerometer sees the planets pass its transfer-path window once per Zr / N mesh cycles:
+/// every line it carries is a carrier-family line, so it is not compared at all.
+void drop_housing_channels(const Recording& rec, RecordingSpectra& s) {
+  std::vector<int> keep;
+  std::vector<std::string> names;
+  for (std::size_t i = 0; i < s.channels.size(); ++i)
+    if (rec.channels[static_cast<std::size_t>(s.channels[i])].quantity != Quantity::HousingAcceleration) {
+      keep.push_back(s.channels[i]);
+      names.push_back(s.channel_names[i]);
+    }
+  require(!keep.empty(), "recording", rec.source,
+          ": no channel left; in halves shorter than a carrier revolution only speed and mesh-acceleration "
+          "channels are compared (a housing channel's lines all belong to the unresolved carrier family)");
+  s.channels = std::move(keep);
+  s.channel_names = std::move(names);
+}
+
+/// make_layout for a window of R carrier revolutions (whole or not), with the lines of the
+/// families `resolved` rejects left out (listed in L.unresolved).
+template <class Resolved>
+FeatureLayout layout_for_window(const Kinematics& k, int planets, double R, double max_order, const LayoutOptions& o,
+                                Resolved resolved) {
   FeatureLayout L;
-  L.revolutions = R;
+  L.window_revolutions = R;
   L.max_bin = static_cast<int>(std::floor(max_order * R));
   L.max_order = static_cast<double>(L.max_bin) / R;
   const double zr = k.ring_teeth;
@@ -375,6 +398,10 @@ FeatureLayout make_layout(const Kinematics& k, int planets, int R, double max_or
   L.mesh_harmonics = std::min(o.max_mesh_harmonics, static_cast<int>(std::floor(L.max_order / zr)));
   const int a_max = std::min(o.max_mesh_harmonics, static_cast<int>(std::floor((L.max_order + jc) / zr)));
   for (Component f : kAllComponents) {
+    if (!resolved(f)) {
+      L.unresolved.push_back(f);
+      continue;
+    }
     const double of = carrier_orders(k, f);
     const int jb = f == Component::Mesh ? 0 : std::max(1, static_cast<int>(std::ceil(jc / of - 1e-9)));
     for (auto& l : order_lines(k, f, a_max, jb, L.max_order)) L.lines.push_back(std::move(l));
@@ -410,6 +437,33 @@ FeatureLayout make_layout(const Kinematics& k, int planets, int R, double max_or
   L.segments = static_cast<int>(std::lround(L.max_order / zr)) + 1;
   return L;
 }
+}  // namespace
+
+FeatureLayout make_layout(const Kinematics& k, int planets, int R, double max_order, const LayoutOptions& o) {
+  require(R >= 1, "revolutions", "must be >= 1");
+  FeatureLayout L = layout_for_window(k, planets, R, max_order, o, [](Component) { return true; });
+  L.revolutions = R;
+  return L;
+}
+
+FeatureLayout make_layout_mesh_cycles(const Kinematics& k, int planets, int Q, double max_order,
+                                      const LayoutOptions& o) {
+  require(Q >= 1, "mesh_cycles", "must be >= 1");
+  FeatureLayout L = layout_for_window(k, planets, static_cast<double>(Q) / k.ring_teeth, max_order, o,
+                                      [&](Component f) { return k.completes_periods(f, Q); });
+  L.revolutions = 0;
+  L.mesh_cycles = Q;
+  return L;
+}
+
+int min_recording_mesh_cycles(int sun_teeth) { return 2 * sun_teeth; }
+
+int short_window_mesh_cycles(const Kinematics& k, double mesh_cycles) {
+  const int half = static_cast<int>(std::floor(mesh_cycles / 2 + 1e-9));
+  const int both = std::lcm(k.sun_teeth, k.planet_teeth);
+  const int unit = half >= both ? both : k.sun_teeth;
+  return unit * (half / unit);
+}
 
 RecordingSpectra analyse_recording(const Recording& rec, const model::StageSpec& stage,
                                    const OrderAnalysisOptions& o) {
@@ -438,12 +492,24 @@ RecordingSpectra analyse_recording(const Recording& rec, const model::StageSpec&
                                                                : AngleReference::ConstantSpeed;
   const double total = s.carrier_angle.back() - s.carrier_angle.front();
   const int revs = static_cast<int>(std::floor(total / (2 * kPi) + 1e-9));
-  require(revs >= 2, "recording", rec.source, ": ", total / (2 * kPi),
-          " carrier revolutions; the diagnosis needs at least two whole ones (a fit half and a held-out half)");
-  const int R = std::max(1, std::min(revs / 2, o.max_window_revolutions));
   const double fs = 1.0 / dt;
   const double max_order = o.layout.band_fraction * fs / s.kinematics.carrier_Hz;
-  s.layout = make_layout(s.kinematics, stage.planet_count, R, max_order, o.layout);
+  if (revs >= 2) {
+    const int R = std::max(1, std::min(revs / 2, o.max_window_revolutions));
+    s.layout = make_layout(s.kinematics, stage.planet_count, R, max_order, o.layout);
+  } else {
+    // Too short for two halves of whole carrier revolutions: halves of Q whole mesh cycles.
+    const double cycles = total / (2 * kPi) * s.kinematics.ring_teeth;
+    const int need = min_recording_mesh_cycles(s.kinematics.sun_teeth);
+    const int Q = short_window_mesh_cycles(s.kinematics, cycles);
+    require(Q > 0 && cycles >= need, "recording", rec.source, ": ", cycles, " mesh cycles (", total / (2 * kPi),
+            " carrier revolutions); the diagnosis needs at least ", need,
+            " mesh cycles: a fit and a held-out half of one sun period (Zs = ", s.kinematics.sun_teeth,
+            " mesh cycles) each");
+    s.layout = make_layout_mesh_cycles(s.kinematics, stage.planet_count, Q, max_order, o.layout);
+    drop_housing_channels(rec, s);
+  }
+  const double R = s.layout.window_revolutions;
   require(s.layout.mesh_harmonics >= 1, "recording", rec.source, ": sample rate ", fs,
           " Hz leaves no mesh harmonic (", s.kinematics.mesh_Hz, " Hz) below ", o.layout.band_fraction, " fs");
   auto window = [&](std::string name, double a0) {
@@ -653,7 +719,7 @@ struct ModelAngle {
 };
 
 ModelAngle model_angle(const model::SimulationResult& r, const RecordingSpectra& s, const model::StageSpec& st) {
-  const int R = s.layout.revolutions;
+  const double R = s.layout.window_revolutions;
   const double dt = r.time_step_s;
   const model::Channel* ca = r.find("carrier/angle");
   if (!ca) throw SolverError("diagnose: the simulation has no channel 'carrier/angle'");
@@ -692,15 +758,16 @@ ModelAngle model_angle(const model::SimulationResult& r, const RecordingSpectra&
 /// e^{-2 pi i j k / M}. *Why resampling, not an expansion in the angle deviation:* a torque
 /// ripple of a few percent swings the angle by ~0.01 rad, q phi then reaches tens of radians at
 /// the analysed orders q, where no truncated series holds.
-std::vector<double> angle_spectrum(std::span<const double> y, const ModelAngle& a, int R, int max_bin) {
-  const std::size_t n = a.theta.size();
+std::vector<double> whole_revolution_spectrum(std::span<const double> y, std::span<const double> theta, int R,
+                                              int max_bin) {
+  const std::size_t n = theta.size();
   const std::size_t inside = static_cast<std::size_t>(
-      std::lower_bound(a.theta.begin(), a.theta.end(), 2 * kPi * R) - a.theta.begin());
+      std::lower_bound(theta.begin(), theta.end(), 2 * kPi * R) - theta.begin());
   const int per_rev = std::max(2 * (max_bin / R + 1), static_cast<int>((inside + R / 2) / static_cast<std::size_t>(R)));
   const std::size_t M = static_cast<std::size_t>(per_rev) * static_cast<std::size_t>(R);
   std::vector<double> index(n);
   for (std::size_t j = 0; j < n; ++j) index[j] = static_cast<double>(j);
-  const auto u = signal::angular_resample(index, y.first(n), a.theta, per_rev, signal::Interpolation::Cubic);
+  const auto u = signal::angular_resample(index, y.first(n), theta, per_rev, signal::Interpolation::Cubic);
   if (u.values.size() < M)
     throw SolverError(detail::concat("diagnose: resampled record has ", u.values.size(), " points, fewer than ", M));
   std::vector<double> z(u.values.begin(), u.values.begin() + static_cast<long>(M));
@@ -714,6 +781,17 @@ std::vector<double> angle_spectrum(std::span<const double> y, const ModelAngle& 
   std::vector<double> out(static_cast<std::size_t>(max_bin) + 1, 0.0);
   for (std::size_t k = 1; k < out.size() && k < Y.size(); ++k) out[k] = std::abs(Y[k]) / static_cast<double>(M);
   return out;
+}
+
+/// As whole_revolution_spectrum over W carrier revolutions, whole or not: against the angle
+/// in units of the window, theta / W, the window is one revolution and bin k is still carrier
+/// order k / W.
+std::vector<double> angle_spectrum(std::span<const double> y, const ModelAngle& a, double W, int max_bin) {
+  const int R = static_cast<int>(W);
+  if (R >= 1 && static_cast<double>(R) == W) return whole_revolution_spectrum(y, a.theta, R, max_bin);
+  std::vector<double> scaled(a.theta.size());
+  for (std::size_t j = 0; j < scaled.size(); ++j) scaled[j] = a.theta[j] / W;
+  return whole_revolution_spectrum(y, scaled, 1, max_bin);
 }
 
 } // namespace
@@ -732,7 +810,7 @@ model::OutputSelection model_channels(const Recording& rec, const RecordingSpect
 
 ModelSpectra model_spectra(const model::SimulationResult& r, const Recording& rec, const RecordingSpectra& s,
                            const model::SimulationConfig& config, bool keep) {
-  const int R = s.layout.revolutions;
+  const double R = s.layout.window_revolutions;
   const ModelAngle ang = model_angle(r, s, config.stage);
   const std::size_t N = ang.theta.size();
   const model::Channel* ca = r.find("carrier/angle");
@@ -786,7 +864,7 @@ ModelSpectra model_spectra(const model::SimulationResult& r, const Recording& re
 }
 
 std::vector<double> housing_spectrum(const ModelSpectra& m, const model::SensorSettings& sensor, double angle_rad,
-                                     int revolutions, int max_bin) {
+                                     double revolutions, int max_bin) {
   require(!m.ring_force.empty(), "model", "no sensor inputs kept for this simulation");
   model::SensorSettings s = sensor;
   s.gain_m_s2_per_N = 1.0;

@@ -20,6 +20,14 @@
 //    with their neighbours, which is why the comparison adds a
 //    non-stationarity variance measured between the recording's two halves
 //    (compare.hpp).
+//  * a recording too short for two halves of whole carrier revolutions is
+//    analysed in halves of Q whole mesh cycles (Q a multiple of the sun's
+//    period Zs, of lcm(Zs, Zp) when two of those fit): a line of carrier
+//    order o sits on bin o Q / Zr, mesh harmonics on bins n Q. Only the
+//    families completing whole periods in Q mesh cycles (resolved) are
+//    compared; housing channels, whose every line is a carrier-family line
+//    (planets passing the sensor), are not (docs/diagnose.md §2 "Short
+//    recordings").
 //
 // Features are the bins ("cells") nearest to the labelled kinematic lines of
 // every family (kinematics.hpp) up to max_order: the mesh harmonics k Zr,
@@ -65,7 +73,8 @@ std::vector<double> carrier_angle(const Recording& recording, const model::Stage
 std::vector<double> mesh_period_average(std::span<const double> x, double width);
 
 /// c_k, k = 0 .. max_bin, of x sampled at increasing angles `angle` over
-/// [angle_begin, angle_begin + 2 pi R) by the trapezoidal rule (partial end
+/// [angle_begin, angle_begin + 2 pi R) (R carrier revolutions, not
+/// necessarily whole) by the trapezoidal rule (partial end
 /// intervals by linear interpolation), after removing the window's mean.
 /// Exact (to rounding) for band-limited signals sampled uniformly in time at
 /// constant speed. Throws pw::InputError if the samples do not cover the window.
@@ -77,7 +86,7 @@ std::vector<double> mesh_period_average(std::span<const double> x, double width)
 /// dc_k/d eps = y(a1) - c_k + (i k / R) G_k, G_k = (1/2 pi R) ∫ y phi e^{-i k phi/R} dphi
 /// (differentiate under the integral, integrate by parts; y = x minus its mean).
 std::vector<std::complex<double>> angle_fourier(std::span<const double> x, std::span<const double> angle,
-                                                double angle_begin, int revolutions, int max_bin,
+                                                double angle_begin, double revolutions, int max_bin,
                                                 std::vector<std::complex<double>>* drift = nullptr);
 
 /// Mean of exponentially distributed values (|c_k|^2 of noise bins) that may
@@ -108,9 +117,11 @@ struct LayoutOptions {
 };
 
 struct FeatureLayout {
-  int revolutions = 1;          ///< R: window length in carrier revolutions
-  int max_bin = 0;              ///< highest bin analysed
-  double max_order = 0;         ///< max_bin / R
+  int revolutions = 1;          ///< R: window length in whole carrier revolutions (0: Q mesh cycles)
+  int mesh_cycles = 0;          ///< Q: window length in whole mesh cycles when R = 0
+  double window_revolutions = 1;  ///< W: window length in carrier revolutions (R, or Q / Zr)
+  int max_bin = 0;              ///< highest bin analysed (bin k = carrier order k / W)
+  double max_order = 0;         ///< max_bin / W
   int mesh_harmonics = 0;       ///< highest mesh harmonic in the band
   std::vector<OrderLine> lines;       ///< every labelled line (all families)
   std::vector<FeatureCell> cells;     ///< sorted by bin; the same for every channel
@@ -119,11 +130,31 @@ struct FeatureLayout {
   /// Cells of family f (indexed by Component) and, per cell, its families.
   std::vector<std::vector<int>> family_cells;
   std::vector<std::vector<Component>> cell_families;
+  /// Families with no whole period in a window of Q mesh cycles: their lines are not
+  /// compared (empty for windows of whole carrier revolutions, which compare every family).
+  std::vector<Component> unresolved;
 };
 
 /// Lines and cells for windows of R revolutions up to max_order.
 FeatureLayout make_layout(const Kinematics& k, int planets, int revolutions, double max_order,
                           const LayoutOptions& options = {});
+
+/// Lines and cells for windows of Q whole mesh cycles (W = Q / Zr carrier revolutions) up to
+/// max_order: only the lines of the families that complete whole periods in Q mesh cycles
+/// (Kinematics::completes_periods); the others are listed in `unresolved`.
+FeatureLayout make_layout_mesh_cycles(const Kinematics& k, int planets, int mesh_cycles, double max_order,
+                                      const LayoutOptions& options = {});
+
+/// Fewest mesh cycles a recording must hold: two halves (fit and held-out) of one sun
+/// period Zs each, the shortest window that resolves the mesh harmonics (period 1) and the
+/// sun family (period Zs) together: 2 Zs.
+int min_recording_mesh_cycles(int sun_teeth);
+
+/// Half-window length Q [mesh cycles] for a recording of `mesh_cycles` mesh cycles that is
+/// too short for two halves of whole carrier revolutions: the largest multiple of
+/// lcm(Zs, Zp) that fits twice if one does (sun and planet families resolved), else of Zs.
+/// 0 if not even 2 Zs fit.
+int short_window_mesh_cycles(const Kinematics& k, double mesh_cycles);
 
 /// A window of the recording: R whole carrier revolutions.
 struct OrderWindow {
@@ -177,13 +208,15 @@ struct OrderAnalysisOptions {
   int max_window_revolutions = 3;    ///< R = min(floor(revolutions / 2), this)
 };
 
-/// Speed, angle, windows, amplitudes and noise of a recording. Throws
-/// pw::InputError if it holds less than two whole carrier revolutions.
+/// Speed, angle, windows, amplitudes and noise of a recording: halves of R whole carrier
+/// revolutions if it holds two, else of Q whole mesh cycles (short_window_mesh_cycles;
+/// housing channels then dropped). Throws pw::InputError if it holds fewer than
+/// min_recording_mesh_cycles mesh cycles.
 RecordingSpectra analyse_recording(const Recording& recording, const model::StageSpec& stage,
                                    const OrderAnalysisOptions& options = {});
 
 /// What a simulation contributes to the comparison: for each recording
-/// channel the amplitude of every bin 0 .. max_bin over the first R carrier
+/// channel the amplitude of every bin 0 .. max_bin over the first W carrier
 /// revolutions of its record (housing channels with gain 1; see
 /// sensor_inputs for recomputing them).
 struct ModelSpectra {
@@ -214,7 +247,7 @@ model::OutputSelection model_channels(const Recording& recording, const Recordin
 
 /// Features of a simulation result for the recording's channels and layout.
 /// `sensor` is the configuration's sensor (angle replaced by each housing
-/// channel's). Throws pw::SolverError if the record is shorter than R
+/// channel's). Throws pw::SolverError if the record is shorter than W
 /// carrier revolutions or lacks a channel.
 ModelSpectra model_spectra(const model::SimulationResult& result, const Recording& recording,
                            const RecordingSpectra& spectra, const model::SimulationConfig& config,
@@ -223,6 +256,6 @@ ModelSpectra model_spectra(const model::SimulationResult& result, const Recordin
 /// Housing-channel amplitudes (bins 0 .. max_bin, gain 1) recomputed from the
 /// kept sensor inputs for other sensor settings.
 std::vector<double> housing_spectrum(const ModelSpectra& m, const model::SensorSettings& sensor, double angle_rad,
-                                     int revolutions, int max_bin);
+                                     double revolutions, int max_bin);
 
 } // namespace pw::diagnose

@@ -232,5 +232,95 @@ TEST(OrderAnalysis, ModelSpectrumIsExactForIntegerOrdersUnderA10PercentSpeedRipp
   EXPECT_LT(a[566] + a[568] + a[1233] + a[1235] + a[900], 2e-3);
 }
 
+TEST(OrderAnalysis, ShortRecordingsGetHalvesOfWholeSunPeriodsAndResolveOnlyThoseFamilies) {
+  // Seed gears (Zs 21, Zp 30, Zr 81): 2 s hold 55.6 / 111.2 / 222.4 mesh cycles at
+  // 100 / 200 / 400 rpm; halves of the largest multiple of Zs that fits twice.
+  model::SimulationConfig cfg;
+  const Kinematics k = kinematics(cfg.stage, 200);
+  EXPECT_EQ(min_recording_mesh_cycles(21), 42);
+  EXPECT_EQ(short_window_mesh_cycles(k, 55.6), 21);
+  EXPECT_EQ(short_window_mesh_cycles(k, 111.2), 42);
+  EXPECT_EQ(short_window_mesh_cycles(k, 222.4), 105);
+  EXPECT_EQ(short_window_mesh_cycles(k, 41.9), 0);
+  // lcm(Zs, Zp) = 210 fits twice in 430 mesh cycles: sun and planet families both resolved.
+  EXPECT_EQ(short_window_mesh_cycles(k, 430), 210);
+  EXPECT_TRUE(k.completes_periods(Component::Sun, 42));
+  EXPECT_FALSE(k.completes_periods(Component::Planet, 42));
+  EXPECT_TRUE(k.completes_periods(Component::Planet, 210));
+  EXPECT_FALSE(k.completes_periods(Component::Carrier, 42));
+  EXPECT_TRUE(k.completes_periods(Component::InputShaft, 567));  // f_m / f_s = 1701 / 102 = 567 / 34
+  EXPECT_FALSE(k.completes_periods(Component::InputShaft, 210));
+
+  const FeatureLayout L = make_layout_mesh_cycles(k, 3, 42, 2000.0);
+  EXPECT_EQ(L.revolutions, 0);
+  EXPECT_EQ(L.mesh_cycles, 42);
+  EXPECT_DOUBLE_EQ(L.window_revolutions, 42.0 / 81.0);
+  ASSERT_EQ(L.unresolved.size(), 3u);
+  EXPECT_EQ(L.unresolved[0], Component::Planet);
+  EXPECT_EQ(L.unresolved[1], Component::Carrier);
+  EXPECT_EQ(L.unresolved[2], Component::InputShaft);
+  EXPECT_TRUE(L.family_cells[static_cast<int>(Component::Carrier)].empty());
+  EXPECT_FALSE(L.family_cells[static_cast<int>(Component::Sun)].empty());
+  for (const auto& line : L.lines) {
+    const double bin = line.order * L.window_revolutions;  // mesh harmonics on n Q, sun lines on n Q + 2 b
+    EXPECT_NEAR(bin, std::round(bin), 1e-9) << line.label;
+  }
+  EXPECT_EQ(L.cells.front().bin, 2);  // f_sr: carrier order 81/21 = 3.857, bin 2
+}
+
+TEST(OrderAnalysis, AngleFourierOverWholeMeshCyclesPutsMeshAndSunLinesOnOneBinEach) {
+  // Q = 42 mesh cycles of the seed gears = 42/81 carrier revolutions: the mesh line (order 81)
+  // on bin 42, a sun sideband (order 81 - 81/21) on bin 40, a window that starts between samples.
+  const double W = 42.0 / 81.0, dt = 1e-4, Omega = 8.6;
+  std::vector<double> th, x;
+  for (int j = 0; j < 6000; ++j) {
+    const double a = Omega * j * dt + 0.01 * std::sin(1.3 * j * dt);
+    th.push_back(a);
+    x.push_back(2 * std::cos(81 * a + 0.3) + 0.5 * std::cos((81 - 81.0 / 21) * a + 1.0) + 3.0);
+  }
+  const auto c = angle_fourier(x, th, 0.0123, W, 100);
+  EXPECT_NEAR(std::abs(c[42]), 1.0, 2e-4);
+  EXPECT_NEAR(std::abs(c[40]), 0.25, 2e-4);
+  EXPECT_LT(std::abs(c[41]) + std::abs(c[43]) + std::abs(c[39]) + std::abs(c[70]), 4e-4);
+}
+
+TEST(OrderAnalysis, ModelSpectrumOverWholeMeshCyclesPutsMeshAndSunLinesOnOneBinEach) {
+  // As the speed-ripple test above, over a window of Q = 42 mesh cycles (42/81 carrier
+  // revolutions): mesh harmonic 7 (order 567) on bin 294, its sun sideband -2 f_sr (order
+  // 567 - 2 * 81/21) on bin 290.
+  model::SimulationConfig cfg;
+  const auto& st = cfg.stage;
+  const double ratio = st.sun.teeth / static_cast<double>(st.sun.teeth + st.ring.teeth);
+  const double Omega = 1200 * 2 * kPi / 60, dt = 2.5e-6, carrier_rev_s = 2 * kPi / (Omega * ratio);
+  const std::size_t n = static_cast<std::size_t>(0.6 * carrier_rev_s / dt);
+  model::SimulationResult r;
+  r.time_step_s = dt;
+  model::Channel speed{"sun/speed", "rad/s", "", {}}, angle{"carrier/angle", "rad", "", {}},
+      acc{"sun_planet/0/acceleration", "m/s^2", "", {}};
+  for (std::size_t j = 0; j < n; ++j) {
+    const double t = static_cast<double>(j) * dt;
+    speed.values.push_back(Omega * (1 + 0.1 * std::cos(2 * Omega * t)));
+    angle.values.push_back(ratio * (Omega * t + 0.05 * std::sin(2 * Omega * t)));
+  }
+  const auto w = mesh_period_average(speed.values, 2 * kPi / (Omega * ratio * st.ring.teeth) / dt);
+  double ref = 0;
+  for (std::size_t j = 0; j < n; ++j) {
+    if (j > 0) ref += 0.5 * (w[j] + w[j - 1]) * dt * ratio;
+    acc.values.push_back(2 * std::cos(567 * ref + 0.3) + 0.8 * std::cos((567 - 2 * 81.0 / 21) * ref + 1.1) + 5.0);
+  }
+  r.channels = {speed, angle, acc};
+  Recording rec;
+  rec.channels = {SignalChannel{"w", Quantity::SunSpeed, "rad/s", 0, 0.0, {}},
+                  SignalChannel{"a", Quantity::MeshAccelerationSunPlanet, "m/s^2", 0, 0.0, {}}};
+  RecordingSpectra s;
+  s.layout = make_layout_mesh_cycles(kinematics(st, 1200), st.planet_count, 42, 600.0);
+  s.angle_reference = AngleReference::SunSpeed;
+  s.channels = {0, 1};
+  const auto& a = model_spectra(r, rec, s, cfg, false).amplitude[1];
+  EXPECT_NEAR(a[294], 1.0, 1e-3);
+  EXPECT_NEAR(a[290], 0.4, 1e-3);
+  EXPECT_LT(a[293] + a[295] + a[289] + a[291] + a[200], 2e-3);
+}
+
 } // namespace
 } // namespace pw::diagnose

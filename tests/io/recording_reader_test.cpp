@@ -33,7 +33,7 @@ namespace {
 
 constexpr double kPi = std::numbers::pi;
 // Default gear set (Zs 21, Zr 81) at 3000 rpm: mesh 833.8 Hz, so the reader
-// needs >= 6253 Hz; 3 carrier revolutions last 0.2914 s.
+// needs >= 6253 Hz; 2 Zs = 42 mesh cycles last 0.05037 s.
 constexpr double kRpm = 3000;
 constexpr double kFs = 10000;
 const double kSunRadS = kRpm * 2 * kPi / 60;
@@ -327,11 +327,14 @@ TEST(RecordingReader, SampleRateBelowTheAnalysedMeshHarmonicsIsRejected) {
   EXPECT_NEAR(io::required_sample_rate_Hz(config(), kRpm), 2.5 * 3 * 21.0 * 81.0 / 102.0 * kRpm / 60, 1e-9);
 }
 
-TEST(RecordingReader, ShorterThanThreeCarrierRevolutionsIsRejected) {
-  // 0.25 s < 3 carrier revolutions = 0.2914 s at 3000 rpm.
-  const std::string e = csv_error(standard_csv(2500), standard_meta());
-  EXPECT_TRUE(contains(e, "shorter than 3 carrier revolutions"));
-  EXPECT_TRUE(contains(e, "0.2914"));
+TEST(RecordingReader, FewerMeshCyclesThanTwoSunPeriodsAreRejected) {
+  // 0.045 s = 37.52 mesh cycles at 833.8 Hz < 2 Zs = 42 mesh cycles = 0.05037 s at 3000 rpm.
+  const std::string e = csv_error(standard_csv(450), standard_meta());
+  EXPECT_TRUE(contains(e, "needs at least 42 mesh cycles")) << e;
+  EXPECT_TRUE(contains(e, "holds 37.52")) << e;
+  EXPECT_TRUE(contains(e, "0.05037")) << e;
+  // 0.25 s (2.57 carrier revolutions, refused before the short-recording analysis) is accepted.
+  EXPECT_EQ(csv_error(standard_csv(2500), standard_meta()), "");
 }
 
 TEST(RecordingReader, DescriptionErrors) {
