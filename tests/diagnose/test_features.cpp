@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <initializer_list>
 #include <numbers>
 #include <random>
 
@@ -12,6 +13,51 @@ namespace pw::diagnose {
 namespace {
 
 constexpr double kPi = std::numbers::pi;
+
+/// A line of a synthetic mesh acceleration: amplitude [m/s^2], order of the angle reference, phase [rad].
+struct OrderLine {
+  double amplitude, order, phase;
+};
+
+/// A model record at 1200 rpm over `carrier_revolutions` whose sun speed swings by 10 % at twice
+/// the shaft frequency (what a 10 % torque ripple of order 2 does to the seed stage): sun speed,
+/// carrier angle, and a sun-planet acceleration of `lines` at orders of the angle reference (the
+/// integral of the mesh-period-averaged sun speed, as the recording's) plus `offset`.
+model::SimulationResult rippled_sun_record(const model::StageSpec& st, double carrier_revolutions,
+                                          std::initializer_list<OrderLine> lines, double offset) {
+  const double ratio = st.sun.teeth / static_cast<double>(st.sun.teeth + st.ring.teeth);
+  const double Omega = 1200 * 2 * kPi / 60, dt = 2.5e-6, carrier_rev_s = 2 * kPi / (Omega * ratio);
+  const std::size_t n = static_cast<std::size_t>(carrier_revolutions * carrier_rev_s / dt);
+  model::SimulationResult r;
+  r.time_step_s = dt;
+  model::Channel speed{"sun/speed", "rad/s", "", {}}, angle{"carrier/angle", "rad", "", {}},
+      acc{"sun_planet/0/acceleration", "m/s^2", "", {}};
+  for (std::size_t j = 0; j < n; ++j) {
+    const double t = static_cast<double>(j) * dt;
+    const double th_s = Omega * t + 0.05 * std::sin(2 * Omega * t);  // speed Omega (1 + 0.1 cos 2 Omega t)
+    speed.values.push_back(Omega * (1 + 0.1 * std::cos(2 * Omega * t)));
+    angle.values.push_back(ratio * th_s);
+  }
+  const double mesh_samples = 2 * kPi / (Omega * ratio * st.ring.teeth) / dt;
+  const auto w = mesh_period_average(speed.values, mesh_samples);
+  double ref = 0;
+  for (std::size_t j = 0; j < n; ++j) {
+    if (j > 0) ref += 0.5 * (w[j] + w[j - 1]) * dt * ratio;
+    double y = 0;
+    for (const OrderLine& l : lines) y += l.amplitude * std::cos(l.order * ref + l.phase);
+    acc.values.push_back(y + offset);
+  }
+  r.channels = {speed, angle, acc};
+  return r;
+}
+
+/// The two recording channels that rippled_sun_record's channels predict.
+Recording sun_speed_and_mesh_recording() {
+  Recording rec;
+  rec.channels = {SignalChannel{"w", Quantity::SunSpeed, "rad/s", 0, 0.0, {}},
+                  SignalChannel{"a", Quantity::MeshAccelerationSunPlanet, "m/s^2", 0, 0.0, {}}};
+  return rec;
+}
 
 TEST(Features, FitLinesRecoversAmplitudesAndPhasesWithin1Percent) {
   // Mesh line, two sidebands 5.29 Hz apart, an offset and 5 % white noise.
@@ -194,32 +240,10 @@ TEST(OrderAnalysis, ModelSpectrumIsExactForIntegerOrdersUnderA10PercentSpeedRipp
   // orders of the angle reference (the integral of the mesh-period-averaged sun speed, as the
   // recording's) must still land on one bin with their amplitude. A truncated expansion in the
   // angle deviation gets these orders wrong by more than their size.
-  model::SimulationConfig cfg;
-  const auto& st = cfg.stage;
-  const double ratio = st.sun.teeth / static_cast<double>(st.sun.teeth + st.ring.teeth);
-  const double Omega = 1200 * 2 * kPi / 60, dt = 2.5e-6, carrier_rev_s = 2 * kPi / (Omega * ratio);
-  const std::size_t n = static_cast<std::size_t>(1.05 * carrier_rev_s / dt);
-  model::SimulationResult r;
-  r.time_step_s = dt;
-  model::Channel speed{"sun/speed", "rad/s", "", {}}, angle{"carrier/angle", "rad", "", {}},
-      acc{"sun_planet/0/acceleration", "m/s^2", "", {}};
-  for (std::size_t j = 0; j < n; ++j) {
-    const double t = static_cast<double>(j) * dt;
-    const double th_s = Omega * t + 0.05 * std::sin(2 * Omega * t);  // speed Omega (1 + 0.1 cos 2 Omega t)
-    speed.values.push_back(Omega * (1 + 0.1 * std::cos(2 * Omega * t)));
-    angle.values.push_back(ratio * th_s);
-  }
-  const double mesh_samples = 2 * kPi / (Omega * ratio * st.ring.teeth) / dt;
-  const auto w = mesh_period_average(speed.values, mesh_samples);
-  double ref = 0;
-  for (std::size_t j = 0; j < n; ++j) {
-    if (j > 0) ref += 0.5 * (w[j] + w[j - 1]) * dt * ratio;
-    acc.values.push_back(2 * std::cos(567 * ref + 0.3) + 0.8 * std::cos(1234 * ref + 1.1) + 5.0);
-  }
-  r.channels = {speed, angle, acc};
-  Recording rec;
-  rec.channels = {SignalChannel{"w", Quantity::SunSpeed, "rad/s", 0, 0.0, {}},
-                  SignalChannel{"a", Quantity::MeshAccelerationSunPlanet, "m/s^2", 0, 0.0, {}}};
+  const model::SimulationConfig cfg;
+  const model::SimulationResult r =
+      rippled_sun_record(cfg.stage, 1.05, {{2, 567, 0.3}, {0.8, 1234, 1.1}}, 5.0);
+  const Recording rec = sun_speed_and_mesh_recording();
   RecordingSpectra s;
   s.layout.revolutions = 1;
   s.layout.max_bin = 1500;
@@ -288,30 +312,11 @@ TEST(OrderAnalysis, ModelSpectrumOverWholeMeshCyclesPutsMeshAndSunLinesOnOneBinE
   // As the speed-ripple test above, over a window of Q = 42 mesh cycles (42/81 carrier
   // revolutions): mesh harmonic 7 (order 567) on bin 294, its sun sideband -2 f_sr (order
   // 567 - 2 * 81/21) on bin 290.
-  model::SimulationConfig cfg;
+  const model::SimulationConfig cfg;
   const auto& st = cfg.stage;
-  const double ratio = st.sun.teeth / static_cast<double>(st.sun.teeth + st.ring.teeth);
-  const double Omega = 1200 * 2 * kPi / 60, dt = 2.5e-6, carrier_rev_s = 2 * kPi / (Omega * ratio);
-  const std::size_t n = static_cast<std::size_t>(0.6 * carrier_rev_s / dt);
-  model::SimulationResult r;
-  r.time_step_s = dt;
-  model::Channel speed{"sun/speed", "rad/s", "", {}}, angle{"carrier/angle", "rad", "", {}},
-      acc{"sun_planet/0/acceleration", "m/s^2", "", {}};
-  for (std::size_t j = 0; j < n; ++j) {
-    const double t = static_cast<double>(j) * dt;
-    speed.values.push_back(Omega * (1 + 0.1 * std::cos(2 * Omega * t)));
-    angle.values.push_back(ratio * (Omega * t + 0.05 * std::sin(2 * Omega * t)));
-  }
-  const auto w = mesh_period_average(speed.values, 2 * kPi / (Omega * ratio * st.ring.teeth) / dt);
-  double ref = 0;
-  for (std::size_t j = 0; j < n; ++j) {
-    if (j > 0) ref += 0.5 * (w[j] + w[j - 1]) * dt * ratio;
-    acc.values.push_back(2 * std::cos(567 * ref + 0.3) + 0.8 * std::cos((567 - 2 * 81.0 / 21) * ref + 1.1) + 5.0);
-  }
-  r.channels = {speed, angle, acc};
-  Recording rec;
-  rec.channels = {SignalChannel{"w", Quantity::SunSpeed, "rad/s", 0, 0.0, {}},
-                  SignalChannel{"a", Quantity::MeshAccelerationSunPlanet, "m/s^2", 0, 0.0, {}}};
+  const model::SimulationResult r =
+      rippled_sun_record(st, 0.6, {{2, 567, 0.3}, {0.8, 567 - 2 * 81.0 / 21, 1.1}}, 5.0);
+  const Recording rec = sun_speed_and_mesh_recording();
   RecordingSpectra s;
   s.layout = make_layout_mesh_cycles(kinematics(st, 1200), st.planet_count, 42, 600.0);
   s.angle_reference = AngleReference::SunSpeed;
