@@ -24,6 +24,14 @@ double smooth_sign(double x) {
   return (e - 1) / (e + 1);
 }
 
+/// Indices of the non-zero entries of `row`, ascending.
+std::vector<int> nonzeros(const Eigen::RowVectorXd& row) {
+  std::vector<int> nz;
+  for (Eigen::Index i = 0; i < row.size(); ++i)
+    if (row(i) != 0) nz.push_back(static_cast<int>(i));
+  return nz;
+}
+
 } // namespace
 
 PlanetaryDynamics::PlanetaryDynamics(const SimulationConfig& cfg, dynamics::LumpedStructure structure,
@@ -50,8 +58,6 @@ PlanetaryDynamics::PlanetaryDynamics(const SimulationConfig& cfg, dynamics::Lump
   sun_ecc_phase_ = cfg.imperfections.sun_eccentricity_phase_rad;
   sun_row_ = structure_.bodies[structure_.sun_body].map.row(2);
   carrier_row_ = structure_.bodies[structure_.carrier_body].map.row(2);
-  supp_force_.setZero(structure_.dofs);
-  h_.setZero(structure_.dofs);
   q_roll_.setZero(structure_.dofs);
   // Ideal (loss-free) matching load torque; simulate() refines it so that the
   // stage holds its nominal speed in the presence of friction losses.
@@ -87,8 +93,8 @@ PlanetaryDynamics::PlanetaryDynamics(const SimulationConfig& cfg, dynamics::Lump
   for (const dynamics::MeshCoupling& mc : structure_.meshes) sparse_.push_back(dynamics::sparse_coupling(mc));
   pair_geometry_.assign(static_cast<std::size_t>(nm), {});
   imposed_.assign(static_cast<std::size_t>(nm), 0.0);
-  for (Eigen::Index i = 0; i < sun_row_.size(); ++i)
-    if (sun_row_(i) != 0) sun_row_nz_.push_back(static_cast<int>(i));
+  sun_row_nz_ = nonzeros(sun_row_);
+  carrier_row_nz_ = nonzeros(carrier_row_);
   const Eigen::MatrixXd& S = structure_.support_stiffness;
   for (Eigen::Index j = 0; j < S.cols(); ++j)
     for (Eigen::Index i = 0; i < S.rows(); ++i)
@@ -276,8 +282,7 @@ void PlanetaryDynamics::force(double t, const Eigen::VectorXd& q, const Eigen::V
   double T_s = power_ / w_s;
   if (ripple_ != 0) T_s *= 1.0 + ripple_ * std::sin(ripple_order_ * (sun_speed_ * t + sun_row_.dot(q)));
   for (int i : sun_row_nz_) g(i) += T_s * sun_row_(i);
-  for (Eigen::Index i = 0; i < carrier_row_.size(); ++i)
-    if (carrier_row_(i) != 0) g(i) -= load_torque_ * carrier_row_(i);
+  for (int i : carrier_row_nz_) g(i) -= load_torque_ * carrier_row_(i);
   if (tangents)
     for (int b : sun_row_nz_)
       for (int a : sun_row_nz_) (*C)(a, b) += ((T_s / w_s) * sun_row_(a)) * sun_row_(b);

@@ -146,13 +146,12 @@ private:
   std::vector<double> damping_, backlash_, mesh_error_, static_offset_;
   std::vector<Eigen::Vector2d> normals_;
   Eigen::RowVectorXd sun_row_, carrier_row_;
-  Eigen::VectorXd supp_force_, h_;  // work vectors, sized once
   Eigen::VectorXd q_roll_;          // state that fixes the roll distances
   std::vector<double> engage_half_width_m_;  // per mesh: half the roll per smoothing step [m]
   std::vector<dynamics::SparseCoupling> sparse_;  // per mesh: g, h0, h1, roll on the coordinates it touches
   std::vector<std::array<PairGeometry, MeshState::kMaxPairs>> pair_geometry_;  // per mesh, this step's pairs
   std::vector<double> imposed_;                // per mesh: imposed deflection at the step's time [m]
-  std::vector<int> sun_row_nz_;                // coordinates of the non-zeros of sun_row_
+  std::vector<int> sun_row_nz_, carrier_row_nz_;  // coordinates of the non-zeros of sun_row_, carrier_row_
   struct SupportEntry {
     int row, col;
     double k;
