@@ -554,11 +554,8 @@ RecordStats record(Run& r, int cycles, SimulationResult& out, const OutputSelect
       ring_force.emplace_back(out.channels[stored_index[6 * static_cast<std::size_t>(2 * i + 1) + 1]].values);
     std::vector<double> h = housing_acceleration_history(r.c.sensor, p.geometry.planet_angles_rad,
                                                          out.channels[stored_index[g_angle + 1]].values, ring_force);
-    // In the documented place: after carrier/angle.
-    std::size_t at = 0;
-    while (at < out.channels.size() && out.channels[at].name != "carrier/angle") ++at;
-    out.channels.insert(out.channels.begin() + static_cast<long>(std::min(at + 1, out.channels.size())),
-                        {ch[g_housing].name, ch[g_housing].unit, ch[g_housing].description, std::move(h)});
+    // Last, as in the documented order (record_channels).
+    out.channels.push_back({ch[g_housing].name, ch[g_housing].unit, ch[g_housing].description, std::move(h)});
   }
   std::erase_if(out.channels, [&](const Channel& c) { return !sel.selects(c.name); });
   out.scalars.push_back({"record_start_time", "s",
