@@ -64,6 +64,18 @@ struct EnumNames<SensorWindow> {
       {{SensorWindow::Gaussian, "gaussian"}, {SensorWindow::Hann, "hann"}}};
 };
 
+template <>
+struct EnumNames<model::InputControl> {
+  static constexpr std::array<std::pair<model::InputControl, std::string_view>, 2> values{
+      {{model::InputControl::Power, "power"}, {model::InputControl::Torque, "torque"}}};
+};
+
+template <>
+struct EnumNames<model::LoadControl> {
+  static constexpr std::array<std::pair<model::LoadControl, std::string_view>, 2> values{
+      {{model::LoadControl::Torque, "torque"}, {model::LoadControl::Speed, "speed"}}};
+};
+
 template <class E>
 std::string_view enum_name(E e) {
   for (const auto& [value, name] : EnumNames<E>::values)
@@ -355,6 +367,22 @@ void visit_config(V& v, Config& c) {
   v.field("gain_m_s2_per_N", c.sensor.gain_m_s2_per_N, "transfer gain mesh force -> housing acceleration [m/s^2/N]");
   v.field("window_width_rad", c.sensor.window_width_rad, "transfer-path window width sigma [rad]");
   v.field("window", c.sensor.window, "window shape: \"gaussian\" or \"hann\"");
+  v.field("encoder_bandwidth_Hz", c.sensor.encoder_bandwidth_Hz,
+          "-3 dB bandwidth of the speed encoders' Butterworth low-pass (sun/speed, carrier/speed) [Hz]; 0 = ideal");
+  v.field("encoder_filter_order", c.sensor.encoder_filter_order, "order of the encoder low-pass, 1 or 2 [-]");
+
+  v.section("rig");
+  v.field("input_control", c.rig.input_control,
+          "input machine: \"power\" (constant power P/w, the seed's) or \"torque\" (constant torque)");
+  v.field("input_shaft_stiffness_N_m_rad", c.rig.input_shaft_stiffness_N_m_rad,
+          "shaft from the motor (stage.input_inertia_kgm2) to the sun [N m/rad]; 0 = rigid");
+  v.field("input_shaft_damping_N_m_s_rad", c.rig.input_shaft_damping_N_m_s_rad, "input shaft damping [N m s/rad]");
+  v.field("load_control", c.rig.load_control,
+          "load machine: \"torque\" (constant torque holding the mean speed) or \"speed\" (ideal speed control)");
+  v.field("output_shaft_stiffness_N_m_rad", c.rig.output_shaft_stiffness_N_m_rad,
+          "shaft from the carrier to the load machine [N m/rad]; 0 = rigid; > 0 with load_control = \"speed\"");
+  v.field("output_shaft_damping_N_m_s_rad", c.rig.output_shaft_damping_N_m_s_rad,
+          "output shaft damping [N m s/rad]");
 }
 
 constexpr std::string_view kTeethElement = "imperfections.teeth[]";

@@ -25,9 +25,12 @@ std::string builtin_config_key(const model::SimulationConfig& c) {
   for (const auto* g : {&s.sun, &s.planet, &s.ring}) {
     add(g->teeth); add(g->module_m); add(g->pressure_angle_rad); add(g->profile_shift); add(g->addendum_coef);
     add(g->dedendum_coef); add(g->root_fillet_coef); add(g->face_width_m);
+    add(g->material.youngs_modulus_Pa); add(g->material.shear_modulus_Pa); add(g->material.poisson_ratio);
+    add(g->material.density_kg_m3);
   }
   add(s.planet_count); for (double a : s.planet_angles_rad) add(a);
   add(s.carrier_inertia_kgm2); add(s.carrier_mass_kg); add(s.bore_ratio);
+  add(s.input_inertia_kgm2); add(s.output_inertia_kgm2);
   add(c.operating.input_speed_rpm); add(c.operating.input_power_W);
   add(c.stiffness.samples_per_pair); add(c.stiffness.include_fillet_foundation); add(c.stiffness.scale);
   const auto& ct = c.contact;
@@ -52,7 +55,12 @@ std::string builtin_config_key(const model::SimulationConfig& c) {
   add(v.warmup_max_mesh_cycles); add(v.periodicity_tolerance); add(v.record_mesh_cycles); add(v.engagement_smoothing);
   k += "|";
   add(c.sensor.angle_rad); add(c.sensor.gain_m_s2_per_N); add(c.sensor.window_width_rad);
-  add(static_cast<int>(c.sensor.window));
+  add(static_cast<int>(c.sensor.window)); add(c.sensor.encoder_bandwidth_Hz); add(c.sensor.encoder_filter_order);
+  k += "|";
+  const auto& rg = c.rig;
+  add(static_cast<int>(rg.input_control)); add(rg.input_shaft_stiffness_N_m_rad); add(rg.input_shaft_damping_N_m_s_rad);
+  add(static_cast<int>(rg.load_control)); add(rg.output_shaft_stiffness_N_m_rad);
+  add(rg.output_shaft_damping_N_m_s_rad);
   return k;
 }
 

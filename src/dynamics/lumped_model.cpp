@@ -46,6 +46,54 @@ void check_layout(const StageLayout& l) {
           "sun, planet and carrier inertias must be positive [kg m^2]");
 }
 
+/// The rig's machines and shafts (RigLayout): bodies on their own rotation
+/// coordinates from `first_dof` on, and the shaft springs with their dampers.
+void add_rig(LumpedStructure& s, const RigLayout& rig, int first_dof) {
+  s.input_body = s.sun_body;
+  s.output_body = s.carrier_body;
+  int dof = first_dof;
+  auto machine = [&](const char* name, double inertia) {
+    Body b = make_body(name, s.dofs, 0.0, inertia, {0, 0});
+    b.map(2, dof) = 1;
+    s.dof_names.push_back(std::string("theta_") + name);
+    ++dof;
+    s.bodies.push_back(std::move(b));
+    return static_cast<int>(s.bodies.size()) - 1;
+  };
+  auto shaft = [&](const char* name, int a, int b, double k, double c) {
+    Spring sp;
+    sp.name = name;
+    sp.body_a = a;
+    sp.body_b = b;
+    sp.torsional = true;
+    sp.stiffness = k;
+    sp.damping = c;
+    s.springs.push_back(sp);
+  };
+  if (rig.input_shaft_N_m_rad > 0) {
+    s.input_body = machine("motor", rig.motor_inertia_kgm2);
+    shaft("input_shaft", s.input_body, s.sun_body, rig.input_shaft_N_m_rad, rig.input_shaft_N_m_s_rad);
+  }
+  if (rig.output_shaft_N_m_rad > 0) {
+    if (rig.speed_controlled_load) {
+      // The far end turns at the nominal carrier speed: a spring to ground in the
+      // perturbation coordinates; the feed-forward load torque stays on the carrier.
+      shaft("output_shaft", s.carrier_body, -1, rig.output_shaft_N_m_rad, rig.output_shaft_N_m_s_rad);
+      s.has_rigid_mode = false;
+    } else {
+      s.output_body = machine("load", rig.load_inertia_kgm2);
+      shaft("output_shaft", s.carrier_body, s.output_body, rig.output_shaft_N_m_rad, rig.output_shaft_N_m_s_rad);
+    }
+  }
+}
+
+void check_rig(const RigLayout& rig) {
+  require(rig.input_shaft_N_m_rad <= 0 || rig.motor_inertia_kgm2 > 0, "stage.input_inertia_kgm2",
+          "a motor behind a flexible input shaft needs a positive inertia [kg m^2]");
+  require(rig.output_shaft_N_m_rad <= 0 || rig.speed_controlled_load || rig.load_inertia_kgm2 > 0,
+          "stage.output_inertia_kgm2", "a load machine behind a flexible output shaft needs a positive inertia [kg m^2]");
+}
+
 /// Adds the 2N meshes (sun-planet i at 2i, planet-ring i at 2i+1) with their
 /// roll vectors and nominal motion; geometry vectors come from assemble().
 void add_meshes(LumpedStructure& s, const StageLayout& l, int carrier_theta_dof) {
@@ -143,6 +191,7 @@ void assemble(LumpedStructure& s) {
     s.mass.noalias() += b.map.transpose() * md.asDiagonal() * b.map;
   }
   s.support_stiffness = Eigen::MatrixXd::Zero(n, n);
+  s.support_damping = Eigen::MatrixXd::Zero(n, n);
   for (const Spring& sp : s.springs) {
     Eigen::RowVectorXd d;
     if (sp.torsional) {
@@ -153,6 +202,7 @@ void assemble(LumpedStructure& s) {
       if (sp.body_b >= 0) d -= sp.direction.transpose() * point_map(s.bodies[sp.body_b], sp.point_m);
     }
     s.support_stiffness.noalias() += sp.stiffness * d.transpose() * d;
+    if (sp.damping != 0) s.support_damping.noalias() += sp.damping * d.transpose() * d;
   }
   for (MeshCoupling& m : s.meshes) {
     const Body& A = s.bodies[m.body_a];
@@ -169,11 +219,16 @@ void assemble(LumpedStructure& s) {
   }
 }
 
-LumpedStructure build_torsional(const StageLayout& l) {
+int rig_dofs(const RigLayout& rig) {
+  return (rig.input_shaft_N_m_rad > 0 ? 1 : 0) + (rig.output_shaft_N_m_rad > 0 && !rig.speed_controlled_load ? 1 : 0);
+}
+
+LumpedStructure build_torsional(const StageLayout& l, const RigLayout& rig) {
   check_layout(l);
+  check_rig(rig);
   const int N = static_cast<int>(l.planet_angles_rad.size());
   LumpedStructure s;
-  s.dofs = 2 + N;
+  s.dofs = 2 + N + rig_dofs(rig);
   s.dof_names = {"theta_sun", "theta_carrier"};
   for (int i = 0; i < N; ++i) s.dof_names.push_back("theta_planet_" + std::to_string(i));
   const int n = s.dofs;
@@ -196,20 +251,22 @@ LumpedStructure build_torsional(const StageLayout& l) {
     s.planet_bodies.push_back(static_cast<int>(s.bodies.size()));
     s.bodies.push_back(std::move(p));
   }
+  add_rig(s, rig, 2 + N);
   add_meshes(s, l, 1);
   assemble(s);
   set_nominal_motion(s, l);
   return s;
 }
 
-LumpedStructure build_lateral_torsional(const StageLayout& l, const Bearings& k) {
+LumpedStructure build_lateral_torsional(const StageLayout& l, const Bearings& k, const RigLayout& rig) {
   check_layout(l);
+  check_rig(rig);
   require(l.ring_inertia_kgm2 > 0 && l.ring_mass_kg > 0 && l.carrier_mass_kg > 0 && l.sun_mass_kg > 0 &&
               l.planet_mass_kg > 0,
           "stage", "the lateral-torsional model needs positive masses and inertias of all bodies");
   const int N = static_cast<int>(l.planet_angles_rad.size());
   LumpedStructure s;
-  s.dofs = 9 + 3 * N;
+  s.dofs = 9 + 3 * N + rig_dofs(rig);
   const int n = s.dofs;
   for (const char* b : {"sun", "ring", "carrier"})
     for (const char* c : {"x", "y", "theta"}) s.dof_names.push_back(std::string(c) + "_" + b);
@@ -277,6 +334,7 @@ LumpedStructure build_lateral_torsional(const StageLayout& l, const Bearings& k)
   ground_theta(s.sun_body, k.sun_torsional_N_m, l.sun_base_radius_m, "sun_torsional");
   ground_theta(s.ring_body, k.ring_torsional_N_m, l.ring_base_radius_m, "ring_torsional");
   ground_theta(s.carrier_body, k.carrier_torsional_N_m, l.carrier_radius_m, "carrier_torsional");
+  add_rig(s, rig, 9 + 3 * N);
   add_meshes(s, l, 8);
   assemble(s);
   set_nominal_motion(s, l);

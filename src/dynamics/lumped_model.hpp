@@ -82,6 +82,7 @@ struct Spring {
   Eigen::Vector2d direction{1, 0}; ///< for translational springs (unit)
   bool torsional = false;          ///< torsional: acts on dtheta_a - dtheta_b [N m/rad]
   double stiffness = 0;            ///< [N/m] or [N m/rad]
+  double damping = 0;              ///< viscous damper in parallel [N s/m] or [N m s/rad]
 };
 
 struct LumpedStructure {
@@ -92,7 +93,13 @@ struct LumpedStructure {
   std::vector<Spring> springs;
   Eigen::MatrixXd mass;              ///< assembled M
   Eigen::MatrixXd support_stiffness; ///< assembled bearing / support springs
+  Eigen::MatrixXd support_damping;   ///< assembled dampers of the springs (rig shafts)
   int sun_body = 0, carrier_body = 0, ring_body = 0;
+  /// Bodies the input and load torques act on: the motor and load machine when they sit
+  /// behind flexible shafts (RigLayout), else the sun and carrier themselves.
+  int input_body = 0, output_body = 0;
+  /// False when a shaft ties the stage to a speed-controlled machine: no free rotation.
+  bool has_rigid_mode = true;
   std::vector<int> planet_bodies;
 };
 
@@ -121,6 +128,20 @@ struct StageLayout {
   double sun_speed_rel_rad_s = 0, ring_speed_rel_rad_s = 0;
 };
 
+/// The test rig's shafts and machines in lumped form (model::RigSettings,
+/// docs/derivation.md §3.6). A shaft of stiffness 0 is absent (its machine's
+/// inertia is then part of StageLayout's sun or carrier inertia).
+///   motor   theta_m  --k_in, c_in-- sun       input torque on the motor
+///   carrier          --k_out, c_out-- load    load torque on the load machine (theta_L), or
+///   carrier          --k_out, c_out-- ground  the far end at the nominal speed (ideal speed control)
+struct RigLayout {
+  double motor_inertia_kgm2 = 0;     ///< used when input_shaft_N_m_rad > 0 [kg m^2]
+  double input_shaft_N_m_rad = 0, input_shaft_N_m_s_rad = 0;
+  double load_inertia_kgm2 = 0;      ///< used when output_shaft_N_m_rad > 0 and not speed_controlled_load [kg m^2]
+  double output_shaft_N_m_rad = 0, output_shaft_N_m_s_rad = 0;
+  bool speed_controlled_load = false;
+};
+
 /// Bearing supports of the lateral-torsional model (Lin & Parker 1999).
 struct Bearings {
   double sun_N_m = 0, ring_N_m = 0, carrier_N_m = 0, planet_N_m = 0;
@@ -131,11 +152,16 @@ struct Bearings {
 
 /// Purely torsional model (seed Eq. 1 re-derived): q = (theta_s, theta_c,
 /// theta_p1..N) [rad]; ring fixed; planet pins rigid on the carrier.
-LumpedStructure build_torsional(const StageLayout& layout);
+LumpedStructure build_torsional(const StageLayout& layout, const RigLayout& rig = {});
 
 /// Lateral-torsional model (Lin & Parker 1999): q = (x, y, theta) of sun,
 /// ring, carrier, then per planet (zeta, eta, theta) with zeta radial and eta
 /// tangential translations in the planet's own carrier-fixed frame.
-LumpedStructure build_lateral_torsional(const StageLayout& layout, const Bearings& bearings);
+LumpedStructure build_lateral_torsional(const StageLayout& layout, const Bearings& bearings,
+                                        const RigLayout& rig = {});
+
+/// Coordinates the rig adds to the stage's: one per machine behind a flexible shaft
+/// (theta_motor, theta_load, appended after the stage's coordinates).
+int rig_dofs(const RigLayout& rig);
 
 } // namespace pw::dynamics

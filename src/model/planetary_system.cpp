@@ -58,6 +58,9 @@ PlanetaryDynamics::PlanetaryDynamics(const SimulationConfig& cfg, dynamics::Lump
   sun_ecc_phase_ = cfg.imperfections.sun_eccentricity_phase_rad;
   sun_row_ = structure_.bodies[structure_.sun_body].map.row(2);
   carrier_row_ = structure_.bodies[structure_.carrier_body].map.row(2);
+  input_row_ = structure_.bodies[structure_.input_body].map.row(2);
+  output_row_ = structure_.bodies[structure_.output_body].map.row(2);
+  constant_power_ = cfg.rig.input_control == InputControl::Power;
   q_roll_.setZero(structure_.dofs);
   // Ideal (loss-free) matching load torque; simulate() refines it so that the
   // stage holds its nominal speed in the presence of friction losses.
@@ -93,12 +96,16 @@ PlanetaryDynamics::PlanetaryDynamics(const SimulationConfig& cfg, dynamics::Lump
   for (const dynamics::MeshCoupling& mc : structure_.meshes) sparse_.push_back(dynamics::sparse_coupling(mc));
   pair_geometry_.assign(static_cast<std::size_t>(nm), {});
   imposed_.assign(static_cast<std::size_t>(nm), 0.0);
-  sun_row_nz_ = nonzeros(sun_row_);
-  carrier_row_nz_ = nonzeros(carrier_row_);
+  input_row_nz_ = nonzeros(input_row_);
+  output_row_nz_ = nonzeros(output_row_);
   const Eigen::MatrixXd& S = structure_.support_stiffness;
   for (Eigen::Index j = 0; j < S.cols(); ++j)
     for (Eigen::Index i = 0; i < S.rows(); ++i)
       if (S(i, j) != 0) support_nz_.push_back({static_cast<int>(i), static_cast<int>(j), S(i, j)});
+  const Eigen::MatrixXd& D = structure_.support_damping;
+  for (Eigen::Index j = 0; j < D.cols(); ++j)
+    for (Eigen::Index i = 0; i < D.rows(); ++i)
+      if (D(i, j) != 0) damping_nz_.push_back({static_cast<int>(i), static_cast<int>(j), D(i, j)});
 }
 
 void PlanetaryDynamics::set_engagement_smoothing(double dt_s) {
@@ -116,9 +123,9 @@ const FlankSet& PlanetaryDynamics::flank_b(int m) const {
 }
 
 double PlanetaryDynamics::input_torque_Nm(double t, const Eigen::VectorXd& q, const Eigen::VectorXd& v) const {
-  const double w_s = sun_speed_ + sun_row_.dot(v);
-  const double th_s = sun_speed_ * t + sun_row_.dot(q);
-  return power_ / w_s * (1.0 + ripple_ * std::sin(ripple_order_ * th_s));
+  const double w_in = sun_speed_ + input_row_.dot(v);
+  const double th_in = sun_speed_ * t + input_row_.dot(q);
+  return power_ / (constant_power_ ? w_in : sun_speed_) * (1.0 + ripple_ * std::sin(ripple_order_ * th_in));
 }
 
 double PlanetaryDynamics::imposed_deflection(int m, double t) const {
@@ -269,23 +276,28 @@ void PlanetaryDynamics::force(double t, const Eigen::VectorXd& q, const Eigen::V
   // Support springs: g = -S q over S's non-zeros.
   g.setZero();
   for (const SupportEntry& e : support_nz_) g(e.row) -= e.k * q(e.col);
+  for (const SupportEntry& e : damping_nz_) g(e.row) -= e.k * v(e.col);
   if (tangents) {
     *K = structure_.support_stiffness;
-    C->setZero();
+    if (damping_nz_.empty())
+      C->setZero();
+    else
+      *C = structure_.support_damping;
   }
 
-  // Input: constant power P at the actual sun speed, with optional ripple;
-  // dT/dw = -T/w enters C (it damps the rigid-body mode).
+  // Input (on the sun, or on the motor behind the input shaft): constant power P
+  // at the actual speed, with optional ripple; dT/dw = -T/w enters C (it damps the
+  // rigid-body mode). A torque-controlled motor gives P/Omega_s, no speed feedback.
   double w_rel = 0;
-  for (int i : sun_row_nz_) w_rel += sun_row_(i) * v(i);
-  const double w_s = sun_speed_ + w_rel;
-  double T_s = power_ / w_s;
-  if (ripple_ != 0) T_s *= 1.0 + ripple_ * std::sin(ripple_order_ * (sun_speed_ * t + sun_row_.dot(q)));
-  for (int i : sun_row_nz_) g(i) += T_s * sun_row_(i);
-  for (int i : carrier_row_nz_) g(i) -= load_torque_ * carrier_row_(i);
-  if (tangents)
-    for (int b : sun_row_nz_)
-      for (int a : sun_row_nz_) (*C)(a, b) += ((T_s / w_s) * sun_row_(a)) * sun_row_(b);
+  for (int i : input_row_nz_) w_rel += input_row_(i) * v(i);
+  const double w_in = sun_speed_ + w_rel;
+  double T_s = power_ / (constant_power_ ? w_in : sun_speed_);
+  if (ripple_ != 0) T_s *= 1.0 + ripple_ * std::sin(ripple_order_ * (sun_speed_ * t + input_row_.dot(q)));
+  for (int i : input_row_nz_) g(i) += T_s * input_row_(i);
+  for (int i : output_row_nz_) g(i) -= load_torque_ * output_row_(i);
+  if (tangents && constant_power_)
+    for (int b : input_row_nz_)
+      for (int a : input_row_nz_) (*C)(a, b) += ((T_s / w_in) * input_row_(a)) * input_row_(b);
 
   // The contact geometry (pairs, stiffnesses, deviations) is fixed by the
   // lagged roll reference: evaluated once per step, reused by Newton.

@@ -95,7 +95,8 @@ public:
   }
   const ToothSurfaces& surfaces() const { return surfaces_; }
 
-  /// Load torque on the carrier [N m], acting against the carrier's rotation.
+  /// Load torque [N m] on the carrier (or the load machine behind a flexible output shaft),
+  /// acting against the rotation; under speed control the feed-forward part of the shaft torque.
   double load_torque_Nm() const { return load_torque_; }
   void set_load_torque_Nm(double t) { load_torque_ = t; }
   /// Input torque on the sun [N m]: P / w_s (1 + r sin(order theta_s)), with
@@ -117,6 +118,10 @@ public:
   /// Absolute sun angle perturbation row: theta_s = Omega_s t + row . q.
   const Eigen::RowVectorXd& sun_theta_row() const { return sun_row_; }
   const Eigen::RowVectorXd& carrier_theta_row() const { return carrier_row_; }
+  /// Rows of the bodies the input and load torques act on (the motor and load machine
+  /// behind flexible shafts, else the sun and carrier): theta = Omega t + row . q.
+  const Eigen::RowVectorXd& input_theta_row() const { return input_row_; }
+  const Eigen::RowVectorXd& output_theta_row() const { return output_row_; }
 
 private:
   /// What the step's contact geometry fixes for one tooth pair: with the roll
@@ -145,22 +150,24 @@ private:
   std::vector<geometry::ContactPair> pairs_;  // work array, capacity reserved
   std::vector<double> damping_, backlash_, mesh_error_, static_offset_;
   std::vector<Eigen::Vector2d> normals_;
-  Eigen::RowVectorXd sun_row_, carrier_row_;
+  Eigen::RowVectorXd sun_row_, carrier_row_, input_row_, output_row_;
   Eigen::VectorXd q_roll_;          // state that fixes the roll distances
   std::vector<double> engage_half_width_m_;  // per mesh: half the roll per smoothing step [m]
   std::vector<dynamics::SparseCoupling> sparse_;  // per mesh: g, h0, h1, roll on the coordinates it touches
   std::vector<std::array<PairGeometry, MeshState::kMaxPairs>> pair_geometry_;  // per mesh, this step's pairs
   std::vector<double> imposed_;                // per mesh: imposed deflection at the step's time [m]
-  std::vector<int> sun_row_nz_, carrier_row_nz_;  // coordinates of the non-zeros of sun_row_, carrier_row_
+  std::vector<int> input_row_nz_, output_row_nz_;  // coordinates of the non-zeros of input_row_, output_row_
   struct SupportEntry {
     int row, col;
     double k;
   };
   std::vector<SupportEntry> support_nz_;       // non-zeros of the support stiffness, column by column
+  std::vector<SupportEntry> damping_nz_;       // non-zeros of the support damping (rig shafts)
   long contact_epoch_ = 0, geometry_epoch_ = -1;  // geometry_epoch_ == contact_epoch_: geometry valid at geometry_t_
   double geometry_t_ = 0;
   double power_ = 0, sun_speed_ = 0, carrier_speed_ = 0, sun_speed_rel_ = 0;
   double load_torque_ = 0;
+  bool constant_power_ = true;  // rig.input_control: power (P / w) or torque (P / Omega_s)
   double mu_ = 0, v_eps_ = 1;
   double ripple_ = 0, ripple_order_ = 1;
   double sun_ecc_ = 0, sun_ecc_phase_ = 0;

@@ -69,4 +69,36 @@ std::vector<double> housing_acceleration_history(const SensorSettings& s, std::s
   return out;
 }
 
+EncoderFilter::EncoderFilter(double bandwidth_Hz, int order, double dt_s) {
+  if (order != 1 && order != 2) throw std::invalid_argument("encoder filter order must be 1 or 2");
+  if (!(bandwidth_Hz >= 0) || !(dt_s > 0)) throw std::invalid_argument("encoder filter: bandwidth >= 0, dt > 0");
+  if (bandwidth_Hz == 0 || bandwidth_Hz * dt_s >= 0.5) return;  // ideal, or beyond Nyquist
+  identity_ = false;
+  const double K = std::tan(kPi * bandwidth_Hz * dt_s);
+  if (order == 1) {
+    const double n = 1.0 / (1.0 + K);
+    b0_ = b1_ = K * n;
+    a1_ = (K - 1.0) * n;
+    sigma_1_s_ = kTwoPi * bandwidth_Hz;
+  } else {
+    const double r2 = std::numbers::sqrt2;
+    const double n = 1.0 / (1.0 + r2 * K + K * K);
+    b0_ = b2_ = K * K * n;
+    b1_ = 2 * b0_;
+    a1_ = 2.0 * (K * K - 1.0) * n;
+    a2_ = (1.0 - r2 * K + K * K) * n;
+    sigma_1_s_ = kTwoPi * bandwidth_Hz / r2;
+  }
+}
+
+void EncoderFilter::reset(double x) {
+  z2_ = (b2_ - a2_) * x;
+  z1_ = (b1_ - a1_) * x + z2_;
+}
+
+double EncoderFilter::settling_time_s(double fraction) const {
+  if (identity_) return 0.0;
+  return -std::log(fraction) / sigma_1_s_;
+}
+
 } // namespace pw::model

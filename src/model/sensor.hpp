@@ -55,4 +55,41 @@ std::vector<double> housing_acceleration_history(const SensorSettings& sensor,
                                                  std::span<const double> carrier_angle_rad,
                                                  const std::vector<std::span<const double>>& ring_force_N);
 
+/// A speed encoder's bandwidth (SensorSettings::encoder_bandwidth_Hz): a Butterworth
+/// low-pass of order 1 or 2, cutoff f_c (-3 dB), discretized at the time step dt by the
+/// bilinear transform with the cutoff prewarped, K = tan(pi f_c dt), so that the gain at f_c
+/// is exactly 1/sqrt(2) (Oppenheim & Schafer, Discrete-Time Signal Processing, §7.1):
+///   order 1: H(z) = K (1 + z^-1) / ((1 + K) + (K - 1) z^-1)
+///   order 2: H(z) = K^2 (1 + z^-1)^2 / ((1 + sqrt2 K + K^2) + 2 (K^2 - 1) z^-1 + (1 - sqrt2 K + K^2) z^-2)
+/// Unit gain at DC. A cutoff at or above the Nyquist frequency 1/(2 dt) cannot be
+/// represented and is what the simulation cannot resolve anyway: the filter is then the
+/// identity (passes() == true). Direct form II transposed; one step is 5 multiplications.
+class EncoderFilter {
+public:
+  /// bandwidth_Hz = 0: identity. Throws std::invalid_argument for order outside {1, 2},
+  /// a negative bandwidth or a non-positive dt.
+  EncoderFilter(double bandwidth_Hz, int order, double dt_s);
+  /// True when the filter passes its input unchanged.
+  bool passes() const { return identity_; }
+  /// Sets the state to the steady state of a constant input x (the output is x).
+  void reset(double x);
+  /// Filters one sample.
+  double step(double x) {
+    if (identity_) return x;
+    const double y = b0_ * x + z1_;
+    z1_ = b1_ * x - a1_ * y + z2_;
+    z2_ = b2_ * x - a2_ * y;
+    return y;
+  }
+  /// Time after which a transient has decayed below `fraction` of its start [s]: the slowest
+  /// pole's envelope exp(-sigma t), sigma = 2 pi f_c (order 1) or 2 pi f_c / sqrt2 (order 2).
+  double settling_time_s(double fraction) const;
+
+private:
+  bool identity_ = true;
+  double sigma_1_s_ = 0;
+  double b0_ = 1, b1_ = 0, b2_ = 0, a1_ = 0, a2_ = 0;
+  double z1_ = 0, z2_ = 0;
+};
+
 } // namespace pw::model

@@ -112,13 +112,14 @@ MassProperties mass_properties(const SimulationConfig& c, const geometry::StageG
     inertia = 0.5 * mass * (ro * ro + ri * ri);
   };
   disc(st.sun, g.sun, m.sun_mass_kg, m.sun_inertia_kgm2);
-  m.sun_inertia_kgm2 += st.input_inertia_kgm2;  // rigidly coupled input shaft
+  // A rigid input shaft adds the motor to the sun; a flexible one puts it on its own coordinate.
+  if (c.rig.input_shaft_stiffness_N_m_rad == 0) m.sun_inertia_kgm2 += st.input_inertia_kgm2;
   disc(st.planet, g.planet, m.planet_mass_kg, m.planet_inertia_kgm2);
   const double Rc = 1.2 * g.carrier_radius_m;
   m.carrier_mass_kg = st.carrier_mass_kg > 0 ? st.carrier_mass_kg
                                              : annulus_mass(st.sun.material.density_kg_m3, Rc, 0.0, 2 * 0.010);
   m.carrier_inertia_kgm2 = st.carrier_inertia_kgm2 > 0 ? st.carrier_inertia_kgm2 : 0.5 * m.carrier_mass_kg * Rc * Rc;
-  m.carrier_inertia_kgm2 += st.output_inertia_kgm2;  // rigidly coupled output shaft
+  if (c.rig.output_shaft_stiffness_N_m_rad == 0) m.carrier_inertia_kgm2 += st.output_inertia_kgm2;  // rigid output shaft
   const double ri = g.ring.root_radius_m, ro = ri + 3 * st.ring.module_m;
   m.ring_mass_kg = annulus_mass(st.ring.material.density_kg_m3, ro, ri, st.ring.face_width_m);
   m.ring_inertia_kgm2 = 0.5 * m.ring_mass_kg * (ro * ro + ri * ri);
@@ -158,9 +159,17 @@ PreparedStage prepare(const SimulationConfig& c) {
   l.ring_inertia_kgm2 = m.ring_inertia_kgm2;
   l.sun_speed_rel_rad_s = p.sun_speed_rad_s - p.carrier_speed_rad_s;
   l.ring_speed_rel_rad_s = -p.carrier_speed_rad_s;
+  dynamics::RigLayout rig;
+  rig.motor_inertia_kgm2 = c.stage.input_inertia_kgm2;
+  rig.input_shaft_N_m_rad = c.rig.input_shaft_stiffness_N_m_rad;
+  rig.input_shaft_N_m_s_rad = c.rig.input_shaft_damping_N_m_s_rad;
+  rig.load_inertia_kgm2 = c.stage.output_inertia_kgm2;
+  rig.output_shaft_N_m_rad = c.rig.output_shaft_stiffness_N_m_rad;
+  rig.output_shaft_N_m_s_rad = c.rig.output_shaft_damping_N_m_s_rad;
+  rig.speed_controlled_load = c.rig.load_control == LoadControl::Speed;
   dynamics::LumpedStructure structure;
   if (c.solver.level == ModelLevel::Torsional) {
-    structure = dynamics::build_torsional(l);
+    structure = dynamics::build_torsional(l, rig);
   } else {
     dynamics::Bearings b;
     b.sun_N_m = c.bearings.sun_N_m;
@@ -168,7 +177,7 @@ PreparedStage prepare(const SimulationConfig& c) {
     b.ring_N_m = c.bearings.ring_N_m;
     b.planet_N_m = c.bearings.planet_N_m;
     b.ring_torsional_N_m = c.bearings.ring_torsional_N_m;
-    structure = dynamics::build_lateral_torsional(l, b);
+    structure = dynamics::build_lateral_torsional(l, b, rig);
   }
 
   // Natural frequencies at the time-averaged mesh stiffness.
@@ -178,7 +187,7 @@ PreparedStage prepare(const SimulationConfig& c) {
   const Eigen::MatrixXd K = structure.support_stiffness + dynamics::mesh_stiffness_matrix(structure, kbar);
   const dynamics::ModalResult modal = dynamics::natural_frequencies(structure.mass, K);
   p.natural_frequencies_Hz = modal.frequencies_Hz;
-  {
+  if (structure.has_rigid_mode) {
     // Mode 0 is the rigid rotation (sun and carrier free, ring held).
     const Eigen::RowVectorXd sun_row = structure.bodies[structure.sun_body].map.row(2);
     p.rigid_mode = modal.modes.col(0) / sun_row.dot(modal.modes.col(0));
@@ -314,8 +323,8 @@ void start_static(Run& r) {
   for (std::size_t m = 0; m < S.meshes.size(); ++m) kbar.push_back(sys.family(static_cast<int>(m)).mean_stiffness_N_m);
   Eigen::MatrixXd K = S.support_stiffness + dynamics::mesh_stiffness_matrix(S, kbar);
   K += 1e-9 * K.diagonal().maxCoeff() / S.mass.diagonal().maxCoeff() * S.mass;
-  const Eigen::VectorXd f = sys.nominal_input_torque_Nm() * sys.sun_theta_row().transpose() -
-                            sys.load_torque_Nm() * sys.carrier_theta_row().transpose();
+  const Eigen::VectorXd f = sys.nominal_input_torque_Nm() * sys.input_theta_row().transpose() -
+                            sys.load_torque_Nm() * sys.output_theta_row().transpose();
   r.st.t = 0;
   r.st.v = Eigen::VectorXd::Zero(S.dofs);
   r.st.q = K.ldlt().solve(f);
@@ -354,9 +363,12 @@ WarmupStats warm_up(Run& r, const ProgressFn& report, double f0, double f1) {
   // mesh periods, or, with tooth-level features, over the longer of one sun
   // and one planet revolution relative to the carrier (z mesh periods), so
   // that a damaged tooth or a ripple does not bias them.
+  // Under ideal speed control (rig.load_control = speed) there is no rigid mode: the
+  // load machine holds the speed, and only the periodicity is waited for.
+  const bool speed_held_by_rig = !sys.structure().has_rigid_mode;
   const Eigen::VectorXd& rig = p.rigid_mode;
-  const double I_eq = rig.dot(sys.mass() * rig);
-  const double k_r = sys.carrier_theta_row().dot(rig);
+  const double I_eq = speed_held_by_rig ? 0.0 : rig.dot(sys.mass() * rig);
+  const double k_r = speed_held_by_rig ? 1.0 : sys.output_theta_row().dot(rig);
   const int window = periodic_per_mesh ? 1 : std::max(c.stage.sun.teeth, c.stage.planet.teeth);
   // Torque ripple modulates the speed at k f_s, not a multiple of the mesh
   // period: average over whole ripple periods (the trend term then comes from
@@ -403,8 +415,10 @@ WarmupStats warm_up(Run& r, const ProgressFn& report, double f0, double f1) {
     // excess <1/w> - 1/<w> stays), and the load torque that cancels the net
     // torque there follows in one step:
     //   T_L' = T_L + (T_s (mean(w)/Omega - 1) + I_eq a) / k_r.
-    sys.set_load_torque_Nm(sys.load_torque_Nm() + (mean_Ts * (mean_ws / Omega - 1.0) + I_eq * mean_as) / k_r);
-    r.st.v += (Omega - last_ws) * rig;
+    if (!speed_held_by_rig) {
+      sys.set_load_torque_Nm(sys.load_torque_Nm() + (mean_Ts * (mean_ws / Omega - 1.0) + I_eq * mean_as) / k_r);
+      r.st.v += (Omega - last_ws) * rig;
+    }
     double dmax = 0, dchange = 0;
     for (int m = 0; m < nm; ++m) {
       const double d = sys.mesh_states()[m].deflection_m;
@@ -433,6 +447,8 @@ WarmupStats warm_up(Run& r, const ProgressFn& report, double f0, double f1) {
 /// whether or not the force channels are stored.
 struct RecordStats {
   std::vector<double> mean_sun_planet_force_N;  ///< per planet [N]
+  double mean_carrier_angle_rad = 0;   ///< mean carrier angle perturbation [rad]
+  double mean_carrier_speed_rad_s = 0; ///< mean carrier speed perturbation [rad/s]
 };
 
 /// One output channel of the recording: its name, unit and description, and
@@ -459,8 +475,8 @@ std::vector<RecordChannel> record_channels(const dynamics::LumpedStructure& S, i
     add(b + "pairs_in_contact", "1", "number of tooth pairs in mesh (engagement weight >= 1/2)");
     add(b + "friction_force", "N", "sum of signed tooth friction forces (A's sliding direction on B)");
   }
-  add("sun/speed", "rad/s", "absolute sun speed");
-  add("carrier/speed", "rad/s", "absolute carrier speed");
+  add("sun/speed", "rad/s", "absolute sun speed, as the encoder measures it (sensor.encoder_bandwidth_Hz)");
+  add("carrier/speed", "rad/s", "absolute carrier speed, as the encoder measures it (sensor.encoder_bandwidth_Hz)");
   add("transmission_error", "m",
       "r_bs (theta_s - theta_c (Zs+Zr)/Zs), angular transmission error of the stage at the sun's base circle");
   add("sun/input_torque", "N m", "input torque on the sun");
@@ -516,13 +532,36 @@ RecordStats record(Run& r, int cycles, SimulationResult& out, const OutputSelect
   };
   const double ratio = (r.c.stage.sun.teeth + r.c.stage.ring.teeth) / static_cast<double>(r.c.stage.sun.teeth);
   const double rbs = p.geometry.sun.base_radius_m;
-  const double t0 = r.st.t;
   RecordStats stats;
   stats.mean_sun_planet_force_N.assign(static_cast<std::size_t>(N), 0.0);
+  // Speed encoders with a finite bandwidth: the filters see every step, stored or not.
+  const SensorSettings& sn = r.c.sensor;
+  EncoderFilter sun_encoder(sn.encoder_bandwidth_Hz, sn.encoder_filter_order, p.time_step_s);
+  EncoderFilter carrier_encoder(sn.encoder_bandwidth_Hz, sn.encoder_filter_order, p.time_step_s);
+  auto sun_speed = [&] { return p.sun_speed_rad_s + sys.sun_theta_row().dot(r.st.v); };
+  auto carrier_speed = [&] { return p.carrier_speed_rad_s + sys.carrier_theta_row().dot(r.st.v); };
+  sun_encoder.reset(sun_speed());
+  carrier_encoder.reset(carrier_speed());
+  if (!sun_encoder.passes()) {
+    // Whole mesh periods before the record, so that the filters' start transient has
+    // decayed below 1e-12 of its size (and the record still starts on a mesh period).
+    constexpr double kSettled = 1e-12;
+    const double settle = sun_encoder.settling_time_s(kSettled);
+    const long pre = spm * static_cast<long>(std::ceil(settle / (spm * p.time_step_s)));
+    for (long k = 0; k < pre; ++k) {
+      r.step();
+      sun_encoder.step(sun_speed());
+      carrier_encoder.step(carrier_speed());
+    }
+  }
+  const double t0 = r.st.t;
   for (int k = 0; k < nrec; ++k) {
     r.step();
+    const double w_sun = sun_encoder.step(sun_speed()), w_carrier = carrier_encoder.step(carrier_speed());
     const auto& ms = sys.mesh_states();
     for (int i = 0; i < N; ++i) stats.mean_sun_planet_force_N[i] += ms[2 * i].force_N / static_cast<double>(nrec);
+    stats.mean_carrier_angle_rad += sys.carrier_theta_row().dot(r.st.q) / static_cast<double>(nrec);
+    stats.mean_carrier_speed_rad_s += sys.carrier_theta_row().dot(r.st.v) / static_cast<double>(nrec);
     if (report && k % spm == 0) report(f0 + (f1 - f0) * k / nrec, "recording");
     if (k % dec != 0) continue;
     const int j = k / dec;
@@ -538,8 +577,8 @@ RecordStats record(Run& r, int cycles, SimulationResult& out, const OutputSelect
       put(c6 + 5, j, ms[m].friction_N);
       if (m % 2 == 0) fsum += ms[m].force_N;
     }
-    put(g0, j, p.sun_speed_rad_s + sys.sun_theta_row().dot(r.st.v));
-    put(g0 + 1, j, p.carrier_speed_rad_s + sys.carrier_theta_row().dot(r.st.v));
+    put(g0, j, w_sun);
+    put(g0 + 1, j, w_carrier);
     if (ch[g0 + 2].samples)
       put(g0 + 2, j, rbs * (sys.sun_theta_row().dot(r.st.q) - ratio * sys.carrier_theta_row().dot(r.st.q)));
     if (ch[g0 + 3].samples) put(g0 + 3, j, sys.input_torque_Nm(r.st.t, r.st.q, r.st.v));
@@ -709,7 +748,7 @@ WearHistory run_wear(Run& r, const ProgressFn& report, double f0, double f1) {
     // Friction losses change as the profiles wear: keep the load torque at
     // the value that holds the nominal speed (as in the warm-up), so that
     // windows and snapshots stay at the recording's operating point.
-    if (window > booked)
+    if (window > booked && sys.structure().has_rigid_mode)
       sys.set_load_torque_Nm(sys.load_torque_Nm() *
                              (1.0 + mean_ws / ((window - booked) * spm) / r.p.sun_speed_rad_s));
     double max_rate = 0;
@@ -839,9 +878,16 @@ SimulationResult simulate(const SimulationConfig& c, const ProgressFn& progress,
   scalar("sun_speed", "rad/s", "nominal absolute sun speed", p.sun_speed_rad_s);
   scalar("carrier_speed", "rad/s", "nominal carrier speed", p.carrier_speed_rad_s);
   scalar("input_torque", "N m", "mean input torque P / Omega_s", sys.nominal_input_torque_Nm());
-  scalar("load_torque", "N m", "carrier load torque that holds the nominal speed", sys.load_torque_Nm());
+  // Under speed control the load machine's torque is the feed-forward plus the mean shaft
+  // torque k theta_c + c w_c (the shaft twist that takes up the friction losses).
+  const double load_torque =
+      c.rig.load_control == LoadControl::Speed
+          ? sys.load_torque_Nm() + c.rig.output_shaft_stiffness_N_m_rad * rec.mean_carrier_angle_rad +
+                c.rig.output_shaft_damping_N_m_s_rad * rec.mean_carrier_speed_rad_s
+          : sys.load_torque_Nm();
+  scalar("load_torque", "N m", "mean load torque on the carrier at the nominal speed", load_torque);
   scalar("efficiency", "1", "T_load Omega_c / P: mesh efficiency of the stage (friction losses)",
-         sys.load_torque_Nm() * p.carrier_speed_rad_s / c.operating.input_power_W);
+         load_torque * p.carrier_speed_rad_s / c.operating.input_power_W);
   scalar("warmup_mesh_cycles", "1", "mesh periods integrated before recording", warm.cycles);
   scalar("periodicity_residual", "1", "relative change of mesh deflections over the last warm-up mesh period",
          warm.residual);

@@ -192,6 +192,42 @@ void validate_sensor(const SensorSettings& s) {
   // Above ~1.25 rad the Hann window (half-width sqrt(2 pi) sigma) would
   // overlap itself around the ring, and a Gaussian no longer localizes.
   check(s.window_width_rad, "sensor.window_width_rad", 0, kMaxSensorWindowWidth, Ends::OpenLow, "rad");
+  check(s.encoder_bandwidth_Hz, "sensor.encoder_bandwidth_Hz", 0, kInf, Ends::OpenHigh, "Hz; 0 = ideal encoder");
+  check_int(s.encoder_filter_order, "sensor.encoder_filter_order", 1, 2);
+}
+
+void validate_rig(const RigSettings& r, const StageSpec& st) {
+  require(r.input_control == InputControl::Power || r.input_control == InputControl::Torque, "rig.input_control",
+          "must be \"power\" or \"torque\"");
+  require(r.load_control == LoadControl::Torque || r.load_control == LoadControl::Speed, "rig.load_control",
+          "must be \"torque\" or \"speed\"");
+  check(r.input_shaft_stiffness_N_m_rad, "rig.input_shaft_stiffness_N_m_rad", 0, kInf, Ends::OpenHigh,
+        "N m/rad; 0 = rigid");
+  check(r.input_shaft_damping_N_m_s_rad, "rig.input_shaft_damping_N_m_s_rad", 0, kInf, Ends::OpenHigh, "N m s/rad");
+  check(r.output_shaft_stiffness_N_m_rad, "rig.output_shaft_stiffness_N_m_rad", 0, kInf, Ends::OpenHigh,
+        "N m/rad; 0 = rigid");
+  check(r.output_shaft_damping_N_m_s_rad, "rig.output_shaft_damping_N_m_s_rad", 0, kInf, Ends::OpenHigh,
+        "N m s/rad");
+  // A shaft needs a body at its far end: a massless motor behind a spring would
+  // leave the spring's far end undetermined.
+  require(r.input_shaft_stiffness_N_m_rad == 0 || st.input_inertia_kgm2 > 0, "rig.input_shaft_stiffness_N_m_rad",
+          "= ", r.input_shaft_stiffness_N_m_rad, " N m/rad puts the motor behind a shaft, so the motor needs an "
+          "inertia: set stage.input_inertia_kgm2 > 0, or the shaft stiffness to 0 (rigid)");
+  require(r.input_shaft_damping_N_m_s_rad == 0 || r.input_shaft_stiffness_N_m_rad > 0,
+          "rig.input_shaft_damping_N_m_s_rad", "needs a flexible input shaft (rig.input_shaft_stiffness_N_m_rad > 0)");
+  require(r.output_shaft_damping_N_m_s_rad == 0 || r.output_shaft_stiffness_N_m_rad > 0,
+          "rig.output_shaft_damping_N_m_s_rad",
+          "needs a flexible output shaft (rig.output_shaft_stiffness_N_m_rad > 0)");
+  if (r.load_control == LoadControl::Speed) {
+    require(r.output_shaft_stiffness_N_m_rad > 0, "rig.output_shaft_stiffness_N_m_rad",
+            "must be > 0 with rig.load_control = \"speed\" (an ideally speed-controlled machine rigidly attached "
+            "would hold the carrier still in the rotating frame)");
+  } else {
+    require(r.output_shaft_stiffness_N_m_rad == 0 || st.output_inertia_kgm2 > 0,
+            "rig.output_shaft_stiffness_N_m_rad", "= ", r.output_shaft_stiffness_N_m_rad,
+            " N m/rad puts the load machine behind a shaft, so it needs an inertia: set stage.output_inertia_kgm2 "
+            "> 0, or rig.load_control = \"speed\", or the shaft stiffness to 0 (rigid)");
+  }
 }
 
 void validate_bearings(const BearingSettings& b) {
@@ -263,6 +299,7 @@ void validate(const SimulationConfig& c) {
   validate_solver(c.solver, c);
   validate_wear(c.wear);
   validate_sensor(c.sensor);
+  validate_rig(c.rig, c.stage);
 }
 
 } // namespace pw::model

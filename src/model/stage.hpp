@@ -165,6 +165,38 @@ struct WearSettings {
   std::vector<double> snapshot_mesh_cycles{};
 };
 
+/// How the machine on the input shaft drives the sun.
+enum class InputControl {
+  Power,   ///< constant power P at the actual speed, T = P / w (today's model, the seed's constant input power)
+  Torque,  ///< constant torque P / Omega_s (a torque-controlled motor; no speed feedback)
+};
+
+/// How the machine on the output shaft loads the carrier.
+enum class LoadControl {
+  Torque,  ///< constant load torque, adjusted in the warm-up so that the stage holds its nominal mean speed
+  Speed,   ///< ideal speed control: the shaft's far end turns at exactly the nominal carrier speed (a dynamometer)
+};
+
+/// The test rig around the stage: the shafts to the input motor and to the
+/// load machine, and how each machine is controlled (docs/derivation.md §3.6).
+/// A shaft stiffness of 0 couples its machine's inertia rigidly to the sun or
+/// carrier (stage.input_inertia_kgm2 / output_inertia_kgm2), today's model; a
+/// positive stiffness puts the machine on its own torsional coordinate behind
+/// a shaft spring k and damper c. The defaults reproduce the seed's model.
+struct RigSettings {
+  InputControl input_control = InputControl::Power;
+  /// Input shaft between the motor (inertia stage.input_inertia_kgm2) and the sun [N m/rad]; 0 = rigid.
+  double input_shaft_stiffness_N_m_rad = 0.0;
+  double input_shaft_damping_N_m_s_rad = 0.0;  ///< [N m s/rad]
+  LoadControl load_control = LoadControl::Torque;
+  /// Output shaft between the carrier and the load machine [N m/rad]; 0 = rigid. Required > 0
+  /// with load_control = speed (an ideal speed control rigidly attached would lock the carrier).
+  /// Under ideal speed control the load machine's own inertia (stage.output_inertia_kgm2) has
+  /// no effect: its far end of the shaft turns at the set speed whatever its inertia.
+  double output_shaft_stiffness_N_m_rad = 0.0;
+  double output_shaft_damping_N_m_s_rad = 0.0;  ///< [N m s/rad]
+};
+
 /// Shape of the transfer-path window of a housing accelerometer.
 enum class SensorWindow {
   Gaussian,  ///< wrapped Gaussian, w(d) = sum_k exp(-(d + 2 pi k)^2 / (2 sigma^2)), sigma = window_width_rad
@@ -188,6 +220,12 @@ struct SensorSettings {
   /// window has the same area, half-width sqrt(2 pi) sigma).
   double window_width_rad = 0.5;
   SensorWindow window = SensorWindow::Gaussian;
+  /// Speed encoders (channels sun/speed and carrier/speed): -3 dB bandwidth of a Butterworth
+  /// low-pass [Hz] that the measured speed has passed through (a finite encoder line count,
+  /// the differentiation and smoothing filter of its counter); 0 = ideal (no filter). Applied to
+  /// the simulated speeds at every time step, before any decimation (model/sensor.hpp).
+  double encoder_bandwidth_Hz = 0.0;
+  int encoder_filter_order = 2;  ///< order of that Butterworth low-pass, 1 or 2 [-]
 };
 
 /// One complete simulation case.
@@ -201,6 +239,7 @@ struct SimulationConfig {
   SolverSettings solver{};
   WearSettings wear{};
   SensorSettings sensor{};
+  RigSettings rig{};
 };
 
 /// Range checks of everything above; throws pw::InputError naming the TOML key.

@@ -108,6 +108,15 @@ inline void expect_config_eq(const model::SimulationConfig& a, const model::Simu
   EXPECT_EQ(a.sensor.gain_m_s2_per_N, b.sensor.gain_m_s2_per_N);
   EXPECT_EQ(a.sensor.window_width_rad, b.sensor.window_width_rad);
   EXPECT_EQ(a.sensor.window, b.sensor.window);
+  EXPECT_EQ(a.sensor.encoder_bandwidth_Hz, b.sensor.encoder_bandwidth_Hz);
+  EXPECT_EQ(a.sensor.encoder_filter_order, b.sensor.encoder_filter_order);
+
+  EXPECT_EQ(a.rig.input_control, b.rig.input_control);
+  EXPECT_EQ(a.rig.input_shaft_stiffness_N_m_rad, b.rig.input_shaft_stiffness_N_m_rad);
+  EXPECT_EQ(a.rig.input_shaft_damping_N_m_s_rad, b.rig.input_shaft_damping_N_m_s_rad);
+  EXPECT_EQ(a.rig.load_control, b.rig.load_control);
+  EXPECT_EQ(a.rig.output_shaft_stiffness_N_m_rad, b.rig.output_shaft_stiffness_N_m_rad);
+  EXPECT_EQ(a.rig.output_shaft_damping_N_m_s_rad, b.rig.output_shaft_damping_N_m_s_rad);
 }
 
 /// Valid, and every field differs from its default (doubles chosen to need all
@@ -193,6 +202,15 @@ inline model::SimulationConfig nondefault_config() {
   c.sensor.gain_m_s2_per_N = 2e-3 / 3;
   c.sensor.window_width_rad = 0.1 + 0.2;
   c.sensor.window = model::SensorWindow::Hann;
+  c.sensor.encoder_bandwidth_Hz = 1000.0 / 3;
+  c.sensor.encoder_filter_order = 1;
+
+  c.rig.input_control = model::InputControl::Torque;
+  c.rig.input_shaft_stiffness_N_m_rad = 2e5 / 3;
+  c.rig.input_shaft_damping_N_m_s_rad = 0.1 + 15;
+  c.rig.load_control = model::LoadControl::Speed;
+  c.rig.output_shaft_stiffness_N_m_rad = 1e6 / 3;
+  c.rig.output_shaft_damping_N_m_s_rad = 60.0 / 7;
   return c;
 }
 

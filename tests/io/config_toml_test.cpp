@@ -103,12 +103,13 @@ TEST(ConfigToml, ConfigStructsHaveNoFieldsUnknownToTheSchema) {
     EXPECT_EQ(sizeof(model::BearingSettings), 40u);
     EXPECT_EQ(sizeof(model::SolverSettings), 72u);
     EXPECT_EQ(sizeof(model::WearSettings), 80u);
-    EXPECT_EQ(sizeof(model::SensorSettings), 32u);
+    EXPECT_EQ(sizeof(model::SensorSettings), 48u);
+    EXPECT_EQ(sizeof(model::RigSettings), 48u);
     EXPECT_EQ(sizeof(model::SimulationConfig), sizeof(model::StageSpec) + sizeof(model::OperatingPoint) +
                                                    sizeof(model::StiffnessSettings) + sizeof(model::ContactSettings) +
                                                    sizeof(model::Imperfections) + sizeof(model::BearingSettings) +
                                                    sizeof(model::SolverSettings) + sizeof(model::WearSettings) +
-                                                   sizeof(model::SensorSettings))
+                                                   sizeof(model::SensorSettings) + sizeof(model::RigSettings))
         << "a new section in SimulationConfig";
   } else {
     GTEST_SKIP() << "sizes recorded for LP64 only";

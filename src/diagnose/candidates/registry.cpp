@@ -36,6 +36,7 @@ const std::vector<std::unique_ptr<Candidate>>& candidate_library() {
     t.push_back(candidates::friction());
     t.push_back(candidates::backlash());
     t.push_back(candidates::sensor_transfer_path());
+    t.push_back(candidates::encoder_bandwidth());
     return t;
   }();
   return table;

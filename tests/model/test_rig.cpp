@@ -1,0 +1,244 @@
+// The test rig around the stage (model::RigSettings, docs/derivation.md §3.6):
+// shafts to the input motor and the load machine, ideal speed control, and the
+// speed encoders' bandwidth (model::EncoderFilter). Closed forms: a soft shaft's
+// mode against k / J of the rigid stage, the filter's gain against its bilinear
+// transfer function, the mean speed that ideal speed control holds.
+#include "core/error.hpp"
+#include "model/sensor.hpp"
+#include "model/simulation.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <complex>
+#include <numbers>
+#include <numeric>
+
+using namespace pw::model;
+
+namespace {
+
+constexpr double kPi = std::numbers::pi;
+
+SimulationConfig fast_seed(int record_cycles = 6) {
+  SimulationConfig c;
+  c.operating.input_speed_rpm = 400;
+  c.solver.record_mesh_cycles = record_cycles;
+  return c;
+}
+
+double scalar(const SimulationResult& r, const std::string& name) {
+  for (const auto& s : r.scalars)
+    if (s.name == name) return s.value;
+  ADD_FAILURE() << "no scalar " << name;
+  return NAN;
+}
+
+const std::vector<double>& channel(const SimulationResult& r, const std::string& name) {
+  const Channel* c = r.find(name);
+  if (!c) throw std::runtime_error("no channel " + name);
+  return c->values;
+}
+
+double mean(const std::vector<double>& v) {
+  return std::accumulate(v.begin(), v.end(), 0.0) / static_cast<double>(v.size());
+}
+
+/// Inertia of the rigid stage reflected to the body whose rotation row is `row`:
+/// r' M r with the rigid mode r scaled to a unit rotation of that body (Rayleigh).
+double reflected_inertia(const PreparedStage& p, const Eigen::RowVectorXd& row) {
+  const Eigen::VectorXd r = p.rigid_mode / row.dot(p.rigid_mode);
+  return r.dot(p.dynamics->mass() * r);
+}
+
+/// Lowest positive natural frequency [Hz].
+double lowest_frequency_Hz(const PreparedStage& p) {
+  const Eigen::VectorXd& f = p.natural_frequencies_Hz;
+  for (Eigen::Index i = 0; i < f.size(); ++i)
+    if (f(i) > 1e-6 * f.maxCoeff()) return f(i);
+  return NAN;
+}
+
+/// Steady-state gain of `filter` for a sinusoid of frequency f [Hz] at step dt: run 40
+/// periods of the slowest transient, then take the amplitude of the last whole periods
+/// by projection on sin/cos.
+double measured_gain(EncoderFilter filter, double f_Hz, double dt_s) {
+  const int per_period = static_cast<int>(std::lround(1.0 / (f_Hz * dt_s)));
+  const double t_settle = filter.settling_time_s(1e-14);
+  const long settle = static_cast<long>(std::ceil(t_settle / dt_s));
+  const long periods = 20;
+  const long n = settle + periods * per_period;
+  double s = 0, c = 0;
+  filter.reset(0.0);
+  for (long k = 0; k < n; ++k) {
+    const double ph = 2 * kPi * f_Hz * dt_s * static_cast<double>(k);
+    const double y = filter.step(std::sin(ph));
+    if (k >= n - periods * per_period) {
+      s += y * std::sin(ph);
+      c += y * std::cos(ph);
+    }
+  }
+  return 2.0 * std::hypot(s, c) / static_cast<double>(periods * per_period);
+}
+
+/// |H(e^{j 2 pi f dt})| of the prewarped bilinear Butterworth: the analog magnitude at the
+/// warped frequency, 1 / sqrt(1 + (tan(pi f dt) / tan(pi f_c dt))^(2 n)).
+double bilinear_butterworth_gain(double f_Hz, double fc_Hz, int order, double dt_s) {
+  const double ratio = std::tan(kPi * f_Hz * dt_s) / std::tan(kPi * fc_Hz * dt_s);
+  return 1.0 / std::sqrt(1.0 + std::pow(ratio, 2 * order));
+}
+
+/// Amplitude of the component at exactly frequency f in `x` sampled at dt, over a
+/// record of whole periods of f (no leakage), mean removed.
+double amplitude_at(const std::vector<double>& x, double f_Hz, double dt_s) {
+  const double m = mean(x);
+  std::complex<double> acc = 0;
+  for (std::size_t k = 0; k < x.size(); ++k)
+    acc += (x[k] - m) * std::polar(1.0, -2 * kPi * f_Hz * dt_s * static_cast<double>(k));
+  return 2.0 * std::abs(acc) / static_cast<double>(x.size());
+}
+
+} // namespace
+
+TEST(EncoderFilter, GainEqualsTheBilinearButterworthMagnitudeAtEveryFrequency) {
+  // Sampled at 20 kHz, cutoff 1 kHz: the steady-state gain of a sinusoid equals the
+  // closed form to round-off (the projection over whole periods is exact; 1e-9 covers
+  // the 1e-14 of the start transient left and the sum's round-off).
+  const double dt = 5e-5, fc = 1000;
+  for (int order : {1, 2}) {
+    const EncoderFilter filter(fc, order, dt);
+    ASSERT_FALSE(filter.passes());
+    for (double f : {50.0, 250.0, 1000.0, 2000.0, 5000.0}) {
+      const double g = measured_gain(filter, f, dt);
+      EXPECT_NEAR(g, bilinear_butterworth_gain(f, fc, order, dt), 1e-9) << "order " << order << ", f " << f;
+    }
+    // The -3 dB point sits exactly at the cutoff (prewarping).
+    EXPECT_NEAR(measured_gain(filter, fc, dt), 1 / std::sqrt(2.0), 1e-9) << "order " << order;
+  }
+}
+
+TEST(EncoderFilter, HoldsAConstantFromResetAndIsTheIdentityWhenIdealOrBeyondNyquist) {
+  EncoderFilter f(300, 2, 1e-4);
+  f.reset(12.5);
+  // To round-off: the coefficients' DC gain is 1 within a few ulp.
+  for (int k = 0; k < 1000; ++k) EXPECT_NEAR(f.step(12.5), 12.5, 1e-12 * 12.5);
+  EXPECT_TRUE(EncoderFilter(0, 2, 1e-4).passes());
+  EXPECT_TRUE(EncoderFilter(5000, 1, 1e-4).passes());   // f_c = Nyquist
+  EXPECT_FALSE(EncoderFilter(4999, 1, 1e-4).passes());
+  EXPECT_THROW(EncoderFilter(100, 3, 1e-4), std::invalid_argument);
+}
+
+TEST(Rig, EncoderBandwidthAttenuatesTheSpeedChannelsMeshHarmonicByTheFilterGainOnly) {
+  // The encoder acts on the measured speed only: the mesh forces are unchanged, and the
+  // speed's mesh-frequency line is the ideal one times the filter's gain at f_m. Same
+  // periodic steady state, so the ratio holds to the periodicity left (~1e-6).
+  SimulationConfig c = fast_seed(12);
+  const SimulationResult ideal = simulate(c);
+  c.sensor.encoder_bandwidth_Hz = 150;  // f_m = 112 Hz at 400 rpm
+  const SimulationResult measured = simulate(c);
+  const double dt = scalar(ideal, "time_step"), fm = scalar(ideal, "mesh_frequency");
+  for (const char* ch : {"sun/speed", "carrier/speed"}) {
+    const double a0 = amplitude_at(channel(ideal, ch), fm, dt), a1 = amplitude_at(channel(measured, ch), fm, dt);
+    EXPECT_NEAR(a1 / a0, bilinear_butterworth_gain(fm, 150, 2, dt), 1e-4) << ch;
+  }
+  const double f0 = amplitude_at(channel(ideal, "sun_planet/0/force"), fm, dt);
+  const double f1 = amplitude_at(channel(measured, "sun_planet/0/force"), fm, dt);
+  EXPECT_NEAR(f1 / f0, 1.0, 1e-4);
+}
+
+TEST(Rig, SoftOutputShaftToASpeedControlledMachineHasTheModeSqrtKOverReflectedInertia) {
+  // With the load machine ideally speed-controlled, the shaft holds the whole stage:
+  // for k far below the meshes' torsional stiffness the lowest mode is the rigid stage
+  // turning on the shaft, omega^2 = k / J_c with J_c = r'Mr (rigid mode per unit carrier
+  // rotation). The mesh compliance lowers it by O(k / k_mesh) ~ 1e-5 here: tolerance 1e-4.
+  SimulationConfig c = fast_seed();
+  const PreparedStage rigid = prepare(c);
+  const double J_c = reflected_inertia(rigid, rigid.dynamics->carrier_theta_row());
+  c.rig.load_control = LoadControl::Speed;
+  c.rig.output_shaft_stiffness_N_m_rad = 20.0;
+  const PreparedStage held = prepare(c);
+  EXPECT_FALSE(held.dynamics->structure().has_rigid_mode);
+  EXPECT_EQ(held.dynamics->size(), rigid.dynamics->size());  // the machine adds no coordinate
+  const double f = std::sqrt(20.0 / J_c) / (2 * kPi);
+  EXPECT_NEAR(lowest_frequency_Hz(held) / f, 1.0, 1e-4) << "closed form " << f << " Hz";
+}
+
+TEST(Rig, SoftInputShaftGivesTheTwoInertiaModeOfMotorAndStage) {
+  // Motor J_m on a shaft k to the sun, the stage free (constant load torque): besides the
+  // rigid mode, motor against stage, omega^2 = k (1/J_m + 1/J_s), J_s the rigid stage's
+  // inertia reflected to the sun. Same O(k / k_mesh) tolerance as above.
+  SimulationConfig c = fast_seed();
+  const PreparedStage stage_only = prepare(c);
+  const double J_s = reflected_inertia(stage_only, stage_only.dynamics->sun_theta_row());
+  const double J_m = 0.01, k = 50.0;
+  c.stage.input_inertia_kgm2 = J_m;
+  c.rig.input_shaft_stiffness_N_m_rad = k;
+  const PreparedStage p = prepare(c);
+  EXPECT_TRUE(p.dynamics->structure().has_rigid_mode);
+  EXPECT_EQ(p.dynamics->size(), stage_only.dynamics->size() + 1);
+  const double f = std::sqrt(k * (1 / J_m + 1 / J_s)) / (2 * kPi);
+  EXPECT_NEAR(lowest_frequency_Hz(p) / f, 1.0, 1e-4) << "closed form " << f << " Hz";
+}
+
+TEST(Rig, IdealSpeedControlHoldsTheMeanCarrierSpeedAndTheShaftCarriesTheLosses) {
+  // No speed loop in the warm-up: the shaft to the machine at the nominal speed holds the
+  // mean speed by itself (the angle perturbation stays bounded). Over whole mesh periods of
+  // the periodic steady state the mean speeds are nominal to the periodicity tolerance 1e-6.
+  // The load torque is then the feed-forward plus the shaft's mean twist; the friction
+  // losses, hence the efficiency, agree with the torque-controlled stage to 1e-3 (the shaft
+  // changes the dynamics, not the sliding).
+  SimulationConfig c = fast_seed(24);
+  const SimulationResult torque_held = simulate(c);
+  c.rig.load_control = LoadControl::Speed;
+  c.rig.output_shaft_stiffness_N_m_rad = 2e4;
+  c.rig.output_shaft_damping_N_m_s_rad = 5;
+  const SimulationResult r = simulate(c);
+  const double w_c = scalar(r, "carrier_speed"), w_s = scalar(r, "sun_speed");
+  EXPECT_NEAR(mean(channel(r, "carrier/speed")) / w_c, 1.0, 1e-6);
+  EXPECT_NEAR(mean(channel(r, "sun/speed")) / w_s, 1.0, 1e-6);
+  const double eta = scalar(r, "efficiency"), eta0 = scalar(torque_held, "efficiency");
+  EXPECT_LT(eta, 1.0);
+  EXPECT_NEAR(eta, eta0, 1e-3);
+}
+
+TEST(Rig, VeryStiffShaftsApproachTheRigidlyCoupledMachines) {
+  // The rigid coupling (stage.input/output_inertia_kgm2 added to sun and carrier) is the
+  // limit of stiff shafts: every natural frequency of the rigid model reappears, shifted by
+  // O((f_i / f_shaft)^2); with k = 1e11 N m/rad the shaft modes sit above 300 kHz and the
+  // stage's (at most 7.2 kHz) move by < 1e-4 relative. The two extra modes are the shafts'.
+  SimulationConfig c = fast_seed();
+  c.stage.input_inertia_kgm2 = 0.002;
+  c.stage.output_inertia_kgm2 = 0.05;
+  const PreparedStage rigid = prepare(c);
+  c.rig.input_shaft_stiffness_N_m_rad = 1e11;
+  c.rig.output_shaft_stiffness_N_m_rad = 1e11;
+  const PreparedStage shafts = prepare(c);
+  const Eigen::VectorXd& f0 = rigid.natural_frequencies_Hz;
+  const Eigen::VectorXd& f1 = shafts.natural_frequencies_Hz;
+  ASSERT_EQ(f1.size(), f0.size() + 2);
+  for (Eigen::Index i = 1; i < f0.size(); ++i) EXPECT_NEAR(f1(i) / f0(i), 1.0, 1e-4) << "mode " << i;
+  EXPECT_GT(f1(f1.size() - 2), 10 * f0.maxCoeff());
+}
+
+TEST(Rig, ShaftWithoutAMachineInertiaOrSpeedControlWithoutAShaftIsAnInputErrorNamingTheKey) {
+  SimulationConfig c = fast_seed();
+  c.rig.input_shaft_stiffness_N_m_rad = 1e5;
+  try {
+    validate(c);
+    FAIL() << "accepted a motor without inertia behind a shaft";
+  } catch (const pw::InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("rig.input_shaft_stiffness_N_m_rad"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("stage.input_inertia_kgm2"), std::string::npos) << e.what();
+  }
+  c = fast_seed();
+  c.rig.load_control = LoadControl::Speed;
+  try {
+    validate(c);
+    FAIL() << "accepted speed control through a rigid shaft";
+  } catch (const pw::InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("rig.output_shaft_stiffness_N_m_rad"), std::string::npos) << e.what();
+  }
+  c = fast_seed();
+  c.sensor.encoder_filter_order = 3;
+  EXPECT_THROW(validate(c), pw::InputError);
+}
