@@ -7,6 +7,7 @@
 #include "core/error.hpp"
 #include "diagnose/candidates/candidate.hpp"
 #include "diagnose/diagnose.hpp"
+#include "io/calibration_file.hpp"
 #include "io/config_toml.hpp"
 #include "io/diagnosis_report.hpp"
 #include "io/io_error.hpp"
@@ -86,6 +87,10 @@ CLI::App* add_diagnose_command(CLI::App& app, DiagnoseCommandOptions& o) {
   d->add_option("--candidates", o.candidates, "restrict the library to these candidates (comma separated)")
       ->delimiter(',');
   d->add_flag("--always-fit", o.always_fit, "fit candidates even when the residual is consistent with the noise");
+  d->add_option("--calibration", o.calibration,
+                "calibration file from 'planetwear calibrate': its calibrated model (applied before --set) and its "
+                "model-discrepancy budget (added to the noise in every comparison)")
+      ->check(CLI::ExistingFile);
   d->add_flag("--no-plots", o.no_plots, "do not run scripts/plot_diagnosis.py");
   d->add_flag("-q,--quiet", o.common.quiet, "no progress on stderr");
   std::string names;
@@ -95,17 +100,11 @@ CLI::App* add_diagnose_command(CLI::App& app, DiagnoseCommandOptions& o) {
   return d;
 }
 
-namespace {
-
-struct Inputs {
-  model::SimulationConfig config;
-  diagnose::Recording recording;
-};
-
-/// Configuration (+ --set), sidecar and recording, validated; throws InputError naming the option.
-Inputs read_inputs(const DiagnoseCommandOptions& o) {
+DiagnoseInputs read_diagnose_inputs(const DiagnoseCommandOptions& o) {
   namespace fs = std::filesystem;
   model::SimulationConfig config = o.common.config.empty() ? model::SimulationConfig{} : io::read_config(o.common.config);
+  // A calibration's model first, the command line's --set after it (the user's word wins).
+  if (!o.calibration.empty()) io::apply_overrides(config, io::read_calibration(o.calibration).overrides);
   io::apply_overrides(config, o.common.assignments);
   const fs::path meta_path = o.meta.empty() ? io::sidecar_path(o.recording) : fs::path(o.meta);
   // The command line describes the recording on its own (no sidecar needed) or
@@ -125,12 +124,18 @@ Inputs read_inputs(const DiagnoseCommandOptions& o) {
     require(diagnose::find_candidate(name) != nullptr, "--candidates", "unknown candidate '", name, "'");
   const io::RecordingMeta meta = have_sidecar ? io::merge(io::read_recording_meta(meta_path), cli) : cli;
   diagnose::Recording rec = io::read_recording(o.recording, meta, config);
-  return Inputs{std::move(config), std::move(rec)};
+  return DiagnoseInputs{std::move(config), std::move(rec)};
 }
+
+namespace {
+
+using Inputs = DiagnoseInputs;
+Inputs read_inputs(const DiagnoseCommandOptions& o) { return read_diagnose_inputs(o); }
 
 diagnose::CompareOptions compare_options(const DiagnoseCommandOptions& o) {
   diagnose::CompareOptions co;
   co.alpha = o.alpha;
+  if (!o.calibration.empty()) co.discrepancy = io::read_calibration(o.calibration).budgets();
   // The simulation cache keys on the complete configuration (every key of the TOML schema).
   co.config_key = [](const model::SimulationConfig& c) { return io::to_toml(c); };
   return co;
@@ -150,6 +155,7 @@ void diagnose_and_report(const DiagnoseCommandOptions& o, const std::string& com
   opt.remote_slots = ranks - 1;
   opt.only_candidates = o.candidates;
   opt.always_fit_candidates = o.always_fit;
+  if (!o.calibration.empty()) opt.extra_nuisance = io::read_calibration(o.calibration).rig_elements;
   opt.compare = compare_options(o);
   opt.compare.remote = remote;
   if (!o.common.quiet) opt.progress = [](const std::string& s) { std::fprintf(stderr, "[diagnose] %s\n", s.c_str()); };
@@ -159,6 +165,7 @@ void diagnose_and_report(const DiagnoseCommandOptions& o, const std::string& com
   io::ReportContext ctx;
   ctx.recording_path = o.recording;
   ctx.config_path = o.common.config;
+  ctx.calibration_path = o.calibration;
   ctx.command_line = command_line;
   ctx.version = version_string();
   ctx.plots_available = false;

@@ -3,7 +3,7 @@
 //
 //   planetwear diagnose --config gearset.toml --recording rec.csv [--meta rec.json] -o report/
 //       [--set key=value ...] [--threads N] [--alpha 0.01] [--max-candidates 4]
-//       [--candidates a,b,...] [--no-plots] [--quiet]
+//       [--candidates a,b,...] [--calibration calibration.toml] [--no-plots] [--quiet]
 //
 // Writes report/report.{md,html,json}, report/data/*.csv and, through
 // scripts/plot_diagnosis.py (Debian's /usr/bin/python3 + matplotlib), the PNGs.
@@ -12,6 +12,8 @@
 #pragma once
 
 #include "commands.hpp"
+
+#include "diagnose/recording.hpp"
 
 #include <optional>
 #include <string>
@@ -34,7 +36,19 @@ struct DiagnoseCommandOptions {
   std::vector<std::string> candidates;
   bool no_plots = false;
   bool always_fit = false;
+  std::string calibration;  ///< --calibration FILE (planetwear calibrate): calibrated model + discrepancy budget
 };
+
+/// What a diagnosis starts from: the configuration (file, calibration overrides, --set, in that
+/// order) and the recording in SI, validated.
+struct DiagnoseInputs {
+  model::SimulationConfig config;
+  diagnose::Recording recording;
+};
+
+/// Reads and validates the inputs of `options` (used by diagnose and calibrate); throws
+/// InputError naming the option.
+DiagnoseInputs read_diagnose_inputs(const DiagnoseCommandOptions& options);
 
 CLI::App* add_diagnose_command(CLI::App& app, DiagnoseCommandOptions& options);
 int run_diagnose(const DiagnoseCommandOptions& options, const std::string& command_line);

@@ -13,6 +13,8 @@
 //                       (a synthetic recording + rec.json sidecar, docs/recordings.md)
 //   planetwear diagnose [--config FILE] [--set ...] --recording rec.csv [--meta rec.json] -o report/
 //                       (where a recording and the model differ, the missing physics, docs/diagnose.md)
+//   planetwear calibrate [--config FILE] -r healthy.csv [-r ...] -o calibration.toml
+//                       (the model and its discrepancy budget from healthy recordings)
 //   [mpirun -np P] planetwear sweep CAMPAIGN.toml -o results.h5 [--resume|--force]
 //                       (a design-of-experiments campaign, docs/campaigns.md)
 //
@@ -21,6 +23,7 @@
 // (results up to then are written); sweep: 4 = the campaign finished but some
 // cases failed (their reasons are in the archive).
 #include "commands.hpp"
+#include "calibrate_command.hpp"
 #include "diagnose_command.hpp"
 #include "sweep_command.hpp"
 #include "synth_command.hpp"
@@ -83,6 +86,9 @@ int main(int argc, char** argv) {
   pw::app::DiagnoseCommandOptions dgn;
   CLI::App* dg = pw::app::add_diagnose_command(app, dgn);
 
+  pw::app::CalibrateCommandOptions cal;
+  CLI::App* cl = pw::app::add_calibrate_command(app, cal);
+
   CLI::App* keys = app.add_subcommand("keys", "List every configuration key with its type, default and unit");
 
   try {
@@ -96,6 +102,7 @@ int main(int argc, char** argv) {
     if (*keys) return pw::app::run_keys();
     if (*sw) return pw::app::run_sweep(swp);
     if (*sy) return pw::app::run_synth(syn);
+    if (*cl) return pw::app::run_calibrate(cal);
     if (*dg) {
       std::string line;
       for (int i = 0; i < argc; ++i) line += (i ? " " : "") + std::string(argv[i]);

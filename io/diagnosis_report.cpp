@@ -157,7 +157,9 @@ Doc build(const dg::Diagnosis& d, const ReportContext& ctx) {
   doc.h1("planetwear diagnose");
   doc.p("**Finding:** " + d.summary);
   doc.p("Verdict: `" + std::string(dg::to_string(d.verdict)) + "`. Recording `" + ctx.recording_path +
-        "`, configuration `" + (ctx.config_path.empty() ? "(seed defaults)" : ctx.config_path) + "`, " + ctx.version +
+        "`, configuration `" + (ctx.config_path.empty() ? "(seed defaults)" : ctx.config_path) + "`" +
+        (ctx.calibration_path.empty() ? std::string() : ", calibration `" + ctx.calibration_path + "`") + ", " +
+        ctx.version +
         ".");
   const auto& k = d.kinematics;
   doc.h2("Operating point and kinematics");
@@ -430,6 +432,7 @@ void write_diagnosis_report(const std::filesystem::path& dir, const dg::Diagnosi
   j["tool"] = ctx.version;
   j["recording"] = ctx.recording_path;
   j["config"] = ctx.config_path;
+  j["calibration"] = ctx.calibration_path;
   j["command_line"] = ctx.command_line;
   j["verdict"] = dg::to_string(d.verdict);
   j["summary"] = d.summary;

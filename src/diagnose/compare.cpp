@@ -85,6 +85,20 @@ ModelComparison::ModelComparison(const Recording& recording, const model::Simula
   s2_.assign(m, 0.0);
   d_.assign(2, std::vector<double>(m));
   vns_.assign(m, 0.0);
+  disc_.assign(m, 0.0);
+  disc_abs_.assign(m, 0.0);
+  for (const DiscrepancyEntry& e : opt_.discrepancy)
+    for (int c = 0; c < nc; ++c) {
+      if (rec_.channels[static_cast<std::size_t>(spec_.channels[static_cast<std::size_t>(c)])].quantity != e.quantity)
+        continue;
+      for (int i = 0; i < ncell; ++i)
+        for (int l : spec_.layout.cells[static_cast<std::size_t>(i)].lines)
+          if (spec_.layout.lines[static_cast<std::size_t>(l)].family == e.family) {
+            const std::size_t f = static_cast<std::size_t>(c * ncell + i);
+            disc_[f] = std::max(disc_[f], e.relative_std);
+            disc_abs_[f] = std::max(disc_abs_[f], e.absolute_variance);
+          }
+    }
   const double flag = chi2_quantile(1.0, opt_.alpha);
   for (int c = 0; c < nc; ++c)
     for (int i = 0; i < ncell; ++i) {
@@ -166,7 +180,7 @@ void ModelComparison::set_reference(const std::vector<std::vector<double>>& m, c
       const std::size_t f = static_cast<std::size_t>(c * ncell + i);
       const double g = is_housing(c) ? gains[static_cast<std::size_t>(c)] : 1.0;
       const double a = g * m[static_cast<std::size_t>(c)][static_cast<std::size_t>(spec_.layout.cells[static_cast<std::size_t>(i)].bin)];
-      const double v = rice_variance(a, s2_[f]);
+      const double v = rice_variance(a, s2_[f]) + (disc_[f] * a) * (disc_[f] * a) + disc_abs_[f];
       for (int w = 0; w < 2; ++w) d_[static_cast<std::size_t>(w)][f] = v + vns_[f];
     }
 }
@@ -388,11 +402,14 @@ double ModelComparison::null_quantile(const std::vector<std::vector<double>>& m,
       const std::size_t c = f / static_cast<std::size_t>(ncell), i = f % static_cast<std::size_t>(ncell);
       double af = a[f];
       for (std::size_t k = 0; k < q; ++k) af += z[k] * u_[k][f] * gains[c];
+      // Calibrated discrepancy: a relative amplitude error per cell (drawn only when present,
+      // so that uncalibrated draws keep their random sequence).
+      if (disc_[f] > 0) af *= 1 + disc_[f] * nd(rng);
       af = std::fabs(af);
       const double scale = std::max(0.1, 1 + spec_.noise_relative_se[c][i] *
                                                  eps[c * static_cast<std::size_t>(groups) +
                                                      static_cast<std::size_t>(spec_.noise_group[c][i])]);
-      const double s = std::sqrt(0.5 * s2_[f] * scale);
+      const double s = std::sqrt(0.5 * (s2_[f] * scale + disc_abs_[f]));
       const double x = af + s * nd(rng), y = s * nd(rng);
       r[f] = std::hypot(x, y) - mu[f] + (drift.empty() ? 0.0 : zd * drift[f]);
     }

@@ -68,6 +68,19 @@
 
 namespace pw::diagnose {
 
+/// Model discrepancy of one kind of channel and one line family (calibration.hpp): a healthy
+/// recording's amplitudes differ from the calibrated model's by a relative error of standard
+/// deviation relative_std on the lines the model has, plus content of variance
+/// absolute_variance the model lacks, beyond the noise. Enters V as
+/// (relative_std a_ref,i)^2 + absolute_variance per cell, and the null's draws as a factor
+/// (1 + relative_std n), n ~ N(0, 1), on the model amplitude and absolute_variance more noise.
+struct DiscrepancyEntry {
+  Quantity quantity = Quantity::SunSpeed;
+  Component family = Component::Mesh;
+  double relative_std = 0;       ///< [-]
+  double absolute_variance = 0;  ///< [channel unit^2]
+};
+
 struct CompareOptions {
   OrderAnalysisOptions analysis{};
   double alpha = 0.01;                 ///< for the non-stationarity flag
@@ -84,6 +97,9 @@ struct CompareOptions {
   /// idle capacity (the simulation then runs in this process). Empty: always here. Called
   /// concurrently from the diagnosis's threads. Errors are rethrown as the same types.
   std::function<std::optional<ModelSpectra>(const model::SimulationConfig&, bool keep_sensor_inputs)> remote;
+  /// Calibrated model discrepancy (empty: none; the noise, non-stationarity and fidelity alone).
+  /// A cell carrying lines of several families takes the largest of theirs.
+  std::vector<DiscrepancyEntry> discrepancy;
 };
 
 /// One model scored on one window.
@@ -168,6 +184,12 @@ public:
   /// Per feature: the recording's amplitude in window w, its Rician variance, v_ns.
   double recording_amplitude(int window, int feature) const { return a_rec_[static_cast<std::size_t>(window)][static_cast<std::size_t>(feature)]; }
   double noise_variance(int feature) const { return s2_[static_cast<std::size_t>(feature)]; }
+  /// D_i of window w at the current reference (Rician + non-stationarity + discrepancy).
+  double diagonal_variance(int window, int feature) const {
+    return d_[static_cast<std::size_t>(window)][static_cast<std::size_t>(feature)];
+  }
+  /// Per feature: the calibrated relative discrepancy (0 without a calibration).
+  double relative_discrepancy(int feature) const { return disc_[static_cast<std::size_t>(feature)]; }
   double nonstationary_variance(int feature) const { return vns_[static_cast<std::size_t>(feature)]; }
   int nonstationary_cells() const { return ns_cells_; }
   /// Per channel: the noise-variance scale phi measured between the recording's halves (1 when
@@ -188,6 +210,8 @@ private:
   std::vector<double> s2_;                   // [feature]
   std::vector<std::vector<double>> d_;       // [window][feature]: D_i
   std::vector<double> vns_;
+  std::vector<double> disc_;                 // [feature]: relative discrepancy (CompareOptions::discrepancy)
+  std::vector<double> disc_abs_;             // [feature]: absolute discrepancy variance
   std::vector<double> dispersion_;           // [channel]
   int ns_cells_ = 0;
   std::vector<std::vector<double>> u_;       // [column][feature]

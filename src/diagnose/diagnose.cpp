@@ -312,6 +312,38 @@ std::string unresolved_text(const Diagnosis& d) {
 
 } // namespace
 
+namespace {
+
+/// Per cell of every channel: what the discrepancy estimate needs (calibration.hpp).
+std::vector<CalibrationCell> calibration_cells(const ModelComparison& cmp,
+                                               const std::vector<std::vector<double>>& model_amplitude,
+                                               const std::vector<double>& gains) {
+  const RecordingSpectra& sp = cmp.spectra();
+  std::vector<CalibrationCell> out;
+  for (int c = 0; c < cmp.channels(); ++c)
+    for (int i = 0; i < cmp.cells(); ++i) {
+      const FeatureCell& cell = sp.layout.cells[static_cast<std::size_t>(i)];
+      const int f = c * cmp.cells() + i;
+      CalibrationCell x;
+      x.quantity = cmp.recording().channels[static_cast<std::size_t>(sp.channels[static_cast<std::size_t>(c)])].quantity;
+      for (int l : cell.lines) {
+        const Component fam = sp.layout.lines[static_cast<std::size_t>(l)].family;
+        if (std::find(x.families.begin(), x.families.end(), fam) == x.families.end()) x.families.push_back(fam);
+      }
+      const double g = cmp.is_housing(c) ? gains[static_cast<std::size_t>(c)] : 1.0;
+      x.model = g * model_amplitude[static_cast<std::size_t>(c)][static_cast<std::size_t>(cell.bin)];
+      for (int w = 0; w < 2; ++w) {
+        x.recording[w] = cmp.recording_amplitude(w, f);
+        x.variance[w] = cmp.diagonal_variance(w, f);
+      }
+      x.noise_variance = cmp.noise_variance(f);
+      out.push_back(std::move(x));
+    }
+  return out;
+}
+
+} // namespace
+
 Diagnosis diagnose(const Recording& recording, const model::SimulationConfig& config_in, const DiagnoseOptions& o) {
   const auto t_start = Clock::now();
   auto say = [&](const std::string& s) {
@@ -369,8 +401,11 @@ Diagnosis diagnose(const Recording& recording, const model::SimulationConfig& co
     return o.only_candidates.empty() ||
            std::find(o.only_candidates.begin(), o.only_candidates.end(), c.name()) != o.only_candidates.end();
   };
+  auto extra_nuisance = [&](const Candidate& c) {
+    return std::find(o.extra_nuisance.begin(), o.extra_nuisance.end(), c.name()) != o.extra_nuisance.end();
+  };
   for (const auto& c : candidate_library())
-    if (c->nuisance() && allowed(*c)) ctx.nuisance.push_back(c.get());
+    if ((c->nuisance() || extra_nuisance(*c)) && allowed(*c)) ctx.nuisance.push_back(c.get());
 
   // 2. Baseline and fidelity directions.
   say("baseline model at " + fmt("%.6g", sp.speed.input_rpm) + " rpm and its fidelity variants");
@@ -474,6 +509,16 @@ Diagnosis diagnose(const Recording& recording, const model::SimulationConfig& co
     d.rule = rule;
   }
 
+  if (o.nuisance_only) {
+    d.verdict = consistent ? Verdict::NoMissingPhysics : Verdict::Unexplained;
+    d.calibration_cells = calibration_cells(cmp, ctx.nuisance_sim->amplitude, ctx.nuisance_gains);
+    d.final_overrides = d.nuisance.overrides;
+    d.timing.total_s = seconds_since(t_start);
+    d.timing.simulations = cmp.simulations();
+    d.timing.simulate_s = cmp.simulation_seconds();
+    return d;
+  }
+
   const model::SimulationConfig* final_config = &d.nuisance.config;
   std::vector<double> final_gains = ctx.nuisance_gains;
   const double ln_m = std::log(static_cast<double>(cmp.features()));
@@ -521,7 +566,9 @@ Diagnosis diagnose(const Recording& recording, const model::SimulationConfig& co
     };
     std::vector<Task> tasks;
     for (const auto& c : candidate_library()) {
-      if (c->nuisance() || !allowed(*c) || (c->sensor_only() && !housing) || !resolvable(*c, sp.layout)) continue;
+      if (c->nuisance() || extra_nuisance(*c) || !allowed(*c) || (c->sensor_only() && !housing) ||
+          !resolvable(*c, sp.layout))
+        continue;
       for (const auto& v : c->variants(d.location.evidence, ctx.base, map)) {
         Screen sc;
         sc.c = c.get();
@@ -541,7 +588,10 @@ Diagnosis diagnose(const Recording& recording, const model::SimulationConfig& co
       for (const auto& ps : n->parameters(ctx.base)) nspec.push_back(ps);
     std::vector<std::vector<double>> ncols(nspec.size());
     std::vector<double> nstep(nspec.size());
-    for (std::size_t i = 0; i < nspec.size(); ++i) nstep[i] = 0.02 * ctx.nuisance_x[i];
+    // A parameter fitted at its upper bound takes its secant downwards (the step must stay
+    // within the key's range; e.g. a damping ratio at 1).
+    for (std::size_t i = 0; i < nspec.size(); ++i)
+      nstep[i] = (1.02 * ctx.nuisance_x[i] <= nspec[i].upper ? 0.02 : -0.02) * ctx.nuisance_x[i];
     say("screening " + std::to_string(screens.size()) + " candidate variants (" +
         std::to_string(tasks.size() + nspec.size()) + " simulations)");
     parallel_for(static_cast<int>(tasks.size() + nspec.size()), threads, [&](int ti) {

@@ -55,6 +55,12 @@ struct DiagnoseOptions {
   int max_candidates = 4;       ///< candidates fitted after the screening (sensor-only ones come free)
   bool always_fit_candidates = false;  ///< fit candidates even when the noise test passes
   std::vector<std::string> only_candidates;  ///< restrict the library (tests, expert use); empty = all
+  /// Candidates fitted with the nuisance parameters instead of screened as findings (calibration
+  /// fits the rig elements the documentation is silent on, e.g. "encoder_bandwidth").
+  std::vector<std::string> extra_nuisance;
+  /// Stop after the nuisance fit and its noise test (calibration): no location, no candidates;
+  /// Diagnosis::calibration_cells holds the per-cell data the discrepancy is estimated from.
+  bool nuisance_only = false;
   int threads = 0;              ///< OpenMP threads (0: default)
   /// Simulation slots served elsewhere (compare.remote, e.g. other MPI ranks): that many more
   /// simulations run side by side, their threads mostly waiting.
@@ -166,6 +172,16 @@ struct ChannelExcess {
   double share = 0;   ///< of the summed excess
 };
 
+/// One feature cell after the nuisance fit, for the discrepancy estimate (calibration.hpp).
+struct CalibrationCell {
+  Quantity quantity = Quantity::SunSpeed;
+  std::vector<Component> families;  ///< of the lines the cell carries
+  double model = 0;                 ///< nuisance-fitted model amplitude, gain applied
+  double recording[2] = {0, 0};     ///< the recording's amplitude in the fit and held-out halves
+  double variance[2] = {0, 0};      ///< D_i per half: Rician noise variance + non-stationarity
+  double noise_variance = 0;        ///< s_i^2, noise in the bin
+};
+
 struct Timing {
   double total_s = 0, analysis_s = 0, baseline_s = 0, nuisance_s = 0, locate_s = 0, screening_s = 0, candidates_s = 0,
          phase_s = 0,
@@ -211,6 +227,7 @@ struct Diagnosis {
   std::vector<ChannelExcess> excess_by_channel;  ///< largest share first
   std::vector<std::string> final_overrides;
   std::vector<PlotSeries> plots;
+  std::vector<CalibrationCell> calibration_cells;  ///< DiagnoseOptions::nuisance_only only
   Timing timing;
 };
 

@@ -17,7 +17,11 @@ public:
   bool nuisance() const override { return true; }
   std::vector<ParameterSpec> parameters(const model::SimulationConfig& b) const override {
     const double z = std::max(b.contact.mesh_damping_ratio, 1e-3);
-    return {{"contact.mesh_damping_ratio", "1", std::max(1e-3, z / 5), std::min(1.0, 5 * z), true, z, z, 1.2 * z}};
+    // contact.mesh_damping_ratio is at most 1 (stage.cpp): near that end the screening secant
+    // points down instead of beyond the key's range.
+    const double upper = std::min(1.0, 5 * z);
+    const double screen = 1.2 * z <= upper ? 1.2 * z : z / 1.2;
+    return {{"contact.mesh_damping_ratio", "1", std::max(1e-3, z / 5), upper, true, z, z, screen}};
   }
   void apply(model::SimulationConfig& c, const Variant&, std::span<const double> x,
              std::vector<std::string>* o) const override {

@@ -47,7 +47,9 @@ public:
     const double lower = std::min(kLowestInMeshFrequencies * fm, absent);
     const double upper = std::max(kAbsentInMeshFrequencies * fm, absent);
     const double screen = std::clamp(kScreenInMeshFrequencies * fm, lower, upper);
-    ParameterSpec p{"sensor.encoder_bandwidth_Hz", "Hz", lower, upper, true, screen, absent, screen};
+    // Start from the configured (calibrated) bandwidth when there is one.
+    const double start = b.sensor.encoder_bandwidth_Hz > 0 ? absent : screen;
+    ParameterSpec p{"sensor.encoder_bandwidth_Hz", "Hz", lower, upper, true, start, absent, screen};
     p.saturates = true;
     return {p};
   }

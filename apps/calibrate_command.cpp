@@ -1,0 +1,133 @@
+// planetwear calibrate (calibrate_command.hpp):
+//   1. per healthy recording: inputs as for diagnose, the nuisance-only diagnosis
+//   2. the calibration: median model, discrepancy estimates (diagnose/calibration.hpp)
+//   3. the file (io/calibration_file.hpp) and a table on stdout
+#include "calibrate_command.hpp"
+
+#include "core/error.hpp"
+#include "diagnose/calibration.hpp"
+#include "diagnose/candidates/candidate.hpp"
+#include "diagnose/locate.hpp"
+#include "diagnose_command.hpp"
+#include "io/calibration_file.hpp"
+#include "io/config_toml.hpp"
+
+#include <CLI/CLI.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <iostream>
+
+namespace pw::app {
+
+CLI::App* add_calibrate_command(CLI::App& app, CalibrateCommandOptions& o) {
+  CLI::App* c = app.add_subcommand(
+      "calibrate",
+      "Calibrate the model on healthy recordings: fit the nuisance and rig parameters of each, estimate the "
+      "systematic residual a healthy recording leaves (per channel kind and line family), and write both for "
+      "'diagnose --calibration' (docs/diagnose.md section 7)");
+  c->add_option("-c,--config", o.common.config, "TOML configuration of the gear set (default: the seed paper's case)")
+      ->check(CLI::ExistingFile);
+  c->add_option("--set", o.common.assignments, "override any configuration key: --set section.key=value")->take_all();
+  c->add_option("-r,--recording", o.recordings, "a healthy recording (CSV or HDF5); repeat for several")
+      ->required()
+      ->check(CLI::ExistingFile);
+  c->add_option("--meta", o.metas,
+                "JSON sidecars, one per --recording in the same order (default: each recording's name with .json)");
+  c->add_option("-o,--output", o.output, "calibration file to write (TOML)")->required();
+  c->add_option("--rig-elements", o.rig_elements,
+                "candidates fitted as nuisance parameters when the recording can see them (default: "
+                "encoder_bandwidth; 'none' for none)")
+      ->delimiter(',');
+  c->add_option("--threads", o.threads, "OpenMP threads (default: OMP_NUM_THREADS or all cores)")
+      ->check(CLI::Range(0, 1024));
+  c->add_option("--alpha", o.alpha, "one-sided level of the budgets' upper confidence limits (default 0.01)")
+      ->check(CLI::Range(1e-6, 0.5));
+  c->add_flag("-q,--quiet", o.common.quiet, "no progress on stderr");
+  c->footer("Example: planetwear calibrate -c gearset.toml -r healthy_1000rpm.csv -r healthy_1500rpm.csv "
+            "-o calibration.toml\n         planetwear diagnose -c gearset.toml --calibration calibration.toml "
+            "-r suspect.csv -o report/");
+  return c;
+}
+
+namespace {
+
+bool has_speed_channel(const diagnose::Recording& r) {
+  return std::any_of(r.channels.begin(), r.channels.end(), [](const diagnose::SignalChannel& c) {
+    return c.quantity == diagnose::Quantity::SunSpeed || c.quantity == diagnose::Quantity::CarrierSpeed;
+  });
+}
+
+void print_table(const diagnose::Calibration& cal) {
+  const double z = diagnose::normal_quantile(cal.alpha);
+  std::printf("%-30s %-12s %12s %12s %6s %14s %6s\n", "channel kind", "family", "sigma_rel", "budget", "cells",
+              "sigma_abs^2", "cells");
+  for (const diagnose::DiscrepancyEstimate& d : cal.discrepancy) {
+    const diagnose::DiscrepancyEntry b = d.budget(z);
+    const double s = d.relative_variance > 0 ? std::sqrt(d.relative_variance) : 0.0;
+    std::printf("%-30s %-12s %12.4g %12.4g %6d %14.4g %6d\n", diagnose::to_string(d.quantity),
+                diagnose::to_string(d.family), s, b.relative_std, d.relative_cells, d.absolute_variance,
+                d.absolute_cells);
+  }
+  std::printf("calibrated model:");
+  for (const std::string& s : cal.overrides) std::printf(" --set %s", s.c_str());
+  std::printf("\n");
+}
+
+} // namespace
+
+int run_calibrate(const CalibrateCommandOptions& o) {
+  require(o.metas.empty() || o.metas.size() == o.recordings.size(), "--meta", "give one sidecar per --recording (",
+          o.recordings.size(), " recordings, ", o.metas.size(), " sidecars) or none");
+  std::vector<std::string> rig = o.rig_elements;
+  if (rig.size() == 1 && rig[0] == "none") rig.clear();
+  for (const std::string& r : rig)
+    require(diagnose::find_candidate(r) != nullptr, "--rig-elements", "unknown candidate '", r, "'");
+
+  diagnose::Calibration cal;
+  cal.alpha = o.alpha;
+  cal.rig_elements = rig;
+  std::vector<std::vector<diagnose::CalibrationCell>> cells;
+  std::vector<std::vector<diagnose::FittedParameter>> params;
+  for (std::size_t i = 0; i < o.recordings.size(); ++i) {
+    // 1. Inputs and the nuisance-only diagnosis, as `diagnose` would start.
+    DiagnoseCommandOptions d;
+    d.common = o.common;
+    d.recording = o.recordings[i];
+    if (!o.metas.empty()) d.meta = o.metas[i];
+    d.threads = o.threads;
+    d.alpha = o.alpha;
+    const DiagnoseInputs in = read_diagnose_inputs(d);
+    diagnose::DiagnoseOptions opt;
+    opt.alpha = o.alpha;
+    opt.threads = o.threads;
+    opt.nuisance_only = true;
+    if (has_speed_channel(in.recording)) opt.extra_nuisance = rig;
+    opt.compare.alpha = o.alpha;
+    opt.compare.config_key = [](const model::SimulationConfig& c) { return io::to_toml(c); };
+    if (!o.common.quiet) {
+      std::fprintf(stderr, "[calibrate] recording %zu of %zu: %s\n", i + 1, o.recordings.size(), d.recording.c_str());
+      opt.progress = [](const std::string& s) { std::fprintf(stderr, "[calibrate]   %s\n", s.c_str()); };
+    }
+    const diagnose::Diagnosis r = diagnose::diagnose(in.recording, in.config, opt);
+    if (!o.common.quiet)
+      std::fprintf(stderr, "[calibrate]   nuisance-fitted chi2 %.4g (fit) / %.4g (held out), noise bounds %.4g / %.4g\n",
+                   r.nuisance.fit.chi2, r.nuisance.held_out.chi2, r.bound_fit, r.bound_held_out);
+    cal.recordings.push_back(d.recording);
+    cal.speeds_rpm.push_back(r.speed.input_rpm);
+    cal.verdicts.push_back(diagnose::to_string(r.verdict));
+    cells.push_back(r.calibration_cells);
+    params.push_back(r.nuisance.parameters);
+  }
+  // 2. The calibration.
+  cal.discrepancy = diagnose::estimate_discrepancy(cells);
+  cal.overrides = diagnose::median_overrides(params);
+  // 3. The file and the table.
+  io::write_calibration(cal, o.output);
+  print_table(cal);
+  if (!o.common.quiet) std::fprintf(stderr, "wrote %s\n", o.output.c_str());
+  return 0;
+}
+
+} // namespace pw::app

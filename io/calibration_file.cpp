@@ -1,0 +1,151 @@
+#include "io/calibration_file.hpp"
+
+#include "core/error.hpp"
+#include "io/atomic_output.hpp"
+#include "io/io_error.hpp"
+
+#include <toml++/toml.h>
+
+#include <cmath>
+#include <fstream>
+#include <limits>
+#include <sstream>
+
+namespace pw::io {
+namespace {
+
+using diagnose::Component;
+using diagnose::Quantity;
+
+constexpr Quantity kQuantities[] = {Quantity::SunSpeed, Quantity::CarrierSpeed, Quantity::MeshAccelerationSunPlanet,
+                                    Quantity::MeshAccelerationPlanetRing, Quantity::HousingAcceleration};
+
+template <class T>
+toml::array to_array(const std::vector<T>& v) {
+  toml::array a;
+  for (const T& x : v) {
+    if constexpr (std::is_same_v<T, double>)
+      a.push_back(std::isfinite(x) ? x : std::numeric_limits<double>::quiet_NaN());
+    else
+      a.push_back(x);
+  }
+  return a;
+}
+
+std::string where(const std::filesystem::path& p, const std::string& key) { return p.string() + ": " + key; }
+
+template <class T>
+std::vector<T> read_array(const toml::array* a, const std::filesystem::path& p, const std::string& key) {
+  std::vector<T> out;
+  if (!a) throw InputError(where(p, key), "must be an array");
+  for (const toml::node& x : *a) {
+    if constexpr (std::is_same_v<T, double>) {
+      const auto v = x.value<double>();
+      if (!v) throw InputError(where(p, key), "must hold numbers");
+      out.push_back(*v);
+    } else {
+      const auto v = x.value<std::string>();
+      if (!v) throw InputError(where(p, key), "must hold strings");
+      out.push_back(*v);
+    }
+  }
+  return out;
+}
+
+double read_number(const toml::table& t, const char* key, const std::filesystem::path& p, const std::string& ctx) {
+  const auto v = t[key].value<double>();
+  if (!v) throw InputError(where(p, ctx + "." + key), "missing or not a number");
+  return *v;
+}
+
+} // namespace
+
+void write_calibration(const diagnose::Calibration& c, const std::filesystem::path& path) {
+  toml::table cal;
+  cal.insert("alpha", c.alpha);
+  cal.insert("recordings", to_array(c.recordings));
+  cal.insert("speeds_rpm", to_array(c.speeds_rpm));
+  cal.insert("verdicts", to_array(c.verdicts));
+  cal.insert("rig_elements", to_array(c.rig_elements));
+  cal.insert("overrides", to_array(c.overrides));
+  toml::array disc;
+  for (const diagnose::DiscrepancyEstimate& d : c.discrepancy) {
+    toml::table t;
+    t.insert("quantity", std::string(diagnose::to_string(d.quantity)));
+    t.insert("family", std::string(diagnose::to_string(d.family)));
+    t.insert("relative_variance", d.relative_variance);
+    t.insert("relative_variance_se", d.relative_variance_se);
+    t.insert("relative_cells", d.relative_cells);
+    t.insert("absolute_variance", d.absolute_variance);
+    t.insert("absolute_variance_se", d.absolute_variance_se);
+    t.insert("absolute_cells", d.absolute_cells);
+    t.insert("relative_variance_per_recording", to_array(d.relative_variance_per_recording));
+    disc.push_back(std::move(t));
+  }
+  toml::table root;
+  root.insert("calibration", std::move(cal));
+  root.insert("discrepancy", std::move(disc));
+  AtomicOutput out(path);
+  {
+    std::ofstream f(out.temp_path());
+    f << "# planetwear calibration (docs/diagnose.md section 7): the calibrated model and its discrepancy budget\n"
+      << root << "\n";
+    if (!f) throw IoError("cannot write calibration " + out.temp_path().string());
+  }
+  out.commit();
+}
+
+diagnose::Calibration read_calibration(const std::filesystem::path& path) {
+  std::ifstream in(path);
+  if (!in) throw IoError("cannot open calibration file '" + path.string() + "'");
+  std::stringstream ss;
+  ss << in.rdbuf();
+  toml::table root;
+  try {
+    root = toml::parse(ss.str(), path.string());
+  } catch (const toml::parse_error& e) {
+    throw InputError(path.string(), std::string("not valid TOML: ") + std::string(e.description()));
+  }
+  diagnose::Calibration c;
+  const auto cal = root["calibration"];
+  if (!cal.as_table()) throw InputError(where(path, "calibration"), "missing [calibration] table");
+  c.alpha = cal["alpha"].value_or(0.01);
+  require(c.alpha > 0 && c.alpha < 0.5, where(path, "calibration.alpha"), "must be in (0, 0.5), got ", c.alpha);
+  c.recordings = read_array<std::string>(cal["recordings"].as_array(), path, "calibration.recordings");
+  c.speeds_rpm = read_array<double>(cal["speeds_rpm"].as_array(), path, "calibration.speeds_rpm");
+  c.verdicts = read_array<std::string>(cal["verdicts"].as_array(), path, "calibration.verdicts");
+  c.rig_elements = read_array<std::string>(cal["rig_elements"].as_array(), path, "calibration.rig_elements");
+  c.overrides = read_array<std::string>(cal["overrides"].as_array(), path, "calibration.overrides");
+  const toml::array* disc = root["discrepancy"].as_array();
+  if (!disc) throw InputError(where(path, "discrepancy"), "missing [[discrepancy]] entries");
+  for (std::size_t i = 0; i < disc->size(); ++i) {
+    const std::string ctx = "discrepancy[" + std::to_string(i) + "]";
+    const toml::table* t = (*disc)[i].as_table();
+    if (!t) throw InputError(where(path, ctx), "must be a table");
+    diagnose::DiscrepancyEstimate d;
+    const std::string q = (*t)["quantity"].value_or(std::string());
+    const std::string f = (*t)["family"].value_or(std::string());
+    bool qok = false, fok = false;
+    for (Quantity x : kQuantities)
+      if (q == diagnose::to_string(x)) d.quantity = x, qok = true;
+    for (Component x : diagnose::kAllComponents)
+      if (f == diagnose::to_string(x)) d.family = x, fok = true;
+    if (!qok) throw InputError(where(path, ctx + ".quantity"), "unknown quantity '" + q + "'");
+    if (!fok) throw InputError(where(path, ctx + ".family"), "unknown family '" + f + "'");
+    d.relative_variance = read_number(*t, "relative_variance", path, ctx);
+    d.relative_variance_se = read_number(*t, "relative_variance_se", path, ctx);
+    d.absolute_variance = read_number(*t, "absolute_variance", path, ctx);
+    d.absolute_variance_se = read_number(*t, "absolute_variance_se", path, ctx);
+    require(d.relative_variance_se >= 0 && d.absolute_variance_se >= 0, where(path, ctx),
+            "standard errors must be >= 0");
+    d.relative_cells = static_cast<int>((*t)["relative_cells"].value_or(0));
+    d.absolute_cells = static_cast<int>((*t)["absolute_cells"].value_or(0));
+    if ((*t)["relative_variance_per_recording"])
+      d.relative_variance_per_recording =
+          read_array<double>((*t)["relative_variance_per_recording"].as_array(), path, ctx + ".relative_variance_per_recording");
+    c.discrepancy.push_back(std::move(d));
+  }
+  return c;
+}
+
+} // namespace pw::io

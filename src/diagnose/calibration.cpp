@@ -1,0 +1,131 @@
+#include "diagnose/calibration.hpp"
+
+#include "diagnose/candidates/candidate.hpp"
+#include "diagnose/locate.hpp"
+#include "diagnose/order_analysis.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <map>
+#include <utility>
+
+namespace pw::diagnose {
+namespace {
+
+/// Sums of one (quantity, family) over cells, for the moment estimates.
+struct Moments {
+  std::vector<double> e_low;               // excess of cells the model predicts below the noise
+  std::vector<std::pair<double, double>> e_line;  // (excess, a^2) of cells with a model line
+  std::vector<std::vector<std::pair<double, double>>> per_recording;
+};
+
+/// Mean of the two halves' excess (A - mu)^2 - D over what the noise explains.
+double cell_excess(const CalibrationCell& c) {
+  const double mu = rice_mean(c.model, c.noise_variance);
+  double e = 0;
+  for (int w = 0; w < 2; ++w) {
+    const double r = c.recording[w] - mu;
+    e += 0.5 * (r * r - c.variance[w]);
+  }
+  return e;
+}
+
+double mean_of(const std::vector<double>& v) {
+  double s = 0;
+  for (double x : v) s += x;
+  return v.empty() ? 0.0 : s / static_cast<double>(v.size());
+}
+
+} // namespace
+
+DiscrepancyEntry DiscrepancyEstimate::budget(double z) const {
+  DiscrepancyEntry e;
+  e.quantity = quantity;
+  e.family = family;
+  e.relative_std = std::sqrt(std::max(0.0, relative_variance + z * relative_variance_se));
+  e.absolute_variance = std::max(0.0, absolute_variance + z * absolute_variance_se);
+  return e;
+}
+
+std::vector<DiscrepancyEstimate> estimate_discrepancy(const std::vector<std::vector<CalibrationCell>>& recordings) {
+  std::map<std::pair<int, int>, Moments> by_key;
+  const std::size_t nr = recordings.size();
+  for (std::size_t r = 0; r < nr; ++r)
+    for (const CalibrationCell& c : recordings[r]) {
+      const double e = cell_excess(c);
+      const double a2 = c.model * c.model;
+      for (Component f : c.families) {
+        Moments& m = by_key[{static_cast<int>(c.quantity), static_cast<int>(f)}];
+        m.per_recording.resize(nr);
+        if (a2 >= c.noise_variance && a2 > 0) {
+          m.e_line.emplace_back(e, a2);
+          m.per_recording[r].emplace_back(e, a2);
+        } else {
+          m.e_low.push_back(e);
+        }
+      }
+    }
+  std::vector<DiscrepancyEstimate> out;
+  for (const auto& [key, m] : by_key) {
+    DiscrepancyEstimate d;
+    d.quantity = static_cast<Quantity>(key.first);
+    d.family = static_cast<Component>(key.second);
+    d.absolute_cells = static_cast<int>(m.e_low.size());
+    d.absolute_variance = mean_of(m.e_low);
+    if (m.e_low.size() > 1) {
+      double v = 0;
+      for (double x : m.e_low) v += (x - d.absolute_variance) * (x - d.absolute_variance);
+      d.absolute_variance_se = std::sqrt(v / static_cast<double>(m.e_low.size() - 1) / static_cast<double>(m.e_low.size()));
+    }
+    // The lines carry the absolute part too (content the model lacks lands on its lines as
+    // well): sigma_rel^2 = sum (e - sigma_abs^2) / sum a^2, its s.e. from the residual spread.
+    const double floor = std::max(0.0, d.absolute_variance);
+    auto relative = [&](const std::vector<std::pair<double, double>>& cells, double* se) {
+      double num = 0, den = 0;
+      for (const auto& [e, a2] : cells) num += e - floor, den += a2;
+      if (den <= 0) return std::numeric_limits<double>::quiet_NaN();
+      const double s2 = num / den;
+      if (se) {
+        double v = 0;
+        for (const auto& [e, a2] : cells) v += (e - floor - s2 * a2) * (e - floor - s2 * a2);
+        *se = std::sqrt(v) / den;
+      }
+      return s2;
+    };
+    d.relative_cells = static_cast<int>(m.e_line.size());
+    if (!m.e_line.empty()) d.relative_variance = relative(m.e_line, &d.relative_variance_se);
+    for (const auto& cells : m.per_recording) d.relative_variance_per_recording.push_back(relative(cells, nullptr));
+    out.push_back(std::move(d));
+  }
+  return out;
+}
+
+std::vector<std::string> median_overrides(const std::vector<std::vector<FittedParameter>>& per_recording) {
+  std::map<std::string, std::vector<double>> values;
+  std::vector<std::string> order;
+  for (const auto& params : per_recording)
+    for (const FittedParameter& p : params) {
+      if (p.name.rfind("sensor.gain", 0) == 0) continue;
+      if (!values.count(p.name)) order.push_back(p.name);
+      values[p.name].push_back(p.value);
+    }
+  std::vector<std::string> out;
+  for (const std::string& name : order) {
+    std::vector<double> v = values[name];
+    std::sort(v.begin(), v.end());
+    const std::size_t n = v.size();
+    const double med = n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+    out.push_back(name + "=" + format_value(med));
+  }
+  return out;
+}
+
+std::vector<DiscrepancyEntry> Calibration::budgets() const {
+  const double z = normal_quantile(alpha);
+  std::vector<DiscrepancyEntry> out;
+  for (const DiscrepancyEstimate& d : discrepancy) out.push_back(d.budget(z));
+  return out;
+}
+
+} // namespace pw::diagnose

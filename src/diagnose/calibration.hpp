@@ -1,0 +1,73 @@
+// Calibration on healthy recordings (docs/diagnose.md §7): the model discrepancy budget.
+//
+// A real rig is never the model. After the nuisance fit (stiffness level, damping, sensor
+// gains, and the rig elements the documentation is silent on) a healthy recording still
+// differs from the model by more than its noise: a systematic residual of the model's form.
+// Calibration estimates it per kind of channel (Quantity) and line family (Component), as
+//
+//   A_i = |a_i (1 + delta_i) e^{i phi} + noise + b_i|,
+//   delta_i ~ N(0, sigma_rel^2)   relative error of a line the model has (a_i^2 >= s_i^2),
+//   b_i     ~ CN(0, sigma_abs^2)  content the model lacks in a cell it predicts below the noise,
+//
+// by the method of moments on the per-cell excess e_i = mean_halves[(A_i - mu_i)^2 - D_i]
+// (mu_i the Rician mean of the model amplitude, D_i its Rician variance plus
+// non-stationarity: what the noise alone explains):
+//   sigma_abs^2 = mean of e_i over the cells with a_i^2 < s_i^2,
+//   sigma_rel^2 = sum (e_i - sigma_abs^2) / sum a_i^2 over the cells with a_i^2 >= s_i^2,
+// pooled over the recordings, each with its standard error from the spread of the e_i. The
+// budget a diagnosis then uses is the one-sided upper (1 - alpha) confidence limit,
+// estimate + z_{1-alpha} se, clipped at 0: a healthy recording outside the calibration set
+// exceeds it by chance with probability about alpha (statistics, not a tuned margin). The
+// relative part carries across operating points (it scales with the line); the absolute part
+// is in the channel's units at the calibration's operating points.
+//
+// The calibrated model parameters are the median over the recordings of each nuisance-fitted
+// parameter (sensor gains excepted: they are re-profiled on every recording).
+#pragma once
+
+#include "diagnose/compare.hpp"
+#include "diagnose/diagnose.hpp"
+
+#include <string>
+#include <vector>
+
+namespace pw::diagnose {
+
+/// The discrepancy of one (channel kind, family), with its uncertainty.
+struct DiscrepancyEstimate {
+  Quantity quantity = Quantity::SunSpeed;
+  Component family = Component::Mesh;
+  double relative_variance = 0;      ///< sigma_rel^2 point estimate, may be < 0 (no excess) [-]
+  double relative_variance_se = 0;   ///< its standard error [-]
+  int relative_cells = 0;            ///< cells with a model line above the noise
+  double absolute_variance = 0;      ///< sigma_abs^2 point estimate [unit^2]
+  double absolute_variance_se = 0;   ///< [unit^2]
+  int absolute_cells = 0;            ///< cells the model predicts below the noise
+  /// Per recording (same order as the input): sigma_rel^2 point estimates (NaN without cells).
+  std::vector<double> relative_variance_per_recording;
+  /// The budget (upper confidence limits at z): what a diagnosis adds to V.
+  DiscrepancyEntry budget(double z) const;
+};
+
+/// Discrepancy estimates for every (quantity, family) present in the recordings' cells.
+/// `recordings[r]` are the calibration cells of recording r's nuisance-only diagnosis.
+std::vector<DiscrepancyEstimate> estimate_discrepancy(const std::vector<std::vector<CalibrationCell>>& recordings);
+
+/// Median over the recordings of each nuisance parameter except the sensor gains, as
+/// "key=value" overrides (key = the parameter's configuration key).
+std::vector<std::string> median_overrides(const std::vector<std::vector<FittedParameter>>& per_recording);
+
+/// A calibration as written by `planetwear calibrate` and read by `diagnose --calibration`.
+struct Calibration {
+  std::vector<std::string> recordings;   ///< file names, for the record
+  std::vector<double> speeds_rpm;        ///< their input speeds [rpm]
+  std::vector<std::string> verdicts;     ///< each recording's nuisance-only verdict before calibration
+  std::vector<std::string> overrides;    ///< calibrated model: "key=value"
+  std::vector<std::string> rig_elements; ///< candidates fitted as nuisance (e.g. encoder_bandwidth)
+  double alpha = 0.01;                   ///< of the upper confidence limits
+  std::vector<DiscrepancyEstimate> discrepancy;
+  /// The budgets at z_{1-alpha}, for CompareOptions::discrepancy.
+  std::vector<DiscrepancyEntry> budgets() const;
+};
+
+} // namespace pw::diagnose
