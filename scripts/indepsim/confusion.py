@@ -2,7 +2,7 @@
 """Runs `planetwear diagnose` on an indepsim corpus and scores it against truth.json.
 
     /usr/bin/python3 scripts/indepsim/confusion.py DIR --planetwear PATH/planetwear
-        [--jobs N] [--threads 1] [--include-held-out] [--calibration-per-rig] [--timeout S]
+        [--jobs N] [--threads 1] [--include-held-out] [--calibration-per-rig | --calibrate] [--timeout S]
         [--only NAME,...] [--gearset G] [--dry-run] [--check-reader]
 
 For each recording DIR/<gearset>/recordings/rec_NN.csv (sidecar rec_NN.json) it runs
@@ -19,6 +19,10 @@ skipped unless --include-held-out.
 the nuisance values it recalibrated (the report's --set overrides of stiffness.scale,
 contact.mesh_damping_ratio, sensor.*) are passed as --set to the other recordings of
 that operating point (outputs under DIR/diagnosis_cal/).
+
+--calibrate: `planetwear calibrate` on each gear set's healthy baselines (held-out ones never),
+written to DIR/diagnosis_calibrated/<gearset>/calibration.toml; every other recording is then
+diagnosed with --calibration (docs/diagnose.md section 7).
 """
 import argparse
 import concurrent.futures as cf
@@ -84,7 +88,7 @@ def read_report(path):
     return label, verdict, summary, overrides
 
 
-def run_one(exe, corpus, key, rec, outroot, threads, timeout, extra_sets=()):
+def run_one(exe, corpus, key, rec, outroot, threads, timeout, extra_args=()):
     g, name = rec["gearset"], rec["name"]
     out = os.path.join(corpus, outroot, g, name)
     rj = os.path.join(out, "report.json")
@@ -98,8 +102,7 @@ def run_one(exe, corpus, key, rec, outroot, threads, timeout, extra_sets=()):
     csvp = os.path.join(corpus, rec["csv"])
     cmd = [exe, "diagnose", "-c", os.path.join(corpus, g, "gearset.toml"), "-r", csvp,
            "--meta", os.path.splitext(csvp)[0] + ".json", "-o", out, "--threads", str(threads), "--no-plots", "-q"]
-    for s in extra_sets:
-        cmd += ["--set", s]
+    cmd += list(extra_args)
     env = dict(os.environ, OMP_NUM_THREADS=str(threads))
     t0 = time.time()
     try:
@@ -158,6 +161,9 @@ def main(argv=None):
     ap.add_argument("--threads", type=int, default=1)
     ap.add_argument("--include-held-out", action="store_true")
     ap.add_argument("--calibration-per-rig", action="store_true")
+    ap.add_argument("--calibrate", action="store_true",
+                    help="planetwear calibrate on each gear set's (non-held-out) baselines, then diagnose the other "
+                         "recordings with --calibration (outputs under DIR/diagnosis_calibrated/)")
     ap.add_argument("--timeout", type=float, default=3 * 3600)
     ap.add_argument("--only", default="", help="comma-separated gearset/rec_NN keys")
     ap.add_argument("--gearset", default="")
@@ -185,7 +191,8 @@ def main(argv=None):
         bad = [k for k, v in res.items() if v["result"] != v["expected"]]
         print(f"{len(keys) - len(bad)}/{len(keys)} as expected" + (f"; unexpected: {bad}" if bad else ""))
         return 1 if bad else 0
-    outroot = "diagnosis_cal" if a.calibration_per_rig else "diagnosis"
+    outroot = ("diagnosis_calibrated" if a.calibrate else "diagnosis_cal" if a.calibration_per_rig
+               else "diagnosis")
     results = {}
     t_start = time.time()
     done_times = []
@@ -228,7 +235,35 @@ def main(argv=None):
         for bk in base_keys:
             if bk in results and results[bk][1][0] not in ("refused", "failed"):
                 cal[bk] = [s for s in results[bk][1][3] if s.startswith(NUISANCE_PREFIXES)]
-        jobs_for([k for k in keys if k not in results], extra=lambda k: cal.get(recs[k]["baseline"], []))
+        jobs_for([k for k in keys if k not in results],
+                 extra=lambda k: [x for s in cal.get(recs[k]["baseline"], []) for x in ("--set", s)])
+    elif a.calibrate:
+        # planetwear calibrate per gear set on its healthy baselines (never the held-out ones),
+        # then every other recording diagnosed with --calibration.
+        cal_files = {}
+        for g in sorted({recs[k]["gearset"] for k in keys}):
+            bases = sorted(k for k, r in recs.items()
+                           if r["gearset"] == g and r["role"] == "baseline" and not r.get("held_out")
+                           and not r.get("reader_should_refuse"))
+            cf_path = os.path.join(a.corpus, outroot, g, "calibration.toml")
+            os.makedirs(os.path.dirname(cf_path), exist_ok=True)
+            if not os.path.exists(cf_path) and not a.dry_run:
+                cmd = [a.planetwear, "calibrate", "-c", os.path.join(a.corpus, g, "gearset.toml"), "-o", cf_path,
+                       "--threads", str(a.threads)]
+                for b in bases:
+                    csvp = os.path.join(a.corpus, recs[b]["csv"])
+                    cmd += ["-r", csvp, "--meta", os.path.splitext(csvp)[0] + ".json"]
+                t0 = time.time()
+                p = subprocess.run(cmd, capture_output=True, text=True,
+                                   env=dict(os.environ, OMP_NUM_THREADS=str(a.threads)))
+                with open(cf_path + ".log", "w") as f:
+                    f.write(" ".join(cmd) + "\n" + p.stdout + p.stderr)
+                print(f"calibrated {g} on {len(bases)} baselines in {time.time() - t0:.0f} s (exit {p.returncode})",
+                      flush=True)
+                print(p.stdout, flush=True)
+            cal_files[g] = cf_path
+            keys[:] = [k for k in keys if k not in bases]
+        jobs_for(keys, extra=lambda k: ["--calibration", cal_files[recs[k]["gearset"]]])
     else:
         jobs_for(keys)
 

@@ -5,9 +5,11 @@
 // differs from the model by more than its noise: a systematic residual of the model's form.
 // Calibration estimates it per kind of channel (Quantity) and line family (Component), as
 //
-//   A_i = |a_i (1 + delta_i) e^{i phi} + noise + b_i|,
+//   A_i = |a_i (1 + delta_i) e^{i phi} + noise| + b_i,
 //   delta_i ~ N(0, sigma_rel^2)   relative error of a line the model has (a_i^2 >= s_i^2),
-//   b_i     ~ CN(0, sigma_abs^2)  content the model lacks in a cell it predicts below the noise,
+//   b_i     ~ N(0, sigma_abs^2)   excess spread of the amplitude in every cell (content the
+//                                 model lacks), seen alone where it predicts no line,
+// both the same in the recording's two halves (systematic, not noise),
 //
 // by the method of moments on the per-cell excess e_i = mean_halves[(A_i - mu_i)^2 - D_i]
 // (mu_i the Rician mean of the model amplitude, D_i its Rician variance plus

@@ -409,9 +409,11 @@ double ModelComparison::null_quantile(const std::vector<std::vector<double>>& m,
       const double scale = std::max(0.1, 1 + spec_.noise_relative_se[c][i] *
                                                  eps[c * static_cast<std::size_t>(groups) +
                                                      static_cast<std::size_t>(spec_.noise_group[c][i])]);
-      const double s = std::sqrt(0.5 * (s2_[f] * scale + disc_abs_[f]));
+      const double s = std::sqrt(0.5 * s2_[f] * scale);
       const double x = af + s * nd(rng), y = s * nd(rng);
       r[f] = std::hypot(x, y) - mu[f] + (drift.empty() ? 0.0 : zd * drift[f]);
+      // Calibrated absolute discrepancy: excess variance of the amplitude residual itself.
+      if (disc_abs_[f] > 0) r[f] += std::sqrt(disc_abs_[f]) * nd(rng);
     }
     chi[static_cast<std::size_t>(d)] = chi2_of(r, w, gains, nullptr);
     // Parameters fitted on the other window (see the header): + 2 chi2(k), drawn after this

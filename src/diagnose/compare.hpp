@@ -70,10 +70,11 @@ namespace pw::diagnose {
 
 /// Model discrepancy of one kind of channel and one line family (calibration.hpp): a healthy
 /// recording's amplitudes differ from the calibrated model's by a relative error of standard
-/// deviation relative_std on the lines the model has, plus content of variance
-/// absolute_variance the model lacks, beyond the noise. Enters V as
-/// (relative_std a_ref,i)^2 + absolute_variance per cell, and the null's draws as a factor
-/// (1 + relative_std n), n ~ N(0, 1), on the model amplitude and absolute_variance more noise.
+/// deviation relative_std on the lines the model has, plus an excess variance
+/// absolute_variance of the amplitude residual A_i - E[A_i] where the model predicts (almost)
+/// nothing. Enters V as (relative_std a_ref,i)^2 + absolute_variance per cell, and the null's
+/// draws as a factor (1 + relative_std n), n ~ N(0, 1), on the model amplitude and a term
+/// sqrt(absolute_variance) n' added to the residual.
 struct DiscrepancyEntry {
   Quantity quantity = Quantity::SunSpeed;
   Component family = Component::Mesh;

@@ -1,0 +1,91 @@
+// Calibration's discrepancy estimate (diagnose/calibration.hpp) on cells drawn from its own
+// model with known sigma_rel and sigma_abs: the estimates recover them within their standard
+// errors, the budget is the upper confidence limit, a model without discrepancy gets a budget
+// of about zero, and the calibrated model is the median of the fits.
+#include "diagnose/calibration.hpp"
+#include "diagnose/order_analysis.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+
+using namespace pw::diagnose;
+
+namespace {
+
+/// Cells of one channel kind: n_line cells with model lines a in [1, 5] and n_low cells the
+/// model predicts at 0; noise variance s2 per bin (complex, both halves independent), the
+/// discrepancy (relative on the lines, absolute on every cell) the same in both halves.
+std::vector<CalibrationCell> draw_cells(double sigma_rel, double sigma_abs, int n_line, int n_low, unsigned seed) {
+  std::mt19937_64 rng(seed);
+  std::normal_distribution<double> nd(0.0, 1.0);
+  std::uniform_real_distribution<double> ud(1.0, 5.0);
+  const double s2 = 0.01;
+  std::vector<CalibrationCell> cells;
+  for (int i = 0; i < n_line + n_low; ++i) {
+    CalibrationCell c;
+    c.quantity = Quantity::SunSpeed;
+    c.families = {Component::Mesh};
+    c.noise_variance = s2;
+    c.model = i < n_line ? ud(rng) : 0.0;
+    const double delta = sigma_rel * nd(rng), b = sigma_abs * nd(rng);
+    for (int w = 0; w < 2; ++w) {
+      const double s = std::sqrt(0.5 * s2);
+      c.recording[w] = std::hypot(c.model * (1 + delta) + s * nd(rng), s * nd(rng)) + b;
+      c.variance[w] = rice_variance(c.model, s2);
+    }
+    cells.push_back(c);
+  }
+  return cells;
+}
+
+} // namespace
+
+TEST(Calibration, DiscrepancyEstimatesRecoverTheDrawnRelativeAndAbsoluteVariances) {
+  // 2000 line cells with sigma_rel = 0.2 and 2000 empty cells with sigma_abs = 0.3, split over
+  // two recordings: each estimate within 4 standard errors of the truth (a 4-sigma band: the
+  // test fails by chance with probability 6e-5).
+  const auto r1 = draw_cells(0.2, 0.3, 1000, 1000, 1), r2 = draw_cells(0.2, 0.3, 1000, 1000, 2);
+  const auto est = estimate_discrepancy({r1, r2});
+  ASSERT_EQ(est.size(), 1u);
+  const DiscrepancyEstimate& d = est[0];
+  EXPECT_EQ(d.relative_cells, 2000);
+  EXPECT_EQ(d.absolute_cells, 2000);
+  EXPECT_GT(d.relative_variance_se, 0);
+  EXPECT_NEAR(d.relative_variance, 0.04, 4 * d.relative_variance_se);
+  EXPECT_NEAR(d.absolute_variance, 0.09, 4 * d.absolute_variance_se);
+  ASSERT_EQ(d.relative_variance_per_recording.size(), 2u);
+  for (double v : d.relative_variance_per_recording) EXPECT_NEAR(v, 0.04, 0.015);
+  // The budget is the upper limit: above the estimate by z standard errors.
+  const DiscrepancyEntry b = d.budget(2.326);
+  EXPECT_NEAR(b.relative_std * b.relative_std, d.relative_variance + 2.326 * d.relative_variance_se, 1e-12);
+  EXPECT_GT(b.absolute_variance, d.absolute_variance);
+}
+
+TEST(Calibration, AModelWithoutDiscrepancyGetsABudgetOfTheOrderOfItsStandardError) {
+  // Noise only: the estimates scatter around 0 (|estimate| < 4 s.e.) and the budget stays
+  // within a few standard errors, far below the 0.04 of the test above.
+  const auto est = estimate_discrepancy({draw_cells(0.0, 0.0, 2000, 2000, 3)});
+  ASSERT_EQ(est.size(), 1u);
+  const DiscrepancyEstimate& d = est[0];
+  EXPECT_LT(std::fabs(d.relative_variance), 4 * d.relative_variance_se);
+  EXPECT_LT(std::fabs(d.absolute_variance), 4 * d.absolute_variance_se);
+  const DiscrepancyEntry b = d.budget(2.326);
+  EXPECT_LT(b.relative_std * b.relative_std, 7 * d.relative_variance_se);
+  EXPECT_LT(b.relative_std * b.relative_std, 0.004);
+}
+
+TEST(Calibration, CalibratedModelIsTheMedianOfTheFitsWithoutTheSensorGains) {
+  auto p = [](const std::string& n, double v) {
+    FittedParameter f;
+    f.name = n;
+    f.value = v;
+    return f;
+  };
+  const auto o = median_overrides({{p("stiffness.scale", 1.0), p("sensor.gain_m_s2_per_N", 3.0)},
+                                   {p("stiffness.scale", 1.4), p("sensor.gain_m_s2_per_N", 1.0)},
+                                   {p("stiffness.scale", 1.1)}});
+  ASSERT_EQ(o.size(), 1u);
+  EXPECT_EQ(o[0], "stiffness.scale=1.1");
+}

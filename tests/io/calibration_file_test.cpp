@@ -1,0 +1,66 @@
+// The calibration file: what `calibrate` writes, `diagnose --calibration` reads back exactly;
+// a malformed file is an InputError naming the file and the key.
+#include "core/error.hpp"
+#include "io/calibration_file.hpp"
+#include "test_support.hpp"
+
+#include <gtest/gtest.h>
+
+#include <fstream>
+
+using namespace pw;
+
+TEST(CalibrationFile, WrittenCalibrationReadsBackExactly) {
+  test::TempDir dir;
+  diagnose::Calibration c;
+  c.alpha = 0.02;
+  c.recordings = {"a.csv", "b.csv"};
+  c.speeds_rpm = {1000.0 / 3, 1500.0};
+  c.verdicts = {"unexplained_residual", "no_missing_physics"};
+  c.rig_elements = {"encoder_bandwidth"};
+  c.overrides = {"stiffness.scale=1.2345", "sensor.encoder_bandwidth_Hz=987.5"};
+  diagnose::DiscrepancyEstimate d;
+  d.quantity = diagnose::Quantity::HousingAcceleration;
+  d.family = diagnose::Component::Planet;
+  d.relative_variance = 0.1 / 3;
+  d.relative_variance_se = 1e-3 / 7;
+  d.relative_cells = 26;
+  d.absolute_variance = -1.5e-9;
+  d.absolute_variance_se = 2e-10 / 3;
+  d.absolute_cells = 106;
+  d.relative_variance_per_recording = {0.03, 0.1 / 3};
+  c.discrepancy = {d};
+  io::write_calibration(c, dir / "cal.toml");
+  const diagnose::Calibration r = io::read_calibration(dir / "cal.toml");
+  EXPECT_EQ(r.alpha, c.alpha);
+  EXPECT_EQ(r.recordings, c.recordings);
+  EXPECT_EQ(r.speeds_rpm, c.speeds_rpm);
+  EXPECT_EQ(r.verdicts, c.verdicts);
+  EXPECT_EQ(r.rig_elements, c.rig_elements);
+  EXPECT_EQ(r.overrides, c.overrides);
+  ASSERT_EQ(r.discrepancy.size(), 1u);
+  const auto& e = r.discrepancy[0];
+  EXPECT_EQ(e.quantity, d.quantity);
+  EXPECT_EQ(e.family, d.family);
+  EXPECT_EQ(e.relative_variance, d.relative_variance);
+  EXPECT_EQ(e.relative_variance_se, d.relative_variance_se);
+  EXPECT_EQ(e.relative_cells, d.relative_cells);
+  EXPECT_EQ(e.absolute_variance, d.absolute_variance);
+  EXPECT_EQ(e.absolute_variance_se, d.absolute_variance_se);
+  EXPECT_EQ(e.absolute_cells, d.absolute_cells);
+  EXPECT_EQ(e.relative_variance_per_recording, d.relative_variance_per_recording);
+}
+
+TEST(CalibrationFile, UnknownFamilyIsAnInputErrorNamingFileAndKey) {
+  test::TempDir dir;
+  {
+    std::ofstream f(dir / "bad.toml");
+    f << "[calibration]\nalpha = 0.01\nrecordings = []\nspeeds_rpm = []\nverdicts = []\nrig_elements = []\n"
+         "overrides = []\n[[discrepancy]]\nquantity = \"sun_speed\"\nfamily = \"gearbox\"\nrelative_variance = 0\n"
+         "relative_variance_se = 0\nabsolute_variance = 0\nabsolute_variance_se = 0\n";
+  }
+  const auto e = test::thrown<InputError>([&] { io::read_calibration(dir / "bad.toml"); });
+  ASSERT_TRUE(e);
+  EXPECT_TRUE(test::contains(e->what(), "bad.toml"));
+  EXPECT_TRUE(test::contains(e->what(), "discrepancy[0].family"));
+}
