@@ -11,11 +11,13 @@
 #include "synth_command.hpp"
 
 #include "core/error.hpp"
+#include "core/memory_budget.hpp"
 #include "diagnose/recording.hpp"
 #include "io/config_toml.hpp"
 #include "io/io_error.hpp"
 #include "io/recording_reader.hpp"
 #include "io/recording_writer.hpp"
+#include "model/memory_estimate.hpp"
 #include "model/simulation.hpp"
 
 #include <CLI/CLI.hpp>
@@ -50,6 +52,21 @@ double rms_about_mean(const std::vector<double>& x) {
   double s = 0;
   for (double v : x) s += (v - mean) * (v - mean);
   return std::sqrt(s / static_cast<double>(x.size()));
+}
+
+/// Refuses a duration whose simulation cannot be held in memory, before the
+/// warm-up: synth simulates every time step of the whole duration and
+/// decimates only afterwards, so the simulated rate sets the memory.
+void check_synth_memory(const model::SimulationConfig& config, double seconds, const model::OutputSelection& columns) {
+  const model::PreparedStage p = model::prepare(config);
+  const std::size_t channels = columns.channels.size();
+  // The stored channels, then the decimated copies (at most as long again).
+  const double bytes = 1.5 * model::record_bytes(config, p.steps_per_mesh, 1, channels);
+  require_memory(bytes, "--seconds",
+                 detail::concat(seconds, " s at ", config.operating.input_speed_rpm, " rpm (",
+                                config.solver.record_mesh_cycles, " mesh cycles x ", p.steps_per_mesh,
+                                " time steps, ", channels, " channels)"),
+                 "use a shorter --seconds (--decimate thins the recording only after the simulation)");
 }
 
 const model::Scalar* find_scalar(const model::SimulationResult& r, const std::string& name) {
@@ -183,6 +200,7 @@ int run_synth(const SynthOptions& o) {
   const model::OutputSelection columns{{"sun/speed", "carrier/speed", "sun_planet/0/acceleration",
                                         "planet_ring/0/acceleration", "housing/acceleration", "sun/angle"},
                                        1};
+  check_synth_memory(config, seconds, columns);
   const model::SimulationResult r = model::simulate(config, progress, columns);
 
   // 3. Channels, at the simulation's rate; output j is simulated sample
