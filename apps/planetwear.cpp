@@ -43,7 +43,7 @@ int main(int argc, char** argv) {
   app.set_version_flag("--version", pw::app::version_string());
   app.footer("Exit codes: 0 ok, 1 bad input (also a command-line error), 2 solver failure, 3 I/O failure, 4 wear "
              "stopped early (sweep: some cases failed), 5 unexpected failure; docs/cli.md. Memory: a run whose "
-             "estimate exceeds half the physical memory is refused; PLANETWEAR_MEMORY_LIMIT (e.g. 8G) overrides.");
+             "estimate exceeds half the physical memory is refused; PLANETWEAR_MEMORY_LIMIT (e.g. 8G) overrides.\n");
 
   pw::app::SimulateOptions sim;
   CLI::App* s = app.add_subcommand("simulate", "Simulate one operating point; write time histories, stiffness "
