@@ -153,7 +153,10 @@ int run_synth(const SynthOptions& o) {
   require(std::isfinite(o.noise) && o.noise >= 0, "--noise", "must be a finite number >= 0, got ", o.noise);
   require(std::isfinite(o.dc_offset), "--dc-offset", "must be a finite number, got ", o.dc_offset);
   require(std::isfinite(o.seconds) && o.seconds >= 0, "--seconds", "must be >= 0 (0 = automatic), got ", o.seconds);
-  require(o.decimate >= 1, "--decimate", "must be an integer >= 1, got ", o.decimate);
+  // The filter has 32 k + 1 taps (decimation_margin, int): k is bounded so that its
+  // length cannot overflow; 1e6 already thins 355 kHz to 0.4 Hz.
+  require(o.decimate >= 1 && o.decimate <= 1000000, "--decimate", "must be an integer in [1, 1000000], got ",
+          o.decimate);
   std::vector<std::string> sets = o.common.assignments;
   if (o.speed_rpm) sets.push_back("operating.input_speed_rpm=" + toml_float(*o.speed_rpm));
   if (o.power_W) sets.push_back("operating.input_power_W=" + toml_float(*o.power_W));

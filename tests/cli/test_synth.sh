@@ -22,6 +22,7 @@ Q="--speed-rpm 1200 --power-w 20000 --seconds 0.8 --decimate 40 -q --set solver.
 check negative-noise 1 "--noise" bad -- "$PW" synth $Q --noise -0.1 -o bad.csv
 check nan-offset 1 "--dc-offset" bad -- "$PW" synth $Q --dc-offset nan -o bad.csv
 check zero-decimate 1 "decimate" bad -- "$PW" synth $Q --decimate 0 -o bad.csv
+check huge-decimate 1 "--decimate: must be an integer in \[1, 1000000\]" bad -- "$PW" synth --seconds 0.8 -q --decimate 200000000 -o bad.csv
 check unknown-key 1 "imperfections.pin_eror_m" bad -- "$PW" synth $Q --set imperfections.pin_eror_m=[0,0,0] -o bad.csv
 check bad-speed 1 "operating.input_speed_rpm" bad -- "$PW" synth --speed-rpm -3 -o bad.csv
 check missing-dir 3 "does not exist" "" -- "$PW" synth $Q -o nodir/rec.csv
