@@ -127,7 +127,7 @@ CLI::App* add_synth_command(CLI::App& app, SynthOptions& o) {
                 "housing accelerometer angle [deg], CCW from planet 0 at t = 0; overrides sensor.angle_rad");
   s->add_option("--decimate", o.decimate,
                 "keep every k-th simulated sample after a zero-phase anti-alias FIR (Blackman-windowed sinc, "
-                "32k+1 taps, cutoff 0.4 x the new sample rate); default 1")
+                "32k+1 taps, cutoff 0.4 x the new sample rate); 1 to 1e6, default 1")
       ->check(CLI::PositiveNumber);
   s->add_option("--start-mesh-cycle", o.start_mesh_cycle,
                 "start the recording at absolute time W x mesh period (simulating on after the warm-up), so that "
