@@ -27,11 +27,15 @@ bool commented_out(const KeyInfo& k) {
 } // namespace
 
 std::string unit_of_doc(std::string_view doc) {
-  const auto close = doc.rfind(']');
-  if (close == std::string_view::npos) return "";
-  const auto open = doc.rfind('[', close);
-  if (open == std::string_view::npos) return "";
-  return std::string(doc.substr(open + 1, close - open - 1));
+  // Skip "[]" (an empty-list default, "[] = none"): the unit is the last non-empty bracket.
+  for (auto close = doc.rfind(']'); close != std::string_view::npos && close > 0; close = doc.rfind(']', close - 1)) {
+    const auto open = doc.rfind('[', close);
+    if (open == std::string_view::npos) return "";
+    if (close > open + 1) return std::string(doc.substr(open + 1, close - open - 1));
+    if (open == 0) return "";
+    close = open;
+  }
+  return "";
 }
 
 std::string keys_json() {

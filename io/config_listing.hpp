@@ -11,8 +11,9 @@
 
 namespace pw::io {
 
-/// The unit of a key's doc string: the last "[...]" in it ("[rpm]" -> "rpm",
-/// "[-]" -> "-"), "" when the doc names none (booleans, choices).
+/// The unit of a key's doc string: the last non-empty "[...]" in it ("[rpm]"
+/// -> "rpm", "[-]" -> "-", "[rad]; [] = none" -> "rad"), "" when the doc names
+/// none (booleans, choices).
 std::string unit_of_doc(std::string_view doc);
 
 /// JSON array of {"key", "type", "unit", "default", "doc"} objects in file

@@ -53,12 +53,15 @@ TEST(ConfigListing, KeysJsonListsEveryKeyWithTypeUnitDefaultAndDoc) {
   EXPECT_EQ(unit_of("operating.input_speed_rpm"), "rpm");
   EXPECT_EQ(unit_of("stage.sun.youngs_modulus_Pa"), "Pa");
   EXPECT_EQ(unit_of("solver.record_mesh_cycles"), "-");
+  EXPECT_EQ(unit_of("imperfections.pin_error_m"), "m");
 }
 
 TEST(ConfigListing, UnitIsTheLastBracketOfTheDoc) {
   EXPECT_EQ(unit_of_doc("sun speed [rpm]"), "rpm");
   EXPECT_EQ(unit_of_doc("tooth index, 0-based (docs/derivation.md 1.4) [-]"), "-");
   EXPECT_EQ(unit_of_doc("include the fillet-foundation term"), "");
+  EXPECT_EQ(unit_of_doc("planet angles psi_i [rad]; [] = equally spaced"), "rad");
+  EXPECT_EQ(unit_of_doc("damaged or modified teeth; [] = none"), "");
 }
 
 template <class E>
