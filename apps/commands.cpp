@@ -2,8 +2,10 @@
 
 #include "core/error.hpp"
 #include "io/atomic_output.hpp"
+#include "io/config_listing.hpp"
 #include "io/config_toml.hpp"
 #include "io/csv_writer.hpp"
+#include "io/exit_code.hpp"
 #include "io/hdf5_file.hpp"
 #include "io/io_error.hpp"
 #include "io/result_writer.hpp"
@@ -134,11 +136,11 @@ int run_simulate(const SimulateOptions& o) {
   }
   if (!result.wear.stop_reason.empty()) {
     // Kept what was computed (written above); tell scripts it is incomplete.
-    std::fprintf(stderr, "planetwear: %s; results up to then are in %s\n", result.wear.stop_reason.c_str(),
+    std::fprintf(stderr, "%s%s; results up to then are in %s\n", io::kErrorPrefix, result.wear.stop_reason.c_str(),
                  o.output.c_str());
-    return 4;
+    return io::to_int(io::ExitCode::Incomplete);
   }
-  return 0;
+  return io::to_int(io::ExitCode::Ok);
 }
 
 int run_stiffness(const StiffnessOptions& o) {
@@ -187,9 +189,24 @@ int run_stiffness(const StiffnessOptions& o) {
   return 0;
 }
 
-int run_keys() {
+int run_keys(const std::string& format) {
+  if (format == "json") {
+    std::fputs(io::keys_json().c_str(), stdout);
+    return 0;
+  }
   for (const auto& k : io::config_keys())
     std::printf("%-48s %-16s %-22s %s\n", k.path.c_str(), k.type.c_str(), k.default_value.c_str(), k.doc.c_str());
+  return 0;
+}
+
+int run_config(const ConfigOptions& o) {
+  if (o.template_only) {
+    require(o.common.config.empty() && o.common.assignments.empty(), "--template",
+            "prints the defaults; it takes no --config or --set");
+    std::fputs(io::config_template().c_str(), stdout);
+    return 0;
+  }
+  std::fputs(io::to_toml(load(o.common)).c_str(), stdout);
   return 0;
 }
 

@@ -31,9 +31,18 @@ struct StiffnessOptions {
   std::string output, csv;
 };
 
+struct ConfigOptions {
+  CommonOptions common;
+  bool template_only = false;  ///< --template: the commented defaults
+};
+
 std::string version_string();
 int run_simulate(const SimulateOptions& options);
 int run_stiffness(const StiffnessOptions& options);
-int run_keys();
+/// `keys`: the text table, or with format "json" keys_json().
+int run_keys(const std::string& format);
+/// `config`: the resolved configuration as TOML, or with --template the
+/// commented defaults (io/config_listing.hpp).
+int run_config(const ConfigOptions& options);
 
 } // namespace pw::app

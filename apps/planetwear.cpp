@@ -7,7 +7,9 @@
 //                       [--set key=value ...] -o out.h5 [--csv out.csv]
 //   e.g. the seed's wear run: planetwear simulate --mesh-cycles 2e5 -o wear.h5
 //   planetwear stiffness [--config FILE] [--set ...] [-o stiffness.h5]
-//   planetwear keys     (every configuration key with unit and default)
+//   planetwear keys [--format text|json]  (every configuration key with unit and default)
+//   planetwear config [--template] [--config FILE] [--set ...]
+//                       (the resolved configuration as TOML; --template: every key commented, at its default)
 //   planetwear synth [--config FILE] [--set ...] [--seconds S] [--noise F] [--dc-offset F]
 //                    [--seed N] [--sensor-angle-deg A] [--decimate K] [--tacho] -o rec.csv
 //                       (a synthetic recording + rec.json sidecar, docs/recordings.md)
@@ -18,10 +20,12 @@
 //   [mpirun -np P] planetwear sweep CAMPAIGN.toml -o results.h5 [--resume|--force]
 //                       (a design-of-experiments campaign, docs/campaigns.md)
 //
-// Exit codes: 0 success, 1 bad input (the message names the parameter),
+// Exit codes (io/exit_code.hpp, table in docs/cli.md): 0 success, 1 bad input
+// including command-line parse errors (the message names the parameter),
 // 2 solver failure, 3 I/O failure, 4 wear stopped early at the safe wear limit
 // (results up to then are written); sweep: 4 = the campaign finished but some
-// cases failed (their reasons are in the archive).
+// cases failed (their reasons are in the archive); 5 an unexpected failure.
+// Every error line starts with "planetwear: error: ".
 #include "commands.hpp"
 #include "calibrate_command.hpp"
 #include "diagnose_command.hpp"
@@ -29,7 +33,7 @@
 #include "synth_command.hpp"
 
 #include "core/error.hpp"
-#include "io/io_error.hpp"
+#include "io/exit_code.hpp"
 
 #include <CLI/CLI.hpp>
 
@@ -40,6 +44,9 @@ int main(int argc, char** argv) {
   CLI::App app{"planetwear: dynamics and wear of planetary gear stages (SI units throughout)"};
   app.require_subcommand(1);
   app.set_version_flag("--version", pw::app::version_string());
+  app.footer("Exit codes: 0 ok, 1 bad input (also a command-line error), 2 solver failure, 3 I/O failure, 4 wear "
+             "stopped early (sweep: some cases failed), 5 unexpected failure; docs/cli.md. Memory: a run whose "
+             "estimate exceeds half the physical memory is refused; PLANETWEAR_MEMORY_LIMIT (e.g. 8G) overrides.\n");
 
   pw::app::SimulateOptions sim;
   CLI::App* s = app.add_subcommand("simulate", "Simulate one operating point; write time histories, stiffness "
@@ -90,16 +97,32 @@ int main(int argc, char** argv) {
   CLI::App* cl = pw::app::add_calibrate_command(app, cal);
 
   CLI::App* keys = app.add_subcommand("keys", "List every configuration key with its type, default and unit");
+  std::string keys_format = "text";
+  keys->add_option("--format", keys_format, "text (a table) or json (an array of {key, type, unit, default, doc})")
+      ->check(CLI::IsMember({"text", "json"}));
+
+  pw::app::ConfigOptions cfg;
+  CLI::App* cf = app.add_subcommand("config", "Print the resolved configuration as TOML (every key), or with "
+                                              "--template every key at its default with its doc as a comment");
+  cf->add_option("-c,--config", cfg.common.config, "TOML configuration")->check(CLI::ExistingFile);
+  cf->add_option("--set", cfg.common.assignments, "override a configuration key: --set section.key=value")
+      ->take_all();
+  cf->add_flag("--template", cfg.template_only, "a commented TOML file of every key at its default");
 
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
-    return app.exit(e);
+    // --help and --version are successes (exit 0); every other parse error is
+    // bad input: exit 1 with the one error prefix, not CLI11's own codes.
+    if (e.get_exit_code() == 0) return app.exit(e);
+    std::cerr << pw::io::kErrorPrefix << e.what() << "\nRun with --help for more information.\n";
+    return pw::io::to_int(pw::io::ExitCode::BadInput);
   }
   try {
     if (*s) return pw::app::run_simulate(sim);
     if (*k) return pw::app::run_stiffness(stf);
-    if (*keys) return pw::app::run_keys();
+    if (*keys) return pw::app::run_keys(keys_format);
+    if (*cf) return pw::app::run_config(cfg);
     if (*sw) return pw::app::run_sweep(swp);
     if (*sy) return pw::app::run_synth(syn);
     if (*cl) return pw::app::run_calibrate(cal);
@@ -108,15 +131,12 @@ int main(int argc, char** argv) {
       for (int i = 0; i < argc; ++i) line += (i ? " " : "") + std::string(argv[i]);
       return pw::app::run_diagnose(dgn, line);
     }
-  } catch (const pw::InputError& e) {
-    std::cerr << "planetwear: error: " << e.what() << "\n";
-    return 1;
-  } catch (const pw::SolverError& e) {
-    std::cerr << "planetwear: solver failed: " << e.what() << "\n";
-    return 2;
-  } catch (const pw::io::IoError& e) {
-    std::cerr << "planetwear: I/O error: " << e.what() << "\n";
-    return 3;
+  } catch (...) {
+    // One mapping for every subcommand (io/exit_code.hpp); std::bad_alloc and
+    // other surprises exit 5 with a message instead of aborting.
+    const std::exception_ptr e = std::current_exception();
+    std::cerr << pw::io::error_message(e) << "\n";
+    return pw::io::to_int(pw::io::exit_code_of(e));
   }
-  return 0;
+  return pw::io::to_int(pw::io::ExitCode::Ok);
 }

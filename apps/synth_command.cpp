@@ -11,11 +11,13 @@
 #include "synth_command.hpp"
 
 #include "core/error.hpp"
+#include "core/memory_budget.hpp"
 #include "diagnose/recording.hpp"
 #include "io/config_toml.hpp"
 #include "io/io_error.hpp"
 #include "io/recording_reader.hpp"
 #include "io/recording_writer.hpp"
+#include "model/memory_estimate.hpp"
 #include "model/simulation.hpp"
 
 #include <CLI/CLI.hpp>
@@ -50,6 +52,21 @@ double rms_about_mean(const std::vector<double>& x) {
   double s = 0;
   for (double v : x) s += (v - mean) * (v - mean);
   return std::sqrt(s / static_cast<double>(x.size()));
+}
+
+/// Refuses a duration whose simulation cannot be held in memory, before the
+/// warm-up: synth simulates every time step of the whole duration and
+/// decimates only afterwards, so the simulated rate sets the memory.
+void check_synth_memory(const model::SimulationConfig& config, double seconds, const model::OutputSelection& columns) {
+  const model::PreparedStage p = model::prepare(config);
+  const std::size_t channels = columns.channels.size();
+  // The stored channels, then the decimated copies (at most as long again).
+  const double bytes = 1.5 * model::record_bytes(config, p.steps_per_mesh, 1, channels);
+  require_memory(bytes, "--seconds",
+                 detail::concat(seconds, " s at ", config.operating.input_speed_rpm, " rpm (",
+                                config.solver.record_mesh_cycles, " mesh cycles x ", p.steps_per_mesh,
+                                " time steps, ", channels, " channels)"),
+                 "use a shorter --seconds (--decimate thins the recording only after the simulation)");
 }
 
 const model::Scalar* find_scalar(const model::SimulationResult& r, const std::string& name) {
@@ -110,7 +127,7 @@ CLI::App* add_synth_command(CLI::App& app, SynthOptions& o) {
                 "housing accelerometer angle [deg], CCW from planet 0 at t = 0; overrides sensor.angle_rad");
   s->add_option("--decimate", o.decimate,
                 "keep every k-th simulated sample after a zero-phase anti-alias FIR (Blackman-windowed sinc, "
-                "32k+1 taps, cutoff 0.4 x the new sample rate); default 1")
+                "32k+1 taps, cutoff 0.4 x the new sample rate); 1 to 1e6, default 1")
       ->check(CLI::PositiveNumber);
   s->add_option("--start-mesh-cycle", o.start_mesh_cycle,
                 "start the recording at absolute time W x mesh period (simulating on after the warm-up), so that "
@@ -136,7 +153,10 @@ int run_synth(const SynthOptions& o) {
   require(std::isfinite(o.noise) && o.noise >= 0, "--noise", "must be a finite number >= 0, got ", o.noise);
   require(std::isfinite(o.dc_offset), "--dc-offset", "must be a finite number, got ", o.dc_offset);
   require(std::isfinite(o.seconds) && o.seconds >= 0, "--seconds", "must be >= 0 (0 = automatic), got ", o.seconds);
-  require(o.decimate >= 1, "--decimate", "must be an integer >= 1, got ", o.decimate);
+  // The filter has 32 k + 1 taps (decimation_margin, int): k is bounded so that its
+  // length cannot overflow; 1e6 already thins 355 kHz to 0.4 Hz.
+  require(o.decimate >= 1 && o.decimate <= 1000000, "--decimate", "must be an integer in [1, 1000000], got ",
+          o.decimate);
   std::vector<std::string> sets = o.common.assignments;
   if (o.speed_rpm) sets.push_back("operating.input_speed_rpm=" + toml_float(*o.speed_rpm));
   if (o.power_W) sets.push_back("operating.input_power_W=" + toml_float(*o.power_W));
@@ -183,6 +203,7 @@ int run_synth(const SynthOptions& o) {
   const model::OutputSelection columns{{"sun/speed", "carrier/speed", "sun_planet/0/acceleration",
                                         "planet_ring/0/acceleration", "housing/acceleration", "sun/angle"},
                                        1};
+  check_synth_memory(config, seconds, columns);
   const model::SimulationResult r = model::simulate(config, progress, columns);
 
   // 3. Channels, at the simulation's rate; output j is simulated sample

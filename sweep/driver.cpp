@@ -9,6 +9,7 @@
 #include "core/error.hpp"
 #include "io/atomic_output.hpp"
 #include "io/config_toml.hpp"
+#include "io/exit_code.hpp"
 #include "io/io_error.hpp"
 #include "model/simulation.hpp"
 
@@ -415,11 +416,11 @@ private:
 
 /// Ends every rank at once (MPI_Abort); the archive keeps its last checkpoint.
 [[noreturn]] void abort_run(std::ostream& log, const std::filesystem::path& output, const std::string& what) {
-  log << "\nplanetwear sweep: error: " << what << "\nplanetwear sweep: aborting; " << output.string()
+  log << "\n" << io::kErrorPrefix << "sweep: " << what << "\nplanetwear sweep: aborting; " << output.string()
       << " keeps its last checkpoint and the journal the cases finished since; continue with --resume\n"
       << std::flush;
-  MPI_Abort(MPI_COMM_WORLD, 3);
-  std::_Exit(3);
+  MPI_Abort(MPI_COMM_WORLD, io::to_int(io::ExitCode::IoFailure));
+  std::_Exit(io::to_int(io::ExitCode::IoFailure));
 }
 
 int master(const SweepOptions& o, Setup& s, int ranks, std::ostream& log) {
@@ -581,18 +582,6 @@ int master(const SweepOptions& o, Setup& s, int ranks, std::ostream& log) {
   return failed_total > 0 ? kExitCasesFailed : 0;
 }
 
-int exit_code_of(const std::exception_ptr& e) {
-  try {
-    std::rethrow_exception(e);
-  } catch (const InputError&) {
-    return 1;
-  } catch (const SolverError&) {
-    return 2;
-  } catch (...) {
-    return 3;
-  }
-}
-
 } // namespace
 
 int run_sweep(const SweepOptions& o, std::ostream& log) {
@@ -613,7 +602,7 @@ int run_sweep(const SweepOptions& o, std::ostream& log) {
       setup.emplace(prepare(o, ranks, log));
     } catch (...) {
       setup_error = std::current_exception();
-      code = exit_code_of(setup_error);
+      code = io::to_int(io::exit_code_of(setup_error));
     }
   }
   MPI_Request request;

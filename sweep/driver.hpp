@@ -26,6 +26,8 @@
 // deterministic and is stored at its case index.
 #pragma once
 
+#include "io/exit_code.hpp"
+
 #include <cstddef>
 #include <filesystem>
 #include <iosfwd>
@@ -47,8 +49,8 @@ struct SweepOptions {
   std::size_t case_end = static_cast<std::size_t>(-1);
 };
 
-/// Exit code when the campaign finished but some cases failed.
-inline constexpr int kExitCasesFailed = 4;
+/// Exit code when the campaign finished but some cases failed (io/exit_code.hpp).
+inline constexpr int kExitCasesFailed = static_cast<int>(io::ExitCode::Incomplete);
 
 /// Runs the campaign on every rank of MPI_COMM_WORLD (MPI_Init_thread and
 /// MPI_Finalize happen in here). Returns the exit code: on rank 0, 0 if all

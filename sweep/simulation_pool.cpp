@@ -5,6 +5,7 @@
 
 #include "core/error.hpp"
 #include "io/config_toml.hpp"
+#include "io/exit_code.hpp"
 #include "io/io_error.hpp"
 
 #include <atomic>
@@ -273,8 +274,8 @@ int run_with_simulation_pool(const std::function<void(const RemoteSimulation&, i
     pool.pump(done);
   } catch (const std::exception& e) {
     // A protocol error: requests may wait forever, so no orderly shutdown is possible.
-    std::fprintf(stderr, "planetwear diagnose: %s; aborting all ranks\n", e.what());
-    MPI_Abort(MPI_COMM_WORLD, 3);
+    std::fprintf(stderr, "%sdiagnose: %s; aborting all ranks\n", io::kErrorPrefix, e.what());
+    MPI_Abort(MPI_COMM_WORLD, io::to_int(io::ExitCode::IoFailure));
   }
   diagnosis.join();
   pool.stop_all();

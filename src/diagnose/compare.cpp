@@ -64,6 +64,11 @@ std::string builtin_config_key(const model::SimulationConfig& c) {
   return k;
 }
 
+namespace {
+/// The upper end of solver.record_mesh_cycles (model::validate).
+constexpr double kMaxModelRecordCycles = 1e6;
+} // namespace
+
 ModelComparison::ModelComparison(const Recording& recording, const model::SimulationConfig& config,
                                  CompareOptions options)
     : rec_(recording), opt_(std::move(options)) {
@@ -71,10 +76,14 @@ ModelComparison::ModelComparison(const Recording& recording, const model::Simula
   base_ = config;
   base_.operating = rec_.operating;
   base_.operating.input_speed_rpm = spec_.speed.input_rpm;
-  base_.solver.record_mesh_cycles =
-      (spec_.layout.mesh_cycles > 0 ? spec_.layout.mesh_cycles
-                                    : static_cast<int>(std::ceil(spec_.layout.revolutions * spec_.kinematics.ring_teeth))) +
-      3;
+  // The model records as many mesh cycles as the recording holds; counted in
+  // double so that a very long recording is refused, not wrapped in int.
+  const double cycles = (spec_.layout.mesh_cycles > 0 ? spec_.layout.mesh_cycles
+                                                      : std::ceil(spec_.layout.revolutions * spec_.kinematics.ring_teeth)) +
+                        3;
+  require(cycles <= kMaxModelRecordCycles, "--recording", "covers ", cycles - 3, " mesh cycles; the model records at most ",
+          kMaxModelRecordCycles, " (solver.record_mesh_cycles); diagnose a shorter excerpt");
+  base_.solver.record_mesh_cycles = static_cast<int>(cycles);
   model::validate(base_);
   const int nc = channels(), ncell = cells();
   for (int c = 0; c < nc; ++c)

@@ -2,6 +2,7 @@
 
 #include "core/error.hpp"
 #include "dynamics/modal.hpp"
+#include "model/memory_estimate.hpp"
 #include "model/sensor.hpp"
 #include "signal/spectrum.hpp"
 #include "wear/flank_wear.hpp"
@@ -9,6 +10,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdint>
 #include <numbers>
 #include <span>
 
@@ -211,10 +213,11 @@ PreparedStage prepare(const SimulationConfig& c) {
   require(dt <= 1.0 / (8 * f_max), "solver.time_step_s", dt,
           " s gives fewer than 8 steps per period of the highest natural frequency (", f_max,
           " Hz); the response would be wrong. Use <= ", 1.0 / (8 * f_max), " s or 0 for automatic");
-  p.steps_per_mesh = static_cast<int>(std::ceil(T_mesh / dt - 1e-9));
+  p.steps_per_mesh = checked_steps_per_mesh(c, T_mesh, dt);
   p.time_step_s = T_mesh / p.steps_per_mesh;
 
   // Tooth flank state: deviations and stiffness factors per tooth.
+  check_flank_memory(c);
   ToothSurfaces surf;
   const int N = c.stage.planet_count;
   const auto& gs = geo.sun_planet;
@@ -355,7 +358,8 @@ WarmupStats warm_up(Run& r, const ProgressFn& report, double f0, double f1) {
     }
   const double zeta = std::max(c.contact.mesh_damping_ratio, 1e-3);
   const int settle_cycles =
-      std::max(3, static_cast<int>(std::ceil(10.0 / (zeta * 2 * kPi * f_low) * p.mesh_frequency_Hz)));
+      // Clamped before the cast: a very soft mode at a high speed would overflow int.
+      static_cast<int>(std::clamp(std::ceil(10.0 / (zeta * 2 * kPi * f_low) * p.mesh_frequency_Hz), 3.0, 1e9));
   const int max_warm = c.solver.warmup_max_mesh_cycles;
   // Speed control acts on the rigid mode r (unit sun rotation): inertia
   // reflected to the sun I_eq = r'Mr, load torque reflected by k_r = carrier
@@ -500,10 +504,10 @@ RecordStats record(Run& r, int cycles, SimulationResult& out, const OutputSelect
   const int nm = static_cast<int>(S.meshes.size());
   const int N = r.c.stage.planet_count;
   const int spm = p.steps_per_mesh;
-  const int nrec = cycles * spm;
-  const int dec = std::max(1, sel.decimation);
-  const int nstore = (nrec + dec - 1) / dec;  // steps k = 0, dec, 2 dec, ... < nrec
-  out.time_step_s = p.time_step_s * dec;
+  const std::int64_t nrec = static_cast<std::int64_t>(cycles) * spm;  // 1e6 cycles x spm overflows int
+  const std::int64_t dec = std::max(1, sel.decimation);
+  const std::int64_t nstore = (nrec + dec - 1) / dec;  // steps k = 0, dec, 2 dec, ... < nrec
+  out.time_step_s = p.time_step_s * static_cast<double>(dec);
   out.time_s.resize(static_cast<std::size_t>(nstore));
 
   std::vector<RecordChannel> ch = record_channels(S, N);
@@ -527,7 +531,7 @@ RecordStats record(Run& r, int cycles, SimulationResult& out, const OutputSelect
   for (std::size_t k = 0; k < ch.size(); ++k)
     if (needed[k] && k != g_housing) ch[k].samples = out.channels[stored_index[k]].values.data();
 
-  auto put = [&](std::size_t k, int j, double v) {
+  auto put = [&](std::size_t k, std::int64_t j, double v) {
     if (ch[k].samples) ch[k].samples[j] = v;
   };
   const double ratio = (r.c.stage.sun.teeth + r.c.stage.ring.teeth) / static_cast<double>(r.c.stage.sun.teeth);
@@ -555,16 +559,16 @@ RecordStats record(Run& r, int cycles, SimulationResult& out, const OutputSelect
     }
   }
   const double t0 = r.st.t;
-  for (int k = 0; k < nrec; ++k) {
+  for (std::int64_t k = 0; k < nrec; ++k) {
     r.step();
     const double w_sun = sun_encoder.step(sun_speed()), w_carrier = carrier_encoder.step(carrier_speed());
     const auto& ms = sys.mesh_states();
     for (int i = 0; i < N; ++i) stats.mean_sun_planet_force_N[i] += ms[2 * i].force_N / static_cast<double>(nrec);
     stats.mean_carrier_angle_rad += sys.carrier_theta_row().dot(r.st.q) / static_cast<double>(nrec);
     stats.mean_carrier_speed_rad_s += sys.carrier_theta_row().dot(r.st.v) / static_cast<double>(nrec);
-    if (report && k % spm == 0) report(f0 + (f1 - f0) * k / nrec, "recording");
+    if (report && k % spm == 0) report(f0 + (f1 - f0) * static_cast<double>(k) / static_cast<double>(nrec), "recording");
     if (k % dec != 0) continue;
-    const int j = k / dec;
+    const std::int64_t j = k / dec;
     out.time_s[j] = r.st.t - t0;
     double fsum = 0;
     for (int m = 0; m < nm; ++m) {
@@ -626,7 +630,7 @@ constexpr int kSnapshotCycles = 8;
 /// planet 0's two meshes (seed Figs. 10-12).
 WearSnapshot record_snapshot(Run& r, double mesh_cycles, wear::FlankWearAccumulator* acc) {
   const int spm = r.p.steps_per_mesh;
-  const int n = kSnapshotCycles * spm;
+  const std::int64_t n = static_cast<std::int64_t>(kSnapshotCycles) * spm;
   WearSnapshot s;
   s.mesh_cycles = mesh_cycles;
   s.time_s.resize(n);
@@ -641,7 +645,7 @@ WearSnapshot record_snapshot(Run& r, double mesh_cycles, wear::FlankWearAccumula
   }
   const auto& S = r.sys().structure();
   const double t0 = r.st.t;
-  for (int k = 0; k < n; ++k) {
+  for (std::int64_t k = 0; k < n; ++k) {
     r.step();
     if (acc) acc->accumulate(r.p.time_step_s);
     s.time_s[k] = r.st.t - t0;
@@ -728,7 +732,7 @@ WearHistory run_wear(Run& r, const ProgressFn& report, double f0, double f1) {
   int updates = 0;
   const auto clock0 = std::chrono::steady_clock::now();
   while (done < total) {
-    for (int k = 0; k < kWindowSettleCycles * spm; ++k) r.step();
+    for (std::int64_t k = 0; k < std::int64_t{kWindowSettleCycles} * spm; ++k) r.step();
     acc.begin_window();
     int booked = 0;
     for (std::size_t s = 0; s < targets.size(); ++s)
@@ -740,7 +744,7 @@ WearHistory run_wear(Run& r, const ProgressFn& report, double f0, double f1) {
         break;
       }
     double mean_ws = 0;
-    for (int k = booked * spm; k < window * spm; ++k) {
+    for (std::int64_t k = std::int64_t{booked} * spm; k < std::int64_t{window} * spm; ++k) {
       r.step();
       acc.accumulate(dt);
       mean_ws += sys.sun_theta_row().dot(r.st.v);
@@ -750,7 +754,7 @@ WearHistory run_wear(Run& r, const ProgressFn& report, double f0, double f1) {
     // windows and snapshots stay at the recording's operating point.
     if (window > booked && sys.structure().has_rigid_mode)
       sys.set_load_torque_Nm(sys.load_torque_Nm() *
-                             (1.0 + mean_ws / ((window - booked) * spm) / r.p.sun_speed_rad_s));
+                             (1.0 + mean_ws / (static_cast<double>(window - booked) * spm) / r.p.sun_speed_rad_s));
     double max_rate = 0;
     for (int f = 0; f < F; ++f) {
       if (!acc.wear_rate_per_cycle(f, rate[f]))
@@ -838,6 +842,11 @@ void check_selection(const OutputSelection& sel, const std::vector<RecordChannel
   }
 }
 
+std::size_t selected_channels(const OutputSelection& sel, const std::vector<RecordChannel>& channels) {
+  return static_cast<std::size_t>(
+      std::count_if(channels.begin(), channels.end(), [&](const RecordChannel& c) { return sel.selects(c.name); }));
+}
+
 } // namespace
 
 bool OutputSelection::selects(const std::string& channel) const {
@@ -856,6 +865,8 @@ SimulationResult simulate(const SimulationConfig& c, const ProgressFn& progress,
   const int nm = static_cast<int>(S.meshes.size());
   const int N = c.stage.planet_count;
   check_selection(output, record_channels(S, N));
+  // Refuse what cannot be stored before the (possibly long) warm-up.
+  check_run_memory(c, p.steps_per_mesh, output.decimation, selected_channels(output, record_channels(S, N)));
   const bool wear_on = c.wear.mesh_cycles > 0;
   const double f_warm = wear_on ? 0.05 : 0.3, f_wear = wear_on ? 0.9 : f_warm;
 

@@ -12,6 +12,7 @@
 #include <fftw3.h>
 
 #include <climits>
+#include <limits>
 #include <cmath>
 #include <mutex>
 #include <new>
@@ -35,6 +36,10 @@ struct RealFft::Impl {
   fftw_plan inverse_plan = nullptr;
 
   explicit Impl(std::size_t length) : n(length) {
+    // FFTW's plan takes an int length: refuse longer records instead of wrapping.
+    require(n <= static_cast<std::size_t>(std::numeric_limits<int>::max()), "solver.record_mesh_cycles", "a spectrum of ",
+            n, " samples exceeds the ", std::numeric_limits<int>::max(),
+            " FFTW can transform; record fewer samples (solver.record_mesh_cycles, --time-history-decimation)");
     real = fftw_alloc_real(n);
     spec = fftw_alloc_complex(n / 2 + 1);
     if (real == nullptr || spec == nullptr) {

@@ -21,13 +21,14 @@ done
 Q="--speed-rpm 1200 --power-w 20000 --seconds 0.8 --decimate 40 -q --set solver.periodicity_tolerance=0.05"
 check negative-noise 1 "--noise" bad -- "$PW" synth $Q --noise -0.1 -o bad.csv
 check nan-offset 1 "--dc-offset" bad -- "$PW" synth $Q --dc-offset nan -o bad.csv
-check zero-decimate nz "decimate" bad -- "$PW" synth $Q --decimate 0 -o bad.csv
+check zero-decimate 1 "decimate" bad -- "$PW" synth $Q --decimate 0 -o bad.csv
+check huge-decimate 1 "--decimate: must be an integer in \[1, 1000000\]" bad -- "$PW" synth --seconds 0.8 -q --decimate 200000000 -o bad.csv
 check unknown-key 1 "imperfections.pin_eror_m" bad -- "$PW" synth $Q --set imperfections.pin_eror_m=[0,0,0] -o bad.csv
 check bad-speed 1 "operating.input_speed_rpm" bad -- "$PW" synth --speed-rpm -3 -o bad.csv
 check missing-dir 3 "does not exist" "" -- "$PW" synth $Q -o nodir/rec.csv
 check json-output 3 ".json" bad -- "$PW" synth $Q -o bad.json
 check early-start 1 "--start-mesh-cycle" bad -- "$PW" synth $Q --start-mesh-cycle 2 -o bad.csv
-check missing-output nz "output" "" -- "$PW" synth $Q
+check missing-output 1 "output" "" -- "$PW" synth $Q
 ls ./*partial* >/dev/null 2>&1 && { echo "FAIL partial files left"; fail=1; }
 
 # Same seed, same file; another seed, another file. A concealed effect and a
