@@ -8,9 +8,11 @@
     results.spectrum("sun_planet/0/acceleration", 3)    # xarray.DataArray over frequency [Hz]
     results.array("wear/sun/depth_final", 3)            # numpy, the case's valid elements only
 
-Case i's row is row i of every /design and /results dataset (the archive's
-/design/case, which it also declares as the dimension scale of those rows).
-Pending and failed cases have NaN results.
+Row r of every /design and /results dataset belongs to case /design/case[r]
+(the archive declares /design/case the dimension scale of those rows); in a
+whole-campaign archive r = case, in the slice archives of an array job not
+necessarily, so rows are looked up by case. Pending and failed cases have
+NaN results.
 """
 import numpy as np
 import pandas as pd
@@ -46,7 +48,7 @@ class CampaignResults:
     read on demand, cut to each case's valid length."""
 
     def __init__(self, path, scalars, units, descriptions, arrays, lengths, attrs, campaign, base_config_toml,
-                 done_cases):
+                 done_cases, row_of_case):
         self.path = path
         self.scalars = scalars              #: DataFrame, index case, column per /results/scalars/<name>
         self.units = units                  #: unit of every scalar and array (name without "results/")
@@ -57,6 +59,7 @@ class CampaignResults:
         self.campaign = campaign            #: /campaign attributes (design_type, factors, hashes, ...)
         self.base_config_toml = base_config_toml  #: the resolved base case
         self.done_cases = np.asarray(done_cases)  #: case indices whose status is "done"
+        self._row_of_case = row_of_case     # case index -> row of the datasets
 
     def array(self, name, case):
         """Row `case` of /results/<name>, cut to the case's valid length
@@ -64,10 +67,11 @@ class CampaignResults:
         name = name[len("results/"):] if name.startswith("results/") else name
         if name not in self.array_names:
             raise KeyError(f"{self.path}: no per-case array {name!r}; have {self.array_names}")
+        row = self._row_of_case[int(case)]
         with _hdf5.open_checked(self.path, FORMAT, NEWEST_FORMAT_VERSION) as f:
-            row = f["results/" + name][case]
-            length = int(f["results/" + self._lengths[name]][case])
-        return np.asarray(row[:length])
+            values = f["results/" + name][row]
+            length = int(f["results/" + self._lengths[name]][row])
+        return np.asarray(values[:length])
 
     def arrays(self, name, cases=None):
         """{case: array(name, case)} for `cases` (default: every done case)."""
@@ -129,5 +133,7 @@ def load_campaign(path):
         campaign = {k: _hdf5.text(v) if isinstance(v, (bytes, str)) else v.item() for k, v in f["campaign"].attrs.items()}
         base = f["campaign/base_config_toml"].asstr()[()] if "campaign/base_config_toml" in f else ""
     done = design.index[design["status"] == "done"]
-    results = CampaignResults(str(path), table, units, descriptions, arrays, lengths, attrs, campaign, base, done)
+    rows = {int(case): row for row, case in enumerate(design.index)}
+    results = CampaignResults(str(path), table, units, descriptions, arrays, lengths, attrs, campaign, base, done,
+                              rows)
     return design, results
