@@ -9,7 +9,7 @@
     results.array("wear/sun/depth_final", 3)            # numpy, the case's valid elements only
 
 Row r of every /design and /results dataset belongs to case /design/case[r]
-(the archive declares /design/case the dimension scale of those rows); in a
+(the archive declares /case, equal to it, the dimension scale of those rows); in a
 whole-campaign archive r = case, in the slice archives of an array job not
 necessarily, so rows are looked up by case. Pending and failed cases have
 NaN results.

@@ -13,6 +13,9 @@ one integer component (``sun_planet/<i>/deflection``, ``load_sharing/<i>``,
 named by the component before the index: ``planet`` for meshes and load
 shares, ``mode`` for natural frequencies, ``<component>_index`` otherwise.
 Members missing for some index (e.g. ``--channels sun_planet/0/``) are NaN.
+Spectra get the suffix ``_spectrum``, curves ``_curve``; a scalar whose name
+a channel already has gets ``_scalar`` (``sun_speed_scalar``, the nominal
+speed, beside the channel ``sun_speed``).
 Every variable and coordinate has a ``units`` attribute (SI, "1" =
 dimensionless or an index) and ``description``; ``hdf5_path`` says where the
 numbers came from (``{planet}`` standing for the index).
@@ -46,19 +49,35 @@ class _Builder:
     def coordinate(self, name, values, units, description, dim=None):
         self.coords[name] = ((dim or name,), np.asarray(values), {"units": units, "description": description})
 
-    def add(self, h5_name, dims, values, attrs, path, suffix=""):
-        """Adds the dataset `h5_name` (relative to its section) with `dims`."""
+    def add(self, h5_name, dims, values, attrs, path, suffix="", on_collision=""):
+        """Adds the dataset `h5_name` (relative to its section) with `dims`,
+        as `<name><suffix>`, or `<name><suffix><on_collision>` if an earlier
+        section took that name (the scalar sun/speed beside the channel)."""
         family, index_dim, index = split_index(h5_name)
-        attrs = dict(attrs, hdf5_path=path)
         if index_dim is None:
-            self.plain[variable_name(h5_name) + suffix] = (tuple(dims), np.asarray(values), attrs)
+            self.add_plain(variable_name(h5_name) + suffix, dims, values, attrs, path, on_collision)
         else:
-            self.families[(variable_name(family) + suffix, index_dim)][index] = (tuple(dims), np.asarray(values),
-                                                                                 attrs, path)
+            self.add_stacked(variable_name(family) + suffix, index_dim, index, dims, values, attrs, path, on_collision)
 
-    def add_stacked(self, name, index_dim, index, dims, values, attrs, path):
-        """Adds one member of an index family whose name has no index component (wear flanks)."""
+    def add_plain(self, name, dims, values, attrs, path, on_collision=""):
+        if self._taken(name, None, None):
+            name += on_collision
+        self.plain[name] = (tuple(dims), np.asarray(values), dict(attrs, hdf5_path=path))
+
+    def add_stacked(self, name, index_dim, index, dims, values, attrs, path, on_collision=""):
+        """Adds member `index` of the family `name` stacked along `index_dim`."""
+        if self._taken(name, index_dim, index):
+            name += on_collision
         self.families[(name, index_dim)][index] = (tuple(dims), np.asarray(values), dict(attrs, hdf5_path=path), path)
+
+    def _taken(self, name, index_dim, index):
+        """Whether `name` is used otherwise than by the family (name, index_dim) without `index`."""
+        if name in self.plain or name in self.coords:
+            return True
+        for (other, other_dim), members in self.families.items():
+            if other == name and (other_dim != index_dim or index in members):
+                return True
+        return False
 
     def build(self, attrs):
         variables = dict(self.plain)
@@ -77,9 +96,8 @@ class _Builder:
                            {"units": "1", "description": _INDEX_DESCRIPTIONS.get(dim, f"index of {dim[:-6] or dim}")})
         for (name, index_dim), members in stackable.items():
             variables[name] = self._stack(index_dim, coords[index_dim][1], members)
-        for name in list(variables):
-            if name in coords:  # a result named like a coordinate keeps its data under another name
-                variables[name + "_value"] = variables.pop(name)
+        for name in [n for n in variables if n in coords]:  # a coordinate declared after a like-named result
+            variables[name + "_value"] = variables.pop(name)
         return xr.Dataset(variables, coords=coords, attrs=attrs)
 
     @staticmethod
@@ -144,7 +162,7 @@ def _add_spectra(b, group):
         for key in ("window", "scaling"):
             if key in g.attrs:
                 attrs[key] = _hdf5.text(g.attrs[key])
-        b.add(name, (dim,), amplitude[()], attrs, amplitude.name, suffix="_spectrum")
+        b.add(name, (dim,), amplitude[()], attrs, amplitude.name, suffix="_spectrum", on_collision="_2")
 
 
 def _spectrum_groups(group):
@@ -160,7 +178,7 @@ def _spectrum_groups(group):
 
 def _add_scalars(b, group):
     for name, ds in _hdf5.datasets_below(group).items():
-        b.add(name, (), ds[()], _attrs(ds), ds.name)
+        b.add(name, (), ds[()], _attrs(ds), ds.name, on_collision="_scalar")
 
 
 def _add_curves(b, group):
@@ -170,7 +188,7 @@ def _add_curves(b, group):
         dim = f"{var}_{variable_name(x_name)}"
         b.coordinate(dim, g["x"][()], _hdf5.unit(g["x"]), x_name)
         b.add(name, (dim,), g["y"][()], _attrs(g["y"], description=_hdf5.description(g) or x_name), g["y"].name,
-              suffix="_curve")
+              suffix="_curve", on_collision="_2")
 
 
 def _curve_groups(group):
@@ -188,7 +206,7 @@ def _add_wear(b, wear):
     backlash = wear["backlash"]
     columns = _hdf5.text(backlash.attrs.get("columns", "sun_planet,planet_ring")).split(",")
     b.coordinate("mesh", np.array(columns, dtype=object), "1", "mesh family of a backlash column")
-    b.add("wear/backlash", ("mesh_cycles", "mesh"), backlash[()], _attrs(backlash), backlash.name)
+    b.add_plain("wear_backlash", ("mesh_cycles", "mesh"), backlash[()], _attrs(backlash), backlash.name, "_2")
     for flank_name, g in _flank_groups(wear):
         family, planet = split_planet_flank(flank_name)
         f = variable_name(family)
@@ -202,9 +220,9 @@ def _add_wear(b, wear):
                    (f"{f}_distance_from_pitch_point", (element,), positions)]
         for name, dims, ds in entries:
             if planet is None:
-                b.plain[name] = (dims, ds[()], _attrs(ds, hdf5_path=ds.name))
+                b.add_plain(name, dims, ds[()], _attrs(ds), ds.name, "_2")
             else:
-                b.add_stacked(name, "planet", planet, dims, ds[()], _attrs(ds), ds.name)
+                b.add_stacked(name, "planet", planet, dims, ds[()], _attrs(ds), ds.name, "_2")
 
 
 def _flank_groups(wear):
