@@ -2,7 +2,7 @@
 
     report = load_diagnosis("report/")
     report["verdict"], report["missing_physics"]     # as in report.json
-    report["data"]["spectrum_housing_acc"]           # pandas DataFrame of data/<stem>.csv, index x
+    report["data"]["spectrum/sun_planet_0_acc"]           # pandas DataFrame of data/<stem>.csv, index x
 
 The folder holds report.json (every number of the diagnosis), report.md and
 report.html (the same for people) and data/*.csv (the plotted series; the
