@@ -119,7 +119,8 @@ class _Builder:
 def _index_pattern(path, index_dim, index):
     """'/time_history/sun_planet/0/deflection' -> '/time_history/sun_planet/{planet}/deflection'."""
     parts = path.split("/")
-    for k, p in enumerate(parts):
+    for k in reversed(range(len(parts))):  # the last match: /wear/snapshots/<k>/... has an index before it
+        p = parts[k]
         if p == str(index):
             parts[k] = "{" + index_dim + "}"
             return "/".join(parts)

@@ -222,6 +222,7 @@ def test_wear_snapshots_in_order_of_mesh_cycles(wear_run):
     snapshots = load_wear_snapshots(wear_run)
     with h5py.File(wear_run, "r") as f:
         groups = sorted(f["wear/snapshots"].values(), key=lambda g: g.attrs["mesh_cycles"])
+        first = groups[0].name
         assert len(snapshots) == len(groups) >= 2
         for s, g in zip(snapshots, groups):
             assert s.attrs["mesh_cycles"] == g.attrs["mesh_cycles"]
@@ -229,7 +230,9 @@ def test_wear_snapshots_in_order_of_mesh_cycles(wear_run):
             np.testing.assert_array_equal(s.sun_planet_deflection.sel(planet=0).values,
                                           g["time_history/sun_planet/0/deflection"][:])
     assert snapshots[0].attrs["mesh_cycles"] == 0
-    assert load_wear_snapshots(wear_run)[0].sun_planet_deflection.attrs["units"] == "m"
+    d = snapshots[0].sun_planet_deflection
+    assert d.attrs["units"] == "m"
+    assert d.attrs["hdf5_path"] == first + "/time_history/sun_planet/{planet}/deflection"
 
 
 # --- campaign archives --------------------------------------------------------
