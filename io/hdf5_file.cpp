@@ -3,6 +3,7 @@
 #include "io/io_error.hpp"
 
 #include <hdf5.h>
+#include <hdf5_hl.h>
 
 #include <algorithm>
 #include <limits>
@@ -354,6 +355,90 @@ void H5File::set_attribute(std::string_view object_path, std::string_view name, 
   if (!object.valid()) fail(path, "open object to set attribute '" + std::string(name) + "' on");
   if (write_attribute(object.get(), std::string(name), H5T_STD_I64LE, H5T_NATIVE_INT64, &value) < 0)
     fail(path, "write attribute '" + std::string(name) + "' of");
+}
+
+void H5File::set_units(std::string_view object_path, std::string_view unit) {
+  set_attribute(object_path, "unit", unit);
+  set_attribute(object_path, "units", unit);
+}
+
+// --- dimension scales ---------------------------------------------------------
+
+namespace {
+/// Opens a dataset; an invalid handle if it is missing or `file` is closed.
+Handle open_dataset(hid_t file, const std::string& path) {
+  return Handle(file < 0 ? -1 : H5Dopen2(file, path.c_str(), H5P_DEFAULT), H5Dclose);
+}
+} // namespace
+
+void H5File::make_dimension_scale(std::string_view dataset_path, std::string_view name) {
+  const std::string path = absolute(dataset_path);
+  const Handle dataset = open_dataset(id_, path);
+  if (!dataset.valid()) fail(path, "open dataset to make it a dimension scale");
+  if (shape(path).size() != 1) fail(path, "make a dimension scale of", "a dimension scale must be 1-D");
+  if (H5DSset_scale(dataset.get(), std::string(name).c_str()) < 0) fail(path, "make a dimension scale of");
+}
+
+void H5File::attach_dimension_scale(std::string_view dataset_path, std::string_view scale_path, unsigned dim) {
+  const std::string path = absolute(dataset_path), scale = absolute(scale_path);
+  const std::string action = "attach dimension scale '" + scale + "' to dimension " + std::to_string(dim) + " of";
+  const Handle dataset = open_dataset(id_, path);
+  const Handle scale_set = open_dataset(id_, scale);
+  if (!dataset.valid() || !scale_set.valid()) fail(path, action);
+  // H5DS does not check lengths; netCDF readers (xarray) reject a mismatch.
+  const std::vector<std::size_t> dims = shape(path), scale_dims = shape(scale);
+  if (dim >= dims.size() || scale_dims.size() != 1 || scale_dims[0] != dims[dim])
+    fail(path, action, "the scale's length differs from the dimension's (or the dimension does not exist)");
+  if (H5DSattach_scale(dataset.get(), scale_set.get(), dim) < 0) fail(path, action);
+}
+
+void H5File::set_dimension_label(std::string_view dataset_path, unsigned dim, std::string_view label) {
+  const std::string path = absolute(dataset_path);
+  const std::string action = "label dimension " + std::to_string(dim) + " of";
+  const Handle dataset = open_dataset(id_, path);
+  if (!dataset.valid()) fail(path, action);
+  if (dim >= shape(path).size()) fail(path, action, "the dataset has no such dimension");
+  if (H5DSset_label(dataset.get(), dim, std::string(label).c_str()) < 0) fail(path, action);
+}
+
+bool H5File::is_dimension_scale(std::string_view dataset_path) const {
+  const Handle dataset = open_dataset(id_, absolute(dataset_path));
+  if (!dataset.valid()) fail(dataset_path, "open dataset");
+  return H5DSis_scale(dataset.get()) > 0;
+}
+
+std::vector<std::string> H5File::dimension_scales(std::string_view dataset_path, unsigned dim) const {
+  const std::string path = absolute(dataset_path);
+  const Handle dataset = open_dataset(id_, path);
+  if (!dataset.valid()) fail(path, "open dataset");
+  std::vector<std::string> out;
+  if (H5DSget_num_scales(dataset.get(), dim) <= 0) {
+    H5Eclear2(H5E_DEFAULT);
+    return out;
+  }
+  const auto collect = [](hid_t /*dataset*/, unsigned /*dim*/, hid_t scale, void* data) -> herr_t {
+    const ssize_t size = H5Iget_name(scale, nullptr, 0);
+    if (size < 0) return -1;
+    std::string name(static_cast<std::size_t>(size) + 1, '\0');
+    H5Iget_name(scale, name.data(), name.size());
+    name.resize(static_cast<std::size_t>(size));
+    static_cast<std::vector<std::string>*>(data)->push_back(std::move(name));
+    return 0;
+  };
+  if (H5DSiterate_scales(dataset.get(), dim, nullptr, collect, &out) < 0) fail(path, "list the dimension scales of");
+  return out;
+}
+
+std::string H5File::dimension_label(std::string_view dataset_path, unsigned dim) const {
+  const std::string path = absolute(dataset_path);
+  const Handle dataset = open_dataset(id_, path);
+  if (!dataset.valid()) fail(path, "open dataset");
+  const ssize_t size = H5DSget_label(dataset.get(), dim, nullptr, 0);
+  if (size < 0) fail(path, "read the dimension label of");
+  std::string label(static_cast<std::size_t>(size) + 1, '\0');
+  H5DSget_label(dataset.get(), dim, label.data(), label.size());
+  label.resize(static_cast<std::size_t>(size));
+  return label;
 }
 
 // --- reading ----------------------------------------------------------------

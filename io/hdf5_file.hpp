@@ -88,6 +88,24 @@ public:
   }
   void set_attribute(std::string_view object_path, std::string_view name, double value);
   void set_attribute(std::string_view object_path, std::string_view name, std::int64_t value);
+  /// The unit of a dataset (or group) as two equal string attributes: `unit`,
+  /// which this project's readers use, and `units`, the CF / netCDF name that
+  /// xarray, netCDF tools and pint-based readers look for.
+  void set_units(std::string_view object_path, std::string_view unit);
+
+  // --- dimension scales (HDF5 high-level H5DS API) ------------------------
+  // A dimension scale is a 1-D dataset that labels one dimension of other
+  // datasets (e.g. /time_history/time for every channel); h5py shows it as
+  // dataset.dims[k][0], xarray (h5netcdf engine) as the coordinate of that
+  // dimension.
+  /// Makes a 1-D dataset a dimension scale called `name`.
+  void make_dimension_scale(std::string_view dataset_path, std::string_view name);
+  /// Attaches the dimension scale `scale_path` to dimension `dim` of a
+  /// dataset; the scale's length must equal that dimension's.
+  void attach_dimension_scale(std::string_view dataset_path, std::string_view scale_path, unsigned dim);
+  /// Names dimension `dim` of a dataset (h5py: dataset.dims[dim].label), for
+  /// dimensions that have no scale of their own, e.g. "tooth".
+  void set_dimension_label(std::string_view dataset_path, unsigned dim, std::string_view label);
 
   void flush();
 
@@ -109,6 +127,11 @@ public:
   std::string read_string_attribute(std::string_view object_path, std::string_view name) const;
   double read_double_attribute(std::string_view object_path, std::string_view name) const;
   std::int64_t read_int_attribute(std::string_view object_path, std::string_view name) const;
+  bool is_dimension_scale(std::string_view dataset_path) const;
+  /// Paths of the dimension scales attached to dimension `dim` of a dataset.
+  std::vector<std::string> dimension_scales(std::string_view dataset_path, unsigned dim) const;
+  /// The label of dimension `dim` of a dataset ("" if none).
+  std::string dimension_label(std::string_view dataset_path, unsigned dim) const;
 
 private:
   H5File(std::filesystem::path path, std::int64_t id) : path_(std::move(path)), id_(id) {}

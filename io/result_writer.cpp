@@ -118,8 +118,30 @@ std::vector<double> max_depth_per_update(const model::FlankWearHistory& flank, s
 
 void write_dataset_attributes(H5File& file, const std::string& path, std::string_view unit,
                               std::string_view description) {
-  file.set_attribute(path, "unit", unit);
+  file.set_units(path, unit);
   file.set_attribute(path, "description", description);
+}
+
+/// `<group>/time` and one dataset per channel below `group`, the time made
+/// the dimension scale of every channel (docs/output-format.md).
+void write_time_history(H5File& file, const std::string& group, const std::vector<double>& time_s,
+                        const std::vector<model::Channel>& channels, const DatasetOptions& options) {
+  const std::string time = group + "/time";
+  file.write(time, time_s, options);
+  write_dataset_attributes(file, time, "s", "sample time");
+  file.make_dimension_scale(time, "time");
+  for (const auto& c : channels) {
+    const std::string path = group + "/" + c.name;
+    file.write(path, c.values, options);
+    write_dataset_attributes(file, path, c.unit, c.description);
+    file.attach_dimension_scale(path, time, 0);
+  }
+}
+
+/// Makes `<group>/frequency` the dimension scale of `<group>/amplitude`.
+void attach_frequency_scale(H5File& file, const std::string& spectrum_group) {
+  file.make_dimension_scale(spectrum_group + "/frequency", "frequency");
+  file.attach_dimension_scale(spectrum_group + "/amplitude", spectrum_group + "/frequency", 0);
 }
 
 /// /wear (docs/output-format.md, "Wear"); `w` has been checked by check_wear().
@@ -133,12 +155,15 @@ void write_wear(H5File& file, const model::WearHistory& w, const DatasetOptions&
 
   file.write("/wear/mesh_cycles", w.mesh_cycles);
   write_dataset_attributes(file, "/wear/mesh_cycles", "1", "mesh cycles run at each wear update");
+  file.make_dimension_scale("/wear/mesh_cycles", "mesh_cycles");
 
   const std::size_t backlash_dims[] = {updates, 2};
   file.write_nd("/wear/backlash", w.backlash_m, backlash_dims);
   write_dataset_attributes(file, "/wear/backlash", "m",
                            "backlash along the line of action at each update; columns sun_planet, planet_ring");
   file.set_attribute("/wear/backlash", "columns", "sun_planet,planet_ring");
+  file.attach_dimension_scale("/wear/backlash", "/wear/mesh_cycles", 0);
+  file.set_dimension_label("/wear/backlash", 1, "mesh");
 
   for (const auto& flank : w.flanks) {
     const std::string group = "/wear/" + flank.name;
@@ -152,6 +177,11 @@ void write_wear(H5File& file, const model::WearHistory& w, const DatasetOptions&
                              "positive towards this gear's tip");
     file.write(group + "/max_depth", max_depth_per_update(flank, updates));
     write_dataset_attributes(file, group + "/max_depth", "m", "largest wear depth over all teeth and elements");
+    file.make_dimension_scale(group + "/distance_from_pitch_point", "distance_from_pitch_point");
+    file.attach_dimension_scale(group + "/depth", "/wear/mesh_cycles", 0);
+    file.set_dimension_label(group + "/depth", 1, "tooth");
+    file.attach_dimension_scale(group + "/depth", group + "/distance_from_pitch_point", 2);
+    file.attach_dimension_scale(group + "/max_depth", "/wear/mesh_cycles", 0);
     file.set_attribute(group, "teeth", std::int64_t{flank.teeth});
     file.set_attribute(group, "elements", std::int64_t{flank.elements});
   }
@@ -163,23 +193,18 @@ void write_wear(H5File& file, const model::WearHistory& w, const DatasetOptions&
     file.create_group(group);
     file.set_attribute(group, "mesh_cycles", snapshot.mesh_cycles);
     file.set_attribute(group, "description", "dynamic state at the wear update nearest to mesh_cycles");
-    file.write(group + "/time_history/time", snapshot.time_s, large);
-    write_dataset_attributes(file, group + "/time_history/time", "s", "sample time");
-    for (const auto& c : snapshot.channels) {
-      const std::string path = group + "/time_history/" + c.name;
-      file.write(path, c.values, large);
-      write_dataset_attributes(file, path, c.unit, c.description);
-    }
+    write_time_history(file, group + "/time_history", snapshot.time_s, snapshot.channels, large);
     // As /spectra, with the window and scaling stated in the description.
     file.create_group(group + "/spectra");
     for (const auto& c : snapshot.spectra) {
       const std::string spectrum = group + "/spectra/" + c.name;
       file.write(spectrum + "/frequency", c.x, large);
       file.write(spectrum + "/amplitude", c.y, large);
-      file.set_attribute(spectrum, "unit", c.y_unit);
+      file.set_units(spectrum, c.y_unit);
       file.set_attribute(spectrum, "description", c.description);
       write_dataset_attributes(file, spectrum + "/frequency", c.x_unit, c.x_name);
       write_dataset_attributes(file, spectrum + "/amplitude", c.y_unit, c.y_name);
+      attach_frequency_scale(file, spectrum);
     }
   }
 }
@@ -235,22 +260,13 @@ void write_simulation(H5File& file, const model::SimulationConfig& config, const
   file.create_group("/time_history");
   file.set_attribute("/time_history", "time_step_s", result.time_step_s);
   file.set_attribute("/time_history", "description", "sampled channels, all on the time base ./time");
-  file.write("/time_history/time", result.time_s, large);
-  file.set_attribute("/time_history/time", "unit", "s");
-  file.set_attribute("/time_history/time", "description", "sample time");
-  for (const auto& c : result.channels) {
-    const std::string path = "/time_history/" + c.name;
-    file.write(path, c.values, large);
-    file.set_attribute(path, "unit", c.unit);
-    file.set_attribute(path, "description", c.description);
-  }
+  write_time_history(file, "/time_history", result.time_s, result.channels, large);
 
   file.create_group("/scalars");
   for (const auto& s : result.scalars) {
     const std::string path = "/scalars/" + s.name;
     file.write_scalar(path, s.value);
-    file.set_attribute(path, "unit", s.unit);
-    file.set_attribute(path, "description", s.description);
+    write_dataset_attributes(file, path, s.unit, s.description);
   }
 
   file.create_group("/curves");
@@ -263,10 +279,10 @@ void write_simulation(H5File& file, const model::SimulationConfig& config, const
     file.set_attribute(group, "y_name", c.y_name);
     file.set_attribute(group, "y_unit", c.y_unit);
     file.set_attribute(group, "description", c.description);
-    file.set_attribute(group + "/x", "unit", c.x_unit);
-    file.set_attribute(group + "/x", "description", c.x_name);
-    file.set_attribute(group + "/y", "unit", c.y_unit);
-    file.set_attribute(group + "/y", "description", c.y_name);
+    write_dataset_attributes(file, group + "/x", c.x_unit, c.x_name);
+    write_dataset_attributes(file, group + "/y", c.y_unit, c.y_name);
+    file.make_dimension_scale(group + "/x", "x");
+    file.attach_dimension_scale(group + "/y", group + "/x", 0);
   }
 
   file.create_group("/spectra");
@@ -274,13 +290,12 @@ void write_simulation(H5File& file, const model::SimulationConfig& config, const
     const std::string group = "/spectra/" + s.name;
     file.write(group + "/frequency", s.frequency_Hz, large);
     file.write(group + "/amplitude", s.amplitude, large);
-    file.set_attribute(group, "unit", s.unit);
+    file.set_units(group, s.unit);
     file.set_attribute(group, "window", s.window);
     file.set_attribute(group, "scaling", s.scaling);
-    file.set_attribute(group + "/frequency", "unit", "Hz");
-    file.set_attribute(group + "/frequency", "description", "frequency of the bin");
-    file.set_attribute(group + "/amplitude", "unit", s.unit);
-    file.set_attribute(group + "/amplitude", "description", s.scaling);
+    write_dataset_attributes(file, group + "/frequency", "Hz", "frequency of the bin");
+    write_dataset_attributes(file, group + "/amplitude", s.unit, s.scaling);
+    attach_frequency_scale(file, group);
   }
 
   if (!result.wear.mesh_cycles.empty()) write_wear(file, result.wear, large);

@@ -4,7 +4,8 @@
 set -eu
 PKGS="build-essential cmake pkg-config libeigen3-dev libhdf5-dev hdf5-tools libfftw3-dev
 libopenmpi-dev openmpi-bin libgtest-dev libcli11-dev libtomlplusplus-dev nlohmann-json3-dev
-python3-numpy python3-h5py python3-pandas python3-matplotlib python3-scipy python3-pytest"
+python3-numpy python3-h5py python3-pandas python3-matplotlib python3-scipy python3-pytest
+python3-xarray python3-h5netcdf python3-setuptools python3-pip"
 missing=""
 for p in $PKGS; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing="$missing $p"

@@ -55,8 +55,36 @@ RUN_COLUMNS = ("status", "message", "wall_time", "rank")
 LENGTHS = ("bins", "elements", "samples")
 
 
+# Attributes of HDF5 dimension scales (the archive's /case is the scale
+# of every dataset's case dimension): they hold object references into their
+# own file, so a copy would point nowhere; copy_dimension_scales re-creates them.
+DIMENSION_SCALE_ATTRIBUTES = frozenset({"CLASS", "NAME", "REFERENCE_LIST", "DIMENSION_LIST"})
+
+
 class MergeError(Exception):
     pass
+
+
+def copy_attributes(src, dst):
+    """The attributes of `src` onto `dst`, except the dimension-scale ones."""
+    for key, v in src.attrs.items():
+        if key not in DIMENSION_SCALE_ATTRIBUTES:
+            dst.attrs[key] = v
+
+
+def copy_dimension_scales(source_of, out):
+    """Makes the datasets of `out` dimension scales, attaches them and labels
+    dimensions as the dataset `source_of[name]` (an input's dataset of the
+    same name) is; datasets of inputs without scales stay without."""
+    for name, src in source_of.items():
+        if h5py.h5ds.is_scale(src.id):
+            out[name].make_scale(_text(src.attrs.get("NAME", name.rsplit("/", 1)[-1])).rstrip("\0"))
+    for name, src in source_of.items():
+        for k, dim in enumerate(src.dims):
+            for scale in dim.values():
+                out[name].dims[k].attach_scale(out[scale.name])
+            if dim.label:
+                out[name].dims[k].label = dim.label
 
 
 def _text(v):
@@ -95,7 +123,7 @@ def _fill(name, dtype, n):
         return np.full(n, np.nan, dtype=dtype)
     if name in ("design/rank", "design/sample_row"):
         return np.full(n, -1, dtype=dtype)
-    if name == "design/case":
+    if name in ("design/case", "case"):  # /case: the dimension scale of the case dimension
         return np.arange(n, dtype=dtype)
     if base in LENGTHS:
         return np.zeros(n, dtype=dtype)
@@ -189,6 +217,7 @@ def merge(inputs, output, force=False, expect_cases=None, log=print):
                 for name in sorted(names):
                     _merge_dataset(out, name, files, names[name], row_case, n, source, source_row, desc, desc_row,
                                    inputs)
+                copy_dimension_scales({name: files[k][name] for name, k in names.items()}, out)
                 st = out["design/status"].asstr()[()]
                 done = int(np.sum(st == "done"))
                 failed = int(np.sum(st == "failed"))
@@ -245,8 +274,7 @@ def _merge_dataset(out, name, files, k0, row_case, n, source, source_row, desc, 
             out.create_dataset(name, data=ref.asstr()[()], dtype=STR)
         else:
             out.create_dataset(name, data=ref[()])
-        for key, v in ref.attrs.items():
-            out[name].attrs[key] = v
+        copy_attributes(ref, out[name])
         return
     is_str = _is_str(ref)
     is_design = name.startswith("design/")
@@ -290,8 +318,7 @@ def _merge_dataset(out, name, files, k0, row_case, n, source, source_row, desc, 
         if width > 0 and n > 0:
             kw = dict(chunks=(1, width), shuffle=True, compression="gzip", compression_opts=4)
         ds = out.create_dataset(name, data=data, **kw)
-    for key, v in ref.attrs.items():
-        ds.attrs[key] = v
+    copy_attributes(ref, ds)
 
 
 def main(argv=None):

@@ -53,6 +53,33 @@ std::map<std::string, ScalarInfo> union_of(std::span<const std::shared_ptr<const
   return names;
 }
 
+/// Writes /case (the case index, as /design/case) and makes it the dimension
+/// scale of the first (case) dimension of every dataset of /design and
+/// /results, so h5py (dataset.dims[0][0]) and netCDF readers see the join key
+/// of the design and the results. It sits at the root because netCDF readers
+/// (xarray's h5netcdf engine) look a dimension up in the group of the
+/// dataset and its ancestors only. The second dimension of the padded 2-D
+/// results gets a label only ("bin", "sample", "element"): its coordinate
+/// (frequency, time, position) differs from case to case, and a dimension
+/// scale is 1-D.
+void write_case_scale(io::H5File& f, std::span<const int> case_index) {
+  f.write("/case", case_index);
+  f.set_attribute("/case", "description",
+                  "case index (= /design/case): the dimension scale of the case dimension of every /design and "
+                  "/results dataset");
+  f.make_dimension_scale("/case", "case");
+  std::vector<std::string> datasets;
+  for (const std::string group : {"design", "results"}) {
+    std::vector<std::string> below;
+    list_datasets(f, "/" + group, "", below);
+    for (const auto& name : below) datasets.push_back("/" + group + "/" + name);
+  }
+  for (const auto& path : datasets) {
+    f.attach_dimension_scale(path, "/case", 0);
+    f.set_dimension_label(path, 0, "case");
+  }
+}
+
 io::DatasetOptions compressed() {
   io::DatasetOptions o;
   o.compress = true;
@@ -141,7 +168,7 @@ void write_archive(const std::filesystem::path& path, const Campaign& c,
     for (std::size_t i = 0; i < n; ++i) v[i] = c.cases[i].values[k];
     const std::string p = "/design/" + fa.key;
     f.write(p, std::span<const double>(v));
-    f.set_attribute(p, "unit", fa.unit);
+    f.set_units(p, fa.unit);
     f.set_attribute(p, "description", "factor " + std::to_string(k) + ": configuration key " + fa.key);
     f.set_attribute(p, "scale", to_string(fa.scale));
     if (fa.min) f.set_attribute(p, "min", *fa.min);
@@ -149,7 +176,7 @@ void write_archive(const std::filesystem::path& path, const Campaign& c,
     columns += "," + fa.key;
   }
   f.write("/design/wall_time", std::span<const double>(wall));
-  f.set_attribute("/design/wall_time", "unit", "s");
+  f.set_units("/design/wall_time", "s");
   f.set_attribute("/design/wall_time", "description", "wall time to simulate and summarize the case; NaN = not run");
   f.write("/design/rank", std::span<const int>(rank));
   f.set_attribute("/design/rank", "description", "MPI rank that ran the case; -1 = not run");
@@ -175,7 +202,7 @@ void write_archive(const std::filesystem::path& path, const Campaign& c,
         if (const NamedScalar* s = records[i]->find_scalar(name)) v[i] = s->value;
     const std::string p = "/results/scalars/" + name;
     f.write(p, std::span<const double>(v));
-    f.set_attribute(p, "unit", si.unit);
+    f.set_units(p, si.unit);
     f.set_attribute(p, "description", si.description);
   }
 
@@ -207,13 +234,16 @@ void write_archive(const std::filesystem::path& path, const Campaign& c,
       }
     const std::string g = "/results/wear/" + family;
     f.write_2d(g + "/depth_final", mean, n, width, compressed());
-    f.set_attribute(g + "/depth_final", "unit", "m");
+    f.set_dimension_label(g + "/depth_final", 1, "element");
+    f.set_units(g + "/depth_final", "m");
     f.set_attribute(g + "/depth_final", "description", "final wear depth per element, averaged over the teeth");
     f.write_2d(g + "/depth_final_max", max, n, width, compressed());
-    f.set_attribute(g + "/depth_final_max", "unit", "m");
+    f.set_dimension_label(g + "/depth_final_max", 1, "element");
+    f.set_units(g + "/depth_final_max", "m");
     f.set_attribute(g + "/depth_final_max", "description", "final wear depth per element, maximum over the teeth");
     f.write_2d(g + "/distance_from_pitch_point", x, n, width, compressed());
-    f.set_attribute(g + "/distance_from_pitch_point", "unit", "m");
+    f.set_dimension_label(g + "/distance_from_pitch_point", 1, "element");
+    f.set_units(g + "/distance_from_pitch_point", "m");
     f.set_attribute(g + "/distance_from_pitch_point", "description",
                     "signed distance of each element centre from the pitch point along the line of action, "
                     "positive towards this gear's tip");
@@ -244,7 +274,8 @@ void write_archive(const std::filesystem::path& path, const Campaign& c,
       std::copy(axis.begin(), axis.end(), freq.begin() + i * width);
     }
     f.write_2d("/results/spectra/frequency", freq, n, width, compressed());
-    f.set_attribute("/results/spectra/frequency", "unit", "Hz");
+    f.set_dimension_label("/results/spectra/frequency", 1, "bin");
+    f.set_units("/results/spectra/frequency", "Hz");
     f.set_attribute("/results/spectra/frequency", "description", "frequency of each bin, per case");
     f.write("/results/spectra/bins", std::span<const int>(bins));
     f.set_attribute("/results/spectra/bins", "description", "bins of this case (valid columns); 0 = not done");
@@ -256,7 +287,8 @@ void write_archive(const std::filesystem::path& path, const Campaign& c,
             if (s.channel == channel) std::copy(s.amplitude.begin(), s.amplitude.end(), amp.begin() + i * width);
       const std::string p = "/results/spectra/" + channel;
       f.write_2d(p, amp, n, width, compressed());
-      f.set_attribute(p, "unit", ci.unit);
+      f.set_dimension_label(p, 1, "bin");
+      f.set_units(p, ci.unit);
       f.set_attribute(p, "description", "amplitude spectrum of " + channel +
                                             ": Hann window, peak amplitude, single-sided, coherent-gain corrected");
     }
@@ -279,7 +311,8 @@ void write_archive(const std::filesystem::path& path, const Campaign& c,
         std::copy(t.begin(), t.end(), time.begin() + i * width);
       }
     f.write_2d("/results/time_history/time", time, n, width, compressed());
-    f.set_attribute("/results/time_history/time", "unit", "s");
+    f.set_dimension_label("/results/time_history/time", 1, "sample");
+    f.set_units("/results/time_history/time", "s");
     f.set_attribute("/results/time_history/time", "description", "sample times, per case");
     f.write("/results/time_history/samples", std::span<const int>(samples));
     f.set_attribute("/results/time_history/samples", "description", "samples of this case (valid columns)");
@@ -292,7 +325,8 @@ void write_archive(const std::filesystem::path& path, const Campaign& c,
             if (ch.name == name) std::copy(ch.values.begin(), ch.values.end(), v.begin() + i * width);
       const std::string p = "/results/time_history/" + name;
       f.write_2d(p, v, n, width, compressed());
-      f.set_attribute(p, "unit", ci.unit);
+      f.set_dimension_label(p, 1, "sample");
+      f.set_units(p, ci.unit);
       f.set_attribute(p, "description", ci.description);
     }
   }
@@ -311,6 +345,7 @@ void write_archive(const std::filesystem::path& path, const Campaign& c,
   f.write_strings("/design/sample_role", role);
   f.set_attribute("/design/sample_role", "description",
                   "saltelli designs: A, B or AB_<i> (A with factor i from B); empty for other designs");
+  write_case_scale(f, case_index);
   f.close();
 }
 

@@ -237,6 +237,65 @@ TEST(H5File, ErrorsNameTheFileAndTheObject) {
   EXPECT_TRUE(contains(e->what(), "not_hdf5.h5"));
 }
 
+TEST(H5File, UnitsAreWrittenUnderBothNames) {
+  test::TempDir dir;
+  auto f = H5File::create(dir / "units.h5");
+  f.write("/v", std::vector<double>{1.0});
+  f.set_units("/v", "m/s^2");
+  EXPECT_EQ(f.read_string_attribute("/v", "unit"), "m/s^2");
+  EXPECT_EQ(f.read_string_attribute("/v", "units"), "m/s^2");
+}
+
+TEST(H5File, DimensionScalesAreAttachedAndLabelled) {
+  test::TempDir dir;
+  const auto path = dir / "scales.h5";
+  {
+    auto f = H5File::create(path);
+    f.write("/g/time", std::vector<double>{0.0, 0.5, 1.0});
+    f.write("/g/sub/signal", std::vector<double>{1, 2, 3});
+    f.write_2d("/g/matrix", std::vector<double>{1, 2, 3, 4, 5, 6}, 3, 2);
+    f.make_dimension_scale("/g/time", "time");
+    f.attach_dimension_scale("/g/sub/signal", "/g/time", 0);
+    f.attach_dimension_scale("/g/matrix", "/g/time", 0);
+    f.set_dimension_label("/g/matrix", 1, "column");
+    f.close();
+  }
+  const auto f = H5File::open(path);
+  EXPECT_TRUE(f.is_dimension_scale("/g/time"));
+  EXPECT_FALSE(f.is_dimension_scale("/g/sub/signal"));
+  EXPECT_EQ(f.dimension_scales("/g/sub/signal", 0), (std::vector<std::string>{"/g/time"}));
+  EXPECT_EQ(f.dimension_scales("/g/matrix", 0), (std::vector<std::string>{"/g/time"}));
+  EXPECT_TRUE(f.dimension_scales("/g/matrix", 1).empty());
+  EXPECT_EQ(f.dimension_label("/g/matrix", 1), "column");
+  EXPECT_EQ(f.dimension_label("/g/sub/signal", 0), "");
+  EXPECT_EQ(f.read_doubles("/g/sub/signal"), (std::vector<double>{1, 2, 3})) << "attaching changed the data";
+}
+
+TEST(H5File, DimensionScaleErrorsNameTheObject) {
+  test::TempDir dir;
+  auto f = H5File::create(dir / "scale_errors.h5");
+  f.write("/time", std::vector<double>{0.0, 1.0});
+  f.write("/short", std::vector<double>{1.0});
+  f.write_2d("/matrix", std::vector<double>{1, 2, 3, 4}, 2, 2);
+  f.make_dimension_scale("/time", "time");
+
+  auto e = thrown<IoError>([&] { f.attach_dimension_scale("/short", "/time", 0); });
+  ASSERT_TRUE(e) << "a scale of another length was attached";
+  EXPECT_TRUE(contains(e->what(), "'/short'"));
+  EXPECT_TRUE(contains(e->what(), "length"));
+
+  e = thrown<IoError>([&] { f.attach_dimension_scale("/matrix", "/time", 2); });
+  ASSERT_TRUE(e) << "attached to a dimension the dataset does not have";
+
+  e = thrown<IoError>([&] { f.make_dimension_scale("/matrix", "m"); });
+  ASSERT_TRUE(e) << "a 2-D dimension scale";
+  EXPECT_TRUE(contains(e->what(), "1-D"));
+
+  e = thrown<IoError>([&] { f.set_dimension_label("/missing", 0, "x"); });
+  ASSERT_TRUE(e);
+  EXPECT_TRUE(contains(e->what(), "'/missing'"));
+}
+
 TEST(H5File, MovedFromFileIsClosedAndTheTargetUsable) {
   test::TempDir dir;
   auto a = H5File::create(dir / "move.h5");

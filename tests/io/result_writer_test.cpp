@@ -236,6 +236,66 @@ TEST(ResultWriter, WearHistoryIsWrittenWithShapesUnitsAndAttributes) {
   EXPECT_EQ(f.read_doubles("/time_history/time"), result.time_s);
 }
 
+/// Paths of every object (groups and datasets) below `group`.
+void collect_objects(const H5File& f, const std::string& group, std::vector<std::string>& out) {
+  for (const auto& m : f.members(group)) {
+    const std::string path = (group == "/" ? "" : group) + "/" + m;
+    out.push_back(path);
+    if (f.is_group(path)) collect_objects(f, path, out);
+  }
+}
+
+// docs/output-format.md, "Conventions": the CF name `units` beside `unit`,
+// and time, frequency, curve x, mesh cycles and element positions as the
+// dimension scales of the datasets they index (what xarray reads as coordinates).
+TEST(ResultWriter, UnitsAndDimensionScalesFollowTheCfConventions) {
+  test::TempDir dir;
+  const auto path = dir / "cf.h5";
+  const auto result = result_with_wear();
+  {
+    auto f = H5File::create(path);
+    write_simulation(f, model::SimulationConfig{}, result, small_spectra());
+    f.close();
+  }
+  const auto f = H5File::open(path);
+  std::vector<std::string> objects;
+  collect_objects(f, "/", objects);
+  std::size_t with_unit = 0;
+  for (const auto& p : objects) {
+    if (!f.has_attribute(p, "unit")) continue;
+    ++with_unit;
+    ASSERT_TRUE(f.has_attribute(p, "units")) << p;
+    EXPECT_EQ(f.read_string_attribute(p, "units"), f.read_string_attribute(p, "unit")) << p;
+  }
+  EXPECT_GT(with_unit, result.channels.size()) << "too few objects with a unit: the walk is broken";
+
+  const auto scales = [&](const std::string& p, unsigned dim) { return f.dimension_scales(p, dim); };
+  using Paths = std::vector<std::string>;
+  EXPECT_TRUE(f.is_dimension_scale("/time_history/time"));
+  for (const auto& c : result.channels) EXPECT_EQ(scales("/time_history/" + c.name, 0), Paths{"/time_history/time"});
+  const std::string spectrum = "/spectra/sun_planet/0/deflection";
+  EXPECT_EQ(scales(spectrum + "/amplitude", 0), Paths{spectrum + "/frequency"});
+  const std::string curve = "/curves/sun_planet/single_pair";
+  EXPECT_EQ(scales(curve + "/y", 0), Paths{curve + "/x"});
+
+  EXPECT_EQ(scales("/wear/backlash", 0), Paths{"/wear/mesh_cycles"});
+  EXPECT_EQ(f.dimension_label("/wear/backlash", 1), "mesh");
+  for (const auto& flank : result.wear.flanks) {
+    const std::string g = "/wear/" + flank.name;
+    EXPECT_EQ(scales(g + "/depth", 0), Paths{"/wear/mesh_cycles"}) << g;
+    EXPECT_EQ(f.dimension_label(g + "/depth", 1), "tooth") << g;
+    EXPECT_EQ(scales(g + "/depth", 2), Paths{g + "/distance_from_pitch_point"}) << g;
+    EXPECT_EQ(scales(g + "/max_depth", 0), Paths{"/wear/mesh_cycles"}) << g;
+  }
+  for (std::size_t k = 0; k < result.wear.snapshots.size(); ++k) {
+    const std::string g = "/wear/snapshots/" + std::to_string(k);
+    for (const auto& c : result.wear.snapshots[k].channels)
+      EXPECT_EQ(scales(g + "/time_history/" + c.name, 0), Paths{g + "/time_history/time"}) << c.name;
+    for (const auto& c : result.wear.snapshots[k].spectra)
+      EXPECT_EQ(scales(g + "/spectra/" + c.name + "/amplitude", 0), Paths{g + "/spectra/" + c.name + "/frequency"});
+  }
+}
+
 TEST(ResultWriter, WearGroupExistsOnlyWithWearUpdates) {
   test::TempDir dir;
   auto f = H5File::create(dir / "nowear.h5");

@@ -56,9 +56,9 @@ def slice_archive(src, dst, begin, end, layout="full"):
                         data[out_of_slice] = 0
                 data = data[rows]
             ds = d.create_dataset(name, data=data, dtype=archive_fixture.STR if is_str else None)
-            for k, v in obj.attrs.items():
-                ds.attrs[k] = v
+            merge_archives.copy_attributes(obj, ds)
         s.visititems(copy)
+        merge_archives.copy_dimension_scales(merge_archives._datasets(s), d)
         st = d["design/status"].asstr()[()]
         d.attrs["cases_done"] = np.int64(np.sum(st == "done"))
         d.attrs["cases_pending"] = np.int64(np.sum(st == "pending"))
@@ -159,3 +159,9 @@ def test_real_campaign_split_and_merged_is_identical(real_archive, tmp_path):
     assert res.returncode == 0, res.stdout + res.stderr
     res = subprocess.run([sys.executable, CHECK_ARCHIVE, "complete", out], capture_output=True, text=True)
     assert res.returncode == 0, res.stdout
+    # The dimension scales are re-created, not copied as references into the inputs.
+    with h5py.File(out, "r") as m, h5py.File(real_archive, "r") as ref:
+        assert h5py.h5ds.is_scale(m["case"].id)
+        for name in ("design/status", "results/scalars/efficiency", "results/spectra/frequency"):
+            assert [s.name for s in m[name].dims[0].values()] == ["/case"], name
+            assert [d.label for d in m[name].dims] == [d.label for d in ref[name].dims], name

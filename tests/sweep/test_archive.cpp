@@ -135,6 +135,52 @@ TEST(Archive, RecordsReadBackExactlyAndPendingRowsAreNaN) {
   EXPECT_EQ(f.read_string(std::string("/campaign/toml")), c.text);
 }
 
+/// Every dataset below `group` (absolute paths).
+void collect_datasets(const io::H5File& f, const std::string& group, std::vector<std::string>& out) {
+  for (const auto& m : f.members(group)) {
+    const std::string path = group + "/" + m;
+    if (f.is_group(path)) collect_datasets(f, path, out);
+    else out.push_back(path);
+  }
+}
+
+// docs/archive-format.md, "Conventions": `units` beside `unit`, /case (at the
+// root, = /design/case) the dimension scale of the case dimension of every
+// /design and /results dataset, the second dimension of the padded results
+// labelled.
+TEST(Archive, UnitsAndTheCaseDimensionScaleFollowTheCfConventions) {
+  test::TempDir dir;
+  const Campaign c = three_speeds();
+  std::vector<std::shared_ptr<const CaseRecord>> records(3);
+  records[0] = std::make_shared<const CaseRecord>(done_record(0, 3));
+  records[1] = std::make_shared<const CaseRecord>(done_record(1, 2));
+  write_archive(dir / "cf.h5", c, records, {1});
+
+  const io::H5File f = io::H5File::open(dir / "cf.h5");
+  EXPECT_TRUE(f.is_dimension_scale("/case"));
+  EXPECT_EQ(f.read_ints("/case"), f.read_ints("/design/case"));
+  std::vector<std::string> datasets;
+  collect_datasets(f, "/design", datasets);
+  collect_datasets(f, "/results", datasets);
+  ASSERT_GT(datasets.size(), 10u);
+  for (const auto& p : datasets) {
+    if (f.has_attribute(p, "unit")) {
+      EXPECT_EQ(f.read_string_attribute(p, "units"), f.read_string_attribute(p, "unit")) << p;
+    }
+    EXPECT_EQ(f.dimension_scales(p, 0), std::vector<std::string>{"/case"}) << p;
+    EXPECT_EQ(f.dimension_label(p, 0), "case") << p;
+  }
+  EXPECT_EQ(f.dimension_label("/results/spectra/sun_planet/0/acceleration", 1), "bin");
+  EXPECT_EQ(f.dimension_label("/results/spectra/frequency", 1), "bin");
+  EXPECT_EQ(f.dimension_label("/results/time_history/time", 1), "sample");
+  EXPECT_EQ(f.dimension_label("/results/wear/planet_0/sun_side/depth_final", 1), "element");
+  EXPECT_EQ(f.read_string_attribute("/results/scalars/efficiency", "units"), "1");
+  // The scale changes nothing a resume reads back.
+  const ArchiveContents back = read_archive(dir / "cf.h5");
+  ASSERT_EQ(back.records.size(), 2u);
+  expect_same(back.records[1], *records[1]);
+}
+
 TEST(Archive, RowsOfDifferentLengthsArePaddedAndRoundTrip) {
   test::TempDir dir;
   const Campaign c = three_speeds();
