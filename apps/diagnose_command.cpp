@@ -3,6 +3,7 @@
 //   2. diagnose::diagnose (src/diagnose/diagnose.hpp)
 //   3. report files (io/diagnosis_report.hpp), then the PNGs (scripts/plot_diagnosis.py)
 #include "diagnose_command.hpp"
+#include "recording_input.hpp"
 
 #include "core/error.hpp"
 #include "diagnose/candidates/candidate.hpp"
@@ -104,28 +105,10 @@ struct Inputs {
 
 /// Configuration (+ --set), sidecar and recording, validated; throws InputError naming the option.
 Inputs read_inputs(const DiagnoseCommandOptions& o) {
-  namespace fs = std::filesystem;
-  model::SimulationConfig config = o.common.config.empty() ? model::SimulationConfig{} : io::read_config(o.common.config);
-  io::apply_overrides(config, o.common.assignments);
-  const fs::path meta_path = o.meta.empty() ? io::sidecar_path(o.recording) : fs::path(o.meta);
-  // The command line describes the recording on its own (no sidecar needed) or
-  // replaces parts of the sidecar (io::merge: the command line wins).
-  io::RecordingMeta cli;
-  cli.source = "command line";
-  cli.input_speed_rpm = o.speed_rpm;
-  cli.input_power_W = o.power_W;
-  for (const std::string& c : o.columns) cli.columns.push_back(io::parse_column_option(c, "--column"));
-  const bool described_here = !cli.columns.empty() && o.speed_rpm && o.power_W;
-  const bool have_sidecar = fs::exists(meta_path);
-  if (!have_sidecar && (!o.meta.empty() || !described_here))
-    throw InputError("--meta", "no sidecar '" + meta_path.string() +
-                                   "': give the JSON description of the recording's columns (docs/recordings.md), "
-                                   "or describe it with --column, --speed-rpm and --power-w");
   for (const auto& name : o.candidates)
     require(diagnose::find_candidate(name) != nullptr, "--candidates", "unknown candidate '", name, "'");
-  const io::RecordingMeta meta = have_sidecar ? io::merge(io::read_recording_meta(meta_path), cli) : cli;
-  diagnose::Recording rec = io::read_recording(o.recording, meta, config);
-  return Inputs{std::move(config), std::move(rec)};
+  RecordingInputs in = read_recording_inputs(o.common, o.recording, o.meta, o.columns, o.speed_rpm, o.power_W);
+  return Inputs{std::move(in.config), std::move(in.recording)};
 }
 
 diagnose::CompareOptions compare_options(const DiagnoseCommandOptions& o) {

@@ -13,6 +13,9 @@
 //                       (a synthetic recording + rec.json sidecar, docs/recordings.md)
 //   planetwear diagnose [--config FILE] [--set ...] --recording rec.csv [--meta rec.json] -o report/
 //                       (where a recording and the model differ, the missing physics, docs/diagnose.md)
+//   planetwear indicators -r rec.csv [--meta rec.json] [-o ind.json|ind.csv]
+//   planetwear indicators --simulation worn.h5 [-o trend.csv]
+//                       (gear condition indicators FM0, FM4, NA4, ... of sun, planets, carrier, docs/indicators.md)
 //   [mpirun -np P] planetwear sweep CAMPAIGN.toml -o results.h5 [--resume|--force]
 //                       (a design-of-experiments campaign, docs/campaigns.md)
 //
@@ -22,6 +25,7 @@
 // cases failed (their reasons are in the archive).
 #include "commands.hpp"
 #include "diagnose_command.hpp"
+#include "indicators_command.hpp"
 #include "sweep_command.hpp"
 #include "synth_command.hpp"
 
@@ -83,6 +87,9 @@ int main(int argc, char** argv) {
   pw::app::DiagnoseCommandOptions dgn;
   CLI::App* dg = pw::app::add_diagnose_command(app, dgn);
 
+  pw::app::IndicatorsOptions ind;
+  CLI::App* in = pw::app::add_indicators_command(app, ind);
+
   CLI::App* keys = app.add_subcommand("keys", "List every configuration key with its type, default and unit");
 
   try {
@@ -96,6 +103,7 @@ int main(int argc, char** argv) {
     if (*keys) return pw::app::run_keys();
     if (*sw) return pw::app::run_sweep(swp);
     if (*sy) return pw::app::run_synth(syn);
+    if (*in) return pw::app::run_indicators(ind);
     if (*dg) {
       std::string line;
       for (int i = 0; i < argc; ++i) line += (i ? " " : "") + std::string(argv[i]);
