@@ -62,5 +62,6 @@ cat trend.txt
 /usr/bin/python3 "$CHECK" healthy.ind.json cracked.ind.json cracked.ind.csv trend.csv || fail=1
 /usr/bin/python3 "$PLOT" trend.csv -o trend.png || { echo "FAIL plot script"; fail=1; }
 [ -s trend.png ] || { echo "FAIL no trend.png"; fail=1; }
+check plot-not-a-trend 1 "mesh_cycles" nottrend.png -- /usr/bin/python3 "$PLOT" cracked.ind.csv -o nottrend.png
 [ $fail -eq 0 ] && echo "all indicators checks passed"
 exit $fail
