@@ -63,13 +63,13 @@ CLI::App* add_indicators_command(CLI::App& app, IndicatorsOptions& o) {
 namespace {
 
 diagnose::IndicatorOptions indicator_options(const IndicatorsOptions& o) {
-  diagnose::IndicatorOptions io;
-  io.samples_per_mesh = o.samples_per_mesh;
-  io.shaft_harmonics = o.shaft_harmonics;
+  diagnose::IndicatorOptions opt;
+  opt.samples_per_mesh = o.samples_per_mesh;
+  opt.shaft_harmonics = o.shaft_harmonics;
   require(o.planet_window_deg >= 0 && o.planet_window_deg <= 180, "--planet-window-deg",
           "must be 0 (automatic) or in (0, 180] deg, got ", o.planet_window_deg);
-  io.planet_window_half_width_rad = o.planet_window_deg * std::numbers::pi / 180;
-  return io;
+  opt.planet_window_half_width_rad = o.planet_window_deg * std::numbers::pi / 180;
+  return opt;
 }
 
 io::IndicatorReport recording_report(const IndicatorsOptions& o) {

@@ -38,7 +38,7 @@ namespace pw::diagnose {
 struct IndicatorOptions {
   /// Angle-domain samples per mesh cycle S; 0 = max(kMinSamplesPerMesh,
   /// ceil(sample rate / mesh frequency)): the resampled grid keeps the
-  /// recording's bandwidth. Allowed: 0 or [kMinSamplesPerMesh, 4096].
+  /// recording's bandwidth. Allowed: 0 or [kMinSamplesPerMesh, kMaxSamplesPerMesh].
   int samples_per_mesh = 0;
   /// Shaft orders 1 .. H removed from the regular/difference/residual
   /// signals (signal::GearOrders); allowed [0, 8].
@@ -54,7 +54,11 @@ struct IndicatorOptions {
 
 /// Fewest samples per mesh cycle: 16 resolve the first 8 mesh harmonics (Nyquist at S/2 per mesh cycle).
 inline constexpr int kMinSamplesPerMesh = 16;
-inline constexpr int kMaxSamplesPerMesh = 4096;
+/// Most samples per mesh cycle: a simulation at 100 rpm stores ~12800 per mesh cycle (every time step);
+/// resampling a denser signal to fewer points interpolates without an anti-alias filter.
+inline constexpr int kMaxSamplesPerMesh = 16384;
+/// Most shaft orders removed (--shaft-harmonics): the low orders of eccentricity and misalignment;
+/// for a gear with fewer than H + 2 teeth H is clamped to Z - 2 (the shaft orders stay below Z - 1).
 inline constexpr int kMaxShaftHarmonics = 8;
 
 /// One TSA of one channel.
