@@ -3,6 +3,7 @@
 //   2. diagnose::diagnose (src/diagnose/diagnose.hpp)
 //   3. report files (io/diagnosis_report.hpp), then the PNGs (scripts/plot_diagnosis.py)
 #include "diagnose_command.hpp"
+#include "recording_input.hpp"
 
 #include "core/error.hpp"
 #include "diagnose/candidates/candidate.hpp"
@@ -101,30 +102,16 @@ CLI::App* add_diagnose_command(CLI::App& app, DiagnoseCommandOptions& o) {
 }
 
 DiagnoseInputs read_diagnose_inputs(const DiagnoseCommandOptions& o) {
-  namespace fs = std::filesystem;
-  model::SimulationConfig config = o.common.config.empty() ? model::SimulationConfig{} : io::read_config(o.common.config);
-  // A calibration's model first, the command line's --set after it (the user's word wins).
-  if (!o.calibration.empty()) io::apply_overrides(config, io::read_calibration(o.calibration).overrides);
-  io::apply_overrides(config, o.common.assignments);
-  const fs::path meta_path = o.meta.empty() ? io::sidecar_path(o.recording) : fs::path(o.meta);
-  // The command line describes the recording on its own (no sidecar needed) or
-  // replaces parts of the sidecar (io::merge: the command line wins).
-  io::RecordingMeta cli;
-  cli.source = "command line";
-  cli.input_speed_rpm = o.speed_rpm;
-  cli.input_power_W = o.power_W;
-  for (const std::string& c : o.columns) cli.columns.push_back(io::parse_column_option(c, "--column"));
-  const bool described_here = !cli.columns.empty() && o.speed_rpm && o.power_W;
-  const bool have_sidecar = fs::exists(meta_path);
-  if (!have_sidecar && (!o.meta.empty() || !described_here))
-    throw InputError("--meta", "no sidecar '" + meta_path.string() +
-                                   "': give the JSON description of the recording's columns (docs/recordings.md), "
-                                   "or describe it with --column, --speed-rpm and --power-w");
   for (const auto& name : o.candidates)
     require(diagnose::find_candidate(name) != nullptr, "--candidates", "unknown candidate '", name, "'");
-  const io::RecordingMeta meta = have_sidecar ? io::merge(io::read_recording_meta(meta_path), cli) : cli;
-  diagnose::Recording rec = io::read_recording(o.recording, meta, config);
-  return DiagnoseInputs{std::move(config), std::move(rec)};
+  // A calibration's model first, the command line's --set after it (the user's word wins).
+  CommonOptions common = o.common;
+  if (!o.calibration.empty()) {
+    common.assignments = io::read_calibration(o.calibration).overrides;
+    common.assignments.insert(common.assignments.end(), o.common.assignments.begin(), o.common.assignments.end());
+  }
+  RecordingInputs in = read_recording_inputs(common, o.recording, o.meta, o.columns, o.speed_rpm, o.power_W);
+  return DiagnoseInputs{std::move(in.config), std::move(in.recording)};
 }
 
 namespace {

@@ -17,6 +17,9 @@
 //                       (where a recording and the model differ, the missing physics, docs/diagnose.md)
 //   planetwear calibrate [--config FILE] -r healthy.csv [-r ...] -o calibration.toml
 //                       (the model and its discrepancy budget from healthy recordings)
+//   planetwear indicators -r rec.csv [--meta rec.json] [-o ind.json|ind.csv]
+//   planetwear indicators --simulation worn.h5 [-o trend.csv]
+//                       (gear condition indicators FM0, FM4, NA4, ... of sun, planets, carrier, docs/indicators.md)
 //   [mpirun -np P] planetwear sweep CAMPAIGN.toml -o results.h5 [--resume|--force]
 //                       (a design-of-experiments campaign, docs/campaigns.md)
 //
@@ -29,6 +32,7 @@
 #include "commands.hpp"
 #include "calibrate_command.hpp"
 #include "diagnose_command.hpp"
+#include "indicators_command.hpp"
 #include "sweep_command.hpp"
 #include "synth_command.hpp"
 
@@ -95,6 +99,8 @@ int main(int argc, char** argv) {
 
   pw::app::CalibrateCommandOptions cal;
   CLI::App* cl = pw::app::add_calibrate_command(app, cal);
+  pw::app::IndicatorsOptions ind;
+  CLI::App* in = pw::app::add_indicators_command(app, ind);
 
   CLI::App* keys = app.add_subcommand("keys", "List every configuration key with its type, default and unit");
   std::string keys_format = "text";
@@ -126,6 +132,7 @@ int main(int argc, char** argv) {
     if (*sw) return pw::app::run_sweep(swp);
     if (*sy) return pw::app::run_synth(syn);
     if (*cl) return pw::app::run_calibrate(cal);
+    if (*in) return pw::app::run_indicators(ind);
     if (*dg) {
       std::string line;
       for (int i = 0; i < argc; ++i) line += (i ? " " : "") + std::string(argv[i]);

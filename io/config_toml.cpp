@@ -361,6 +361,8 @@ void visit_config(V& v, Config& c) {
           "stop when a flank's wear exceeds this fraction of the chordal tooth thickness [-]");
   v.field("snapshot_mesh_cycles", c.wear.snapshot_mesh_cycles,
           "mesh cycles at which dynamic snapshots are stored [-]; [] = first and last");
+  v.field("snapshot_record_mesh_cycles", c.wear.snapshot_record_mesh_cycles,
+          "mesh cycles each dynamic snapshot records [-]");
 
   v.section("sensor");
   v.field("angle_rad", c.sensor.angle_rad, "housing accelerometer angle phi_s, CCW from planet 0 at t = 0 [rad]");

@@ -16,9 +16,10 @@ constexpr double kMinWearUpdates = 8;
 /// Copies of the flank state besides the history: the deviations, the
 /// initial state and the wear rates.
 constexpr double kWorkingCopies = 3;
-/// Snapshot: mesh cycles and channels (time + 4 channels + 4 spectra of half
-/// length, frequency and amplitude each).
-constexpr double kSnapshotCycles = 8, kSnapshotArrays = 1 + 4 + 4;
+/// Snapshot arrays per sample: time, 4 mesh channels, housing acceleration and
+/// carrier angle, 5 spectra of half length (frequency and amplitude each); plus
+/// one ring-force array per planet while the housing signal is formed.
+constexpr double kSnapshotArrays = 1 + 6 + 5;
 
 } // namespace
 
@@ -53,7 +54,8 @@ double snapshot_bytes(const SimulationConfig& c, int steps_per_mesh) {
   if (c.wear.mesh_cycles <= 0) return 0;
   // An empty list means the two default snapshots (start and end).
   const double count = std::max<double>(2, static_cast<double>(c.wear.snapshot_mesh_cycles.size()));
-  return count * kSnapshotCycles * steps_per_mesh * kSnapshotArrays * kDouble;
+  return count * c.wear.snapshot_record_mesh_cycles * steps_per_mesh * (kSnapshotArrays + c.stage.planet_count) *
+         kDouble;
 }
 
 void check_flank_memory(const SimulationConfig& c) {
@@ -69,8 +71,8 @@ void check_run_memory(const SimulationConfig& c, int steps_per_mesh, int decimat
                  "output.time_history_decimation) or channels (--channels)");
   require_memory(snapshot_bytes(c, steps_per_mesh), "wear.snapshot_mesh_cycles",
                  detail::concat(std::max<std::size_t>(2, c.wear.snapshot_mesh_cycles.size()), " wear snapshots of ",
-                                kSnapshotCycles, " mesh cycles x ", steps_per_mesh, " steps"),
-                 "list fewer wear.snapshot_mesh_cycles");
+                                c.wear.snapshot_record_mesh_cycles, " mesh cycles x ", steps_per_mesh, " steps"),
+                 "list fewer wear.snapshot_mesh_cycles or lower wear.snapshot_record_mesh_cycles");
 }
 
 } // namespace pw::model

@@ -623,14 +623,16 @@ constexpr int kMinWearUpdates = 8;
 /// settle on the updated profiles (the transient decays in < 1 mesh period
 /// for the default damping, see warm-up).
 constexpr int kWindowSettleCycles = 2;
-/// Mesh cycles of each stored snapshot.
-constexpr int kSnapshotCycles = 8;
-
 /// Snapshot channels: penetration depth and mesh-line acceleration of
-/// planet 0's two meshes (seed Figs. 10-12).
+/// planet 0's two meshes (seed Figs. 10-12), then the absolute carrier angle
+/// and the housing accelerometer (model/sensor.hpp) for the condition
+/// indicators (docs/indicators.md); wear.snapshot_record_mesh_cycles long.
 WearSnapshot record_snapshot(Run& r, double mesh_cycles, wear::FlankWearAccumulator* acc) {
   const int spm = r.p.steps_per_mesh;
-  const std::int64_t n = static_cast<std::int64_t>(kSnapshotCycles) * spm;
+  const std::int64_t n = static_cast<std::int64_t>(r.c.wear.snapshot_record_mesh_cycles) * spm;
+  const int planets = r.c.stage.planet_count;
+  std::vector<double> carrier_angle(static_cast<std::size_t>(n));
+  std::vector<std::vector<double>> ring_force(static_cast<std::size_t>(planets), std::vector<double>(static_cast<std::size_t>(n)));
   WearSnapshot s;
   s.mesh_cycles = mesh_cycles;
   s.time_s.resize(n);
@@ -654,12 +656,27 @@ WearSnapshot record_snapshot(Run& r, double mesh_cycles, wear::FlankWearAccumula
     s.channels[1].values[k] = S.meshes[0].g.dot(r.st.a);
     s.channels[2].values[k] = ms[1].deflection_m;
     s.channels[3].values[k] = S.meshes[1].g.dot(r.st.a);
+    carrier_angle[k] = r.p.carrier_speed_rad_s * r.st.t + r.sys().carrier_theta_row().dot(r.st.q);
+    for (int i = 0; i < planets; ++i) ring_force[i][k] = ms[2 * static_cast<std::size_t>(i) + 1].force_N;
   }
   for (const Channel& ch : s.channels) {
     const signal::Spectrum sp = signal::amplitude_spectrum(ch.values, r.p.time_step_s, signal::Window::Hann);
     s.spectra.push_back({ch.name, "frequency", "Hz", "amplitude", ch.unit,
                          "amplitude spectrum, Hann window, " + sp.scaling, sp.frequency_Hz, sp.amplitude});
   }
+  std::vector<std::span<const double>> forces(ring_force.begin(), ring_force.end());
+  Channel housing{"housing/acceleration", "m/s^2",
+                  "housing accelerometer at sensor.angle_rad (model/sensor.hpp), planet-ring force fluctuations "
+                  "about their means over the snapshot",
+                  housing_acceleration_history(r.c.sensor, r.p.geometry.planet_angles_rad, carrier_angle, forces)};
+  const signal::Spectrum hs = signal::amplitude_spectrum(housing.values, r.p.time_step_s, signal::Window::Hann);
+  s.spectra.push_back({housing.name, "frequency", "Hz", "amplitude", housing.unit,
+                       "amplitude spectrum, Hann window, " + hs.scaling, hs.frequency_Hz, hs.amplitude});
+  s.channels.push_back(std::move(housing));
+  s.channels.push_back({"carrier/angle", "rad",
+                        "absolute carrier angle Omega_c t + perturbation (t = simulation time); planet i is at "
+                        "psi_i + carrier/angle in the housing frame",
+                        std::move(carrier_angle)});
   return s;
 }
 
@@ -740,7 +757,7 @@ WearHistory run_wear(Run& r, const ProgressFn& report, double f0, double f1) {
         h.snapshots.push_back(record_snapshot(r, done, &acc));
         for (std::size_t u = s; u < targets.size(); ++u)
           if (targets[u] <= done + 0.5) taken[u] = true;
-        booked = kSnapshotCycles;
+        booked = c.wear.snapshot_record_mesh_cycles;
         break;
       }
     double mean_ws = 0;

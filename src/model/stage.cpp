@@ -280,6 +280,7 @@ void validate_wear(const WearSettings& w) {
   check_int(w.window_mesh_cycles, "wear.window_mesh_cycles", 0, 1000000);
   check(w.max_increment_fraction, "wear.max_increment_fraction", 0, 1, Ends::OpenLow, "-");
   check(w.max_wear_fraction_of_thickness, "wear.max_wear_fraction_of_thickness", 0, 0.5, Ends::OpenLow, "-");
+  check_int(w.snapshot_record_mesh_cycles, "wear.snapshot_record_mesh_cycles", 1, 100000);
   for (std::size_t i = 0; i < w.snapshot_mesh_cycles.size(); ++i)
     check(w.snapshot_mesh_cycles[i], detail::concat("wear.snapshot_mesh_cycles[", i, "]"), 0, w.mesh_cycles,
           Ends::Closed, "-; at most wear.mesh_cycles");

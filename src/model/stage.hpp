@@ -163,6 +163,10 @@ struct WearSettings {
   /// Mesh-cycle counts at which dynamic snapshots (time histories and
   /// spectra) are stored; the nearest update is used. Empty: first and last.
   std::vector<double> snapshot_mesh_cycles{};
+  /// Mesh cycles each snapshot records [-] (8: enough for spectra of the mesh
+  /// harmonics; condition indicators need whole gear revolutions,
+  /// docs/indicators.md).
+  int snapshot_record_mesh_cycles = 8;
 };
 
 /// How the machine on the input shaft drives the sun.

@@ -103,6 +103,7 @@ inline void expect_config_eq(const model::SimulationConfig& a, const model::Simu
   EXPECT_EQ(a.wear.max_increment_fraction, b.wear.max_increment_fraction);
   EXPECT_EQ(a.wear.max_wear_fraction_of_thickness, b.wear.max_wear_fraction_of_thickness);
   EXPECT_EQ(a.wear.snapshot_mesh_cycles, b.wear.snapshot_mesh_cycles);
+  EXPECT_EQ(a.wear.snapshot_record_mesh_cycles, b.wear.snapshot_record_mesh_cycles);
 
   EXPECT_EQ(a.sensor.angle_rad, b.sensor.angle_rad);
   EXPECT_EQ(a.sensor.gain_m_s2_per_N, b.sensor.gain_m_s2_per_N);
@@ -197,6 +198,7 @@ inline model::SimulationConfig nondefault_config() {
   c.wear.max_increment_fraction = 0.05;
   c.wear.max_wear_fraction_of_thickness = 0.2;
   c.wear.snapshot_mesh_cycles = {0.0, 1e5 / 3, 2e5};
+  c.wear.snapshot_record_mesh_cycles = 250;
 
   c.sensor.angle_rad = 1.0 / 3;
   c.sensor.gain_m_s2_per_N = 2e-3 / 3;

@@ -262,6 +262,15 @@ TEST(Validate, WindowMeshCyclesIsZeroForAutomaticOrPositive) {
   EXPECT_TRUE(accepted([](auto& c) { c.wear.window_mesh_cycles = 30; }));
 }
 
+TEST(Validate, SnapshotRecordMeshCyclesIsAtLeastOne) {
+  EXPECT_TRUE(rejected_naming([](auto& c) { c.wear.snapshot_record_mesh_cycles = 0; },
+                              "wear.snapshot_record_mesh_cycles"));
+  EXPECT_TRUE(rejected_naming([](auto& c) { c.wear.snapshot_record_mesh_cycles = 100001; },
+                              "wear.snapshot_record_mesh_cycles"));
+  EXPECT_TRUE(accepted([](auto& c) { c.wear.snapshot_record_mesh_cycles = 1; }));
+  EXPECT_TRUE(accepted([](auto& c) { c.wear.snapshot_record_mesh_cycles = 250; }));
+}
+
 TEST(Validate, MaxIncrementFractionIsInZeroExclusiveToOne) {
   EXPECT_TRUE(rejected_naming([](auto& c) { c.wear.max_increment_fraction = 0.0; }, "wear.max_increment_fraction"));
   EXPECT_TRUE(rejected_naming([](auto& c) { c.wear.max_increment_fraction = 1.01; }, "wear.max_increment_fraction"));
