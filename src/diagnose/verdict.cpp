@@ -123,6 +123,14 @@ LeadAssessment assess_lead(Diagnosis& d, const VerdictInputs& in) {
                             ")"
                       : "its held-out bound was not computed");
   for (const auto& s : a.at_bound) why.push_back(s);
+  // (c) The excess it was called in for replicated: with the nuisance parameters alone the
+  // held-out half exceeds its bound too. Otherwise the held-out half cannot confirm anything
+  // (an improvement there is not the explanation of an excess), and a fit-half-only excess is
+  // what the noise test admits with probability alpha/2.
+  if (!(excess > 0))
+    why.push_back("the held-out half shows no excess with the nuisance parameters alone (chi2 " +
+                  fmt("%.0f", d.nuisance.held_out.chi2) + " <= its bound " + fmt("%.0f", d.bound_held_out) +
+                  "): the fit half's excess did not replicate, so nothing is confirmed on held-out data");
   for (std::size_t i = 0; i < why.size(); ++i) a.failed += (i ? "; " : "") + why[i];
   return a;
 }
@@ -183,10 +191,12 @@ std::string verdict_rule(const Diagnosis& d) {
   r += ", or no worse than the recording's own fit half predicts the held-out half (chi2 " +
        fmt("%.1f", d.lead.replicate_chi2) + ")";
   }
-  r += "; and (b) none of its own parameters (saturating ones excepted: only their lower limit is claimed) and none "
+  r += "; (b) none of its own parameters (saturating ones excepted: only their lower limit is claimed) and none "
        "of its recalibrated nuisance parameters sits at a bound — ";
   r += d.lead.at_bound.empty() ? std::string("none") : d.lead.at_bound.front();
   for (std::size_t i = 1; i < d.lead.at_bound.size(); ++i) r += ", " + d.lead.at_bound[i];
+  r += "; and (c) the excess replicated: the nuisance-only model exceeds its bound on the held-out half too (" +
+       fmt("%.0f", d.nuisance.held_out.chi2) + " vs " + fmt("%.0f", d.bound_held_out) + ")";
   r += ". Otherwise 'unexplained residual' with the best candidate as a lead. Result: " +
        std::string(to_string(d.verdict)) + (d.lead.failed.empty() ? "" : " (" + d.lead.failed + ")") + ".";
   return r;

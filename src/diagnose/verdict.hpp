@@ -25,7 +25,13 @@
 //       "any larger value fits as well" means the fit may stop at the top of
 //       the box), and no nuisance parameter of its joint fit that moved
 //       (recalibrated: kRecalibration and z_{1-alpha/2} standard errors, as
-//       for the nuisance-only fit).
+//       for the nuisance-only fit);
+//   (c) the excess replicated: with the nuisance parameters alone the held-out half
+//       exceeds its bound as well. A fit-half-only excess is what the noise test
+//       admits with probability alpha/2, and a held-out half with nothing to explain
+//       confirms nothing (found on a calibrated independent-simulator recording whose
+//       stiffness change the recalibration absorbed: a transfer-path window that
+//       improved both halves by ~10 was named).
 // Otherwise the verdict is "unexplained residual", with the best candidate
 // reported as a lead, never as a finding.
 //

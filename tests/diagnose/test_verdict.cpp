@@ -92,6 +92,25 @@ TEST(Verdict, WinnerWithinItsOwnBoundIsNamed) {
   EXPECT_NE(d.rule.find("friction: 1050.0 against 1110.0"), std::string::npos) << d.rule;
 }
 
+TEST(Verdict, AFitHalfOnlyExcessIsNotConfirmedByTheHeldOutHalfAndNamesNothing) {
+  // The numbers of a calibrated independent-simulator recording (docs/diagnose.md): the
+  // nuisance-only model exceeds its bound on the fit half (4887 > 4370) but not on the held-out
+  // half (3545 <= 4370); a transfer-path window improving both by ~10 counts and fits within
+  // its own bound, yet nothing replicated for it to explain: a lead, not a finding.
+  Diagnosis d = counting_friction();
+  d.bound_fit = d.bound_held_out = 4370;
+  d.nuisance.fit = score(2887, 2000);
+  d.nuisance.held_out = score(2045, 1500);
+  d.candidates.front().fit = score(2879, 2000);
+  d.candidates.front().held_out = score(2034, 1500);
+  decide_verdict(d, inputs(4392));
+  EXPECT_EQ(d.verdict, Verdict::Unexplained) << d.summary;
+  EXPECT_EQ(d.winner, -1);
+  EXPECT_TRUE(d.lead.within_bound);
+  EXPECT_NE(d.lead.failed.find("did not replicate"), std::string::npos) << d.lead.failed;
+  EXPECT_NE(d.summary.find("not a finding"), std::string::npos) << d.summary;
+}
+
 TEST(Verdict, WinnerFarAboveItsBoundIsUnexplainedWithTheCandidateAsLead) {
   // Issue 18: chi2 87850377 -> 21281752 held out, bound 5828.
   Diagnosis d = counting_friction();
