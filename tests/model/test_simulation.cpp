@@ -2,6 +2,7 @@
 // balance, and each imperfection on its own. 400 rpm keeps the runs short.
 #include "core/error.hpp"
 #include "model/simulation.hpp"
+#include "simulation_fixture.hpp"
 #include "signal/spectrum.hpp"
 
 #include <gtest/gtest.h>
@@ -15,29 +16,10 @@ using namespace pw::model;
 
 namespace {
 
-SimulationConfig fast_seed(int record_cycles = 6) {
-  SimulationConfig c;
-  c.operating.input_speed_rpm = 400;
-  c.solver.record_mesh_cycles = record_cycles;
-  return c;
-}
-
-double scalar(const SimulationResult& r, const std::string& name) {
-  for (const auto& s : r.scalars)
-    if (s.name == name) return s.value;
-  ADD_FAILURE() << "no scalar " << name;
-  return NAN;
-}
-
-const std::vector<double>& channel(const SimulationResult& r, const std::string& name) {
-  const Channel* c = r.find(name);
-  if (!c) throw std::runtime_error("no channel " + name);
-  return c->values;
-}
-
-double mean(const std::vector<double>& v) {
-  return std::accumulate(v.begin(), v.end(), 0.0) / static_cast<double>(v.size());
-}
+using pw::test::channel;
+using pw::test::fast_seed;
+using pw::test::mean;
+using pw::test::scalar;
 
 double stddev(const std::vector<double>& v) {
   const double m = mean(v);
