@@ -36,6 +36,12 @@ printf 'time [s],w [rpm]\n0,800\n0.001,800\n0.002,800\n' > cl.csv
 check column-bad-quantity 1 "--column" cl_rep -- "$PW" diagnose -r cl.csv -o cl_rep --column w=sun_sped,unit=rpm --speed-rpm 800 --power-w 2e4
 check column-described-here 1 "sample rate 1000 Hz is too low" cl_rep -- "$PW" diagnose -r cl.csv -o cl_rep --column w=sun_speed,unit=rpm --speed-rpm 800 --power-w 2e4
 check column-no-sidecar 1 "--meta" cl_rep -- "$PW" diagnose -r cl.csv -o cl_rep
+# calibrate: sidecars must pair with recordings; an unknown rig element and a malformed
+# calibration file are input errors naming the option or key; nothing is written.
+check calibrate-meta-count 1 "--meta" cal.toml -- "$PW" calibrate -r cl.csv --meta a.json --meta b.json -o cal.toml
+check calibrate-rig-element 1 "--rig-elements" cal.toml -- "$PW" calibrate -r cl.csv --rig-elements encoder -o cal.toml
+printf '[calibration]\nalpha = 0.01\n' > badcal.toml
+check diagnose-bad-calibration 1 "calibration.recordings" cl_rep -- "$PW" diagnose -r cl.csv -o cl_rep --calibration badcal.toml --column w=sun_speed,unit=rpm --speed-rpm 800 --power-w 2e4
 # A failing run must not touch an existing file at the destination.
 echo keep > existing.h5
 check keeps-existing 1 "operating.input_speed_rpm" "" -- "$PW" simulate --speed-rpm 0 -o existing.h5
