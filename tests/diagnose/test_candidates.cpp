@@ -104,3 +104,51 @@ TEST(Candidates, RingPlacesCoverOnePlanetSpacingAtAQuarterOfTheSensorWindow) {
 
 } // namespace
 } // namespace pw::diagnose
+
+namespace pw::diagnose {
+namespace {
+
+TEST(Candidates, EncoderBandwidthIsAbsentAtTheTopOfItsBoxAndEveryValueIsInTheKeysRange) {
+  // An ideal encoder (bandwidth 0 in the configuration) is the top of the box, 1e4 mesh
+  // frequencies (seed at 100 rpm: f_m = 21 * 81 / 102 * 100 / 60 = 27.79 Hz), where the filter is
+  // the identity; the parameter saturates; the screen value is 2 f_m; a configured (calibrated)
+  // bandwidth is both the start and 'absent'; applying writes the key and a --set override.
+  const Candidate* c = find_candidate("encoder_bandwidth");
+  ASSERT_NE(c, nullptr);
+  model::SimulationConfig b;
+  const double fm = 21.0 * 81.0 / 102.0 * 100.0 / 60.0;
+  const auto p = c->parameters(b);
+  ASSERT_EQ(p.size(), 1u);
+  EXPECT_TRUE(p[0].saturates);
+  EXPECT_TRUE(p[0].log_scale);
+  EXPECT_NEAR(p[0].null_value, 1e4 * fm, 1e-9 * fm);
+  EXPECT_NEAR(p[0].upper, p[0].null_value, 1e-9 * fm);
+  EXPECT_NEAR(p[0].lower, 0.25 * fm, 1e-9 * fm);
+  EXPECT_NEAR(p[0].screen_value, 2 * fm, 1e-9 * fm);
+  b.sensor.encoder_bandwidth_Hz = 300;
+  const auto q = c->parameters(b);
+  EXPECT_EQ(q[0].null_value, 300);
+  EXPECT_EQ(q[0].initial, 300);
+  std::vector<std::string> o;
+  const double x[] = {123.5};
+  c->apply(b, Variant{}, x, &o);
+  EXPECT_EQ(b.sensor.encoder_bandwidth_Hz, 123.5);
+  ASSERT_EQ(o.size(), 1u);
+  EXPECT_EQ(o[0], "sensor.encoder_bandwidth_Hz=123.5");
+  EXPECT_NO_THROW(model::validate(b));
+}
+
+TEST(Candidates, DampingScreenStepStaysInsideTheKeysRangeAtItsTop) {
+  // contact.mesh_damping_ratio <= 1 (stage.cpp): at 1 the screening secant points down.
+  const Candidate* c = find_candidate("damping_level");
+  ASSERT_NE(c, nullptr);
+  model::SimulationConfig b;
+  b.contact.mesh_damping_ratio = 1.0;
+  const auto p = c->parameters(b);
+  EXPECT_LE(p[0].screen_value, 1.0);
+  EXPECT_LE(p[0].upper, 1.0);
+  EXPECT_NE(p[0].screen_value, p[0].null_value);
+}
+
+} // namespace
+} // namespace pw::diagnose
