@@ -26,7 +26,7 @@ CLI::App* add_calibrate_command(CLI::App& app, CalibrateCommandOptions& o) {
       "calibrate",
       "Calibrate the model on healthy recordings: fit the nuisance and rig parameters of each, estimate the "
       "systematic residual a healthy recording leaves (per channel kind and line family), and write both for "
-      "'diagnose --calibration' (docs/diagnose.md section 7)");
+      "'diagnose --calibration' (docs/diagnose.md section 6a)");
   c->add_option("-c,--config", o.common.config, "TOML configuration of the gear set (default: the seed paper's case)")
       ->check(CLI::ExistingFile);
   c->add_option("--set", o.common.assignments, "override any configuration key: --set section.key=value")->take_all();

@@ -1,5 +1,5 @@
 // planetwear calibrate: the model and its discrepancy budget from healthy recordings
-// (docs/diagnose.md §7, src/diagnose/calibration.hpp).
+// (docs/diagnose.md §6a, src/diagnose/calibration.hpp).
 //
 //   planetwear calibrate --config gearset.toml -r healthy1.csv [-r healthy2.csv ...]
 //       [--meta healthy1.json ...] -o calibration.toml [--set key=value ...]

@@ -1,9 +1,11 @@
 #include "io/atomic_output.hpp"
 
+
 #include "io/io_error.hpp"
 
 #include <cerrno>
 #include <cstring>
+#include <fstream>
 #include <string>
 #include <system_error>
 
@@ -75,6 +77,18 @@ void AtomicOutput::commit() {
   const std::filesystem::path directory =
       destination_.has_parent_path() ? destination_.parent_path() : std::filesystem::path(".");
   (void)sync_path(directory, O_RDONLY | O_DIRECTORY);
+}
+
+void write_text_atomically(const std::filesystem::path& path, const std::string& text) {
+  AtomicOutput out(path);
+  {
+    std::ofstream f(out.temp_path(), std::ios::binary);
+    if (!f) throw IoError("cannot write '" + out.temp_path().string() + "'");
+    f << text;
+    f.close();
+    if (!f) throw IoError("cannot write '" + out.temp_path().string() + "'");
+  }
+  out.commit();
 }
 
 } // namespace pw::io

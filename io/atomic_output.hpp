@@ -16,6 +16,7 @@
 #pragma once
 
 #include <filesystem>
+#include <string>
 
 namespace pw::io {
 
@@ -46,5 +47,8 @@ private:
   bool overwrite_;
   bool committed_ = false;
 };
+
+/// Writes `text` to `path` through an AtomicOutput (all or nothing); throws IoError.
+void write_text_atomically(const std::filesystem::path& path, const std::string& text);
 
 } // namespace pw::io

@@ -85,14 +85,10 @@ void write_calibration(const diagnose::Calibration& c, const std::filesystem::pa
   toml::table root;
   root.insert("calibration", std::move(cal));
   root.insert("discrepancy", std::move(disc));
-  AtomicOutput out(path);
-  {
-    std::ofstream f(out.temp_path());
-    f << "# planetwear calibration (docs/diagnose.md section 7): the calibrated model and its discrepancy budget\n"
-      << root << "\n";
-    if (!f) throw IoError("cannot write calibration " + out.temp_path().string());
-  }
-  out.commit();
+  std::ostringstream text;
+  text << "# planetwear calibration (docs/diagnose.md section 6a): the calibrated model and its discrepancy budget\n"
+       << root << "\n";
+  write_text_atomically(path, text.str());
 }
 
 diagnose::Calibration read_calibration(const std::filesystem::path& path) {

@@ -1,5 +1,5 @@
 // The calibration file written by `planetwear calibrate` and read by
-// `planetwear diagnose --calibration` (docs/diagnose.md §7): a TOML document
+// `planetwear diagnose --calibration` (docs/diagnose.md §6a): a TOML document
 //
 //   [calibration]
 //   alpha = 0.01                          # of the budgets' upper confidence limits

@@ -16,17 +16,6 @@ namespace {
 using json = nlohmann::ordered_json;
 namespace dg = pw::diagnose;
 
-void write_text(const std::filesystem::path& path, const std::string& text) {
-  AtomicOutput out(path);
-  {
-    std::ofstream f(out.temp_path(), std::ios::binary);
-    if (!f) throw IoError("cannot write '" + out.temp_path().string() + "'");
-    f << text;
-    f.close();
-    if (!f) throw IoError("cannot write '" + out.temp_path().string() + "'");
-  }
-  out.commit();
-}
 
 double finite_or_null(double v) { return std::isfinite(v) ? v : 0.0; }
 
@@ -406,8 +395,8 @@ std::string series_file_stem(const std::string& name) {
 
 void write_diagnosis_documents(const std::filesystem::path& dir, const dg::Diagnosis& d, const ReportContext& ctx) {
   const Doc doc = build(d, ctx);
-  write_text(dir / "report.md", to_markdown(doc));
-  write_text(dir / "report.html", to_html(doc));
+  write_text_atomically(dir / "report.md", to_markdown(doc));
+  write_text_atomically(dir / "report.html", to_html(doc));
 }
 
 void write_diagnosis_report(const std::filesystem::path& dir, const dg::Diagnosis& d, const ReportContext& ctx) {
@@ -426,7 +415,7 @@ void write_diagnosis_report(const std::filesystem::path& dir, const dg::Diagnosi
       for (const auto& [name, v] : ps.columns) o << "," << v[i];
       o << "\n";
     }
-    write_text(dir / "data" / (series_file_stem(ps.name) + ".csv"), o.str());
+    write_text_atomically(dir / "data" / (series_file_stem(ps.name) + ".csv"), o.str());
   }
   json j;
   j["tool"] = ctx.version;
@@ -556,7 +545,7 @@ void write_diagnosis_report(const std::filesystem::path& dir, const dg::Diagnosi
   }
   j["plots"] = plots;
   (void)finite_or_null;
-  write_text(dir / "report.json", j.dump(2) + "\n");
+  write_text_atomically(dir / "report.json", j.dump(2) + "\n");
   write_diagnosis_documents(dir, d, ctx);
 }
 

@@ -53,17 +53,6 @@ void list_datasets(const H5File& f, const std::string& group, const std::string&
   }
 }
 
-void write_text(const std::filesystem::path& path, const std::string& text) {
-  AtomicOutput out(path);
-  {
-    std::ofstream f(out.temp_path(), std::ios::binary);
-    if (!f) throw IoError("cannot write '" + out.temp_path().string() + "'");
-    f << text;
-    f.close();
-    if (!f) throw IoError("cannot write '" + out.temp_path().string() + "'");
-  }
-  out.commit();
-}
 
 std::string number(double v) {
   if (!std::isfinite(v)) return "nan";
@@ -246,7 +235,7 @@ void write_indicator_report(const std::filesystem::path& path, const IndicatorRe
   const std::string ext = path.extension().string();
   require(ext == ".json" || ext == ".csv", "-o", "'", path.string(),
           "': the output's extension must be .json or .csv (it chooses the format)");
-  write_text(path, ext == ".json" ? indicator_json(r) : indicator_csv(r));
+  write_text_atomically(path, ext == ".json" ? indicator_json(r) : indicator_csv(r));
 }
 
 } // namespace pw::io

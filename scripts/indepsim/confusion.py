@@ -22,7 +22,7 @@ that operating point (outputs under DIR/diagnosis_cal/).
 
 --calibrate: `planetwear calibrate` on each gear set's healthy baselines (held-out ones never),
 written to DIR/diagnosis_calibrated/<gearset>/calibration.toml; every other recording is then
-diagnosed with --calibration (docs/diagnose.md section 7).
+diagnosed with --calibration (docs/diagnose.md section 6a).
 """
 import argparse
 import concurrent.futures as cf

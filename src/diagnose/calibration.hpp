@@ -1,4 +1,4 @@
-// Calibration on healthy recordings (docs/diagnose.md §7): the model discrepancy budget.
+// Calibration on healthy recordings (docs/diagnose.md §6a): the model discrepancy budget.
 //
 // A real rig is never the model. After the nuisance fit (stiffness level, damping, sensor
 // gains, and the rig elements the documentation is silent on) a healthy recording still

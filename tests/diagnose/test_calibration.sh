@@ -1,5 +1,5 @@
 #!/bin/sh
-# Calibration cross-validation on a model-form difference (docs/diagnose.md section 7): the
+# Calibration cross-validation on a model-form difference (docs/diagnose.md section 6a): the
 # "rig" is the lateral-torsional model (1200 rpm, 20 kW, 5 % noise), the diagnosis uses the
 # torsional one. Uncalibrated, a healthy recording comes out "unexplained_residual"
 # (test_model_form.sh). Calibrated on one healthy recording (seed 3):
