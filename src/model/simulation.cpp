@@ -564,8 +564,10 @@ RecordStats record(Run& r, int cycles, SimulationResult& out, const OutputSelect
     const double w_sun = sun_encoder.step(sun_speed()), w_carrier = carrier_encoder.step(carrier_speed());
     const auto& ms = sys.mesh_states();
     for (int i = 0; i < N; ++i) stats.mean_sun_planet_force_N[i] += ms[2 * i].force_N / static_cast<double>(nrec);
-    stats.mean_carrier_angle_rad += sys.carrier_theta_row().dot(r.st.q) / static_cast<double>(nrec);
-    stats.mean_carrier_speed_rad_s += sys.carrier_theta_row().dot(r.st.v) / static_cast<double>(nrec);
+    if (!sys.structure().has_rigid_mode) {  // only the speed-controlled load's shaft torque needs them
+      stats.mean_carrier_angle_rad += sys.carrier_theta_row().dot(r.st.q) / static_cast<double>(nrec);
+      stats.mean_carrier_speed_rad_s += sys.carrier_theta_row().dot(r.st.v) / static_cast<double>(nrec);
+    }
     if (report && k % spm == 0) report(f0 + (f1 - f0) * static_cast<double>(k) / static_cast<double>(nrec), "recording");
     if (k % dec != 0) continue;
     const std::int64_t j = k / dec;
