@@ -221,11 +221,17 @@ void decide_verdict(Diagnosis& d, const VerdictInputs& in) {
     d.summary = named_summary(d);
   } else if (in.noise_consistent) {  // the nuisance-fitted model already explains the recording
     d.verdict = Verdict::NoMissingPhysics;
+    const bool fit_excess = d.nuisance.fit.chi2 > d.bound_fit;
     d.summary = "No missing physics found: with the nuisance parameters fitted (" + nuisance_text(d) +
                 ") the residual is consistent with the measurement noise and the model's fidelity (chi2 " +
-                fmt("%.0f", d.nuisance.fit.chi2) + " <= " + fmt("%.0f", d.bound_fit) + " on the fit half, " +
-                fmt("%.0f", d.nuisance.held_out.chi2) + " <= " + fmt("%.0f", d.bound_held_out) + " held out; m = " +
-                std::to_string(d.features) + ").";
+                fmt("%.0f", d.nuisance.held_out.chi2) + " <= " + fmt("%.0f", d.bound_held_out) + " held out; " +
+                fmt("%.0f", d.nuisance.fit.chi2) + (fit_excess ? " > " : " <= ") + fmt("%.0f", d.bound_fit) +
+                " on the fit half; m = " + std::to_string(d.features) + ")" +
+                (fit_excess ? ". The fit half's excess did not replicate on the held-out half, which the nuisance "
+                              "parameters were not fitted on: under the null that happens with probability alpha/2, "
+                              "and nothing can be confirmed from it"
+                            : std::string()) +
+                ".";
   } else {
     d.verdict = Verdict::Unexplained;
     d.summary = unexplained_summary(d);

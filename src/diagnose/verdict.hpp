@@ -57,7 +57,9 @@ bool recalibrated(const FittedParameter& p, double z);
 
 /// What the verdict needs beyond the Diagnosis itself.
 struct VerdictInputs {
-  bool noise_consistent = false;  ///< nuisance-fitted chi2 within bound_fit and bound_held_out
+  /// Nuisance-fitted held-out chi2 within bound_held_out (the fit half is not required: its
+  /// excess alone did not replicate).
+  bool noise_consistent = false;
   /// The lead's held-out chi2 with the fidelity directions at its own fitted model (NaN: its
   /// ranked held_out.chi2 is used).
   double lead_held_out_chi2 = std::numeric_limits<double>::quiet_NaN();

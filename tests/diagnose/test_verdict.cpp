@@ -96,19 +96,33 @@ TEST(Verdict, AFitHalfOnlyExcessIsNotConfirmedByTheHeldOutHalfAndNamesNothing) {
   // The numbers of a calibrated independent-simulator recording (docs/diagnose.md): the
   // nuisance-only model exceeds its bound on the fit half (4887 > 4370) but not on the held-out
   // half (3545 <= 4370); a transfer-path window improving both by ~10 counts and fits within
-  // its own bound, yet nothing replicated for it to explain: a lead, not a finding.
+  // its own bound, yet nothing replicated for it to explain. diagnose() calls this noise
+  // consistent (the held-out half decides), and even a counting candidate is not named.
   Diagnosis d = counting_friction();
   d.bound_fit = d.bound_held_out = 4370;
   d.nuisance.fit = score(2887, 2000);
   d.nuisance.held_out = score(2045, 1500);
   d.candidates.front().fit = score(2879, 2000);
   d.candidates.front().held_out = score(2034, 1500);
-  decide_verdict(d, inputs(4392));
-  EXPECT_EQ(d.verdict, Verdict::Unexplained) << d.summary;
+  VerdictInputs in = inputs(4392);
+  in.noise_consistent = true;
+  decide_verdict(d, in);
+  EXPECT_EQ(d.verdict, Verdict::NoMissingPhysics) << d.summary;
   EXPECT_EQ(d.winner, -1);
   EXPECT_TRUE(d.lead.within_bound);
   EXPECT_NE(d.lead.failed.find("did not replicate"), std::string::npos) << d.lead.failed;
-  EXPECT_NE(d.summary.find("not a finding"), std::string::npos) << d.summary;
+  EXPECT_NE(d.summary.find("4887 > 4370 on the fit half"), std::string::npos) << d.summary;
+  EXPECT_NE(d.summary.find("did not replicate on the held-out half"), std::string::npos) << d.summary;
+  // Were the held-out half not consistent, the same lead would still name nothing.
+  Diagnosis u = counting_friction();
+  u.bound_fit = u.bound_held_out = 4370;
+  u.nuisance.fit = score(2887, 2000);
+  u.nuisance.held_out = score(2045, 1500);
+  u.candidates.front().fit = score(2879, 2000);
+  u.candidates.front().held_out = score(2034, 1500);
+  decide_verdict(u, inputs(4392));
+  EXPECT_EQ(u.verdict, Verdict::Unexplained) << u.summary;
+  EXPECT_NE(u.summary.find("not a finding"), std::string::npos) << u.summary;
 }
 
 TEST(Verdict, WinnerFarAboveItsBoundIsUnexplainedWithTheCandidateAsLead) {
@@ -232,6 +246,7 @@ TEST(Verdict, ConsistentWithoutCandidatesIsNoMissingPhysics) {
   EXPECT_EQ(d.verdict, Verdict::NoMissingPhysics) << d.summary;
   EXPECT_EQ(d.lead.candidate, -1);
   EXPECT_TRUE(std::isnan(d.lead.explained_fraction));
+  EXPECT_EQ(d.summary.find("did not replicate"), std::string::npos) << d.summary;
 }
 
 TEST(Verdict, NoFittableCandidateIsUnexplainedWithoutALead) {
