@@ -14,9 +14,10 @@
 //   3. fit the nuisance parameters (mesh stiffness level from a coarse
 //      geometric scan, then LM with the damping ratio; the housing-sensor gain
 //      is profiled by a one-dimensional search) on the fit half;
-//   4. noise test: if the nuisance-fitted model's chi2 is below the 1 - alpha/2
-//      quantile of its Monte-Carlo null distribution on both halves ->
-//      "no missing physics found";
+//   4. noise test: if the nuisance-fitted model's chi2 on the held-out half is
+//      below the 1 - alpha/2 quantile of its Monte-Carlo null distribution ->
+//      "no missing physics found" (an excess on the fit half alone did not
+//      replicate and is only reported);
 //   5. otherwise locate the residual (locate.hpp), screen every candidate
 //      and its discrete variants by one joint Gauss-Newton step (with the
 //      nuisance parameters' secants), fit the best few jointly with the
@@ -30,6 +31,11 @@
 //   7. verdict (verdict.hpp): the winner is named only if its own fitted model
 //      explains the held-out half within its budget and nothing it rests on
 //      sits at a bound; otherwise "unexplained residual" with it as a lead.
+//
+// Where the steps live: diagnose.cpp (DiagnosisRun::run() calls them in this
+// order), fit_context.hpp (what the fits share, the bounded fit), screening.hpp
+// (step 5's screening and starts), phase_search.hpp (the winner's place and a
+// saturating parameter's lower limit), verdict.hpp, diagnosis_plots.hpp.
 #pragma once
 
 #include "diagnose/compare.hpp"

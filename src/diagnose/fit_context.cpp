@@ -1,0 +1,262 @@
+#include "diagnose/fit_context.hpp"
+
+#include <cmath>
+#include <cstdio>
+
+namespace pw::diagnose {
+
+std::string fmt(const char* format, double v) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, format, v);
+  return buf;
+}
+
+ScoreSummary summarize(const WindowScore& w) {
+  ScoreSummary s;
+  s.chi2 = w.chi2;
+  s.features = w.features;
+  s.chi2_per_channel = w.chi2_per_channel;
+  s.features_per_channel = w.features_per_channel;
+  s.fidelity_z = w.fidelity_z;
+  return s;
+}
+
+bool is_sensor_gain(const FittedParameter& p) { return p.name.rfind("sensor.gain", 0) == 0; }
+
+bool any_saturates(const std::vector<ParameterSpec>& specs) {
+  return std::any_of(specs.begin(), specs.end(), [](const ParameterSpec& p) { return p.saturates; });
+}
+
+std::vector<ParameterSpec> FitContext::nuisance_specs() const {
+  std::vector<ParameterSpec> out;
+  for (const Candidate* n : nuisance)
+    for (auto& p : n->parameters(base)) out.push_back(p);
+  return out;
+}
+
+model::SimulationConfig FitContext::make(const Candidate* cand, const Variant& v, std::span<const double> cx,
+                                         std::span<const double> nx, std::vector<std::string>* overrides) const {
+  model::SimulationConfig c = base;
+  std::size_t k = 0;
+  for (const Candidate* n : nuisance) {
+    const std::size_t np = n->parameters(base).size();
+    n->apply(c, Variant{}, nx.subspan(k, np), overrides);
+    k += np;
+  }
+  if (cand) cand->apply(c, v, cx, overrides);
+  return c;
+}
+
+std::vector<std::vector<double>> FitContext::amplitudes(const model::SimulationConfig& c, bool sensor_only,
+                                                        std::atomic<long>* tally) const {
+  if (!sensor_only) return cmp.simulate(c, false, tally)->amplitude;
+  auto a = nuisance_sim->amplitude;
+  const Recording& rec = cmp.recording();
+  for (int ch = 0; ch < cmp.channels(); ++ch)
+    if (cmp.is_housing(ch))
+      a[static_cast<std::size_t>(ch)] = housing_spectrum(
+          *nuisance_sim, c.sensor,
+          rec.channels[static_cast<std::size_t>(cmp.spectra().channels[static_cast<std::size_t>(ch)])].sensor_angle_rad,
+          cmp.spectra().layout.window_revolutions, cmp.spectra().layout.max_bin);
+  return a;
+}
+
+double FitContext::fit_chi2(const Candidate* cand, const Variant& v, std::span<const double> cx,
+                            std::span<const double> nx, bool sensor_only, std::atomic<long>* tally) const {
+  try {
+    const auto c = make(cand, v, cx, nx, nullptr);
+    return cmp.score(amplitudes(c, sensor_only, tally), 0, nuisance_gains, true).chi2;
+  } catch (const SolverError&) {
+    return std::numeric_limits<double>::infinity();
+  }
+}
+
+std::vector<double> FitContext::fit_residual(const Candidate* cand, const Variant& v, std::span<const double> cx,
+                                             std::span<const double> nx, bool sensor_only,
+                                             std::atomic<long>* tally) const {
+  try {
+    const auto c = make(cand, v, cx, nx, nullptr);
+    return cmp.score(amplitudes(c, sensor_only, tally), 0, nuisance_gains, true).residual;
+  } catch (const SolverError&) {
+    return {};
+  }
+}
+
+SplitParameters split_parameters(const CandidateResult& r, const std::vector<double>& fixed_nuisance) {
+  SplitParameters s;
+  for (const auto& p : r.parameters)
+    if (!p.nuisance)
+      s.own.push_back(p.value);
+    else if (!is_sensor_gain(p))
+      s.nuisance.push_back(p.value);
+  if (s.nuisance.size() != fixed_nuisance.size()) s.nuisance = fixed_nuisance;
+  return s;
+}
+
+namespace {
+
+std::vector<FittedParameter> describe(const std::vector<ParameterSpec>& specs, const LmResult& r, std::size_t offset,
+                                      bool nuisance) {
+  std::vector<FittedParameter> out;
+  for (std::size_t i = 0; i < specs.size(); ++i) {
+    FittedParameter p;
+    p.name = specs[i].name;
+    p.unit = specs[i].unit;
+    p.value = r.x[offset + i];
+    p.std_error = r.std_error[offset + i];
+    p.lower = specs[i].lower;
+    p.upper = specs[i].upper;
+    p.initial = specs[i].initial;
+    p.at_bound = r.at_bound[offset + i];
+    p.nuisance = nuisance;
+    p.saturates = specs[i].saturates;
+    out.push_back(p);
+  }
+  return out;
+}
+
+/// The profiled housing-sensor gains of a fit, as nuisance parameters with their `--set` line.
+void append_gains(const FitContext& ctx, const WindowScore& fit, CandidateResult& res) {
+  int housing_channels = 0;
+  for (int k = 0; k < ctx.cmp.channels(); ++k) housing_channels += ctx.cmp.is_housing(k) ? 1 : 0;
+  for (int ch = 0; ch < ctx.cmp.channels(); ++ch) {
+    if (!ctx.cmp.is_housing(ch)) continue;
+    const std::size_t c = static_cast<std::size_t>(ch);
+    FittedParameter g;
+    g.name = "sensor.gain_m_s2_per_N";
+    if (housing_channels > 1) g.name += "[" + ctx.cmp.spectra().channel_names[c] + "]";
+    g.unit = "m/s^2 per N";
+    g.value = fit.gains[c];
+    g.std_error = fit.gain_std[c];
+    g.lower = 0;
+    g.upper = 1;
+    g.initial = ctx.base.sensor.gain_m_s2_per_N;
+    g.at_bound = fit.gain_at_edge[c];
+    g.nuisance = true;
+    res.parameters.push_back(g);
+    res.overrides.push_back("sensor.gain_m_s2_per_N=" + format_value(g.value));
+  }
+}
+
+} // namespace
+
+CandidateResult fit_model(FitContext& ctx, const Candidate* cand, const Variant& v, bool joint, int lm_threads,
+                          int max_iterations, const std::vector<double>* x_start) {
+  std::atomic<long> sims{0};  // this fit's own simulations, whatever runs beside it
+  const bool sensor_only = cand && cand->sensor_only();
+  const std::vector<ParameterSpec> cspec = cand ? cand->parameters(ctx.base) : std::vector<ParameterSpec>{};
+  const std::vector<ParameterSpec> nspec = ctx.nuisance_specs();
+  const bool fit_nuisance = !cand || joint;
+  std::vector<Bound> bounds;
+  std::vector<double> x0;
+  for (const auto& p : cspec) {
+    bounds.push_back({p.lower, p.upper, p.log_scale});
+    x0.push_back(p.initial);
+  }
+  if (fit_nuisance)
+    for (std::size_t i = 0; i < nspec.size(); ++i) {
+      bounds.push_back({nspec[i].lower, nspec[i].upper, nspec[i].log_scale});
+      x0.push_back(ctx.nuisance_x.empty() ? nspec[i].initial : ctx.nuisance_x[i]);
+    }
+  if (x_start && x_start->size() == x0.size()) x0 = *x_start;
+  const std::size_t nc = cspec.size();
+  auto split = [&](const std::vector<double>& x, std::vector<double>& cx, std::vector<double>& nx) {
+    cx.assign(x.begin(), x.begin() + static_cast<long>(nc));
+    if (fit_nuisance)
+      nx.assign(x.begin() + static_cast<long>(nc), x.end());
+    else
+      nx = ctx.nuisance_x;
+  };
+  const bool sensor_path_only = sensor_only && !fit_nuisance;  // the nuisance simulation is reused
+  ResidualFn f = [&](const std::vector<double>& x, const std::vector<double>*) {
+    std::vector<double> cx, nx;
+    split(x, cx, nx);
+    const auto c = ctx.make(cand, v, cx, nx, nullptr);
+    return ctx.cmp.score(ctx.amplitudes(c, sensor_path_only, &sims), 0, ctx.nuisance_gains, true).residual;
+  };
+  LmOptions lo;
+  lo.max_iterations = max_iterations;
+  lo.threads = lm_threads;
+  const LmResult lm = levenberg_marquardt(f, bounds, x0, lo);
+
+  CandidateResult res;
+  res.name = cand ? cand->name() : "nuisance_only";
+  res.physics = cand ? cand->physics() : "the model as it is, with the nuisance parameters fitted";
+  res.variant = v.label;
+  res.chosen = v;
+  if (cand)
+    for (Component c : cand->families()) res.families.push_back(to_string(c));
+  res.own_parameters = static_cast<int>(nc);
+  res.parameters = describe(cspec, lm, 0, false);
+  std::vector<double> cx, nx;
+  split(lm.x, cx, nx);
+  if (fit_nuisance) {
+    auto np = describe(nspec, lm, nc, true);
+    res.parameters.insert(res.parameters.end(), np.begin(), np.end());
+  }
+  res.config = ctx.make(cand, v, cx, nx, &res.overrides);
+  const auto amp = ctx.amplitudes(res.config, sensor_path_only, &sims);
+  const WindowScore fit = ctx.cmp.score(amp, 0, ctx.nuisance_gains, true);
+  const WindowScore held = ctx.cmp.score(amp, 1, fit.gains, false);
+  res.gains = fit.gains;
+  append_gains(ctx, fit, res);
+  res.fit = summarize(fit);
+  res.held_out = summarize(held);
+  if (any_saturates(cspec)) {
+    // The likelihood-ratio test of 'absent' (CandidateResult::null_chi2_fit).
+    std::vector<double> null_x;
+    for (const auto& p : cspec) null_x.push_back(p.null_value);
+    const auto c0 = ctx.make(cand, v, null_x, nx, nullptr);
+    res.null_chi2_fit = ctx.cmp.score(ctx.amplitudes(c0, sensor_path_only, &sims), 0, ctx.nuisance_gains, true).chi2;
+  }
+  res.lm_message = lm.message;
+  res.simulations = static_cast<int>(sims.load());
+  return res;
+}
+
+std::optional<CandidateResult> try_fit_model(FitContext& ctx, const Candidate* cand, const Variant& v, bool joint,
+                                             int lm_threads, int max_iterations, const std::vector<double>& x_start) {
+  try {
+    return fit_model(ctx, cand, v, joint, lm_threads, max_iterations, &x_start);
+  } catch (const SolverError&) {
+    return std::nullopt;
+  }
+}
+
+void set_fidelity(FitContext& ctx, const model::SimulationConfig& c, std::shared_ptr<const ModelSpectra>* centre) {
+  ModelComparison& cmp = ctx.cmp;
+  // 0: c itself; 1: a second discretization; 2, 3: the speed +- its relative standard error.
+  std::vector<model::SimulationConfig> v(4, c);
+  std::string disc;
+  if (c.solver.time_step_s > 0) {
+    v[1].solver.time_step_s *= 0.7;
+    disc = "time step x 0.7";
+  } else {
+    v[1].solver.steps_per_mode_period = static_cast<int>(std::lround(1.5 * c.solver.steps_per_mode_period));
+    disc = "solver.steps_per_mode_period " + std::to_string(c.solver.steps_per_mode_period) + " -> " +
+           std::to_string(v[1].solver.steps_per_mode_period);
+  }
+  const double u = std::max(cmp.spectra().speed.relative_std, 1e-9);
+  v[2].operating.input_speed_rpm *= 1 + u;
+  v[3].operating.input_speed_rpm *= 1 - u;
+  std::vector<std::shared_ptr<const ModelSpectra>> s(4);
+  parallel_for(4, ctx.threads, [&](int i) {
+    s[static_cast<std::size_t>(i)] = cmp.simulate(v[static_cast<std::size_t>(i)], i == 0);
+  });
+  const int nc = cmp.channels(), ncell = cmp.cells();
+  std::vector<std::vector<double>> cols(2, std::vector<double>(static_cast<std::size_t>(cmp.features())));
+  for (int ch = 0; ch < nc; ++ch)
+    for (int i = 0; i < ncell; ++i) {
+      const std::size_t f = static_cast<std::size_t>(ch * ncell + i);
+      const std::size_t b = static_cast<std::size_t>(cmp.spectra().layout.cells[static_cast<std::size_t>(i)].bin);
+      const std::size_t cc = static_cast<std::size_t>(ch);
+      cols[0][f] = s[1]->amplitude[cc][b] - s[0]->amplitude[cc][b];
+      cols[1][f] = 0.5 * (s[2]->amplitude[cc][b] - s[3]->amplitude[cc][b]);
+    }
+  char buf[96];
+  std::snprintf(buf, sizeof buf, "speed +- %.2g (its relative standard error)", u);
+  cmp.set_fidelity(std::move(cols), {disc, buf});
+  if (centre) *centre = s[0];
+}
+
+} // namespace pw::diagnose

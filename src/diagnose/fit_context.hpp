@@ -1,0 +1,112 @@
+// What the fits of one diagnosis share (the phases of diagnose.cpp, screening.cpp and
+// phase_search.cpp): the comparison with the recording, the nuisance candidates with
+// their fitted values, and the bounded least-squares fit of a candidate jointly with
+// them (docs/diagnose.md §5). Internal to src/diagnose.
+#pragma once
+
+#include "core/error.hpp"
+#include "diagnose/candidates/candidate.hpp"
+#include "diagnose/compare.hpp"
+#include "diagnose/diagnose.hpp"
+#include "diagnose/fit.hpp"
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <exception>
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <span>
+#include <string>
+#include <vector>
+
+namespace pw::diagnose {
+
+/// Runs body(i) for i in [0, n) on up to `threads` OpenMP threads; the first
+/// exception thrown by any iteration is rethrown after the loop.
+template <class F>
+void parallel_for(int n, int threads, F&& body) {
+  if (n <= 0) return;
+  std::exception_ptr error;
+  std::mutex m;
+#pragma omp parallel for schedule(dynamic, 1) num_threads(std::max(1, std::min(threads, n)))
+  for (int i = 0; i < n; ++i) {
+    try {
+      body(i);
+    } catch (...) {
+      std::lock_guard<std::mutex> lock(m);
+      if (!error) error = std::current_exception();
+    }
+  }
+  if (error) std::rethrow_exception(error);
+}
+
+using Clock = std::chrono::steady_clock;
+inline double seconds_since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
+
+/// printf-style formatting of one number (report sentences).
+std::string fmt(const char* format, double v);
+
+ScoreSummary summarize(const WindowScore& w);
+
+/// The housing-sensor gains are profiled per channel by ModelComparison::score, not part of
+/// the least-squares vector; they are reported among the nuisance parameters by this name.
+bool is_sensor_gain(const FittedParameter& p);
+
+bool any_saturates(const std::vector<ParameterSpec>& specs);
+
+/// Everything the fits of one diagnosis share.
+struct FitContext {
+  ModelComparison& cmp;
+  model::SimulationConfig base;                      ///< at the recording's speed
+  std::vector<const Candidate*> nuisance;            ///< fitted in every model
+  std::vector<double> nuisance_x;                    ///< their fitted values (after the nuisance fit)
+  std::shared_ptr<const ModelSpectra> nuisance_sim;  ///< the nuisance-fitted model, with sensor inputs
+  std::vector<double> nuisance_gains;                ///< per channel
+  int threads = 1;
+
+  /// The parameters of every nuisance candidate, in the order of nuisance_x.
+  std::vector<ParameterSpec> nuisance_specs() const;
+  /// base with the nuisance values nx and the candidate's values cx (cand may be null).
+  model::SimulationConfig make(const Candidate* cand, const Variant& v, std::span<const double> cx,
+                               std::span<const double> nx, std::vector<std::string>* overrides) const;
+  /// Model amplitudes of a configuration (sensor-only candidates: the nuisance simulation with new
+  /// housing channels). tally: counts the simulations this call ran (ModelComparison::simulate).
+  std::vector<std::vector<double>> amplitudes(const model::SimulationConfig& c, bool sensor_only,
+                                              std::atomic<long>* tally = nullptr) const;
+  /// Fit-half chi2 of the model (cand, v, cx, nx), with the nuisance gains; +inf where the solver
+  /// cannot simulate it (such a point is never chosen as a start or a best point).
+  double fit_chi2(const Candidate* cand, const Variant& v, std::span<const double> cx, std::span<const double> nx,
+                  bool sensor_only = false, std::atomic<long>* tally = nullptr) const;
+  /// Its whitened fit-half residual; empty where the solver cannot simulate it.
+  std::vector<double> fit_residual(const Candidate* cand, const Variant& v, std::span<const double> cx,
+                                   std::span<const double> nx, bool sensor_only = false,
+                                   std::atomic<long>* tally = nullptr) const;
+};
+
+/// A fitted model's parameter values split back into the candidate's own and the nuisance
+/// vector (gains excluded: they are profiled). A nuisance vector of the wrong length (the model
+/// was fitted with the nuisance parameters fixed) is replaced by `fixed_nuisance`.
+struct SplitParameters {
+  std::vector<double> own, nuisance;
+};
+SplitParameters split_parameters(const CandidateResult& r, const std::vector<double>& fixed_nuisance);
+
+/// Fits `cand` (null: the nuisance parameters alone) with variant v by bounded LM on the fit
+/// half. joint: the nuisance parameters are fitted too (else fixed at ctx.nuisance_x). Starts
+/// at x_start if given (own values, then the nuisance ones). Throws SolverError if the model
+/// cannot be simulated at the start.
+CandidateResult fit_model(FitContext& ctx, const Candidate* cand, const Variant& v, bool joint, int lm_threads,
+                          int max_iterations, const std::vector<double>* x_start = nullptr);
+
+/// fit_model, or nothing where the solver fails on the way (the caller keeps what it has: a
+/// second start or a further refinement is an attempt, not a requirement).
+std::optional<CandidateResult> try_fit_model(FitContext& ctx, const Candidate* cand, const Variant& v, bool joint,
+                                             int lm_threads, int max_iterations, const std::vector<double>& x_start);
+
+/// The model-fidelity directions at configuration c (a second discretization and the speed
+/// +- its standard error) set on ctx.cmp; *centre gets the simulation at c itself.
+void set_fidelity(FitContext& ctx, const model::SimulationConfig& c, std::shared_ptr<const ModelSpectra>* centre);
+
+} // namespace pw::diagnose

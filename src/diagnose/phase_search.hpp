@@ -1,0 +1,33 @@
+// After the ranking, the named winner's last two questions (docs/diagnose.md §5, steps 11-12):
+//   * where: its phase variants (which tooth, which planet) at its fitted parameters. Phases
+//     that trade off against the parameters (a ring tooth far from the sensor sounds like a
+//     milder one near it) are screened with the parameters profiled and the best local minima
+//     followed; a refit replaces the winner if it fits the fit half better and still counts,
+//     and the search repeats from the replacement until the place stays (alternating descent
+//     over place and parameters);
+//   * how large at least: a saturating parameter (backlash wider than the teeth ever separate)
+//     is bounded from below only, by a profile of the fit-half chi2.
+// Internal to src/diagnose.
+#pragma once
+
+#include "diagnose/fit_context.hpp"
+
+#include <functional>
+#include <string>
+
+namespace pw::diagnose {
+
+using Progress = std::function<void(const std::string&)>;
+/// Recomputes a result's significance, Wald test and BIC against the nuisance-only model.
+using Assessment = std::function<void(CandidateResult&)>;
+
+/// Replaces `winner` by the best of its phase variants where that fits better and still counts.
+void search_phases(FitContext& ctx, CandidateResult& winner, const LocatedEvidence& evidence, const ToothMap& teeth,
+                   int max_iterations, const Assessment& assess, const Progress& say);
+
+/// Sets lower_limit on the winner's saturating parameters: the smallest value, along the line
+/// from 'absent' to the fit (nuisance fixed), whose fit-half chi2 stays within
+/// chi2_{1-alpha}(1) of the fit's. No-op for a candidate without a saturating parameter.
+void profile_saturating(FitContext& ctx, CandidateResult& winner, double alpha, const Progress& say);
+
+} // namespace pw::diagnose

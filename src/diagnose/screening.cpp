@@ -1,0 +1,267 @@
+#include "diagnose/screening.hpp"
+
+#include "diagnose/locate.hpp"
+
+#include <Eigen/Dense>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace pw::diagnose {
+
+namespace {
+
+/// Relative secant step of the nuisance parameters.
+constexpr double kNuisanceStep = 0.02;
+/// Values per one-parameter candidate in the grid of starts (at the centres of equal cells).
+constexpr int kGrid = 6;
+/// A start is kept this fraction of the box's span inside it (LM's unit transform is singular on the edge).
+constexpr double kInsideBox = 1e-3;
+
+/// The nuisance secants as a matrix and the normal equations' factorization, for the
+/// linearized refit of the nuisance parameters to a changed residual.
+struct NuisanceDirections {
+  Eigen::MatrixXd J;
+  Eigen::LDLT<Eigen::MatrixXd> JtJ;
+  bool empty() const { return J.cols() == 0; }
+  /// Least-squares cost of r after the nuisance step that minimizes it; *step gets that step.
+  double refit(const Eigen::VectorXd& r, Eigen::VectorXd* step) const {
+    if (empty()) return r.squaredNorm();
+    const Eigen::VectorXd dn = -JtJ.solve(J.transpose() * r);
+    if (step) *step = dn;
+    return (r + J * dn).squaredNorm();
+  }
+};
+
+} // namespace
+
+Screening::Screening(FitContext& ctx, double alpha) : ctx_(ctx), alpha_(alpha) {
+  res0_ = ctx.cmp.score(ctx.nuisance_sim->amplitude, 0, ctx.nuisance_gains, true).residual;
+  // The nuisance parameters' own secants, shared by every candidate: the screening step is
+  // joint, so physics the nuisance fit absorbed (a worn profile read as a damping level) is
+  // given back to its candidate.
+  nspec_ = ctx.nuisance_specs();
+  ncols_.resize(nspec_.size());
+  nstep_.resize(nspec_.size());
+  // A parameter fitted at its upper bound takes its secant downwards (the step must stay
+  // within the key's range; e.g. a damping ratio at 1).
+  for (std::size_t i = 0; i < nspec_.size(); ++i)
+    nstep_[i] = ((1 + kNuisanceStep) * ctx.nuisance_x[i] <= nspec_[i].upper ? kNuisanceStep : -kNuisanceStep) *
+                ctx.nuisance_x[i];
+}
+
+void Screening::add_variants(const std::function<bool(const Candidate&)>& wanted, const LocatedEvidence& evidence,
+                             const ToothMap& teeth) {
+  for (const auto& c : candidate_library()) {
+    if (!wanted(*c)) continue;
+    for (const auto& v : c->variants(evidence, ctx_.base, teeth)) {
+      Screen sc;
+      sc.c = c.get();
+      sc.v = v;
+      sc.spec = c->parameters(ctx_.base);
+      sc.cols.resize(sc.spec.size());
+      for (std::size_t i = 0; i < sc.spec.size(); ++i) tasks_.push_back({screens_.size(), i});
+      screens_.push_back(std::move(sc));
+    }
+  }
+}
+
+void Screening::simulate_secants() {
+  // A failed simulation leaves its secant empty: a nuisance direction is then left out, a
+  // candidate variant is marked failed (not fitted).
+  const auto secant = [&](const std::vector<double>& r, double step) {
+    std::vector<double> col(r.size());
+    for (std::size_t k = 0; k < r.size(); ++k) col[k] = (r[k] - res0_[k]) / step;
+    return col;
+  };
+  parallel_for(static_cast<int>(tasks_.size() + nspec_.size()), ctx_.threads, [&](int ti) {
+    if (static_cast<std::size_t>(ti) >= tasks_.size()) {
+      const std::size_t i = static_cast<std::size_t>(ti) - tasks_.size();
+      std::vector<double> x = ctx_.nuisance_x;
+      x[i] += nstep_[i];
+      const auto r = ctx_.fit_residual(nullptr, Variant{}, {}, x);
+      if (!r.empty()) ncols_[i] = secant(r, nstep_[i]);
+      return;
+    }
+    const Task& tk = tasks_[static_cast<std::size_t>(ti)];
+    Screen& sc = screens_[tk.screen];
+    std::vector<double> x;
+    for (const auto& ps : sc.spec) x.push_back(ps.null_value);
+    const ParameterSpec& ps = sc.spec[tk.param];
+    x[tk.param] = ps.screen_value;
+    const auto r = ctx_.fit_residual(sc.c, sc.v, x, ctx_.nuisance_x, sc.c->sensor_only());
+    if (r.empty())
+      sc.failed = true;
+    else
+      sc.cols[tk.param] = secant(r, ps.screen_value - ps.null_value);
+  });
+}
+
+void Screening::linearize() {
+  std::vector<std::size_t> nuse;
+  for (std::size_t i = 0; i < ncols_.size(); ++i)
+    if (!ncols_[i].empty()) nuse.push_back(i);
+  const Eigen::Index m_res = static_cast<Eigen::Index>(res0_.size());
+  const Eigen::Map<const Eigen::VectorXd> r_res(res0_.data(), m_res);
+  NuisanceDirections nd;
+  nd.J.resize(m_res, static_cast<Eigen::Index>(nuse.size()));
+  for (std::size_t a = 0; a < nuse.size(); ++a)
+    for (Eigen::Index k = 0; k < m_res; ++k) nd.J(k, static_cast<Eigen::Index>(a)) = ncols_[nuse[a]][static_cast<std::size_t>(k)];
+  nd.JtJ = (nd.J.transpose() * nd.J).ldlt();
+  // Improvement by the nuisance directions alone (about zero at the nuisance fit's optimum).
+  double S_nuis = 0;
+  if (!nuse.empty()) {
+    const Eigen::VectorXd gn = nd.J.transpose() * r_res;
+    S_nuis = gn.dot(nd.JtJ.solve(gn));
+  }
+
+  for (Screen& sc : screens_) {
+    const std::size_t p = sc.spec.size();
+    sc.start.resize(p);
+    for (std::size_t i = 0; i < p; ++i) sc.start[i] = sc.spec[i].null_value;
+    sc.nuisance_start = ctx_.nuisance_x;
+    if (sc.failed) continue;
+    // A saturating candidate has no useful linearization (its secant spans the onset of the
+    // effect): its score is the chi2 change actually simulated, null -> screen value.
+    const bool saturating = any_saturates(sc.spec);
+    // The nuisance parameters re-fitted (linearized) at both ends: a nuisance fit that absorbed
+    // part of the effect (a softened mesh read as a lower stiffness level) gives it back.
+    if (saturating) {
+      const double c0 = nd.refit(r_res, nullptr);
+      for (std::size_t i = 0; i < p; ++i) {
+        const auto& ps = sc.spec[i];
+        Eigen::VectorXd r1 = r_res;
+        for (Eigen::Index k = 0; k < m_res; ++k)
+          r1(k) += sc.cols[i][static_cast<std::size_t>(k)] * (ps.screen_value - ps.null_value);
+        Eigen::VectorXd dn;
+        const double c1 = nd.refit(r1, &dn);
+        // Visible: the change itself, with the nuisance refitted to it, exceeds the LR threshold.
+        // Its chi2 at fixed nuisance may still be worse (a nuisance fit that absorbed the effect
+        // lies far from the nuisance values that go with it), so a visible one is fitted jointly.
+        if (nd.refit(r1 - r_res, nullptr) > chi2_quantile(static_cast<int>(p), alpha_)) sc.visible = true;
+        if (c0 - c1 > sc.S) {
+          sc.S = c0 - c1;
+          for (std::size_t a = 0; a < nuse.size(); ++a)
+            sc.nuisance_start[nuse[a]] = std::clamp(ctx_.nuisance_x[nuse[a]] + dn(static_cast<Eigen::Index>(a)),
+                                                    nspec_[nuse[a]].lower, nspec_[nuse[a]].upper);
+        }
+        if (c0 > c1) sc.start[i] = ps.screen_value;
+      }
+    }
+    // Joint Gauss-Newton step (candidate + nuisance) with an active set: candidate parameters
+    // whose step leaves their box are held at their null value.
+    std::vector<bool> active(p, !saturating);
+    for (int pass = 0; pass < static_cast<int>(p) + 1; ++pass) {
+      std::vector<const std::vector<double>*> cols;
+      std::vector<std::size_t> idx;
+      for (std::size_t i = 0; i < p; ++i)
+        if (active[i]) idx.push_back(i), cols.push_back(&sc.cols[i]);
+      if (idx.empty()) break;
+      for (std::size_t i : nuse) cols.push_back(&ncols_[i]);
+      const Eigen::Index q = static_cast<Eigen::Index>(cols.size());
+      Eigen::MatrixXd J(m_res, q);
+      for (Eigen::Index a = 0; a < q; ++a)
+        for (Eigen::Index k = 0; k < m_res; ++k) J(k, a) = (*cols[static_cast<std::size_t>(a)])[static_cast<std::size_t>(k)];
+      const Eigen::VectorXd g = J.transpose() * r_res;
+      const Eigen::VectorXd dx = -(J.transpose() * J).ldlt().solve(g);
+      bool ok = true;
+      for (std::size_t a = 0; a < idx.size(); ++a) {
+        const auto& ps = sc.spec[idx[a]];
+        const double x = ps.null_value + dx(static_cast<Eigen::Index>(a));
+        if (x < ps.lower || x > ps.upper) {
+          active[idx[a]] = false;
+          ok = false;
+        }
+      }
+      if (!ok) continue;
+      sc.S = std::max(0.0, -g.dot(dx) - S_nuis);
+      for (std::size_t a = 0; a < idx.size(); ++a) sc.start[idx[a]] = sc.spec[idx[a]].null_value + dx(static_cast<Eigen::Index>(a));
+      for (std::size_t a = 0; a < nuse.size(); ++a) {
+        const auto& ps = nspec_[nuse[a]];
+        sc.nuisance_start[nuse[a]] = std::clamp(ctx_.nuisance_x[nuse[a]] + dx(static_cast<Eigen::Index>(idx.size() + a)),
+                                                ps.lower, ps.upper);
+      }
+      break;
+    }
+    // A start on the no-effect value would give LM nothing to difference: keep it inside.
+    for (std::size_t i = 0; i < p; ++i) {
+      const auto& ps = sc.spec[i];
+      const double span = ps.upper - ps.lower;
+      sc.start[i] = std::clamp(sc.start[i], ps.lower + kInsideBox * span, ps.upper - kInsideBox * span);
+      if (sc.start[i] == ps.null_value) sc.start[i] = 0.5 * (ps.null_value + ps.screen_value);
+    }
+  }
+}
+
+std::vector<std::size_t> Screening::best_per_candidate() const {
+  std::vector<std::size_t> best_of;
+  for (std::size_t i = 0; i < screens_.size(); ++i) {
+    bool replaced = false;
+    for (std::size_t& b : best_of)
+      if (screens_[b].c == screens_[i].c) {
+        if (screens_[i].S > screens_[b].S) b = i;
+        replaced = true;
+      }
+    if (!replaced) best_of.push_back(i);
+  }
+  std::stable_sort(best_of.begin(), best_of.end(),
+                   [&](std::size_t a, std::size_t b) { return screens_[a].S > screens_[b].S; });
+  return best_of;
+}
+
+std::vector<std::size_t> Screening::shortlist(const std::vector<std::size_t>& best, int max_candidates) const {
+  std::vector<std::size_t> out;
+  int heavy = 0;
+  for (std::size_t i : best) {
+    if (screens_[i].c->sensor_only() || screens_[i].visible) {
+      out.push_back(i);
+      continue;
+    }
+    if (heavy < max_candidates && screens_[i].S > 0) {
+      out.push_back(i);
+      ++heavy;
+    }
+  }
+  return out;
+}
+
+void Screening::grid_starts(const std::vector<std::size_t>& shortlist,
+                            const std::function<void(const std::string&)>& say) {
+  struct GridPoint {
+    std::size_t screen;
+    double x;
+  };
+  const auto gridded = [&](const Screen& sc) { return !sc.failed && sc.spec.size() == 1 && !sc.c->sensor_only(); };
+  std::vector<GridPoint> grid;
+  for (std::size_t i : shortlist) {
+    const Screen& sc = screens_[i];
+    if (!gridded(sc)) continue;
+    const ParameterSpec& ps = sc.spec.front();
+    for (int g = 0; g < kGrid; ++g) {
+      const double f = (g + 0.5) / kGrid;
+      const double x = ps.log_scale ? ps.lower * std::pow(ps.upper / ps.lower, f) : ps.lower + f * (ps.upper - ps.lower);
+      grid.push_back({i, x});
+    }
+  }
+  if (grid.empty()) return;
+  say("grid starts for the one-parameter candidates (" + std::to_string(grid.size()) + " simulations)");
+  std::vector<double> chi(grid.size(), std::numeric_limits<double>::infinity());
+  parallel_for(static_cast<int>(grid.size()), ctx_.threads, [&](int gi) {
+    const GridPoint& g = grid[static_cast<std::size_t>(gi)];
+    const Screen& sc = screens_[g.screen];
+    const double x[1] = {g.x};
+    chi[static_cast<std::size_t>(gi)] = ctx_.fit_chi2(sc.c, sc.v, x, sc.nuisance_start);
+  });
+  for (std::size_t i : shortlist) {
+    Screen& sc = screens_[i];
+    if (!gridded(sc)) continue;
+    double best = std::numeric_limits<double>::infinity(), xb = sc.start.front();
+    for (std::size_t gi = 0; gi < grid.size(); ++gi)
+      if (grid[gi].screen == i && chi[gi] < best) best = chi[gi], xb = grid[gi].x;
+    // The linearized start, +inf where the solver cannot simulate it (the grid's best then wins).
+    if (best < ctx_.fit_chi2(sc.c, sc.v, sc.start, sc.nuisance_start)) sc.start.front() = xb;
+  }
+}
+
+} // namespace pw::diagnose

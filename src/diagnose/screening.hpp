@@ -1,0 +1,77 @@
+// Screening of the candidate library (docs/diagnose.md §5, step 6): each candidate variant is
+// moved from its no-effect value to a moderate one, parameter by parameter, on top of the
+// nuisance-fitted model (one simulation each, in parallel), and so are the nuisance parameters
+// (2 % steps). The secants J give a joint Gauss-Newton step from there and its predicted
+// improvement S = r' J (J'J)^-1 J' r minus what the nuisance directions alone give: the score
+// statistic of the omitted physics, ~chi2(k) if the candidate is absent. The candidates with
+// the largest S are fitted, starting at that step (one-parameter ones: or at the best point of
+// a grid over their box). Internal to src/diagnose.
+#pragma once
+
+#include "diagnose/fit_context.hpp"
+
+#include <cstddef>
+#include <functional>
+#include <string>
+#include <vector>
+
+namespace pw::diagnose {
+
+/// One candidate variant, screened from the nuisance-fitted model.
+struct Screen {
+  const Candidate* c = nullptr;
+  Variant v;
+  std::vector<ParameterSpec> spec;
+  std::vector<std::vector<double>> cols;      ///< secant of each own parameter (whitened residual per unit)
+  std::vector<double> start, nuisance_start;  ///< where its fit starts
+  double S = 0;                               ///< predicted chi2 improvement
+  bool failed = false;                        ///< a screening simulation failed
+  /// Saturating: its effect, beyond what the nuisance can mimic, exceeds chi2_{1-alpha}(k).
+  bool visible = false;
+};
+
+class Screening {
+public:
+  Screening(FitContext& ctx, double alpha);
+
+  /// The variants of every candidate `wanted` accepts, proposed from the located evidence.
+  void add_variants(const std::function<bool(const Candidate&)>& wanted, const LocatedEvidence& evidence,
+                    const ToothMap& teeth);
+  std::size_t variants() const { return screens_.size(); }
+  /// Simulations simulate_secants() runs.
+  std::size_t simulations() const { return tasks_.size() + nspec_.size(); }
+
+  /// One simulation per candidate parameter and per nuisance parameter, in parallel.
+  void simulate_secants();
+  /// Each variant's S and its start (joint Gauss-Newton step with an active set; saturating
+  /// candidates: the chi2 change actually simulated, with the nuisance refitted linearly).
+  void linearize();
+  /// The best variant of each candidate, largest S first.
+  std::vector<std::size_t> best_per_candidate() const;
+  /// Those fitted: sensor-only and visible saturating variants always, the others with S > 0
+  /// up to max_candidates.
+  std::vector<std::size_t> shortlist(const std::vector<std::size_t>& best, int max_candidates) const;
+  /// One-parameter candidates respond far from linearly over their box (a 10 % torque ripple
+  /// swings the seed's sun speed by +-16 % through resonances; a softened tooth changes the
+  /// contact pattern): the linearized step can start LM in the wrong basin near "absent".
+  /// Their starts become the best of that step and a grid over the box (fit-half chi2).
+  void grid_starts(const std::vector<std::size_t>& shortlist, const std::function<void(const std::string&)>& say);
+
+  const Screen& operator[](std::size_t i) const { return screens_[i]; }
+
+private:
+  struct Task {
+    std::size_t screen, param;
+  };
+
+  FitContext& ctx_;
+  double alpha_;
+  std::vector<Screen> screens_;
+  std::vector<Task> tasks_;
+  std::vector<double> res0_;                 ///< whitened fit-half residual of the nuisance-fitted model
+  std::vector<ParameterSpec> nspec_;         ///< nuisance parameters
+  std::vector<double> nstep_;                ///< their secant steps
+  std::vector<std::vector<double>> ncols_;   ///< their secants (empty: the simulation failed)
+};
+
+} // namespace pw::diagnose
