@@ -6,6 +6,7 @@
 #include "recording_input.hpp"
 
 #include "core/error.hpp"
+#include "diagnose/baseline.hpp"
 #include "diagnose/candidates/candidate.hpp"
 #include "diagnose/diagnose.hpp"
 #include "io/calibration_file.hpp"
@@ -23,6 +24,7 @@
 #include <filesystem>
 #include <iostream>
 #include <memory>
+#include <optional>
 
 #ifndef PLANETWEAR_SOURCE_DIR
 #define PLANETWEAR_SOURCE_DIR ""
@@ -92,18 +94,35 @@ CLI::App* add_diagnose_command(CLI::App& app, DiagnoseCommandOptions& o) {
                 "calibration file from 'planetwear calibrate': its calibrated model (applied before --set) and its "
                 "model-discrepancy budget (added to the noise in every comparison)")
       ->check(CLI::ExistingFile);
+  d->add_option("--baseline", o.baseline,
+                "healthy recording at the same operating point (same channels, duration, speed and load): "
+                "differential diagnosis, the recording's change from it against the model's change from the "
+                "model fitted to it, so that model-form errors common to both cancel (docs/diagnose.md section 6b)")
+      ->check(CLI::ExistingFile);
+  d->add_option("--baseline-meta", o.baseline_meta,
+                "JSON sidecar of the baseline (default: the baseline's name with .json)");
   d->add_flag("--no-plots", o.no_plots, "do not run scripts/plot_diagnosis.py");
   d->add_flag("-q,--quiet", o.common.quiet, "no progress on stderr");
   std::string names;
   for (const auto& c : diagnose::candidate_library()) names += (names.empty() ? "" : ", ") + c->name();
   d->footer("Candidates: " + names +
-            ".\nExample: planetwear diagnose --config gearset.toml --recording rec.csv -o report/");
+            ".\nExamples:\n  planetwear diagnose --config gearset.toml --recording rec.csv -o report/\n"
+            "  planetwear diagnose --config gearset.toml --recording rec.csv --baseline healthy.csv -o report/");
   return d;
 }
 
 DiagnoseInputs read_diagnose_inputs(const DiagnoseCommandOptions& o) {
   for (const auto& name : o.candidates)
     require(diagnose::find_candidate(name) != nullptr, "--candidates", "unknown candidate '", name, "'");
+  require(o.baseline.empty() || o.calibration.empty(), "--baseline",
+          "give either --baseline (differential) or --calibration (absolute with a discrepancy budget), not both");
+  require(o.baseline_meta.empty() || !o.baseline.empty(), "--baseline-meta", "given without --baseline");
+  if (!o.baseline.empty()) {
+    const std::filesystem::path meta = o.baseline_meta.empty() ? io::sidecar_path(o.baseline) : std::filesystem::path(o.baseline_meta);
+    require(std::filesystem::exists(meta), "--baseline-meta", "no sidecar '", meta.string(),
+            "' for the baseline: give the JSON description of its columns (docs/recordings.md)");
+    read_recording_inputs(o.common, o.baseline, meta.string(), {}, {}, {});  // its input errors now, not after a fit
+  }
   // A calibration's model first, the command line's --set after it (the user's word wins).
   CommonOptions common = o.common;
   if (!o.calibration.empty()) {
@@ -128,11 +147,20 @@ diagnose::CompareOptions compare_options(const DiagnoseCommandOptions& o) {
   return co;
 }
 
+/// The healthy baseline fitted with the command's configuration (differential diagnosis).
+diagnose::BaselineReference fit_baseline(const DiagnoseCommandOptions& o, const diagnose::DiagnoseOptions& opt) {
+  const RecordingInputs b = read_recording_inputs(o.common, o.baseline, o.baseline_meta, {}, {}, {});
+  diagnose::DiagnoseOptions bo = opt;
+  if (opt.progress) bo.progress = [p = opt.progress](const std::string& s) { p("baseline: " + s); };
+  return diagnose::fit_baseline(b.recording, b.config, bo);
+}
+
 /// Rank 0: the diagnosis (simulations through `remote` when other ranks serve) and the report.
-void diagnose_and_report(const DiagnoseCommandOptions& o, const std::string& command_line,
+void diagnose_and_report(const DiagnoseCommandOptions& o_in, const std::string& command_line,
                          const sweep::RemoteSimulation& remote, int ranks) {
   namespace fs = std::filesystem;
-  const Inputs in = read_inputs(o);
+  DiagnoseCommandOptions o = o_in;
+  read_inputs(o);  // every input error before the baseline's fit
 
   // 2. Diagnose. One simulation slot per local thread plus one per serving rank.
   diagnose::DiagnoseOptions opt;
@@ -146,6 +174,16 @@ void diagnose_and_report(const DiagnoseCommandOptions& o, const std::string& com
   opt.compare = compare_options(o);
   opt.compare.remote = remote;
   if (!o.common.quiet) opt.progress = [](const std::string& s) { std::fprintf(stderr, "[diagnose] %s\n", s.c_str()); };
+  std::optional<diagnose::BaselineReference> baseline;
+  if (!o.baseline.empty()) {
+    // The baseline's fitted model first, the command line's --set after it (the user's word wins).
+    baseline = fit_baseline(o, opt);
+    std::vector<std::string> a = baseline->overrides;
+    a.insert(a.end(), o_in.common.assignments.begin(), o_in.common.assignments.end());
+    o.common.assignments = a;
+    opt.compare.baseline = baseline->cells;
+  }
+  const Inputs in = read_inputs(o);
   const diagnose::Diagnosis d = diagnose::diagnose(in.recording, in.config, opt);
 
   // 3. Report.
@@ -153,6 +191,8 @@ void diagnose_and_report(const DiagnoseCommandOptions& o, const std::string& com
   ctx.recording_path = o.recording;
   ctx.config_path = o.common.config;
   ctx.calibration_path = o.calibration;
+  ctx.baseline_path = o.baseline;
+  if (baseline) ctx.baseline_summary = baseline->summary;
   ctx.command_line = command_line;
   ctx.version = version_string();
   ctx.plots_available = false;

@@ -3,7 +3,8 @@
 //
 //   planetwear diagnose --config gearset.toml --recording rec.csv [--meta rec.json] -o report/
 //       [--set key=value ...] [--threads N] [--alpha 0.01] [--max-candidates 4]
-//       [--candidates a,b,...] [--calibration calibration.toml] [--no-plots] [--quiet]
+//       [--candidates a,b,...] [--calibration calibration.toml | --baseline healthy.csv
+//       [--baseline-meta healthy.json]] [--no-plots] [--quiet]
 //
 // Writes report/report.{md,html,json}, report/data/*.csv and, through
 // scripts/plot_diagnosis.py (Debian's /usr/bin/python3 + matplotlib), the PNGs.
@@ -37,6 +38,9 @@ struct DiagnoseCommandOptions {
   bool no_plots = false;
   bool always_fit = false;
   std::string calibration;  ///< --calibration FILE (planetwear calibrate): calibrated model + discrepancy budget
+  /// --baseline FILE: a healthy recording at the same operating point (differential diagnosis,
+  /// src/diagnose/baseline.hpp); --baseline-meta its sidecar (default: its name with .json).
+  std::string baseline, baseline_meta;
 };
 
 /// What a diagnosis starts from: the configuration (file, calibration overrides, --set, in that

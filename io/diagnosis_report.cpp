@@ -147,9 +147,13 @@ Doc build(const dg::Diagnosis& d, const ReportContext& ctx) {
   doc.p("**Finding:** " + d.summary);
   doc.p("Verdict: `" + std::string(dg::to_string(d.verdict)) + "`. Recording `" + ctx.recording_path +
         "`, configuration `" + (ctx.config_path.empty() ? "(seed defaults)" : ctx.config_path) + "`" +
-        (ctx.calibration_path.empty() ? std::string() : ", calibration `" + ctx.calibration_path + "`") + ", " +
-        ctx.version +
-        ".");
+        (ctx.calibration_path.empty() ? std::string() : ", calibration `" + ctx.calibration_path + "`") +
+        (ctx.baseline_path.empty() ? std::string() : ", healthy baseline `" + ctx.baseline_path + "`") + ", " +
+        ctx.version + ".");
+  if (!ctx.baseline_path.empty())
+    doc.p("Differential diagnosis: the recording is compared with the model fitted to the baseline plus what that "
+          "model missed on the baseline, cell by cell (" + ctx.baseline_summary +
+          "). Findings are changes from the baseline; a fault already present in the baseline cannot be seen.");
   const auto& k = d.kinematics;
   doc.h2("Operating point and kinematics");
   doc.p("Speed " + g(d.speed.input_rpm, 7) + " rpm (± " + g(d.speed.relative_std, 2) + " relative) from the " +
@@ -422,6 +426,7 @@ void write_diagnosis_report(const std::filesystem::path& dir, const dg::Diagnosi
   j["recording"] = ctx.recording_path;
   j["config"] = ctx.config_path;
   j["calibration"] = ctx.calibration_path;
+  j["baseline"] = ctx.baseline_path;
   j["command_line"] = ctx.command_line;
   j["verdict"] = dg::to_string(d.verdict);
   j["summary"] = d.summary;

@@ -24,6 +24,8 @@ namespace pw::io {
 struct ReportContext {
   std::string recording_path, config_path, command_line, version;
   std::string calibration_path;  ///< --calibration file, empty: none
+  std::string baseline_path;     ///< --baseline recording (differential diagnosis), empty: none
+  std::string baseline_summary;  ///< diagnose::BaselineReference::summary
   bool plots_available = true;  ///< false: say in the reports that no PNGs were drawn
   std::string plots_note;       ///< why not, if not
   int ranks = 1;                ///< MPI ranks that simulated (rank 0's threads + one per other rank)

@@ -128,4 +128,33 @@ std::vector<DiscrepancyEntry> Calibration::budgets() const {
   return out;
 }
 
+std::vector<CalibrationCell> calibration_cells(const ModelComparison& cmp,
+                                               const std::vector<std::vector<double>>& model_amplitude,
+                                               const std::vector<double>& gains) {
+  const RecordingSpectra& sp = cmp.spectra();
+  std::vector<CalibrationCell> out;
+  for (int c = 0; c < cmp.channels(); ++c)
+    for (int i = 0; i < cmp.cells(); ++i) {
+      const FeatureCell& cell = sp.layout.cells[static_cast<std::size_t>(i)];
+      const int f = c * cmp.cells() + i;
+      CalibrationCell x;
+      x.channel = sp.channel_names[static_cast<std::size_t>(c)];
+      x.order = cell.order;
+      x.quantity = cmp.recording().channels[static_cast<std::size_t>(sp.channels[static_cast<std::size_t>(c)])].quantity;
+      for (int l : cell.lines) {
+        const Component fam = sp.layout.lines[static_cast<std::size_t>(l)].family;
+        if (std::find(x.families.begin(), x.families.end(), fam) == x.families.end()) x.families.push_back(fam);
+      }
+      const double g = cmp.is_housing(c) ? gains[static_cast<std::size_t>(c)] : 1.0;
+      x.model = g * model_amplitude[static_cast<std::size_t>(c)][static_cast<std::size_t>(cell.bin)];
+      for (int w = 0; w < 2; ++w) {
+        x.recording[w] = cmp.recording_amplitude(w, f);
+        x.variance[w] = cmp.diagonal_variance(w, f);
+      }
+      x.noise_variance = cmp.noise_variance(f);
+      out.push_back(std::move(x));
+    }
+  return out;
+}
+
 } // namespace pw::diagnose

@@ -53,6 +53,13 @@ struct DiscrepancyEstimate {
 
 /// Discrepancy estimates for every (quantity, family) present in the recordings' cells.
 /// `recordings[r]` are the calibration cells of recording r's nuisance-only diagnosis.
+/// Per cell of every channel of `cmp`: what the discrepancy estimate (and a differential
+/// diagnosis's baseline, baseline.hpp) needs, with the model amplitudes [channel][bin] at the
+/// housing gains `gains`; D_i as set by the comparison's current reference.
+std::vector<CalibrationCell> calibration_cells(const ModelComparison& cmp,
+                                               const std::vector<std::vector<double>>& model_amplitude,
+                                               const std::vector<double>& gains);
+
 std::vector<DiscrepancyEstimate> estimate_discrepancy(const std::vector<std::vector<CalibrationCell>>& recordings);
 
 /// Median over the recordings of each nuisance parameter except the sensor gains, as

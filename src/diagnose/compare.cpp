@@ -108,6 +108,7 @@ ModelComparison::ModelComparison(const Recording& recording, const model::Simula
             disc_abs_[f] = std::max(disc_abs_[f], e.absolute_variance);
           }
     }
+  match_baseline();
   const double flag = chi2_quantile(1.0, opt_.alpha);
   for (int c = 0; c < nc; ++c)
     for (int i = 0; i < ncell; ++i) {
@@ -188,9 +189,40 @@ void ModelComparison::set_reference(const std::vector<std::vector<double>>& m, c
     for (int i = 0; i < ncell; ++i) {
       const std::size_t f = static_cast<std::size_t>(c * ncell + i);
       const double g = is_housing(c) ? gains[static_cast<std::size_t>(c)] : 1.0;
-      const double a = g * m[static_cast<std::size_t>(c)][static_cast<std::size_t>(spec_.layout.cells[static_cast<std::size_t>(i)].bin)];
-      const double v = rice_variance(a, s2_[f]) + (disc_[f] * a) * (disc_[f] * a) + disc_abs_[f];
+      const double a = model_amplitude(m, c, i, g);
+      const double v = rice_variance(a, s2_[f]) + (disc_[f] * a) * (disc_[f] * a) + disc_abs_[f] + offset_var_[f];
       for (int w = 0; w < 2; ++w) d_[static_cast<std::size_t>(w)][f] = v + vns_[f];
+    }
+}
+
+double ModelComparison::model_amplitude(const std::vector<std::vector<double>>& m, int c, int i, double g) const {
+  const std::size_t f = static_cast<std::size_t>(c * cells() + i);
+  const double a = g * m[static_cast<std::size_t>(c)][static_cast<std::size_t>(spec_.layout.cells[static_cast<std::size_t>(i)].bin)];
+  return offset_[f] == 0 ? a : std::max(0.0, a + offset_[f]);
+}
+
+void ModelComparison::match_baseline() {
+  const std::size_t m = static_cast<std::size_t>(features());
+  offset_.assign(m, 0.0);
+  offset_var_.assign(m, 0.0);
+  if (opt_.baseline.empty()) return;
+  const int ncell = cells();
+  for (int c = 0; c < channels(); ++c)
+    for (int i = 0; i < ncell; ++i) {
+      const double order = spec_.layout.cells[static_cast<std::size_t>(i)].order;
+      const std::string& name = spec_.channel_names[static_cast<std::size_t>(c)];
+      // Cells are at exact multiples of 1/R carrier orders: equal orders agree to round-off.
+      const auto it = std::find_if(opt_.baseline.begin(), opt_.baseline.end(), [&](const BaselineCell& b) {
+        return b.channel == name && std::fabs(b.order - order) <= 1e-9 * std::max(1.0, std::fabs(order));
+      });
+      if (it == opt_.baseline.end())
+        throw InputError("--baseline", "the baseline has no cell at carrier order " + std::to_string(order) +
+                                           " of channel '" + name + "': the recording and its baseline must be analysed "
+                                           "in the same windows (the same channels, duration and speed, so that "
+                                           "their halves hold the same whole carrier revolutions)");
+      const std::size_t f = static_cast<std::size_t>(c * ncell + i);
+      offset_[f] = it->offset;
+      offset_var_[f] = it->variance;
     }
 }
 
@@ -254,10 +286,9 @@ std::vector<double> ModelComparison::residual_vector(const std::vector<std::vect
   std::vector<double> r(static_cast<std::size_t>(features()));
   for (int c = 0; c < nc; ++c) {
     const double g = gains[static_cast<std::size_t>(c)];
-    const auto& mc = m[static_cast<std::size_t>(c)];
     for (int i = 0; i < ncell; ++i) {
       const std::size_t f = static_cast<std::size_t>(c * ncell + i);
-      const double a = g * mc[static_cast<std::size_t>(spec_.layout.cells[static_cast<std::size_t>(i)].bin)];
+      const double a = model_amplitude(m, c, i, g);
       r[f] = a_rec_[static_cast<std::size_t>(w)][f] - rice_mean(a, s2_[f]);
     }
   }
@@ -331,7 +362,7 @@ WindowScore ModelComparison::score(const std::vector<std::vector<double>>& m, in
       for (int i = 0; i < ncell; ++i) {
         const std::size_t f = static_cast<std::size_t>(c * ncell + i);
         const double a = m[static_cast<std::size_t>(c)][static_cast<std::size_t>(spec_.layout.cells[static_cast<std::size_t>(i)].bin)];
-        num += a_rec_[static_cast<std::size_t>(w)][f] * a / D[f];
+        num += (a_rec_[static_cast<std::size_t>(w)][f] - offset_[f]) * a / D[f];
         den += a * a / D[f];
       }
       if (!(den > 0)) continue;
@@ -388,8 +419,7 @@ double ModelComparison::null_quantile(const std::vector<std::vector<double>>& m,
   for (int c = 0; c < nc; ++c)
     for (int i = 0; i < ncell; ++i) {
       const std::size_t f = static_cast<std::size_t>(c * ncell + i);
-      a[f] = gains[static_cast<std::size_t>(c)] *
-             m[static_cast<std::size_t>(c)][static_cast<std::size_t>(spec_.layout.cells[static_cast<std::size_t>(i)].bin)];
+      a[f] = model_amplitude(m, c, i, gains[static_cast<std::size_t>(c)]);
       mu[f] = rice_mean(a[f], s2_[f]);
     }
   std::mt19937_64 rng(opt_.seed + static_cast<std::uint64_t>(w));
@@ -423,6 +453,8 @@ double ModelComparison::null_quantile(const std::vector<std::vector<double>>& m,
       r[f] = std::hypot(x, y) - mu[f] + (drift.empty() ? 0.0 : zd * drift[f]);
       // Calibrated absolute discrepancy: excess variance of the amplitude residual itself.
       if (disc_abs_[f] > 0) r[f] += std::sqrt(disc_abs_[f]) * nd(rng);
+      // The baseline offset's estimation error (differential diagnosis; drawn only when present).
+      if (offset_var_[f] > 0) r[f] += std::sqrt(offset_var_[f]) * nd(rng);
     }
     chi[static_cast<std::size_t>(d)] = chi2_of(r, w, gains, nullptr);
     // Parameters fitted on the other window (see the header): + 2 chi2(k), drawn after this

@@ -82,6 +82,17 @@ struct DiscrepancyEntry {
   double absolute_variance = 0;  ///< [channel unit^2]
 };
 
+/// One feature cell of a healthy baseline recording (differential diagnosis, baseline.hpp): what
+/// the model fitted to the baseline misses there. The comparison adds `offset` to the model's
+/// noise-free amplitude of the cell with the same channel and carrier order, and `variance` (the
+/// offset's own estimation error) to V and to the null's draws.
+struct BaselineCell {
+  std::string channel;
+  double order = 0;     ///< carrier order of the cell
+  double offset = 0;    ///< [channel unit] de-biased baseline amplitude - fitted model amplitude
+  double variance = 0;  ///< [channel unit^2]
+};
+
 struct CompareOptions {
   OrderAnalysisOptions analysis{};
   double alpha = 0.01;                 ///< for the non-stationarity flag
@@ -101,6 +112,9 @@ struct CompareOptions {
   /// Calibrated model discrepancy (empty: none; the noise, non-stationarity and fidelity alone).
   /// A cell carrying lines of several families takes the largest of theirs.
   std::vector<DiscrepancyEntry> discrepancy;
+  /// Differential diagnosis: the baseline's per-cell offsets (empty: absolute comparison). Every
+  /// cell of the recording must have its counterpart (the same analysis windows).
+  std::vector<BaselineCell> baseline;
 };
 
 /// One model scored on one window.
@@ -192,6 +206,8 @@ public:
   /// Per feature: the calibrated relative discrepancy (0 without a calibration).
   double relative_discrepancy(int feature) const { return disc_[static_cast<std::size_t>(feature)]; }
   double nonstationary_variance(int feature) const { return vns_[static_cast<std::size_t>(feature)]; }
+  /// Per feature: the baseline's offset added to the model amplitude (0 without a baseline).
+  double baseline_offset(int feature) const { return offset_[static_cast<std::size_t>(feature)]; }
   int nonstationary_cells() const { return ns_cells_; }
   /// Per channel: the noise-variance scale phi measured between the recording's halves (1 when
   /// the halves agree within the noise floor's prediction; see the constructor).
@@ -201,6 +217,10 @@ private:
   double chi2_of(const std::vector<double>& r, int window, const std::vector<double>& gains, WindowScore* out) const;
   std::vector<double> residual_vector(const std::vector<std::vector<double>>& m, int window,
                                       const std::vector<double>& gains) const;
+  /// Noise-free amplitude of feature f = (channel c, cell i) the model predicts at gain g: g m
+  /// plus the baseline's offset (differential diagnosis), never below 0.
+  double model_amplitude(const std::vector<std::vector<double>>& m, int c, int i, double g) const;
+  void match_baseline();
 
   const Recording& rec_;
   CompareOptions opt_;
@@ -213,6 +233,7 @@ private:
   std::vector<double> vns_;
   std::vector<double> disc_;                 // [feature]: relative discrepancy (CompareOptions::discrepancy)
   std::vector<double> disc_abs_;             // [feature]: absolute discrepancy variance
+  std::vector<double> offset_, offset_var_;  // [feature]: baseline offset and its variance
   std::vector<double> dispersion_;           // [channel]
   int ns_cells_ = 0;
   std::vector<std::vector<double>> u_;       // [column][feature]

@@ -180,6 +180,8 @@ struct ChannelExcess {
 
 /// One feature cell after the nuisance fit, for the discrepancy estimate (calibration.hpp).
 struct CalibrationCell {
+  std::string channel;
+  double order = 0;                 ///< carrier order of the cell
   Quantity quantity = Quantity::SunSpeed;
   std::vector<Component> families;  ///< of the lines the cell carries
   double model = 0;                 ///< nuisance-fitted model amplitude, gain applied

@@ -1,0 +1,41 @@
+// Differential diagnosis (docs/diagnose.md §6b): a healthy baseline recording at the same
+// operating point tells what the model cannot reproduce there. The model is fitted to the
+// baseline (nuisance parameters only, as in calibration); the per-cell difference between the
+// baseline's de-biased amplitude and that fitted model is its model-form error e_i at this
+// operating point. Diagnosing a recording against "model + e" compares the recording's change
+// from the baseline with the model's change from the baseline's fitted values:
+//   A_rec,i - (M_i(theta) + e_i) = (A_rec,i - A_base,i) - (M_i(theta) - M_i(theta_base)),
+// so a model-form error that is the same in both recordings cancels to first order. Valid when
+// e does not change between the two: the same rig, sensors and operating point (same speed
+// and load; the speed difference enters only through the model), and a fault small enough
+// that the model-form error does not depend on it. What it cannot do: see a fault that was
+// already in the baseline.
+#pragma once
+
+#include "diagnose/diagnose.hpp"
+
+#include <string>
+#include <vector>
+
+namespace pw::diagnose {
+
+struct BaselineReference {
+  std::vector<std::string> overrides;  ///< the nuisance values fitted to the baseline (`--set` lines)
+  std::vector<BaselineCell> cells;     ///< per channel and carrier order: offset e_i and its variance
+  double speed_rpm = 0;                ///< the baseline's mean input speed
+  double revolutions = 0;              ///< carrier revolutions per half of its analysis
+  Verdict noise_test = Verdict::NoMissingPhysics;  ///< the baseline's own noise test (for the report)
+  std::string summary;                 ///< one sentence on the baseline and its fit
+};
+
+/// Offset of one cell: the mean over both halves of the de-biased amplitude sqrt(max(A^2 - s^2, 0))
+/// (the estimator the comparison uses for the recording's own variances) minus the fitted model's
+/// amplitude; its variance is that of a mean of two independent halves, (D_fit + D_held) / 4.
+BaselineCell baseline_cell(const CalibrationCell& c);
+
+/// Fits the nuisance parameters to the healthy `baseline` (options.nuisance_only is forced) and
+/// returns the offsets the diagnosis of another recording takes as CompareOptions::baseline.
+BaselineReference fit_baseline(const Recording& baseline, const model::SimulationConfig& config,
+                               DiagnoseOptions options);
+
+} // namespace pw::diagnose

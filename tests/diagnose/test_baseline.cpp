@@ -1,0 +1,135 @@
+// Differential diagnosis (baseline.hpp): a healthy baseline's per-cell offsets added to the
+// model. No simulation is run: the "model" is the order spectrum of a noise-free synthetic
+// recording (what a perfect simulator of the synthetic stage would give), and its model-form
+// error is a carrier-family line it lacks (as an unmodelled rig element would add).
+//
+// The recordings are those of test_compare.cpp's kind: the seed stage at 1200 rpm, 3.2 carrier
+// revolutions at 10 kHz, a sun-speed channel and a sun-planet mesh acceleration made of 8 mesh
+// harmonics, an optional line at carrier order 2 Zr + 3, and white noise.
+#include "diagnose/baseline.hpp"
+#include "diagnose/calibration.hpp"
+#include "diagnose/compare.hpp"
+#include "diagnose/kinematics.hpp"
+#include "diagnose/stage_1200rpm.hpp"
+
+#include "core/error.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <numbers>
+#include <random>
+
+namespace pw::diagnose {
+namespace {
+
+constexpr double kPi = std::numbers::pi;
+/// Per-window false-alarm level of the tests below (the diagnosis's alpha / 2 at alpha = 0.01).
+constexpr double kAlphaHalf = 0.005;
+
+Recording synthetic(double line_m_s2, unsigned seed, double noise_m_s2 = 0.5, double speed_noise_rad_s = 0.01) {
+  const auto cfg = test::stage_1200rpm();
+  const Kinematics k = kinematics(cfg.stage, cfg.operating.input_speed_rpm);
+  const double fs = 10000, seconds = 3.2 / k.carrier_Hz;
+  const std::size_t n = static_cast<std::size_t>(seconds * fs);
+  std::mt19937_64 rng(seed);
+  std::normal_distribution<double> nd(0.0, 1.0);
+  Recording r;
+  r.source = "synthetic";
+  r.operating = cfg.operating;
+  SignalChannel w{"sun_speed", Quantity::SunSpeed, "rad/s", 0, 0.0, {}};
+  SignalChannel a{"sp_acc", Quantity::MeshAccelerationSunPlanet, "m/s^2", 0, 0.0, {}};
+  const double omega = cfg.operating.input_speed_rpm * 2 * kPi / 60;
+  for (std::size_t i = 0; i < n; ++i) {
+    const double t = static_cast<double>(i) / fs;
+    r.time_s.push_back(t);
+    w.values.push_back(omega + speed_noise_rad_s * nd(rng));
+    double x = noise_m_s2 * nd(rng);
+    for (int h = 1; h <= 8; ++h) x += (10.0 / h) * std::cos(2 * kPi * h * k.mesh_Hz * t);
+    x += line_m_s2 * std::cos(2 * kPi * (2 * k.ring_teeth + 3) * k.carrier_Hz * t + 0.4);
+    a.values.push_back(x);
+  }
+  r.channels = {w, a};
+  return r;
+}
+
+/// The fit-half spectrum [channel][bin] of a noise-free recording without the carrier line.
+std::vector<std::vector<double>> perfect_model() {
+  const Recording clean = synthetic(0.0, 1, 1e-6, 1e-9);
+  const ModelComparison c(clean, test::stage_1200rpm());
+  return c.spectra().amplitude[0];
+}
+
+/// held-out chi2 of `model` on `rec` and its 1 - kAlphaHalf null quantile.
+std::pair<double, double> held_out(const Recording& rec, const std::vector<std::vector<double>>& model,
+                                   const CompareOptions& co = {}) {
+  ModelComparison cmp(rec, test::stage_1200rpm(), co);
+  cmp.set_reference(model, {});
+  return {cmp.score(model, 1, {}, false).chi2, cmp.null_quantile(model, {}, 1, kAlphaHalf)};
+}
+
+std::vector<BaselineCell> baseline_of(const Recording& base, const std::vector<std::vector<double>>& model) {
+  ModelComparison cmp(base, test::stage_1200rpm());
+  cmp.set_reference(model, {});
+  std::vector<BaselineCell> out;
+  for (const CalibrationCell& c : calibration_cells(cmp, model, {1.0, 1.0})) out.push_back(baseline_cell(c));
+  return out;
+}
+
+TEST(Baseline, CellOffsetIsTheDebiasedMeanOfBothHalvesMinusTheModel) {
+  CalibrationCell c;
+  c.channel = "sp_acc";
+  c.order = 165;
+  c.model = 1.0;
+  c.recording[0] = 3.0;
+  c.recording[1] = 5.0;
+  c.noise_variance = 4.0;
+  c.variance[0] = 2.0;
+  c.variance[1] = 6.0;
+  const BaselineCell b = baseline_cell(c);
+  EXPECT_EQ(b.channel, "sp_acc");
+  EXPECT_EQ(b.order, 165);
+  // sqrt(3^2 - 4) = sqrt 5, sqrt(5^2 - 4) = sqrt 21; the mean of two halves has a quarter of their summed variance.
+  EXPECT_DOUBLE_EQ(b.offset, 0.5 * (std::sqrt(5.0) + std::sqrt(21.0)) - 1.0);
+  EXPECT_DOUBLE_EQ(b.variance, 2.0);
+  // A cell below the noise floor has no line: its de-biased amplitude is 0.
+  c.recording[0] = c.recording[1] = 1.5;
+  EXPECT_DOUBLE_EQ(baseline_cell(c).offset, -1.0);
+}
+
+TEST(Baseline, AModelMissingALineExplainsARecordingWithItOnceTheBaselineCarriesIt) {
+  const auto model = perfect_model();
+  const Recording rec = synthetic(3.0, 11);
+  const auto [chi2_absolute, bound_absolute] = held_out(rec, model);
+  EXPECT_GT(chi2_absolute, 2 * bound_absolute) << "the unmodelled line must stand out in the absolute comparison";
+  CompareOptions co;
+  co.baseline = baseline_of(synthetic(3.0, 12), model);
+  const auto [chi2, bound] = held_out(rec, model, co);
+  EXPECT_LE(chi2, bound);
+}
+
+TEST(Baseline, AChangeFromTheBaselineStillStandsOut) {
+  // The baseline lacks the line the recording has: the change is not absorbed.
+  const auto model = perfect_model();
+  CompareOptions co;
+  co.baseline = baseline_of(synthetic(0.0, 12), model);
+  const auto [chi2, bound] = held_out(synthetic(3.0, 11), model, co);
+  EXPECT_GT(chi2, 2 * bound);
+}
+
+TEST(Baseline, ABaselineWithoutTheRecordingsCellsIsRefusedNamingTheOption) {
+  const auto model = perfect_model();
+  CompareOptions co;
+  co.baseline = baseline_of(synthetic(3.0, 12), model);
+  co.baseline.back().order += 0.5;  // as a baseline analysed in other windows would be
+  const Recording rec = synthetic(3.0, 11);
+  try {
+    ModelComparison cmp(rec, test::stage_1200rpm(), co);
+    FAIL() << "a baseline without the recording's cells was accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("--baseline"), std::string::npos) << e.what();
+  }
+}
+
+} // namespace
+} // namespace pw::diagnose
