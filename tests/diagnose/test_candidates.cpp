@@ -6,11 +6,13 @@
 // tangential part at planet i is -x sin psi_i + y cos psi_i.
 #include "diagnose/candidates/candidate.hpp"
 #include "diagnose/kinematics.hpp"
+#include "io/config_toml.hpp"
 
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <numbers>
+#include <regex>
 
 namespace pw::diagnose {
 namespace {
@@ -61,6 +63,42 @@ TEST(Candidates, FourPlanetPinPatternKeepsOnlyItsFirstHarmonic) {
   ASSERT_EQ(e.size(), 2u);
   EXPECT_NEAR(e[0], 0.0, 1e-18);
   EXPECT_NEAR(e[1], 0.0, 1e-18);
+}
+
+TEST(Candidates, AToothWhosePositionIsNotIdentifiableIsNamedByNoNumberYetItsSetLineReproducesTheFit) {
+  // Issue 19 point 5: amplitudes cannot tell which sun or planet tooth is damaged; the severity
+  // is fitted on a stand-in tooth, which neither the label (the report's headline) nor the
+  // `--set` line may present as a finding. The line still reproduces the fitted model.
+  model::SimulationConfig base;
+  const ToothMap map(base);
+  const std::regex numbered_tooth("tooth [0-9]|tooth=");
+  for (const char* name : {"sun_tooth_damage", "planet_tooth_damage"}) {
+    const Candidate* c = find_candidate(name);
+    ASSERT_NE(c, nullptr);
+    for (const Variant& v : c->variants(LocatedEvidence{}, base, map)) {
+      EXPECT_FALSE(v.tooth_identifiable);
+      EXPECT_FALSE(std::regex_search(v.label, numbered_tooth)) << v.label;
+      EXPECT_NE(v.label.find("position not identifiable"), std::string::npos) << v.label;
+      model::SimulationConfig fitted = base;
+      std::vector<std::string> overrides;
+      const double x[1] = {0.6};
+      c->apply(fitted, v, x, &overrides);
+      ASSERT_EQ(overrides.size(), 1u);
+      EXPECT_FALSE(std::regex_search(overrides[0], numbered_tooth)) << overrides[0];
+      model::SimulationConfig reproduced = base;
+      io::apply_overrides(reproduced, overrides);
+      ASSERT_EQ(reproduced.imperfections.teeth.size(), 1u);
+      EXPECT_EQ(reproduced.imperfections.teeth[0].tooth, fitted.imperfections.teeth[0].tooth);
+      EXPECT_EQ(reproduced.imperfections.teeth[0].planet, fitted.imperfections.teeth[0].planet);
+      EXPECT_EQ(reproduced.imperfections.teeth[0].stiffness_factor, 0.6);
+    }
+    // A phase variant is a screened place: it names its tooth.
+    const Variant chosen = c->variants(LocatedEvidence{}, base, map).front();
+    for (const Variant& v : c->phase_variants(chosen, LocatedEvidence{}, base, map)) {
+      EXPECT_TRUE(v.tooth_identifiable);
+      EXPECT_NE(v.label.find("tooth " + std::to_string(v.tooth)), std::string::npos) << v.label;
+    }
+  }
 }
 
 TEST(Candidates, RingPlacesCoverOnePlanetSpacingAtAQuarterOfTheSensorWindow) {

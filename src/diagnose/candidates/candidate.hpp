@@ -60,6 +60,9 @@ struct Variant {
   int planet = 0;
   int tooth = 0;
   double order = 0;
+  /// false: the amplitudes cannot tell which tooth; `tooth` (0, the configuration's default)
+  /// stands for any tooth of its gear and neither the label nor the `--set` line names one.
+  bool tooth_identifiable = true;
 };
 
 class Candidate {

@@ -52,25 +52,32 @@ public:
   std::vector<ParameterSpec> parameters(const model::SimulationConfig&) const override {
     return {{"stiffness_factor", "1", 0.05, 1.0, false, 0.7, 1.0, 0.8}};
   }
+  /// Appended to a variant fitted on tooth 0 standing for any tooth of its gear.
+  static constexpr const char* kCanonical = " (severity fitted on a stand-in tooth)";
+
   std::vector<Variant> variants(const LocatedEvidence& ev, const model::SimulationConfig& base,
                                 const ToothMap& map) const override {
     // Amplitude features do not say which tooth (docs/diagnose.md §3): the severity is fitted
     // on a canonical tooth. What they do see: which planet (the mesh channels belong to one
     // planet) and, for the ring, how far the tooth is from a housing sensor (the transfer path).
     std::vector<Variant> out;
-    auto add = [&](int planet, int tooth, const std::string& note) {
+    // identifiable = false: the label names no tooth (the fit's tooth stands for any of them).
+    auto add = [&](int planet, int tooth, const std::string& note, bool identifiable) {
       Variant v;
       v.body = body_;
       v.planet = body_ == model::Body::Planet ? planet : 0;
       v.tooth = tooth;
-      v.label = std::string(body_name(body_)) + (body_ == model::Body::Planet ? " " + std::to_string(planet) : "") +
-                " tooth " + std::to_string(tooth) + note;
+      v.tooth_identifiable = identifiable;
+      const std::string owner = std::string(body_name(body_)) +
+                                (body_ == model::Body::Planet ? " " + std::to_string(planet) : "");
+      v.label = identifiable ? owner + " tooth " + std::to_string(tooth) + note
+                             : "a " + owner + " tooth, position not identifiable" + note;
       for (const auto& o : out)
         if (o.planet == v.planet && o.tooth == v.tooth) return;
       out.push_back(v);
     };
     if (body_ == model::Body::Planet) {
-      for (int p = 0; p < base.stage.planet_count; ++p) add(p, 0, " (canonical tooth)");
+      for (int p = 0; p < base.stage.planet_count; ++p) add(p, 0, kCanonical, false);
     } else if (body_ == model::Body::Ring && !ev.housing_sensor_angles_rad.empty()) {
       const double phi = ev.housing_sensor_angles_rad.front();
       const int z = map.teeth(model::Body::Ring);
@@ -83,10 +90,10 @@ public:
         }
         char buf[64];
         std::snprintf(buf, sizeof buf, " (%.0f deg from the housing sensor)", deg);
-        add(0, best, buf);
+        add(0, best, buf, true);
       }
     } else {
-      add(0, 0, " (canonical tooth)");
+      add(0, 0, kCanonical, false);
     }
     return out;
   }
@@ -105,6 +112,7 @@ public:
       if (j == chosen.tooth) continue;
       Variant v = chosen;
       v.tooth = j;
+      v.tooth_identifiable = true;  // screened by its phase
       v.label = std::string(body_name(body_)) + (body_ == model::Body::Planet ? " " + std::to_string(v.planet) : "") +
                 " tooth " + std::to_string(j) + " (best phase)";
       out.push_back(v);
@@ -121,7 +129,7 @@ public:
     c.imperfections.teeth.push_back(t);
     if (o)
       o->push_back("imperfections.teeth=[{body=\"" + std::string(body_name(body_)) + "\",planet=" +
-                   std::to_string(t.planet) + ",tooth=" + std::to_string(t.tooth) +
+                   std::to_string(t.planet) + (v.tooth_identifiable ? ",tooth=" + std::to_string(t.tooth) : "") +
                    ",stiffness_factor=" + format_value(t.stiffness_factor) + "}]");
   }
 
@@ -151,6 +159,7 @@ private:
     for (int k = step; k < span; k += step) {
       Variant v = chosen;
       v.tooth = (chosen.tooth + k) % z;
+      v.tooth_identifiable = true;
       char buf[96];
       std::snprintf(buf, sizeof buf, "ring tooth %d (%.0f deg from the housing sensor)", v.tooth,
                     ring_tooth_from_sensor(map, v.tooth, ev.housing_sensor_angles_rad.front()) * 180 / kPi);

@@ -1,0 +1,48 @@
+#!/bin/sh
+# Differential diagnosis against a healthy baseline (docs/diagnose.md section 6b) on a model-form
+# difference the absolute comparison cannot absorb: the "rig" drives a speed-controlled
+# dynamometer through an output shaft and reads its speeds through 1.5 kHz encoders (rig.*,
+# sensor.encoder_bandwidth_Hz); the diagnosis's model has neither (torsional, 1200 rpm, 20 kW,
+# 5 % noise). Baseline: healthy recording seed 3.
+#   * a second healthy recording (seed 4) is "no_missing_physics";
+#   * a cracked sun tooth (seed 5, stiffness factor 0.6) is named sun_tooth_damage with its
+#     factor within 20 % of 0.6.
+# Absolute (no baseline), the same two recordings are both "unexplained_residual" (measured
+# 2026-11-26: chi2 3.4 and 18.7 times their bounds after the best fit; docs/diagnose.md).
+# Measured 2026-11-26 on a loaded 2-core machine: 79 s and 336 s at 2 threads.
+# Usage: test_differential.sh <planetwear> <workdir>
+set -eu
+PW=$1
+rm -rf "$2"; mkdir -p "$2"; cd "$2"
+RIG="--speed-rpm 1200 --power-w 20000 --seconds 0.78 --noise 0.05 --dc-offset 0.2 --sensor-angle-deg 40
+     --decimate 40 --start-mesh-cycle 450 --set solver.periodicity_tolerance=1e-3 --set rig.load_control=speed
+     --set rig.output_shaft_stiffness_N_m_rad=2e4 --set rig.output_shaft_damping_N_m_s_rad=5
+     --set sensor.encoder_bandwidth_Hz=1500"
+# shellcheck disable=SC2086
+"$PW" synth -q $RIG --seed 3 -o healthy3.csv
+# shellcheck disable=SC2086
+"$PW" synth -q $RIG --seed 4 -o healthy4.csv
+# shellcheck disable=SC2086
+"$PW" synth -q $RIG --seed 5 --set 'imperfections.teeth=[{body="sun",tooth=5,stiffness_factor=0.6}]' -o sun5.csv
+OMP_NUM_THREADS=2 "$PW" diagnose -q -r healthy4.csv --baseline healthy3.csv -o healthy4 --threads 2 --no-plots
+OMP_NUM_THREADS=2 "$PW" diagnose -q -r sun5.csv --baseline healthy3.csv -o sun5 --threads 2 --no-plots
+/usr/bin/python3 - <<'PY'
+import json, re, sys
+h = json.load(open("healthy4/report.json"))
+s = json.load(open("sun5/report.json"))
+if not h["baseline"].endswith("healthy3.csv") or not s["baseline"].endswith("healthy3.csv"):
+    sys.exit("the report does not name the baseline")
+if h["verdict"] != "no_missing_physics":
+    sys.exit(f"healthy recording against its baseline: {h['verdict']}: {h['summary'][:300]}")
+if s["missing_physics"] != "sun_tooth_damage":
+    sys.exit(f"cracked sun tooth against the baseline: {s['verdict']}, {s['missing_physics']}: {s['summary'][:300]}")
+text = s["summary"]
+m = re.search(r"stiffness_factor = ([0-9.]+)", text)
+if not m:
+    sys.exit("no fitted stiffness_factor in the summary: " + text[:300])
+factor = float(m.group(1))
+if abs(factor - 0.6) > 0.2 * 0.6:
+    sys.exit(f"stiffness factor {factor}, true 0.6 (more than 20 % off)")
+print("healthy:", h["summary"][:160])
+print("sun tooth:", text[:200])
+PY
