@@ -60,8 +60,8 @@ struct Variant {
   int planet = 0;
   int tooth = 0;
   double order = 0;
-  /// false: the amplitudes cannot tell which tooth; `tooth` (0, the configuration's default)
-  /// stands for any tooth of its gear and neither the label nor the `--set` line names one.
+  /// false: the amplitudes cannot tell which tooth; the label names none, and the `--set` line
+  /// only where the index matters to reproduce the fit (a phase other than tooth 0's).
   bool tooth_identifiable = true;
 };
 
