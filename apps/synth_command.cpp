@@ -19,6 +19,7 @@
 #include "io/recording_writer.hpp"
 #include "model/memory_estimate.hpp"
 #include "model/simulation.hpp"
+#include "model/validate.hpp"
 
 #include <CLI/CLI.hpp>
 

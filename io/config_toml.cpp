@@ -13,6 +13,7 @@
 #include "io/config_toml.hpp"
 
 #include "io/io_error.hpp"
+#include "model/validate.hpp"
 
 #include "core/error.hpp"
 

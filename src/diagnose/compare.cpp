@@ -3,6 +3,7 @@
 #include "core/error.hpp"
 #include "diagnose/locate.hpp"
 #include "model/simulation.hpp"
+#include "model/validate.hpp"
 
 #include <Eigen/Dense>
 

@@ -32,12 +32,12 @@
 //      sits at a bound; otherwise "unexplained residual" with it as a lead.
 #pragma once
 
+#include "config/stage.hpp"
 #include "diagnose/compare.hpp"
 #include "diagnose/fit.hpp"
 #include "diagnose/kinematics.hpp"
 #include "diagnose/locate.hpp"
 #include "diagnose/recording.hpp"
-#include "model/stage.hpp"
 
 #include <functional>
 #include <limits>

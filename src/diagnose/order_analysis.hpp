@@ -36,11 +36,11 @@
 // line measure the noise floor.
 #pragma once
 
+#include "config/stage.hpp"
 #include "diagnose/kinematics.hpp"
 #include "diagnose/recording.hpp"
 #include "model/result.hpp"
 #include "model/simulation.hpp"
-#include "model/stage.hpp"
 
 #include <complex>
 #include <span>

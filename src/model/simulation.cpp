@@ -4,6 +4,7 @@
 #include "dynamics/modal.hpp"
 #include "model/memory_estimate.hpp"
 #include "model/sensor.hpp"
+#include "model/validate.hpp"
 #include "signal/spectrum.hpp"
 #include "wear/flank_wear.hpp"
 

@@ -9,9 +9,9 @@
 //   6. record whole mesh periods into named channels (model/result.hpp).
 #pragma once
 
+#include "config/stage.hpp"
 #include "model/planetary_system.hpp"
 #include "model/result.hpp"
-#include "model/stage.hpp"
 
 #include <functional>
 #include <memory>

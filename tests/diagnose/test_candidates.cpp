@@ -6,6 +6,7 @@
 // tangential part at planet i is -x sin psi_i + y cos psi_i.
 #include "diagnose/candidates/candidate.hpp"
 #include "diagnose/kinematics.hpp"
+#include "model/validate.hpp"
 
 #include <gtest/gtest.h>
 
@@ -139,7 +140,7 @@ TEST(Candidates, EncoderBandwidthIsAbsentAtTheTopOfItsBoxAndEveryValueIsInTheKey
 }
 
 TEST(Candidates, DampingScreenStepStaysInsideTheKeysRangeAtItsTop) {
-  // contact.mesh_damping_ratio <= 1 (stage.cpp): at 1 the screening secant points down.
+  // contact.mesh_damping_ratio <= 1 (model/validate.cpp): at 1 the screening secant points down.
   const Candidate* c = find_candidate("damping_level");
   ASSERT_NE(c, nullptr);
   model::SimulationConfig b;

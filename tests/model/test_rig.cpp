@@ -6,6 +6,7 @@
 #include "core/error.hpp"
 #include "model/sensor.hpp"
 #include "model/simulation.hpp"
+#include "model/validate.hpp"
 #include "simulation_fixture.hpp"
 
 #include <gtest/gtest.h>

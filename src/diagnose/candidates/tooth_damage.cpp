@@ -135,7 +135,7 @@ private:
   }
 
   /// The ring's phase variants: with a housing sensor, ring teeth spaced by at most a quarter
-  /// of the transfer-path window's width sigma (model/stage.hpp SensorSettings), so the best is
+  /// of the transfer-path window's width sigma (config/stage.hpp SensorSettings), so the best is
   /// within sigma / 8 of the damaged tooth. Over one planet spacing only when the planets are
   /// equally spaced and Zr is a multiple of N: the stage then looks the same from the sensor
   /// after a shift by Zr / N teeth (the amplitudes cannot tell which planet is which). Without

@@ -5,11 +5,13 @@
 // Table 1) or, where the seed is silent, a documented assumption
 // (docs/derivation.md, "Assumptions").
 //
-// Validation of ranges happens once, in validate() (stage.cpp), which throws
-// pw::InputError naming the TOML key (section.key) that is wrong.
+// Validation of ranges happens once, in model::validate() (model/validate.hpp;
+// above the geometry, since it builds each gear to check it), which throws
+// pw::InputError naming the TOML key (section.key) that is wrong. The types
+// keep their namespace pw::model.
 #pragma once
 
-#include "geometry/gear.hpp"
+#include "config/gear_spec.hpp"
 
 #include <string>
 #include <vector>
@@ -245,8 +247,5 @@ struct SimulationConfig {
   SensorSettings sensor{};
   RigSettings rig{};
 };
-
-/// Range checks of everything above; throws pw::InputError naming the TOML key.
-void validate(const SimulationConfig& config);
 
 } // namespace pw::model

@@ -8,7 +8,7 @@
 // Not checked here (they need the mesh geometry): interference, contact ratio,
 // the assembly condition and planet tip-circle clearance. Those are checked by
 // geometry::make_stage_geometry() when the model is built.
-#include "model/stage.hpp"
+#include "model/validate.hpp"
 
 #include "core/error.hpp"
 #include "geometry/gear.hpp"
