@@ -20,6 +20,7 @@
 #include "model/memory_estimate.hpp"
 #include "model/simulation.hpp"
 #include "model/validate.hpp"
+#include "wear/simulation.hpp"
 
 #include <CLI/CLI.hpp>
 
@@ -205,7 +206,7 @@ int run_synth(const SynthOptions& o) {
                                         "planet_ring/0/acceleration", "housing/acceleration", "sun/angle"},
                                        1};
   check_synth_memory(config, seconds, columns);
-  const model::SimulationResult r = model::simulate(config, progress, columns);
+  const model::SimulationResult r = wear::simulate(config, progress, columns);
 
   // 3. Channels, at the simulation's rate; output j is simulated sample
   //    first + j k, n_out of them. first: the filter's margin after the
