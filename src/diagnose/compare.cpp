@@ -1,7 +1,7 @@
 #include "diagnose/compare.hpp"
 
 #include "core/error.hpp"
-#include "diagnose/locate.hpp"
+#include "core/statistics.hpp"
 #include "model/simulation.hpp"
 #include "model/validate.hpp"
 #include "wear/simulation.hpp"

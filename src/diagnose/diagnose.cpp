@@ -1,6 +1,7 @@
 #include "diagnose/diagnose.hpp"
 
 #include "core/error.hpp"
+#include "core/statistics.hpp"
 #include "diagnose/candidates/candidate.hpp"
 #include "diagnose/verdict.hpp"
 

@@ -94,9 +94,6 @@ std::vector<std::complex<double>> angle_fourier(std::span<const double> x, std::
 /// estimate and corrected for the truncation, iterated from the median.
 double exponential_mean(std::vector<double> values, double* relative_se = nullptr);
 
-/// Upper 1 - alpha quantile of chi2(nu) (Wilson-Hilferty).
-double chi2_upper_quantile(double nu, double alpha);
-
 /// Rician amplitude statistics: |s + n| with n complex Gaussian of total
 /// variance s2 (E|n|^2 = s2) and |s| = nu.
 double rice_mean(double nu, double s2);
