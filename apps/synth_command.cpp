@@ -10,6 +10,7 @@
 //   6. CSV + JSON sidecar (operating point and columns only)
 #include "synth_command.hpp"
 
+#include "core/constants.hpp"
 #include "core/error.hpp"
 #include "core/memory_budget.hpp"
 #include "diagnose/recording.hpp"
@@ -37,7 +38,6 @@
 namespace pw::app {
 namespace {
 
-constexpr double kPi = std::numbers::pi;
 constexpr double kTachoHigh_V = 5.0;       ///< tacho pulse level [V]
 constexpr double kTachoDutyCycle = 0.05;  ///< pulse length / revolution
 

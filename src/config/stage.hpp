@@ -74,6 +74,16 @@ struct ContactSettings {
 /// One gear body a tooth modification applies to.
 enum class Body { Sun, Planet, Ring };
 
+/// The body as the configuration spells it: "sun", "planet", "ring".
+constexpr const char* body_name(Body b) {
+  switch (b) {
+  case Body::Sun: return "sun";
+  case Body::Planet: return "planet";
+  case Body::Ring: return "ring";
+  }
+  return "?";
+}
+
 /// A damaged or modified tooth (crack, chip, local pitting): its mesh stiffness
 /// is multiplied by stiffness_factor and its flank carries an extra profile
 /// deviation (positive = material removed) on its loaded flank.

@@ -1,5 +1,6 @@
 #include "diagnose/order_analysis.hpp"
 
+#include "core/constants.hpp"
 #include "core/error.hpp"
 #include "core/statistics.hpp"
 #include "diagnose/features.hpp"
@@ -16,8 +17,6 @@
 
 namespace pw::diagnose {
 namespace {
-
-constexpr double kPi = std::numbers::pi;
 
 double mean_of(std::span<const double> x) {
   double s = 0;

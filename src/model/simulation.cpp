@@ -1,5 +1,6 @@
 #include "model/simulation.hpp"
 
+#include "core/constants.hpp"
 #include "core/error.hpp"
 #include "dynamics/modal.hpp"
 #include "model/memory_estimate.hpp"
@@ -16,8 +17,6 @@
 
 namespace pw::model {
 namespace {
-
-constexpr double kPi = std::numbers::pi;
 
 double annulus_mass(double rho, double r_out, double r_in, double width) {
   return rho * kPi * (r_out * r_out - r_in * r_in) * width;

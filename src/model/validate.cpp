@@ -127,15 +127,6 @@ void validate_contact(const ContactSettings& c, double module_m) {
         "m; |e| below module");
 }
 
-const char* body_name(Body b) {
-  switch (b) {
-  case Body::Sun: return "sun";
-  case Body::Planet: return "planet";
-  case Body::Ring: return "ring";
-  }
-  return "?";
-}
-
 void validate_imperfections(const Imperfections& im, const StageSpec& stage) {
   const double module_m = stage.sun.module_m;
   require(im.pin_error_m.empty() || im.pin_error_m.size() == static_cast<std::size_t>(stage.planet_count),

@@ -11,6 +11,8 @@
 // profiled, spaced by a quarter of the sensor window's width.
 #include "diagnose/candidates/factories.hpp"
 
+#include "core/constants.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -19,23 +21,12 @@
 namespace pw::diagnose::candidates {
 namespace {
 
-constexpr double kPi = std::numbers::pi;
-
-const char* body_name(model::Body b) {
-  switch (b) {
-  case model::Body::Sun: return "sun";
-  case model::Body::Planet: return "planet";
-  case model::Body::Ring: return "ring";
-  }
-  return "?";
-}
-
 class ToothDamage final : public Candidate {
 public:
   explicit ToothDamage(model::Body body) : body_(body) {}
-  std::string name() const override { return std::string(body_name(body_)) + "_tooth_damage"; }
+  std::string name() const override { return std::string(model::body_name(body_)) + "_tooth_damage"; }
   std::string physics() const override {
-    return std::string("one ") + body_name(body_) +
+    return std::string("one ") + model::body_name(body_) +
            " tooth is softened (crack or chip): its pair stiffness drops each time it meshes, once per " +
            (body_ == model::Body::Sun      ? "planet pass of the sun tooth"
             : body_ == model::Body::Planet ? "planet revolution on each of its two meshes"
@@ -63,7 +54,7 @@ public:
       v.body = body_;
       v.planet = body_ == model::Body::Planet ? planet : 0;
       v.tooth = tooth;
-      v.label = std::string(body_name(body_)) + (body_ == model::Body::Planet ? " " + std::to_string(planet) : "") +
+      v.label = std::string(model::body_name(body_)) + (body_ == model::Body::Planet ? " " + std::to_string(planet) : "") +
                 " tooth " + std::to_string(tooth) + note;
       for (const auto& o : out)
         if (o.planet == v.planet && o.tooth == v.tooth) return;
@@ -105,7 +96,7 @@ public:
       if (j == chosen.tooth) continue;
       Variant v = chosen;
       v.tooth = j;
-      v.label = std::string(body_name(body_)) + (body_ == model::Body::Planet ? " " + std::to_string(v.planet) : "") +
+      v.label = std::string(model::body_name(body_)) + (body_ == model::Body::Planet ? " " + std::to_string(v.planet) : "") +
                 " tooth " + std::to_string(j) + " (best phase)";
       out.push_back(v);
     }
@@ -120,7 +111,7 @@ public:
     t.stiffness_factor = std::clamp(x[0], 1e-6, 1.0);
     c.imperfections.teeth.push_back(t);
     if (o)
-      o->push_back("imperfections.teeth=[{body=\"" + std::string(body_name(body_)) + "\",planet=" +
+      o->push_back("imperfections.teeth=[{body=\"" + std::string(model::body_name(body_)) + "\",planet=" +
                    std::to_string(t.planet) + ",tooth=" + std::to_string(t.tooth) +
                    ",stiffness_factor=" + format_value(t.stiffness_factor) + "}]");
   }
