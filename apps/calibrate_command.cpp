@@ -5,6 +5,7 @@
 #include "calibrate_command.hpp"
 
 #include "core/error.hpp"
+#include "core/statistics.hpp"
 #include "diagnose/calibration.hpp"
 #include "diagnose/candidates/candidate.hpp"
 #include "diagnose/locate.hpp"
@@ -60,7 +61,7 @@ bool has_speed_channel(const diagnose::Recording& r) {
 }
 
 void print_table(const diagnose::Calibration& cal) {
-  const double z = diagnose::normal_quantile(cal.alpha);
+  const double z = normal_quantile(cal.alpha);
   std::printf("%-30s %-12s %12s %12s %6s %14s %6s\n", "channel kind", "family", "sigma_rel", "budget", "cells",
               "sigma_abs^2", "cells");
   for (const diagnose::DiscrepancyEstimate& d : cal.discrepancy) {

@@ -10,6 +10,7 @@
 #include "io/io_error.hpp"
 #include "io/result_writer.hpp"
 #include "model/simulation.hpp"
+#include "wear/simulation.hpp"
 #include "signal/spectrum.hpp"
 #include "stiffness/iso6336.hpp"
 
@@ -108,7 +109,7 @@ int run_simulate(const SimulateOptions& o) {
   const auto t0 = clock::now();
   for (const std::string& name : o.output_selection.channels)
     require(!name.empty(), "--channels", "an empty channel name (check for a doubled comma)");
-  const model::SimulationResult result = model::simulate(config, std::ref(progress), o.output_selection);
+  const model::SimulationResult result = wear::simulate(config, std::ref(progress), o.output_selection);
   const double t_sim = seconds_since(t0);
   const auto t1 = clock::now();
   const std::vector<io::SpectrumRecord> spectra = spectra_of(result);

@@ -10,6 +10,7 @@
 //   6. CSV + JSON sidecar (operating point and columns only)
 #include "synth_command.hpp"
 
+#include "core/constants.hpp"
 #include "core/error.hpp"
 #include "core/memory_budget.hpp"
 #include "diagnose/recording.hpp"
@@ -19,6 +20,8 @@
 #include "io/recording_writer.hpp"
 #include "model/memory_estimate.hpp"
 #include "model/simulation.hpp"
+#include "model/validate.hpp"
+#include "wear/simulation.hpp"
 
 #include <CLI/CLI.hpp>
 
@@ -35,7 +38,6 @@
 namespace pw::app {
 namespace {
 
-constexpr double kPi = std::numbers::pi;
 constexpr double kTachoHigh_V = 5.0;       ///< tacho pulse level [V]
 constexpr double kTachoDutyCycle = 0.05;  ///< pulse length / revolution
 
@@ -204,7 +206,7 @@ int run_synth(const SynthOptions& o) {
                                         "planet_ring/0/acceleration", "housing/acceleration", "sun/angle"},
                                        1};
   check_synth_memory(config, seconds, columns);
-  const model::SimulationResult r = model::simulate(config, progress, columns);
+  const model::SimulationResult r = wear::simulate(config, progress, columns);
 
   // 3. Channels, at the simulation's rate; output j is simulated sample
   //    first + j k, n_out of them. first: the filter's margin after the

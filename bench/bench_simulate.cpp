@@ -14,6 +14,7 @@
 #include "core/error.hpp"
 #include "io/config_toml.hpp"
 #include "model/simulation.hpp"
+#include "wear/simulation.hpp"
 
 #include <Eigen/Core>
 
@@ -122,7 +123,7 @@ int main(int argc, char** argv) {
 
         w0 = now_seconds();
         const double c0 = cpu_seconds();
-        r = pw::model::simulate(c);
+        r = pw::wear::simulate(c);
         row.wall = std::min(row.wall, now_seconds() - w0);
         row.cpu = std::min(row.cpu, cpu_seconds() - c0);
       }

@@ -33,6 +33,7 @@
 #include "core/error.hpp"
 #include "io/config_toml.hpp"
 #include "model/simulation.hpp"
+#include "wear/simulation.hpp"
 
 #include <Eigen/Core>
 #include <omp.h>
@@ -205,7 +206,7 @@ int main(int argc, char** argv) {
           };
           w0 = now_seconds();
           const double c0 = cpu_seconds(), m0 = thread_cpu_seconds();
-          r = pw::model::simulate(c, progress);
+          r = pw::wear::simulate(c, progress);
           const double wall = now_seconds() - w0, cpu = cpu_seconds() - c0, main = thread_cpu_seconds() - m0;
           if (wall < row.wall) {
             row.wall = wall;

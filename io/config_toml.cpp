@@ -13,6 +13,7 @@
 #include "io/config_toml.hpp"
 
 #include "io/io_error.hpp"
+#include "model/validate.hpp"
 
 #include "core/error.hpp"
 
@@ -55,7 +56,9 @@ struct EnumNames<ModelLevel> {
 template <>
 struct EnumNames<Body> {
   static constexpr std::array<std::pair<Body, std::string_view>, 3> values{
-      {{Body::Sun, "sun"}, {Body::Planet, "planet"}, {Body::Ring, "ring"}}};
+      {{Body::Sun, model::body_name(Body::Sun)},
+       {Body::Planet, model::body_name(Body::Planet)},
+       {Body::Ring, model::body_name(Body::Ring)}}};
 };
 
 template <>

@@ -25,7 +25,7 @@
 //   std::string resolved = pw::io::to_toml(config);  // stored in the output
 #pragma once
 
-#include "model/stage.hpp"
+#include "config/stage.hpp"
 
 #include <filesystem>
 #include <string>

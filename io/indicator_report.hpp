@@ -4,8 +4,8 @@
 // JSON document, a CSV table (both atomically) or a text table.
 #pragma once
 
+#include "config/stage.hpp"
 #include "diagnose/indicators.hpp"
-#include "model/stage.hpp"
 
 #include <filesystem>
 #include <limits>

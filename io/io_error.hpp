@@ -1,17 +1,16 @@
 // Error type of the file formats (TOML reading, HDF5 and CSV writing).
 #pragma once
 
-#include <stdexcept>
-#include <string>
+#include "core/error.hpp"
 
 namespace pw::io {
 
 /// A file could not be read, written, created or renamed. The message names
 /// the file and, for HDF5, the object path inside it, followed by the
 /// library's own explanation (HDF5 error stack, errno text).
-class IoError : public std::runtime_error {
+class IoError : public Error {
 public:
-  using std::runtime_error::runtime_error;
+  using Error::Error;
 };
 
 } // namespace pw::io

@@ -8,6 +8,7 @@
 #include "io/io_error.hpp"
 #include "diagnose/order_analysis.hpp"
 
+#include "core/constants.hpp"
 #include "core/error.hpp"
 
 #include <nlohmann/json.hpp>
@@ -31,7 +32,6 @@ namespace {
 using diagnose::Quantity;
 using json = nlohmann::ordered_json;
 
-constexpr double kPi = std::numbers::pi;
 constexpr double kStandardGravity = 9.80665;  ///< m/s^2 per g (CGPM 1901)
 /// Mean encoder speed within this fraction of the nominal speed.
 constexpr double kSpeedTolerance = 0.2;

@@ -28,8 +28,8 @@
 // a file that cannot be opened throws pw::io::IoError.
 #pragma once
 
+#include "config/stage.hpp"
 #include "diagnose/recording.hpp"
-#include "model/stage.hpp"
 
 #include <filesystem>
 #include <optional>

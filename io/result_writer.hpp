@@ -24,8 +24,8 @@
 
 #include "io/hdf5_file.hpp"
 
+#include "config/stage.hpp"
 #include "model/result.hpp"
-#include "model/stage.hpp"
 
 #include <cstdint>
 #include <string>

@@ -4,6 +4,7 @@
 #include "geometry/mesh.hpp"
 #include "io/config_toml.hpp"
 #include "io/io_error.hpp"
+#include "model/validate.hpp"
 
 #include <toml++/toml.h>
 

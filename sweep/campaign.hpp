@@ -41,7 +41,7 @@
 
 #include "design.hpp"
 
-#include "model/stage.hpp"
+#include "config/stage.hpp"
 
 #include <cstdint>
 #include <filesystem>

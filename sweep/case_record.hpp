@@ -32,6 +32,7 @@
 //            error, with its time axis.
 #pragma once
 
+#include "core/error.hpp"
 #include "model/result.hpp"
 
 #include <cstdint>
@@ -100,10 +101,11 @@ CaseRecord make_case_record(const model::SimulationResult& result, const RecordO
 /// A failed case: status Failed with its reason.
 CaseRecord failed_record(std::int64_t index, std::string message);
 
-/// Malformed bytes (truncated, wrong magic or version).
-class RecordFormatError : public std::runtime_error {
+/// Malformed bytes (truncated, wrong magic or version). The journal reader
+/// skips such a record (the case runs again); anywhere else it is exit code 5.
+class RecordFormatError : public Error {
 public:
-  using std::runtime_error::runtime_error;
+  using Error::Error;
 };
 
 /// Byte image of a record (host byte order; rank 0 and the journal are on

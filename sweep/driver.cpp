@@ -12,6 +12,7 @@
 #include "io/exit_code.hpp"
 #include "io/io_error.hpp"
 #include "model/simulation.hpp"
+#include "wear/simulation.hpp"
 
 #include <mpi.h>
 
@@ -80,7 +81,7 @@ std::vector<char> run_case(const Job& job, int rank) {
   CaseRecord rec;
   try {
     const model::SimulationConfig config = io::parse_config(job.config_toml, "case " + std::to_string(job.index));
-    const model::SimulationResult result = model::simulate(config);
+    const model::SimulationResult result = wear::simulate(config);
     rec = make_case_record(result, job.options);
   } catch (const std::exception& e) {
     rec = failed_record(job.index, e.what());

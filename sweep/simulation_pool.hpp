@@ -16,8 +16,8 @@
 // The physics library stays free of MPI: simulation_pool.cpp is the only diagnose code using it.
 #pragma once
 
+#include "config/stage.hpp"
 #include "diagnose/order_analysis.hpp"
-#include "model/stage.hpp"
 
 #include <functional>
 #include <optional>

@@ -1,5 +1,6 @@
 #include "diagnose/calibration.hpp"
 
+#include "core/statistics.hpp"
 #include "diagnose/candidates/candidate.hpp"
 #include "diagnose/locate.hpp"
 #include "diagnose/order_analysis.hpp"

@@ -1,8 +1,10 @@
 #include "diagnose/compare.hpp"
 
 #include "core/error.hpp"
-#include "diagnose/locate.hpp"
+#include "core/statistics.hpp"
 #include "model/simulation.hpp"
+#include "model/validate.hpp"
+#include "wear/simulation.hpp"
 
 #include <Eigen/Dense>
 
@@ -258,7 +260,7 @@ std::shared_ptr<const ModelSpectra> ModelComparison::simulate(const model::Simul
 
 ModelSpectra ModelComparison::evaluate(const model::SimulationConfig& c, bool keep) const {
   model::validate(c);
-  return model_spectra(model::simulate(c, {}, model_channels(rec_, spec_, c)), rec_, spec_, c, keep);
+  return model_spectra(wear::simulate(c, {}, model_channels(rec_, spec_, c)), rec_, spec_, c, keep);
 }
 
 long ModelComparison::simulations() const {

@@ -51,9 +51,9 @@
 // Monte Carlo from the model's own amplitudes (null_quantile).
 #pragma once
 
+#include "config/stage.hpp"
 #include "diagnose/order_analysis.hpp"
 #include "diagnose/recording.hpp"
-#include "model/stage.hpp"
 
 #include <atomic>
 #include <cmath>

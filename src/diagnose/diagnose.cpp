@@ -1,6 +1,7 @@
 #include "diagnose/diagnose.hpp"
 
 #include "core/error.hpp"
+#include "core/statistics.hpp"
 #include "diagnose/calibration.hpp"
 #include "diagnose/candidates/candidate.hpp"
 #include "diagnose/diagnosis_plots.hpp"

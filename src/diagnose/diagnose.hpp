@@ -38,12 +38,12 @@
 // saturating parameter's lower limit), verdict.hpp, diagnosis_plots.hpp.
 #pragma once
 
+#include "config/stage.hpp"
 #include "diagnose/compare.hpp"
 #include "diagnose/fit.hpp"
 #include "diagnose/kinematics.hpp"
 #include "diagnose/locate.hpp"
 #include "diagnose/recording.hpp"
-#include "model/stage.hpp"
 
 #include <functional>
 #include <limits>

@@ -1,5 +1,6 @@
 #include "diagnose/features.hpp"
 
+#include "core/constants.hpp"
 #include "core/error.hpp"
 #include "signal/fft.hpp"
 #include "signal/spectrum.hpp"
@@ -11,10 +12,6 @@
 #include <numbers>
 
 namespace pw::diagnose {
-namespace {
-constexpr double kPi = std::numbers::pi;
-} // namespace
-
 double interpolate_uniform(std::span<const double> x, double t0, double dt, double t) {
   const std::size_t n = x.size();
   require(n >= 2 && dt > 0, "signal", "need >= 2 samples and dt > 0 to interpolate");

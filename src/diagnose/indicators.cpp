@@ -1,6 +1,7 @@
 // Gear condition indicators of a planetary stage's signals (indicators.hpp).
 #include "diagnose/indicators.hpp"
 
+#include "core/constants.hpp"
 #include "core/error.hpp"
 #include "diagnose/order_analysis.hpp"
 #include "signal/resample.hpp"
@@ -13,8 +14,6 @@
 namespace pw::diagnose {
 
 namespace {
-
-constexpr double kPi = std::numbers::pi;
 
 void check_options(const IndicatorOptions& o, int planets) {
   require(o.samples_per_mesh == 0 || (o.samples_per_mesh >= kMinSamplesPerMesh && o.samples_per_mesh <= kMaxSamplesPerMesh),

@@ -24,8 +24,8 @@
 //  * speeds and tacho: none (they give the angle reference).
 #pragma once
 
+#include "config/stage.hpp"
 #include "diagnose/recording.hpp"
-#include "model/stage.hpp"
 #include "signal/condition_indicators.hpp"
 
 #include <map>

@@ -24,7 +24,7 @@
 // (b != 0; a = 0 gives the low-frequency lines b f_X, b > 0).
 #pragma once
 
-#include "model/stage.hpp"
+#include "config/stage.hpp"
 
 #include <string>
 #include <vector>

@@ -92,9 +92,5 @@ struct LocateOptions {
 Location locate(const ModelComparison& cmp, const WindowScore& fit, const WindowScore& held_out,
                 const std::vector<std::vector<double>>& model_amplitude, const LocateOptions& options = {});
 
-/// Upper 1 - alpha quantile of the standard normal (Acklam's rational approximation refined by one Newton step).
-double normal_quantile(double p);
-/// Upper quantile of chi2(nu): the value exceeded with probability alpha (Wilson-Hilferty).
-double chi2_quantile(double nu, double alpha);
 
 } // namespace pw::diagnose

@@ -1,6 +1,8 @@
 #include "diagnose/order_analysis.hpp"
 
+#include "core/constants.hpp"
 #include "core/error.hpp"
+#include "core/statistics.hpp"
 #include "diagnose/features.hpp"
 #include "model/sensor.hpp"
 #include "signal/fft.hpp"
@@ -15,8 +17,6 @@
 
 namespace pw::diagnose {
 namespace {
-
-constexpr double kPi = std::numbers::pi;
 
 double mean_of(std::span<const double> x) {
   double s = 0;
@@ -119,20 +119,6 @@ double exponential_mean(std::vector<double> p, double* relative_se) {
   }
   if (relative_se) *relative_se = 1.05 / std::sqrt(static_cast<double>(std::max<std::size_t>(used, 1)));
   return mu;
-}
-
-double chi2_upper_quantile(double nu, double alpha) {
-  // Wilson-Hilferty with the upper normal quantile (Acklam + one Newton step, as locate.hpp).
-  const double p = 1 - alpha;
-  double lo = -10, hi = 10;
-  for (int it = 0; it < 200; ++it) {
-    const double mid = 0.5 * (lo + hi);
-    if (0.5 * std::erfc(-mid / std::numbers::sqrt2) < p) lo = mid; else hi = mid;
-  }
-  const double z = 0.5 * (lo + hi);
-  const double h = 2.0 / (9.0 * nu);
-  const double t = 1 - h + z * std::sqrt(h);
-  return nu * t * t * t;
 }
 
 double rice_mean(double nu, double s2) {
@@ -638,7 +624,7 @@ RecordingSpectra analyse_recording(const Recording& rec, const model::StageSpec&
           ++dof;
         }
       }
-      const bool coloured = dof >= 2 && het > chi2_upper_quantile(dof, 0.01);
+      const bool coloured = dof >= 2 && het > chi2_quantile(dof, 0.01);
       s.noise_local[c] = coloured;
       s.noise_bins_used[c] = static_cast<int>(all.size());
       s.noise_sample_variance.push_back(global);

@@ -36,11 +36,11 @@
 // line measure the noise floor.
 #pragma once
 
+#include "config/stage.hpp"
 #include "diagnose/kinematics.hpp"
 #include "diagnose/recording.hpp"
 #include "model/result.hpp"
 #include "model/simulation.hpp"
-#include "model/stage.hpp"
 
 #include <complex>
 #include <span>
@@ -93,9 +93,6 @@ std::vector<std::complex<double>> angle_fourier(std::span<const double> x, std::
 /// contain a few outliers (lines): truncated at the 99 % point of the
 /// estimate and corrected for the truncation, iterated from the median.
 double exponential_mean(std::vector<double> values, double* relative_se = nullptr);
-
-/// Upper 1 - alpha quantile of chi2(nu) (Wilson-Hilferty).
-double chi2_upper_quantile(double nu, double alpha);
 
 /// Rician amplitude statistics: |s + n| with n complex Gaussian of total
 /// variance s2 (E|n|^2 = s2) and |s| = nu.

@@ -1,6 +1,6 @@
 #include "diagnose/phase_search.hpp"
 
-#include "diagnose/locate.hpp"
+#include "core/statistics.hpp"
 
 #include <Eigen/Dense>
 

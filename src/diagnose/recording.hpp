@@ -4,7 +4,7 @@
 // sidecar and convert units; everything downstream assumes SI.
 #pragma once
 
-#include "model/stage.hpp"
+#include "config/stage.hpp"
 
 #include <string>
 #include <vector>

@@ -1,5 +1,6 @@
 #include "diagnose/verdict.hpp"
 
+#include "core/statistics.hpp"
 #include "diagnose/locate.hpp"
 
 #include <algorithm>

@@ -1,5 +1,5 @@
-// Involute spur gear: specification (what a designer writes down) and the
-// derived circle radii and tooth-thickness function.
+// Involute spur gear: the derived circle radii and tooth-thickness function of
+// a specification (GearSpec, config/gear_spec.hpp: what a designer writes down).
 //
 // Conventions (docs/derivation.md §1):
 //  * SI units throughout: lengths [m], angles [rad].
@@ -14,31 +14,9 @@
 //    h_f* m, root fillet radius rho_f* m (defaults 1, 1.25, 0.38).
 #pragma once
 
+#include "config/gear_spec.hpp"
+
 namespace pw::geometry {
-
-enum class GearKind { External, Internal };
-
-/// Linear-elastic isotropic material of a gear body.
-struct Material {
-  double youngs_modulus_Pa = 206e9;  ///< E [Pa] (seed Table 1)
-  double shear_modulus_Pa = 79.4e9;  ///< G [Pa] (seed Table 1)
-  double poisson_ratio = 0.3;        ///< nu [-] (seed Table 1)
-  double density_kg_m3 = 7850.0;     ///< rho [kg/m^3], steel; seed leaves unstated
-};
-
-/// What a gear designer specifies for one spur gear.
-struct GearSpec {
-  int teeth = 21;                       ///< z [-], > 0 (internal: number of ring teeth)
-  double module_m = 3e-3;               ///< normal module m [m]
-  double pressure_angle_rad = 0.349066; ///< reference pressure angle alpha0 [rad] (seed: 20 deg)
-  double profile_shift = 0.0;           ///< x [-], ISO 21771 sign convention (see above)
-  double addendum_coef = 1.0;           ///< h_a* [-]
-  double dedendum_coef = 1.25;          ///< h_f* [-]
-  double root_fillet_coef = 0.38;       ///< rho_f* [-], tool tip radius / m
-  double face_width_m = 0.05;           ///< b [m] (seed: 50 mm)
-  GearKind kind = GearKind::External;
-  Material material{};
-};
 
 /// Circles of an involute gear, derived from a GearSpec.
 struct GearGeometry {

@@ -3,6 +3,7 @@
 // (section numbers below refer to it).
 #include "geometry/mesh.hpp"
 
+#include "core/constants.hpp"
 #include "core/error.hpp"
 
 #include <algorithm>
@@ -12,8 +13,6 @@
 
 namespace pw::geometry {
 namespace {
-
-constexpr double kPi = std::numbers::pi;
 
 /// Parameter name for an error message: "stage.sun" + "teeth" -> "stage.sun.teeth".
 std::string key(const std::string& label, const char* field) {

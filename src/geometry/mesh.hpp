@@ -12,8 +12,8 @@
 // tip of that gear (docs/derivation-geometry.md §1-§3).
 #pragma once
 
+#include "config/stage.hpp"
 #include "geometry/gear.hpp"
-#include "model/stage.hpp"
 
 #include <string>
 #include <vector>

@@ -6,7 +6,7 @@
 // a clear message instead of std::bad_alloc after a long warm-up.
 #pragma once
 
-#include "model/stage.hpp"
+#include "config/stage.hpp"
 
 #include <cstddef>
 #include <cstdint>

@@ -17,10 +17,10 @@
 // sliding speed at xi_j (lumped_model.hpp Eq. 2).
 #pragma once
 
+#include "config/stage.hpp"
 #include "dynamics/lumped_model.hpp"
 #include "dynamics/newmark.hpp"
 #include "geometry/mesh.hpp"
-#include "model/stage.hpp"
 #include "model/tooth_surfaces.hpp"
 #include "stiffness/mesh_stiffness.hpp"
 

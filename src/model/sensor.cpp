@@ -1,5 +1,7 @@
 #include "model/sensor.hpp"
 
+#include "core/constants.hpp"
+
 #include <cmath>
 #include <numbers>
 #include <stdexcept>
@@ -7,7 +9,6 @@
 
 namespace pw::model {
 namespace {
-constexpr double kPi = std::numbers::pi;
 constexpr double kTwoPi = 2 * std::numbers::pi;
 } // namespace
 

@@ -26,7 +26,7 @@
 // envelope by d phi / Omega_c. Pure functions, no state.
 #pragma once
 
-#include "model/stage.hpp"
+#include "config/stage.hpp"
 
 #include <span>
 #include <vector>

@@ -1,23 +1,22 @@
 #include "model/simulation.hpp"
 
+#include "core/constants.hpp"
 #include "core/error.hpp"
 #include "dynamics/modal.hpp"
 #include "model/memory_estimate.hpp"
 #include "model/sensor.hpp"
+#include "model/validate.hpp"
 #include "signal/spectrum.hpp"
-#include "wear/flank_wear.hpp"
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <cstdint>
 #include <numbers>
 #include <span>
+#include <stdexcept>
 
 namespace pw::model {
 namespace {
-
-constexpr double kPi = std::numbers::pi;
 
 double annulus_mass(double rho, double r_out, double r_in, double width) {
   return rho * kPi * (r_out * r_out - r_in * r_in) * width;
@@ -297,29 +296,11 @@ std::vector<Scalar> stiffness_scalars(const PreparedStage& p) {
 
 namespace {
 
-/// Integration state of one case: the solver, its state and statistics.
-struct Run {
-  PreparedStage& p;
-  const SimulationConfig& c;
-  dynamics::NewmarkSolver solver;
-  dynamics::NewmarkState st;
-  long newton = 0, steps = 0;
-
-  Run(PreparedStage& prep, const SimulationConfig& cfg)
-      : p(prep), c(cfg), solver(*prep.dynamics, prep.time_step_s, {cfg.solver.newmark_beta, cfg.solver.newmark_gamma},
-                                {cfg.solver.newton_tolerance, cfg.solver.newton_max_iterations}) {}
-  PlanetaryDynamics& sys() { return *p.dynamics; }
-  void step() {
-    newton += solver.step(st);
-    p.dynamics->set_roll_reference(st.q);
-    ++steps;
-  }
-};
 
 /// Static start (seed Fig. 7 starts from the periodic state; the static
 /// solution at the mean stiffness is the closest cheap guess). The rigid
 /// rotation is free, so K is shifted by a tiny multiple of M.
-void start_static(Run& r) {
+void start_static(Integration& r) {
   PlanetaryDynamics& sys = r.sys();
   const auto& S = sys.structure();
   std::vector<double> kbar;
@@ -343,7 +324,7 @@ struct WarmupStats {
 /// Whole mesh periods until the deflections repeat and the load torque holds
 /// the nominal speed (steady state w_s ~ 1/T_L at constant power, so
 /// T_L <- T_L mean(w_s)/Omega_s converges in a few periods).
-WarmupStats warm_up(Run& r, const ProgressFn& report, double f0, double f1) {
+WarmupStats warm_up(Integration& r, const ProgressFn& report, double f0, double f1) {
   const SimulationConfig& c = r.c;
   PreparedStage& p = r.p;
   PlanetaryDynamics& sys = r.sys();
@@ -496,7 +477,7 @@ std::vector<RecordChannel> record_channels(const dynamics::LumpedStructure& S, i
 }
 
 /// Recording of `cycles` mesh periods into the selected channels of `out`.
-RecordStats record(Run& r, int cycles, SimulationResult& out, const OutputSelection& sel, const ProgressFn& report,
+RecordStats record(Integration& r, int cycles, SimulationResult& out, const OutputSelection& sel, const ProgressFn& report,
                    double f0, double f1) {
   PreparedStage& p = r.p;
   PlanetaryDynamics& sys = r.sys();
@@ -610,239 +591,6 @@ RecordStats record(Run& r, int cycles, SimulationResult& out, const OutputSelect
   return stats;
 }
 
-/// Chordal tooth thickness on the reference circle [m] (external gears
-/// m(pi/2 + 2x tan a); the ring tooth m(pi/2 - 2x tan a)).
-double reference_thickness(const geometry::GearSpec& g) {
-  const double sgn = g.kind == geometry::GearKind::External ? 1.0 : -1.0;
-  return g.module_m * (kPi / 2 + sgn * 2 * g.profile_shift * std::tan(g.pressure_angle_rad));
-}
-
-/// Minimum number of wear updates, so that the wear history and the
-/// wear-dynamics coupling are resolved even when wear is small compared
-/// with the elastic deflection.
-constexpr int kMinWearUpdates = 8;
-/// Mesh cycles each window runs before booking wear, to let the dynamics
-/// settle on the updated profiles (the transient decays in < 1 mesh period
-/// for the default damping, see warm-up).
-constexpr int kWindowSettleCycles = 2;
-/// Snapshot channels: penetration depth and mesh-line acceleration of
-/// planet 0's two meshes (seed Figs. 10-12), then the absolute carrier angle
-/// and the housing accelerometer (model/sensor.hpp) for the condition
-/// indicators (docs/indicators.md); wear.snapshot_record_mesh_cycles long.
-WearSnapshot record_snapshot(Run& r, double mesh_cycles, wear::FlankWearAccumulator* acc) {
-  const int spm = r.p.steps_per_mesh;
-  const std::int64_t n = static_cast<std::int64_t>(r.c.wear.snapshot_record_mesh_cycles) * spm;
-  const int planets = r.c.stage.planet_count;
-  std::vector<double> carrier_angle(static_cast<std::size_t>(n));
-  std::vector<std::vector<double>> ring_force(static_cast<std::size_t>(planets), std::vector<double>(static_cast<std::size_t>(n)));
-  WearSnapshot s;
-  s.mesh_cycles = mesh_cycles;
-  s.time_s.resize(n);
-  const char* names[] = {"sun_planet/0/deflection", "sun_planet/0/acceleration", "planet_ring/0/deflection",
-                         "planet_ring/0/acceleration"};
-  for (const char* nm : names) {
-    const std::string name(nm);
-    const bool acc_ch = name.ends_with("acceleration");
-    s.channels.push_back({name, acc_ch ? "m/s^2" : "m",
-                          acc_ch ? "relative acceleration along the line of action" : "mesh deflection (penetration depth)",
-                          std::vector<double>(n)});
-  }
-  const auto& S = r.sys().structure();
-  const double t0 = r.st.t;
-  for (std::int64_t k = 0; k < n; ++k) {
-    r.step();
-    if (acc) acc->accumulate(r.p.time_step_s);
-    s.time_s[k] = r.st.t - t0;
-    const auto& ms = r.sys().mesh_states();
-    s.channels[0].values[k] = ms[0].deflection_m;
-    s.channels[1].values[k] = S.meshes[0].g.dot(r.st.a);
-    s.channels[2].values[k] = ms[1].deflection_m;
-    s.channels[3].values[k] = S.meshes[1].g.dot(r.st.a);
-    carrier_angle[k] = r.p.carrier_speed_rad_s * r.st.t + r.sys().carrier_theta_row().dot(r.st.q);
-    for (int i = 0; i < planets; ++i) ring_force[i][k] = ms[2 * static_cast<std::size_t>(i) + 1].force_N;
-  }
-  for (const Channel& ch : s.channels) {
-    const signal::Spectrum sp = signal::amplitude_spectrum(ch.values, r.p.time_step_s, signal::Window::Hann);
-    s.spectra.push_back({ch.name, "frequency", "Hz", "amplitude", ch.unit,
-                         "amplitude spectrum, Hann window, " + sp.scaling, sp.frequency_Hz, sp.amplitude});
-  }
-  std::vector<std::span<const double>> forces(ring_force.begin(), ring_force.end());
-  Channel housing{"housing/acceleration", "m/s^2",
-                  "housing accelerometer at sensor.angle_rad (model/sensor.hpp), planet-ring force fluctuations "
-                  "about their means over the snapshot",
-                  housing_acceleration_history(r.c.sensor, r.p.geometry.planet_angles_rad, carrier_angle, forces)};
-  const signal::Spectrum hs = signal::amplitude_spectrum(housing.values, r.p.time_step_s, signal::Window::Hann);
-  s.spectra.push_back({housing.name, "frequency", "Hz", "amplitude", housing.unit,
-                       "amplitude spectrum, Hann window, " + hs.scaling, hs.frequency_Hz, hs.amplitude});
-  s.channels.push_back(std::move(housing));
-  s.channels.push_back({"carrier/angle", "rad",
-                        "absolute carrier angle Omega_c t + perturbation (t = simulation time); planet i is at "
-                        "psi_i + carrier/angle in the housing frame",
-                        std::move(carrier_angle)});
-  return s;
-}
-
-/// The coupled wear loop (docs/derivation.md §5): dynamic window -> wear
-/// rate per element -> extrapolate over dN cycles (bounded increment) ->
-/// update profiles and backlash -> repeat.
-WearHistory run_wear(Run& r, const ProgressFn& report, double f0, double f1) {
-  const SimulationConfig& c = r.c;
-  const WearSettings& ws = c.wear;
-  PlanetaryDynamics& sys = r.sys();
-  const int N = c.stage.planet_count;
-  const double kappa = ws.archard_K > 0 ? ws.archard_K / ws.hardness_Pa : ws.coefficient_m2_N;
-  wear::FlankWearAccumulator acc(sys, c, kappa);
-  const int F = acc.families();
-  const int window = ws.window_mesh_cycles > 0
-                         ? ws.window_mesh_cycles
-                         : std::max({c.stage.planet.teeth, (c.stage.ring.teeth + N - 1) / N,
-                                     (c.stage.sun.teeth + N - 1) / N}) + 1;
-  const int spm = r.p.steps_per_mesh;
-  const double dt = r.p.time_step_s;
-  // Increment bound: a fraction of the static sun-mesh deflection.
-  const double delta_static = sys.nominal_input_torque_Nm() / (N * r.p.geometry.sun.base_radius_m) /
-                              sys.family(0).mean_stiffness_N_m;
-  const double bound = ws.max_increment_fraction * delta_static;
-  const double limit = ws.max_wear_fraction_of_thickness *
-                       std::min({reference_thickness(c.stage.sun), reference_thickness(c.stage.planet),
-                                 reference_thickness(c.stage.ring)});
-  const double total = ws.mesh_cycles;
-  std::vector<double> targets = ws.snapshot_mesh_cycles;
-  if (targets.empty()) targets = {0.0, total};
-  std::sort(targets.begin(), targets.end());
-  std::vector<bool> taken(targets.size(), false);
-
-  WearHistory h;
-  std::vector<model::FlankSet*> sets;
-  for (int f = 0; f < F; ++f) sets.push_back(&acc.flank_set(sys.surfaces(), f));
-  for (int f = 0; f < F; ++f) {
-    FlankWearHistory fh;
-    const int i = f <= N ? f - 1 : f - 1 - N;
-    fh.name = f == 0 ? "sun" : f == F - 1 ? "ring"
-                                          : "planet_" + std::to_string(i) + (f <= N ? "/sun_side" : "/ring_side");
-    fh.teeth = sets[f]->teeth();
-    fh.elements = sets[f]->elements();
-    // Distance from the pitch point, positive towards this gear's tip:
-    // xi - xi_P on the driver (sun, planet ring side), xi_P - xi otherwise.
-    const bool driver = (f == 0) || (f > N && f < F - 1);
-    const double xp = sys.family(f == 0 || (f >= 1 && f <= N) ? 0 : 1).geometry.pitch_point_m;
-    for (int e = 0; e < fh.elements; ++e)
-      fh.distance_from_pitch_point_m.push_back(driver ? sets[f]->element_xi_m(e) - xp : xp - sets[f]->element_xi_m(e));
-    h.flanks.push_back(std::move(fh));
-  }
-  const double b_sp0 = c.contact.backlash_sun_planet_m, b_pr0 = c.contact.backlash_planet_ring_m;
-  auto push_state = [&](double cycles) {
-    h.mesh_cycles.push_back(cycles);
-    for (int f = 0; f < F; ++f) {
-      const auto& d = sets[f]->deviations();
-      h.flanks[f].depth_m.insert(h.flanks[f].depth_m.end(), d.begin(), d.end());
-    }
-    h.backlash_m.push_back(sys.backlash_m(0));
-    h.backlash_m.push_back(sys.backlash_m(1));
-  };
-  // Profile deviations present before wear (damage) are not wear: record
-  // wear as the change since the start.
-  std::vector<std::vector<double>> initial(F);
-  for (int f = 0; f < F; ++f) initial[f] = sets[f]->deviations();
-  push_state(0.0);
-
-  std::vector<std::vector<double>> rate(F);
-  double done = 0;
-  int updates = 0;
-  const auto clock0 = std::chrono::steady_clock::now();
-  while (done < total) {
-    for (std::int64_t k = 0; k < std::int64_t{kWindowSettleCycles} * spm; ++k) r.step();
-    acc.begin_window();
-    int booked = 0;
-    for (std::size_t s = 0; s < targets.size(); ++s)
-      if (!taken[s] && targets[s] <= done + 0.5) {
-        h.snapshots.push_back(record_snapshot(r, done, &acc));
-        for (std::size_t u = s; u < targets.size(); ++u)
-          if (targets[u] <= done + 0.5) taken[u] = true;
-        booked = c.wear.snapshot_record_mesh_cycles;
-        break;
-      }
-    double mean_ws = 0;
-    for (std::int64_t k = std::int64_t{booked} * spm; k < std::int64_t{window} * spm; ++k) {
-      r.step();
-      acc.accumulate(dt);
-      mean_ws += sys.sun_theta_row().dot(r.st.v);
-    }
-    // Friction losses change as the profiles wear: keep the load torque at
-    // the value that holds the nominal speed (as in the warm-up), so that
-    // windows and snapshots stay at the recording's operating point.
-    if (window > booked && sys.structure().has_rigid_mode)
-      sys.set_load_torque_Nm(sys.load_torque_Nm() *
-                             (1.0 + mean_ws / (static_cast<double>(window - booked) * spm) / r.p.sun_speed_rad_s));
-    double max_rate = 0;
-    for (int f = 0; f < F; ++f) {
-      if (!acc.wear_rate_per_cycle(f, rate[f]))
-        throw InputError("wear.window_mesh_cycles",
-                         detail::concat(window, " mesh cycles let no tooth of flank family ", h.flanks[f].name,
-                                        " complete a contact pass; use a longer window"));
-      for (double x : rate[f]) max_rate = std::max(max_rate, x);
-    }
-    double dN = total - done;
-    dN = std::min(dN, total / kMinWearUpdates);
-    if (max_rate > 0) dN = std::min(dN, bound / max_rate);
-    dN = std::min(std::max(dN, 1.0), total - done);
-    // Microelement update: independent per element, so any thread count
-    // gives the same numbers (each element is written by one thread, with
-    // the same arithmetic).
-    for (int f = 0; f < F; ++f) {
-      double* d = sets[f]->deviations().data();
-      const double* rf = rate[f].data();
-      const long n = static_cast<long>(rate[f].size());
-#pragma omp parallel for schedule(static)
-      for (long e = 0; e < n; ++e) d[e] += rf[e] * dN;
-    }
-    // Backlash grows by the flank material removed on both gears of a mesh
-    // (mean over teeth and profile; derivation §5).
-    auto mean_wear = [&](int f) {
-      const auto& d = sets[f]->deviations();
-      double s = 0;
-      for (std::size_t k = 0; k < d.size(); ++k) s += d[k] - initial[f][k];
-      return s / static_cast<double>(d.size());
-    };
-    double w_sun = mean_wear(0), w_ring = mean_wear(F - 1), w_ps = 0, w_pr = 0;
-    for (int i = 0; i < N; ++i) {
-      w_ps += mean_wear(1 + i) / N;
-      w_pr += mean_wear(1 + N + i) / N;
-    }
-    for (int m = 0; m < 2 * N; ++m) sys.set_backlash_m(m, m % 2 == 0 ? b_sp0 + w_sun + w_ps : b_pr0 + w_pr + w_ring);
-    done += dN;
-    ++updates;
-    push_state(done);
-    double wmax = 0;
-    for (int f = 0; f < F; ++f) wmax = std::max(wmax, sets[f]->max_deviation_m());
-    if (report) {
-      const double el = std::chrono::duration<double>(std::chrono::steady_clock::now() - clock0).count();
-      report(f0 + (f1 - f0) * done / total,
-             detail::concat("wear ", static_cast<long>(done), "/", static_cast<long>(total), " cycles, update ",
-                            updates, ", max ", wmax * 1e6, " um, ", el, " s"));
-    }
-    if (wmax > limit) {
-      h.stop_reason = detail::concat("wear stopped after ", done, " mesh cycles: maximum flank wear ", wmax,
-                                     " m exceeds wear.max_wear_fraction_of_thickness = ",
-                                     ws.max_wear_fraction_of_thickness, " of the tooth thickness (", limit, " m)");
-      break;
-    }
-  }
-  // Remaining snapshot targets (typically the last one) at the final state.
-  for (std::size_t s = 0; s < targets.size(); ++s)
-    if (!taken[s]) {
-      h.snapshots.push_back(record_snapshot(r, done, nullptr));
-      break;
-    }
-  // Report wear, not pre-existing deviations.
-  for (int f = 0; f < F; ++f) {
-    auto& d = h.flanks[f].depth_m;
-    const std::size_t per = initial[f].size();
-    for (std::size_t k = 0; k < d.size(); ++k) d[k] -= initial[f][k % per];
-  }
-  return h;
-}
-
 } // namespace
 
 namespace {
@@ -875,7 +623,10 @@ bool OutputSelection::selects(const std::string& channel) const {
   return false;
 }
 
-SimulationResult simulate(const SimulationConfig& c, const ProgressFn& progress, const OutputSelection& output) {
+SimulationResult simulate(const SimulationConfig& c, const ProgressFn& progress, const OutputSelection& output,
+                          const WearPhase& wear) {
+  if (c.wear.mesh_cycles > 0 && !wear)
+    throw std::logic_error("model::simulate: wear.mesh_cycles > 0 needs the wear loop; call wear::simulate()");
   require(output.decimation >= 1, "output.time_history_decimation", "must be >= 1 (every k-th step), got ",
           output.decimation);
   PreparedStage p = prepare(c);
@@ -889,11 +640,11 @@ SimulationResult simulate(const SimulationConfig& c, const ProgressFn& progress,
   const bool wear_on = c.wear.mesh_cycles > 0;
   const double f_warm = wear_on ? 0.05 : 0.3, f_wear = wear_on ? 0.9 : f_warm;
 
-  Run run(p, c);
+  Integration run(p, c);
   start_static(run);
   const WarmupStats warm = warm_up(run, progress, 0.0, f_warm);
   SimulationResult r;
-  if (wear_on) r.wear = run_wear(run, progress, f_warm, f_wear);
+  if (wear_on) wear(run, r, progress, f_warm, f_wear);
   const RecordStats rec = record(run, c.solver.record_mesh_cycles, r, output, progress, f_wear, 1.0);
   if (progress) progress(1.0, "done");
 

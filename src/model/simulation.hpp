@@ -7,11 +7,14 @@
 //      mesh periods, set the carrier load torque that holds the nominal speed
 //      against the friction losses, stop when the mesh deflections repeat
 //   6. record whole mesh periods into named channels (model/result.hpp).
+// With wear.mesh_cycles > 0 the coupled wear loop runs between 5 and 6; it
+// lives in the wear layer above this one: call wear::simulate()
+// (wear/simulation.hpp), which hands it to simulate() below as a phase.
 #pragma once
 
+#include "config/stage.hpp"
 #include "model/planetary_system.hpp"
 #include "model/result.hpp"
-#include "model/stage.hpp"
 
 #include <functional>
 #include <memory>
@@ -70,8 +73,35 @@ struct OutputSelection {
   bool selects(const std::string& channel) const;
 };
 
-/// Steps 1-6.
+/// Integration state of one case after prepare(): the solver, its state and
+/// statistics, advanced by the phases of simulate() (static start, warm-up,
+/// wear, recording) one time step at a time.
+struct Integration {
+  PreparedStage& p;
+  const SimulationConfig& c;
+  dynamics::NewmarkSolver solver;
+  dynamics::NewmarkState st;
+  long newton = 0, steps = 0;  ///< Newton iterations and time steps so far
+
+  Integration(PreparedStage& prep, const SimulationConfig& cfg)
+      : p(prep), c(cfg), solver(*prep.dynamics, prep.time_step_s, {cfg.solver.newmark_beta, cfg.solver.newmark_gamma},
+                                {cfg.solver.newton_tolerance, cfg.solver.newton_max_iterations}) {}
+  PlanetaryDynamics& sys() { return *p.dynamics; }
+  void step() {
+    newton += solver.step(st);
+    p.dynamics->set_roll_reference(st.q);
+    ++steps;
+  }
+};
+
+/// The wear loop between the warm-up and the recording: advances `run` and
+/// fills `result.wear`, reporting progress in [f0, f1] (wear/simulation.hpp).
+using WearPhase = std::function<void(Integration& run, SimulationResult& result, const ProgressFn& progress,
+                                     double f0, double f1)>;
+
+/// Steps 1-6; `wear` runs between 5 and 6 when config.wear.mesh_cycles > 0
+/// and is required then (std::logic_error without it: call wear::simulate()).
 SimulationResult simulate(const SimulationConfig& config, const ProgressFn& progress = {},
-                          const OutputSelection& output = {});
+                          const OutputSelection& output = {}, const WearPhase& wear = {});
 
 } // namespace pw::model

@@ -16,9 +16,9 @@
 // evaluated in O(1) without allocation, so the dynamics may call it every step.
 #pragma once
 
+#include "config/stage.hpp"
 #include "geometry/gear.hpp"
 #include "geometry/mesh.hpp"
-#include "model/stage.hpp"
 #include "stiffness/tooth_compliance.hpp"
 
 #include <vector>

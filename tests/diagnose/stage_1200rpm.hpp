@@ -3,7 +3,7 @@
 // 1200 rpm, mesh frequency 333.5 Hz, carrier revolution 0.243 s, 20 kW.
 #pragma once
 
-#include "model/stage.hpp"
+#include "config/stage.hpp"
 
 namespace pw::diagnose::test {
 

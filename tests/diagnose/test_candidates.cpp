@@ -7,6 +7,7 @@
 #include "diagnose/candidates/candidate.hpp"
 #include "diagnose/kinematics.hpp"
 #include "io/config_toml.hpp"
+#include "model/validate.hpp"
 
 #include <gtest/gtest.h>
 
@@ -185,7 +186,7 @@ TEST(Candidates, EncoderBandwidthIsAbsentAtTheTopOfItsBoxAndEveryValueIsInTheKey
 }
 
 TEST(Candidates, DampingScreenStepStaysInsideTheKeysRangeAtItsTop) {
-  // contact.mesh_damping_ratio <= 1 (stage.cpp): at 1 the screening secant points down.
+  // contact.mesh_damping_ratio <= 1 (model/validate.cpp): at 1 the screening secant points down.
   const Candidate* c = find_candidate("damping_level");
   ASSERT_NE(c, nullptr);
   model::SimulationConfig b;

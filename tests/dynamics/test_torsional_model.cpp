@@ -1,6 +1,7 @@
 // The torsional planetary model as assembled from kinematics, against
 // hand-derived equations (docs/derivation.md §3) and closed-form behaviour.
 #include "dynamics/lumped_model.hpp"
+#include "core/constants.hpp"
 #include "dynamics/modal.hpp"
 #include "dynamics/newmark.hpp"
 
@@ -14,7 +15,7 @@ using namespace pw::dynamics;
 
 namespace {
 
-constexpr double kPi = std::numbers::pi;
+using pw::kPi;
 
 /// The seed stage (m = 3 mm, 21/30/81, 20 deg), three planets.
 StageLayout seed_layout() {

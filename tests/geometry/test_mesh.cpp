@@ -3,8 +3,8 @@
 // the phasing tests check the flank construction against an independent
 // Cartesian one built from gear.hpp's tooth-thickness function alone.
 #include "core/error.hpp"
+#include "config/stage.hpp"
 #include "geometry/mesh.hpp"
-#include "model/stage.hpp"
 
 #include <gtest/gtest.h>
 

@@ -4,7 +4,7 @@
 // default.
 #pragma once
 
-#include "model/stage.hpp"
+#include "config/stage.hpp"
 
 #include <gtest/gtest.h>
 

@@ -2,6 +2,7 @@
 // exact round trip, command-line overrides, and the checked-in sample.
 #include "io/config_toml.hpp"
 #include "io/io_error.hpp"
+#include "model/validate.hpp"
 
 #include "core/error.hpp"
 #include "io/config_compare.hpp"

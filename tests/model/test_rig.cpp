@@ -3,9 +3,11 @@
 // speed encoders' bandwidth (model::EncoderFilter). Closed forms: a soft shaft's
 // mode against k / J of the rigid stage, the filter's gain against its bilinear
 // transfer function, the mean speed that ideal speed control holds.
+#include "core/constants.hpp"
 #include "core/error.hpp"
 #include "model/sensor.hpp"
 #include "model/simulation.hpp"
+#include "model/validate.hpp"
 #include "simulation_fixture.hpp"
 
 #include <gtest/gtest.h>
@@ -19,7 +21,7 @@ using namespace pw::model;
 
 namespace {
 
-constexpr double kPi = std::numbers::pi;
+using pw::kPi;
 
 using pw::test::channel;
 using pw::test::fast_seed;

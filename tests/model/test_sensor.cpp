@@ -2,6 +2,7 @@
 // shapes, planet-pass modulation (sidebands at f_m +- N f_c), the effect of
 // the sensor angle, and the simulator's housing/acceleration channel.
 #include "model/sensor.hpp"
+#include "core/constants.hpp"
 #include "model/simulation.hpp"
 #include "signal/spectrum.hpp"
 
@@ -16,7 +17,7 @@ using namespace pw::model;
 
 namespace {
 
-constexpr double kPi = std::numbers::pi;
+using pw::kPi;
 
 /// Amplitude of the single-sided rectangular-window DFT of x at bin k.
 double bin_amplitude(const std::vector<double>& x, std::size_t k) {

@@ -11,6 +11,7 @@
 #include <cmath>
 #include <numbers>
 #include <numeric>
+#include <stdexcept>
 
 using namespace pw::model;
 
@@ -303,4 +304,12 @@ TEST(SimulationOutput, UnknownChannelOrDecimationBelowOneIsAnInputErrorNamingThe
   } catch (const pw::InputError& e) {
     EXPECT_EQ(e.parameter(), "output.time_history_decimation");
   }
+}
+
+TEST(Simulation, WearWithoutTheWearLayerIsRefused) {
+  // The wear loop lives in src/wear (above model): model::simulate runs it only as the phase
+  // wear::simulate hands it, and refuses a wearing configuration without one rather than skip it.
+  SimulationConfig c = fast_seed(1);
+  c.wear.mesh_cycles = 100;
+  EXPECT_THROW((void)simulate(c), std::logic_error);
 }

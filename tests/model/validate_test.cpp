@@ -1,6 +1,6 @@
 // model::validate(): every range check names the TOML key, the value and the
 // allowed range; NaN and infinity never pass.
-#include "model/stage.hpp"
+#include "model/validate.hpp"
 
 #include "core/error.hpp"
 #include "io/test_support.hpp"

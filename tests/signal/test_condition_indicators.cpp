@@ -3,6 +3,7 @@
 // a few hundred ulps of FFT round-off (1e-12 relative), statistical ones to
 // four standard errors of the estimator (a false failure with probability
 // ~6e-5; the seeds are fixed, so a run is deterministic).
+#include "core/constants.hpp"
 #include "core/error.hpp"
 #include "signal/condition_indicators.hpp"
 #include "signal/resample.hpp"
@@ -19,7 +20,7 @@
 namespace {
 
 namespace sg = pw::signal;
-constexpr double kPi = std::numbers::pi;
+using pw::kPi;
 constexpr double kExact = 1e-12;  // relative: FFT round-off O(eps log n) with margin
 
 /// sum_i a_i cos(o_i theta_j + phi_i) on n samples of one revolution.

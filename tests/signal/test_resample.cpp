@@ -1,4 +1,5 @@
 // Angle-domain resampling and time-synchronous averaging.
+#include "core/constants.hpp"
 #include "core/error.hpp"
 #include "signal/resample.hpp"
 #include "signal/spectrum.hpp"
@@ -15,7 +16,7 @@
 namespace {
 
 using pw::signal::Interpolation;
-constexpr double kPi = std::numbers::pi;
+using pw::kPi;
 
 template <class F>
 std::string thrown_message(F&& f) {

@@ -1,5 +1,6 @@
 // Amplitude spectrum, Welch PSD and peak picking against signals whose
 // spectra are known in closed form (docs/spectra.md).
+#include "core/constants.hpp"
 #include "core/error.hpp"
 #include "signal/spectrum.hpp"
 
@@ -15,7 +16,7 @@
 namespace {
 
 using pw::signal::Window;
-constexpr double kPi = std::numbers::pi;
+using pw::kPi;
 
 std::vector<double> sine(std::size_t n, double dt, double amplitude, double f_Hz, double phase = 0) {
   std::vector<double> x(n);

@@ -2,8 +2,8 @@
 // computations written out term by term.
 #include "stiffness/iso6336.hpp"
 
+#include "config/stage.hpp"
 #include "core/error.hpp"
-#include "model/stage.hpp"
 
 #include <gtest/gtest.h>
 

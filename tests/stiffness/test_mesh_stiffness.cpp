@@ -4,9 +4,9 @@
 // independent reference value, and the no-allocation contract of evaluation.
 #include "stiffness/mesh_stiffness.hpp"
 
+#include "config/stage.hpp"
 #include "core/error.hpp"
 #include "geometry/mesh.hpp"
-#include "model/stage.hpp"
 #include "stiffness/iso6336.hpp"
 
 #include <gtest/gtest.h>

@@ -15,8 +15,8 @@
 //    of order 1e9 N/m, i.e. above, not below, ISO.
 #include "stiffness/mesh_stiffness.hpp"
 
+#include "config/stage.hpp"
 #include "geometry/mesh.hpp"
-#include "model/stage.hpp"
 #include "stiffness/iso6336.hpp"
 #include "stiffness/quadrature.hpp"
 

@@ -4,8 +4,8 @@
 // profile that every potential-energy model must show.
 #include "stiffness/tooth_compliance.hpp"
 
+#include "config/stage.hpp"
 #include "core/error.hpp"
-#include "model/stage.hpp"
 
 #include <gtest/gtest.h>
 

@@ -1,5 +1,5 @@
-// Wear coupled to the dynamics (model::simulate with wear.mesh_cycles > 0).
-#include "model/simulation.hpp"
+// Wear coupled to the dynamics (wear::simulate with wear.mesh_cycles > 0).
+#include "wear/simulation.hpp"
 
 #include <gtest/gtest.h>
 #include <omp.h>
@@ -53,7 +53,7 @@ TEST(WearCoupling, SingleContactZoneWearEqualsClosedFormArchard) {
   // residual dynamic force in the zone (< 2 % after the entry transient).
   SimulationConfig c = worn(100, 1e5);
   c.contact.friction_coefficient = 0;
-  const SimulationResult r = simulate(c);
+  const SimulationResult r = pw::wear::simulate(c);
   const FlankWearHistory& sun = family(r, "sun");
   const double rb = 0.5 * 3e-3 * 21 * std::cos(0.349066);
   const double xi_p = rb * std::tan(0.349066);
@@ -82,7 +82,7 @@ TEST(WearCoupling, SingleContactZoneWearEqualsClosedFormArchard) {
 }
 
 TEST(WearCoupling, NoWearAtPitchPointAndWearGrowsTowardsTipAndRoot) {
-  const SimulationResult r = simulate(worn(400, 1e5));
+  const SimulationResult r = pw::wear::simulate(worn(400, 1e5));
   for (const char* name : {"sun", "planet_0/sun_side", "planet_0/ring_side", "ring"}) {
     const FlankWearHistory& f = family(r, name);
     const std::vector<double> w = last(f, 0);
@@ -104,9 +104,9 @@ TEST(WearCoupling, NoWearAtPitchPointAndWearGrowsTowardsTipAndRoot) {
 TEST(WearCoupling, SameNumbersForOneAndTwoThreads) {
   SimulationConfig c = worn(400, 5e4);
   omp_set_num_threads(1);
-  const SimulationResult a = simulate(c);
+  const SimulationResult a = pw::wear::simulate(c);
   omp_set_num_threads(2);
-  const SimulationResult b = simulate(c);
+  const SimulationResult b = pw::wear::simulate(c);
   ASSERT_EQ(a.wear.flanks.size(), b.wear.flanks.size());
   for (std::size_t f = 0; f < a.wear.flanks.size(); ++f)
     EXPECT_EQ(a.wear.flanks[f].depth_m, b.wear.flanks[f].depth_m) << a.wear.flanks[f].name;
@@ -122,9 +122,9 @@ TEST(WearCoupling, HalvingTheUpdateBoundChangesFinalMaxWearByLessThanTwoPercent)
   c.wear.coefficient_m2_N = 1e-14;
   c.wear.window_mesh_cycles = 6;
   c.wear.max_increment_fraction = 0.4;
-  const SimulationResult coarse = simulate(c);
+  const SimulationResult coarse = pw::wear::simulate(c);
   c.wear.max_increment_fraction = 0.2;
-  const SimulationResult fine = simulate(c);
+  const SimulationResult fine = pw::wear::simulate(c);
   EXPECT_GT(fine.wear.mesh_cycles.size(), coarse.wear.mesh_cycles.size()) << "the bound must be active";
   EXPECT_GT(coarse.wear.mesh_cycles.size(), 9u) << "more than the minimum 8 updates";
   const double wc = max_of(family(coarse, "sun")), wf = max_of(family(fine, "sun"));
@@ -136,18 +136,18 @@ TEST(WearCoupling, HalvingTheUpdateBoundChangesFinalMaxWearByLessThanTwoPercent)
 
 TEST(WearCoupling, WearIsMonotoneInKappaAndInLoad) {
   SimulationConfig c = worn(400, 5e4);
-  const double w0 = max_of(family(simulate(c), "sun"));
+  const double w0 = max_of(family(pw::wear::simulate(c), "sun"));
   c.wear.coefficient_m2_N *= 2;
-  const double wk = max_of(family(simulate(c), "sun"));
+  const double wk = max_of(family(pw::wear::simulate(c), "sun"));
   c.wear.coefficient_m2_N /= 2;
   c.operating.input_power_W *= 2;
-  const double wl = max_of(family(simulate(c), "sun"));
+  const double wl = max_of(family(pw::wear::simulate(c), "sun"));
   EXPECT_NEAR(wk, 2 * w0, 0.01 * w0);  // wear << deflection: linear in kappa
   EXPECT_GT(wl, 1.5 * w0);
 }
 
 TEST(WearCoupling, BacklashGrowsByTheMeanFlankWearOfBothGears) {
-  const SimulationResult r = simulate(worn(400, 1e5));
+  const SimulationResult r = pw::wear::simulate(worn(400, 1e5));
   const auto mean_last = [&](const std::string& name) {
     const FlankWearHistory& f = family(r, name);
     const std::size_t per = static_cast<std::size_t>(f.teeth) * f.elements;
@@ -166,7 +166,7 @@ TEST(WearCoupling, BacklashGrowsByTheMeanFlankWearOfBothGears) {
 TEST(WearCoupling, ExcessiveWearStopsEarlyAndKeepsTheHistory) {
   SimulationConfig c = worn(400, 2e5);
   c.wear.max_wear_fraction_of_thickness = 1e-6;  // ~5 nm of a 4.7 mm tooth
-  const SimulationResult r = simulate(c);
+  const SimulationResult r = pw::wear::simulate(c);
   EXPECT_NE(r.wear.stop_reason.find("wear.max_wear_fraction_of_thickness"), std::string::npos) << r.wear.stop_reason;
   EXPECT_LT(r.wear.mesh_cycles.back(), 2e5);
   EXPECT_GE(r.wear.mesh_cycles.size(), 2u);

@@ -12,8 +12,8 @@
 // one line in the table of registry.cpp.
 #pragma once
 
+#include "config/stage.hpp"
 #include "diagnose/kinematics.hpp"
-#include "model/stage.hpp"
 
 #include <memory>
 #include <span>

@@ -17,7 +17,7 @@ public:
   bool nuisance() const override { return true; }
   std::vector<ParameterSpec> parameters(const model::SimulationConfig& b) const override {
     const double z = std::max(b.contact.mesh_damping_ratio, 1e-3);
-    // contact.mesh_damping_ratio is at most 1 (stage.cpp): near that end the screening secant
+    // contact.mesh_damping_ratio is at most 1 (model/validate.cpp): near that end the screening secant
     // points down instead of beyond the key's range.
     const double upper = std::min(1.0, 5 * z);
     const double screen = 1.2 * z <= upper ? 1.2 * z : z / 1.2;

@@ -11,6 +11,8 @@
 // profiled, spaced by a quarter of the sensor window's width.
 #include "diagnose/candidates/factories.hpp"
 
+#include "core/constants.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -19,23 +21,12 @@
 namespace pw::diagnose::candidates {
 namespace {
 
-constexpr double kPi = std::numbers::pi;
-
-const char* body_name(model::Body b) {
-  switch (b) {
-  case model::Body::Sun: return "sun";
-  case model::Body::Planet: return "planet";
-  case model::Body::Ring: return "ring";
-  }
-  return "?";
-}
-
 class ToothDamage final : public Candidate {
 public:
   explicit ToothDamage(model::Body body) : body_(body) {}
-  std::string name() const override { return std::string(body_name(body_)) + "_tooth_damage"; }
+  std::string name() const override { return std::string(model::body_name(body_)) + "_tooth_damage"; }
   std::string physics() const override {
-    return std::string("one ") + body_name(body_) +
+    return std::string("one ") + model::body_name(body_) +
            " tooth is softened (crack or chip): its pair stiffness drops each time it meshes, once per " +
            (body_ == model::Body::Sun      ? "planet pass of the sun tooth"
             : body_ == model::Body::Planet ? "planet revolution on each of its two meshes"
@@ -68,7 +59,7 @@ public:
       v.planet = body_ == model::Body::Planet ? planet : 0;
       v.tooth = tooth;
       v.tooth_identifiable = identifiable;
-      const std::string owner = std::string(body_name(body_)) +
+      const std::string owner = std::string(model::body_name(body_)) +
                                 (body_ == model::Body::Planet ? " " + std::to_string(planet) : "");
       v.label = identifiable ? owner + " tooth " + std::to_string(tooth) + note
                              : "a " + owner + " tooth, position not identifiable" + note;
@@ -116,7 +107,7 @@ public:
       Variant v = chosen;
       v.tooth = j;
       v.tooth_identifiable = false;
-      v.label = "a " + std::string(body_name(body_)) +
+      v.label = "a " + std::string(model::body_name(body_)) +
                 (body_ == model::Body::Planet ? " " + std::to_string(v.planet) : "") +
                 " tooth, position not identifiable (fitted at its best phase)";
       out.push_back(v);
@@ -132,7 +123,7 @@ public:
     t.stiffness_factor = std::clamp(x[0], 1e-6, 1.0);
     c.imperfections.teeth.push_back(t);
     if (o)
-      o->push_back("imperfections.teeth=[{body=\"" + std::string(body_name(body_)) + "\",planet=" +
+      o->push_back("imperfections.teeth=[{body=\"" + std::string(model::body_name(body_)) + "\",planet=" +
                    std::to_string(t.planet) +
                    (v.tooth_identifiable || t.tooth != 0 ? ",tooth=" + std::to_string(t.tooth) : "") +
                    ",stiffness_factor=" + format_value(t.stiffness_factor) + "}]");
@@ -148,7 +139,7 @@ private:
   }
 
   /// The ring's phase variants: with a housing sensor, ring teeth spaced by at most a quarter
-  /// of the transfer-path window's width sigma (model/stage.hpp SensorSettings), so the best is
+  /// of the transfer-path window's width sigma (config/stage.hpp SensorSettings), so the best is
   /// within sigma / 8 of the damaged tooth. Over one planet spacing only when the planets are
   /// equally spaced and Zr is a multiple of N: the stage then looks the same from the sensor
   /// after a shift by Zr / N teeth (the amplitudes cannot tell which planet is which). Without

@@ -5,11 +5,13 @@
 // Table 1) or, where the seed is silent, a documented assumption
 // (docs/derivation.md, "Assumptions").
 //
-// Validation of ranges happens once, in validate() (stage.cpp), which throws
-// pw::InputError naming the TOML key (section.key) that is wrong.
+// Validation of ranges happens once, in model::validate() (model/validate.hpp;
+// above the geometry, since it builds each gear to check it), which throws
+// pw::InputError naming the TOML key (section.key) that is wrong. The types
+// keep their namespace pw::model.
 #pragma once
 
-#include "geometry/gear.hpp"
+#include "config/gear_spec.hpp"
 
 #include <string>
 #include <vector>
@@ -71,6 +73,16 @@ struct ContactSettings {
 
 /// One gear body a tooth modification applies to.
 enum class Body { Sun, Planet, Ring };
+
+/// The body as the configuration spells it: "sun", "planet", "ring".
+constexpr const char* body_name(Body b) {
+  switch (b) {
+  case Body::Sun: return "sun";
+  case Body::Planet: return "planet";
+  case Body::Ring: return "ring";
+  }
+  return "?";
+}
 
 /// A damaged or modified tooth (crack, chip, local pitting): its mesh stiffness
 /// is multiplied by stiffness_factor and its flank carries an extra profile
@@ -245,8 +257,5 @@ struct SimulationConfig {
   SensorSettings sensor{};
   RigSettings rig{};
 };
-
-/// Range checks of everything above; throws pw::InputError naming the TOML key.
-void validate(const SimulationConfig& config);
 
 } // namespace pw::model

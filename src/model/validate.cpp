@@ -8,7 +8,7 @@
 // Not checked here (they need the mesh geometry): interference, contact ratio,
 // the assembly condition and planet tip-circle clearance. Those are checked by
 // geometry::make_stage_geometry() when the model is built.
-#include "model/stage.hpp"
+#include "model/validate.hpp"
 
 #include "core/error.hpp"
 #include "geometry/gear.hpp"
@@ -125,15 +125,6 @@ void validate_contact(const ContactSettings& c, double module_m) {
         "m; |e| below module");
   check(c.mesh_error_planet_ring_m, "contact.mesh_error_planet_ring_m", -module_m, module_m, Ends::Open,
         "m; |e| below module");
-}
-
-const char* body_name(Body b) {
-  switch (b) {
-  case Body::Sun: return "sun";
-  case Body::Planet: return "planet";
-  case Body::Ring: return "ring";
-  }
-  return "?";
 }
 
 void validate_imperfections(const Imperfections& im, const StageSpec& stage) {

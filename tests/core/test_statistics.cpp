@@ -1,0 +1,80 @@
+// The one implementation of the normal and chi-square quantiles
+// (core/statistics.hpp) against published table values. Table values: the
+// inverse normal CDF and chi-square percentage points (Abramowitz & Stegun
+// 26.2, 26.4; to the digits given there and by Python's
+// statistics.NormalDist / scipy.stats.chi2).
+#include "core/statistics.hpp"
+
+#include "core/error.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <numbers>
+
+namespace pw {
+namespace {
+
+/// |got - want| <= tol |want|, printing both on failure.
+void expect_relative(double got, double want, double tol) {
+  EXPECT_NEAR(got, want, tol * std::fabs(want)) << "relative tolerance " << tol;
+}
+
+TEST(NormalQuantile, MatchesTablesToOneInABillion) {
+  // normal_quantile(p) is the UPPER quantile: P(Z > z) = p.
+  expect_relative(normal_quantile(0.025), 1.959963984540054, 1e-9);
+  expect_relative(normal_quantile(0.05), 1.6448536269514715, 1e-9);
+  expect_relative(normal_quantile(0.01), 2.3263478740408408, 1e-9);
+  expect_relative(normal_quantile(0.005), 2.5758293035489004, 1e-9);
+  expect_relative(normal_quantile(0.001), 3.090232306167813, 1e-9);  // Acklam's lower tail region
+  expect_relative(normal_quantile(1e-7), 5.199337582290662, 1e-9);
+  expect_relative(normal_quantile(0.99), -2.3263478740408408, 1e-9);  // upper tail region
+  EXPECT_NEAR(normal_quantile(0.5), 0.0, 1e-15);
+}
+
+TEST(NormalQuantile, AgreesWithBisectionOfTheCdf) {
+  // The bisection on erfc that order_analysis.cpp used before there was one implementation.
+  for (double p : {1e-6, 1e-4, 0.001, 0.0025, 0.01, 0.02425, 0.05, 0.1, 0.3, 0.6, 0.9, 0.97575, 0.999}) {
+    double lo = -10, hi = 10;
+    for (int it = 0; it < 200; ++it) {
+      const double mid = 0.5 * (lo + hi);
+      if (0.5 * std::erfc(-mid / std::numbers::sqrt2) < 1 - p) lo = mid; else hi = mid;
+    }
+    const double z = 0.5 * (lo + hi);
+    EXPECT_NEAR(normal_quantile(p), z, 1e-9 * std::fabs(z) + 1e-15) << "p = " << p;
+  }
+}
+
+TEST(NormalQuantile, RejectsProbabilitiesOutsideZeroOne) {
+  EXPECT_THROW((void)normal_quantile(0.0), InputError);
+  EXPECT_THROW((void)normal_quantile(1.0), InputError);
+}
+
+TEST(Chi2Quantile, IsTheWilsonHilfertyCubeOfTheNormalQuantile) {
+  for (double nu : {1.0, 2.0, 10.0, 100.0})
+    for (double alpha : {0.05, 0.01, 0.005}) {
+      const double z = normal_quantile(alpha), h = 2 / (9 * nu), t = 1 - h + z * std::sqrt(h);
+      expect_relative(chi2_quantile(nu, alpha), nu * t * t * t, 1e-15);
+    }
+}
+
+TEST(Chi2Quantile, IsWithinTheWilsonHilfertyErrorOfTheTables) {
+  // An approximation, exact only as nu grows: the diagnosis's thresholds are these values,
+  // so the tolerances are the approximation's own error, not 1e-6.
+  expect_relative(chi2_quantile(1, 0.01), 6.634896601021214, 8e-3);    // W-H: 6.5858, 0.74 % low
+  expect_relative(chi2_quantile(10, 0.01), 23.209251158954356, 1.5e-3);  // W-H: 23.2394, 0.13 % high
+  expect_relative(chi2_quantile(100, 0.005), 140.1694894423138, 2e-4);   // W-H: 140.1933, 1.7e-4 high
+  expect_relative(chi2_quantile(5, 0.05), 11.070497693516351, 3e-3);    // W-H: 11.0443, 0.24 % low
+}
+
+TEST(Chi2Quantile, KeepsTheValuesTheDiagnosisWasCalibratedWith) {
+  // Regression values of the implementation before the two copies were merged.
+  expect_relative(chi2_quantile(1, 0.01), 6.585773097, 1e-9);
+  expect_relative(chi2_quantile(10, 0.01), 23.239351218, 1e-9);
+  expect_relative(chi2_quantile(100, 0.005), 140.193287620, 1e-9);
+}
+
+TEST(Chi2Quantile, RejectsNonPositiveDegreesOfFreedom) { EXPECT_THROW((void)chi2_quantile(0, 0.01), InputError); }
+
+} // namespace
+} // namespace pw
