@@ -32,8 +32,9 @@
 //      explains the held-out half within its budget and nothing it rests on
 //      sits at a bound; otherwise "unexplained residual" with it as a lead.
 //
-// Where the steps live: diagnose.cpp (DiagnosisRun::run() calls them in this
-// order), fit_context.hpp (what the fits share, the bounded fit), screening.hpp
+// docs/diagnose.md §5 numbers the same steps 1-12 (5 above is its 5-9, 6 its
+// 10-12); the comments of the code use those numbers. Where the steps live:
+// diagnose.cpp (DiagnosisRun::run() calls them in this order), fit_context.hpp (what the fits share, the bounded fit), screening.hpp
 // (step 5's screening and starts), phase_search.hpp (the winner's place and a
 // saturating parameter's lower limit), verdict.hpp, diagnosis_plots.hpp.
 #pragma once
