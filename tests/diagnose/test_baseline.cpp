@@ -23,34 +23,13 @@
 namespace pw::diagnose {
 namespace {
 
-constexpr double kPi = std::numbers::pi;
 /// Per-window false-alarm level of the tests below (the diagnosis's alpha / 2 at alpha = 0.01).
 constexpr double kAlphaHalf = 0.005;
 
+/// The shared synthetic stage recording without phase jitter or speed bias: a carrier-family
+/// line of line_m_s2 (0: none), acceleration and speed noise per sample.
 Recording synthetic(double line_m_s2, unsigned seed, double noise_m_s2 = 0.5, double speed_noise_rad_s = 0.01) {
-  const auto cfg = test::stage_1200rpm();
-  const Kinematics k = kinematics(cfg.stage, cfg.operating.input_speed_rpm);
-  const double fs = 10000, seconds = 3.2 / k.carrier_Hz;
-  const std::size_t n = static_cast<std::size_t>(seconds * fs);
-  std::mt19937_64 rng(seed);
-  std::normal_distribution<double> nd(0.0, 1.0);
-  Recording r;
-  r.source = "synthetic";
-  r.operating = cfg.operating;
-  SignalChannel w{"sun_speed", Quantity::SunSpeed, "rad/s", 0, 0.0, {}};
-  SignalChannel a{"sp_acc", Quantity::MeshAccelerationSunPlanet, "m/s^2", 0, 0.0, {}};
-  const double omega = cfg.operating.input_speed_rpm * 2 * kPi / 60;
-  for (std::size_t i = 0; i < n; ++i) {
-    const double t = static_cast<double>(i) / fs;
-    r.time_s.push_back(t);
-    w.values.push_back(omega + speed_noise_rad_s * nd(rng));
-    double x = noise_m_s2 * nd(rng);
-    for (int h = 1; h <= 8; ++h) x += (10.0 / h) * std::cos(2 * kPi * h * k.mesh_Hz * t);
-    x += line_m_s2 * std::cos(2 * kPi * (2 * k.ring_teeth + 3) * k.carrier_Hz * t + 0.4);
-    a.values.push_back(x);
-  }
-  r.channels = {w, a};
-  return r;
+  return test::synthetic(0.0, line_m_s2, seed, 0.0, noise_m_s2, speed_noise_rad_s);
 }
 
 /// The fit-half spectrum [channel][bin] of a noise-free recording without the carrier line.

@@ -98,12 +98,16 @@ TEST(Verdict, AFitHalfOnlyExcessIsNotConfirmedByTheHeldOutHalfAndNamesNothing) {
   // half (3545 <= 4370); a transfer-path window improving both by ~10 counts and fits within
   // its own bound, yet nothing replicated for it to explain. diagnose() calls this noise
   // consistent (the held-out half decides), and even a counting candidate is not named.
-  Diagnosis d = counting_friction();
-  d.bound_fit = d.bound_held_out = 4370;
-  d.nuisance.fit = score(2887, 2000);
-  d.nuisance.held_out = score(2045, 1500);
-  d.candidates.front().fit = score(2879, 2000);
-  d.candidates.front().held_out = score(2034, 1500);
+  const auto fit_half_only_excess = [] {
+    Diagnosis x = counting_friction();
+    x.bound_fit = x.bound_held_out = 4370;
+    x.nuisance.fit = score(2887, 2000);
+    x.nuisance.held_out = score(2045, 1500);
+    x.candidates.front().fit = score(2879, 2000);
+    x.candidates.front().held_out = score(2034, 1500);
+    return x;
+  };
+  Diagnosis d = fit_half_only_excess();
   VerdictInputs in = inputs(4392);
   in.noise_consistent = true;
   decide_verdict(d, in);
@@ -114,12 +118,7 @@ TEST(Verdict, AFitHalfOnlyExcessIsNotConfirmedByTheHeldOutHalfAndNamesNothing) {
   EXPECT_NE(d.summary.find("4887 > 4370 on the fit half"), std::string::npos) << d.summary;
   EXPECT_NE(d.summary.find("did not replicate on the held-out half"), std::string::npos) << d.summary;
   // Were the held-out half not consistent, the same lead would still name nothing.
-  Diagnosis u = counting_friction();
-  u.bound_fit = u.bound_held_out = 4370;
-  u.nuisance.fit = score(2887, 2000);
-  u.nuisance.held_out = score(2045, 1500);
-  u.candidates.front().fit = score(2879, 2000);
-  u.candidates.front().held_out = score(2034, 1500);
+  Diagnosis u = fit_half_only_excess();
   decide_verdict(u, inputs(4392));
   EXPECT_EQ(u.verdict, Verdict::Unexplained) << u.summary;
   EXPECT_NE(u.summary.find("not a finding"), std::string::npos) << u.summary;
