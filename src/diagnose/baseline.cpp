@@ -1,5 +1,7 @@
 #include "diagnose/baseline.hpp"
 
+#include "diagnose/order_analysis.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -11,7 +13,7 @@ BaselineCell baseline_cell(const CalibrationCell& c) {
   b.channel = c.channel;
   b.order = c.order;
   double a = 0;
-  for (int w = 0; w < 2; ++w) a += 0.5 * std::sqrt(std::max(c.recording[w] * c.recording[w] - c.noise_variance, 0.0));
+  for (int w = 0; w < 2; ++w) a += 0.5 * debiased_amplitude(c.recording[w], c.noise_variance);
   b.offset = a - c.model;
   b.variance = 0.25 * (c.variance[0] + c.variance[1]);
   return b;

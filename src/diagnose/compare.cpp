@@ -128,7 +128,7 @@ ModelComparison::ModelComparison(const Recording& recording, const model::Simula
       double v[2];
       for (int w = 0; w < 2; ++w) {
         const double A = a_rec_[static_cast<std::size_t>(w)][f];
-        v[w] = rice_variance(std::sqrt(std::max(A * A - s2_[f], 0.0)), s2_[f]);
+        v[w] = rice_variance(debiased_amplitude(A, s2_[f]), s2_[f]);
       }
       const double d = a_rec_[0][f] - a_rec_[1][f];
       vns_[f] = d * d > flag * (v[0] + v[1]) ? d * d : 0.0;
