@@ -69,7 +69,7 @@ struct Row {
                "[rpm ...]\n"
                "  Times model::simulate for the seed case (default 100 200 400 rpm, 1000 W), best of N\n"
                "  repeats (default 1), single-threaded; prints time step, steps, wall/CPU time, mesh cycles\n"
-               "  per core-second, ns per step and mean Newton iterations.\n");
+               "  per core-second, ns per step and mean force evaluations (Newton residuals) per step.\n");
   std::exit(code);
 }
 
@@ -133,7 +133,7 @@ int main(int argc, char** argv) {
       row.warm = static_cast<int>(scalar(r, "warmup_mesh_cycles"));
       row.rec = c.solver.record_mesh_cycles;
       row.steps = static_cast<long>(row.warm + row.rec) * row.spm;
-      row.newton = scalar(r, "mean_newton_iterations");
+      row.newton = scalar(r, "mean_force_evaluations");
       const std::vector<double> fn = natural_frequencies(r);
       row.f_max = fn.empty() ? 0.0 : fn.back();
       // Which limit chose the step (simulation.cpp): mesh period / min_steps_per_mesh
@@ -161,9 +161,9 @@ int main(int argc, char** argv) {
               rows.empty() ? "?" : rows.front().level.c_str(), repeat);
   std::printf("%6s %9s %10s %-28s %6s %6s %4s %9s %8s %8s %8s %9s %12s %8s %7s\n", "rpm", "f_z[Hz]", "dt[s]",
               "dt chosen by", "steps/", "warm", "rec", "steps", "wall[s]", "cpu[s]", "prep[ms]", "cycles",
-              "cycles/core-s", "ns/step", "Newton");
+              "cycles/core-s", "ns/step", "force");
   std::printf("%6s %9s %10s %-28s %6s %6s %4s %9s %8s %8s %8s %9s %12s %8s %7s\n", "", "", "", "", "T_z", "[T_z]",
-              "[T_z]", "", "", "", "", "[T_z]", "", "", "it/step");
+              "[T_z]", "", "", "", "", "[T_z]", "", "", "evals/step");
   for (const Row& r : rows) {
     const int cycles = r.warm + r.rec;
     const double integ = std::max(r.cpu - r.prepare_wall, 1e-12);  // CPU time of the time stepping

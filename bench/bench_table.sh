@@ -5,7 +5,7 @@
 #
 #   bench/bench_table.sh [BUILD_DIR] [BASELINE_BUILD_DIR]     (default: build)
 #
-# Rows: torsional ns/step and Newton iterations/step at 100, 200, 400 rpm
+# Rows: torsional ns/step and force evaluations/step at 100, 200, 400 rpm
 # (warm-up dominated: 1 recorded mesh period, so storing channels does not
 # enter), lateral-torsional at 100 rpm, the seed wear case (2e5 mesh cycles,
 # 100 rpm, 1 thread), `planetwear simulate` of 1 s of physics at 200 rpm with
@@ -21,11 +21,11 @@ PY=/usr/bin/python3
 export OMP_NUM_THREADS=1
 echo "machine: $(nproc --all) cores, load average $(cut -d' ' -f1-3 /proc/loadavg), $(date -u +%Y-%m-%dT%H:%MZ)"
 
-# ns/step and Newton iterations from bench_simulate's table (columns 15, 16).
+# ns/step and force evaluations per step from bench_simulate's table (columns 15, 16).
 step_cost() {  # BUILD RPM [extra args]
   b=$1; rpm=$2; shift 2
   "$b/bench/bench_simulate" "$rpm" --record-cycles 1 --repeat 3 "$@" 2>/dev/null |
-    awk -v r="$rpm" '$1 == r && NF >= 16 { printf "%s ns/step, %s it/step", $(NF - 1), $NF }'
+    awk -v r="$rpm" '$1 == r && NF >= 16 { printf "%s ns/step, %s evals/step", $(NF - 1), $NF }'
 }
 wear_case() {  # BUILD -> CPU seconds of the 100 rpm seed wear case, 1 thread
   "$1/bench/bench_wear" --threads 1 --repeat 1 100 2>/dev/null |

@@ -17,13 +17,13 @@ NewmarkSolver::NewmarkSolver(SecondOrderSystem& system, double dt_s, NewmarkSche
   K_.setZero(n, n);
   C_.setZero(n, n);
   J_.setZero(n, n);
-  lu_ = Eigen::PartialPivLU<Eigen::MatrixXd>(n);
+  lu_.resize(n);
 }
 
 void NewmarkSolver::initialize(NewmarkState& s) {
   sys_.force(s.t, s.q, s.v, g_, nullptr, nullptr);
-  lu_.compute(sys_.mass());
-  s.a = lu_.solve(g_);
+  if (!lu_.factorize(sys_.mass())) throw SolverError("the mass matrix is singular (a body without inertia?)");
+  lu_.solve(g_, s.a);
   have_lu_ = false;  // lu_ now holds M, not the iteration matrix
   have_last_ = false;
 }
@@ -52,7 +52,9 @@ void NewmarkSolver::factor_jacobian() {
   J_ = sys_.mass();
   J_.noalias() += (scheme_.gamma * dt) * C_;
   J_.noalias() += (scheme_.beta * dt * dt) * K_;
-  lu_.compute(J_);
+  if (!lu_.factorize(J_))
+    throw SolverError(detail::concat("the Newmark iteration matrix is singular (time step ", dt, " s)"));
+  ++stats_.factorizations;
   have_lu_ = true;
 }
 
@@ -63,6 +65,7 @@ int NewmarkSolver::step(NewmarkState& s) {
   a_n_ = s.a;  // kept for the next step's extrapolation
   int it = attempt(s, extrapolate);
   if (it < 0) it = halved_steps(s, 1);
+  ++stats_.steps;
   a_last_.swap(a_n_);
   t_end_ = s.t;
   have_last_ = true;
@@ -75,7 +78,6 @@ int NewmarkSolver::halved_steps(NewmarkState& s, int depth) {
                                      newton_.max_iterations, " iterations, nor in steps ", 1 << kMaxHalvings,
                                      " times shorter (set solver.time_step_s smaller or raise "
                                      "solver.newton_max_iterations)"));
-  // The iteration matrix belongs to the step length: refactorized on the way in and out.
   struct Restore {
     NewmarkSolver& solver;
     double dt;
@@ -86,6 +88,7 @@ int NewmarkSolver::halved_steps(NewmarkState& s, int depth) {
   } restore{*this, dt_};
   dt_ *= 0.5;
   have_lu_ = false;
+  ++stats_.halved_steps;
   int iterations = 0;
   for (int half = 0; half < 2; ++half) {
     const int it = attempt(s, false);
@@ -105,47 +108,53 @@ int NewmarkSolver::attempt(NewmarkState& s, bool extrapolate) {
   else
     a_ = s.a;  // previous acceleration is the initial guess
   double scale = 0;
+  int evaluations = 0;
+  auto evaluate = [&](bool tangents) {
+    ++evaluations;
+    return residual(t1, scale, tangents);
+  };
+  auto accept = [&] {
+    s.t = t1;
+    s.q = q_;
+    s.v = v_;
+    s.a = a_;
+    stats_.force_evaluations += evaluations;
+    return evaluations;
+  };
   // Chord (modified Newton) iterations reuse the factorized iteration matrix
   // of an earlier step while they contract fast (residual / 10 per
   // iteration); the tangents are refreshed, and a damped full Newton step
   // taken, as soon as they do not -- e.g. when a tooth pair enters contact.
-  double res = residual(t1, scale, !have_lu_);
+  // *Why not fresh tangents every step:* measured, assembling K and C costs
+  // more than the 0.4-1.3 evaluations per step it saves (docs/benchmark.md).
+  double res = evaluate(!have_lu_);
   if (!have_lu_) factor_jacobian();
-  bool fresh = !newton_.reuse_jacobian;  // the factorization belongs to this state
+  bool fresh = false;  // the factorization belongs to this state
   for (int it = 1; it <= newton_.max_iterations; ++it) {
-    if (res <= newton_.relative_tolerance * scale) {
-      s.t = t1;
-      s.q = q_;
-      s.v = v_;
-      s.a = a_;
-      return it;
-    }
+    if (res <= newton_.relative_tolerance * scale) return accept();
     a_prev_ = a_;
-    if (!fresh && newton_.reuse_jacobian) {
-      da_ = lu_.solve(r_);
+    if (!fresh) {
+      lu_.solve(r_, da_);
       a_ = a_prev_ - da_;
-      const double trial = residual(t1, scale, false);
+      const double trial = evaluate(false);
       if (trial < 0.1 * res) {
         res = trial;
         continue;
       }
       a_ = a_prev_;
-      res = residual(t1, scale, true);
+      res = evaluate(true);
       factor_jacobian();
       fresh = true;
       if (res <= newton_.relative_tolerance * scale) continue;
-    } else if (!fresh) {
-      res = residual(t1, scale, true);
-      factor_jacobian();
     }
-    da_ = lu_.solve(r_);
+    lu_.solve(r_, da_);
     // Backtracking on the residual norm: the smoothed Coulomb friction
     // (tanh of the sliding speed) makes the full Newton step overshoot near
     // the pitch point, where the sliding speed changes sign.
     double lambda = 1.0;
     for (int ls = 0; ls < 12; ++ls) {
       a_ = a_prev_ - lambda * da_;
-      const double trial = residual(t1, scale, false);
+      const double trial = evaluate(false);
       if (trial < (1.0 - 1e-4 * lambda) * res || ls == 11) {
         res = trial;
         break;
@@ -154,6 +163,7 @@ int NewmarkSolver::attempt(NewmarkState& s, bool extrapolate) {
     }
     fresh = false;
   }
+  stats_.force_evaluations += evaluations;
   return -1;
 }
 

@@ -13,6 +13,8 @@
 // conserves the energy of undamped linear systems exactly and is 2nd order.
 #pragma once
 
+#include "dynamics/small_lu.hpp"
+
 #include <Eigen/Dense>
 
 namespace pw::dynamics {
@@ -27,9 +29,6 @@ struct NewmarkScheme {
 struct NewtonSettings {
   double relative_tolerance = 1e-10;  ///< on the residual, relative to the force scale
   int max_iterations = 30;
-  /// Reuse the iteration matrix across iterations and steps while the chord
-  /// iteration contracts by 10x per iteration (modified Newton).
-  bool reuse_jacobian = true;
   /// Start Newton from the acceleration extrapolated linearly from the last two
   /// steps (a_n + (a_n - a_{n-1})) instead of a_n: the start is then O(dt^2)
   /// from the root instead of O(dt), which saves about one force evaluation per
@@ -55,6 +54,14 @@ public:
                      Eigen::MatrixXd* K, Eigen::MatrixXd* C) = 0;
 };
 
+/// What the solver did so far (it owns its statistics).
+struct NewmarkStatistics {
+  long steps = 0;              ///< accepted steps of the full length (step() calls)
+  long force_evaluations = 0;  ///< residual evaluations, incl. those of failed attempts
+  long factorizations = 0;     ///< LU factorizations of the iteration matrix
+  long halved_steps = 0;       ///< steps retried as two half steps
+};
+
 struct NewmarkState {
   double t = 0;
   Eigen::VectorXd q, v, a;
@@ -68,7 +75,7 @@ public:
 
   /// Sets state.a from M a = g(t, q, v).
   void initialize(NewmarkState& state);
-  /// Advances one step; returns the Newton iterations used. If Newton does not
+  /// Advances one step; returns the force evaluations (Newton residuals) used. If Newton does not
   /// converge, the step is taken as two half steps (recursively, down to
   /// dt / 2^kMaxHalvings). *Why:* with backlash the mesh force jumps when teeth
   /// separate (the viscous term c v drops to zero), and a step that straddles
@@ -80,9 +87,10 @@ public:
   static constexpr int kMaxHalvings = 6;
 
   double time_step() const { return dt_; }
+  const NewmarkStatistics& statistics() const { return stats_; }
 
 private:
-  /// One Newmark step of the current dt_: Newton iterations used, or -1 (state untouched)
+  /// One Newmark step of the current dt_: force evaluations used, or -1 (state untouched)
   /// if Newton did not converge.
   int attempt(NewmarkState& state, bool extrapolate);
   /// Two steps of dt_ / 2 (each halved again if it fails); depth counts the halvings.
@@ -102,8 +110,9 @@ private:
   double t_end_ = 0;         // time of the state the last step() returned: a_last_ is valid for it
   bool have_last_ = false;
   Eigen::MatrixXd K_, C_, J_;
-  Eigen::PartialPivLU<Eigen::MatrixXd> lu_;
-  bool have_lu_ = false;
+  SmallLU lu_;
+  bool have_lu_ = false;  // lu_ holds an iteration matrix (of an earlier step: modified Newton)
+  NewmarkStatistics stats_;
 };
 
 } // namespace pw::dynamics

@@ -124,8 +124,10 @@ const FlankSet& PlanetaryDynamics::flank_b(int m) const {
 
 double PlanetaryDynamics::input_torque_Nm(double t, const Eigen::VectorXd& q, const Eigen::VectorXd& v) const {
   const double w_in = sun_speed_ + input_row_.dot(v);
+  const double mean = power_ / (constant_power_ ? w_in : sun_speed_);
+  if (ripple_ == 0) return mean;
   const double th_in = sun_speed_ * t + input_row_.dot(q);
-  return power_ / (constant_power_ ? w_in : sun_speed_) * (1.0 + ripple_ * std::sin(ripple_order_ * th_in));
+  return mean * (1.0 + ripple_ * std::sin(ripple_order_ * th_in));
 }
 
 double PlanetaryDynamics::imposed_deflection(int m, double t) const {

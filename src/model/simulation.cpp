@@ -674,8 +674,8 @@ SimulationResult simulate(const SimulationConfig& c, const ProgressFn& progress,
          warm.residual);
   scalar("time_steps", "1", "time steps integrated in total (warm-up, wear windows, recording)",
          static_cast<double>(run.steps));
-  scalar("mean_newton_iterations", "1", "Newton iterations per time step, averaged",
-         static_cast<double>(run.newton) / static_cast<double>(std::max(1L, run.steps)));
+  scalar("mean_force_evaluations", "1", "force (Newton residual) evaluations per time step, averaged",
+         static_cast<double>(run.solver.statistics().force_evaluations) / static_cast<double>(std::max(1L, run.steps)));
   for (int i = 0; i < p.natural_frequencies_Hz.size(); ++i)
     scalar("natural_frequency/" + std::to_string(i), "Hz", "natural frequency of the linearized time-averaged model",
            p.natural_frequencies_Hz(i));

@@ -81,14 +81,14 @@ struct Integration {
   const SimulationConfig& c;
   dynamics::NewmarkSolver solver;
   dynamics::NewmarkState st;
-  long newton = 0, steps = 0;  ///< Newton iterations and time steps so far
+  long steps = 0;  ///< time steps so far (the solver counts its force evaluations)
 
   Integration(PreparedStage& prep, const SimulationConfig& cfg)
       : p(prep), c(cfg), solver(*prep.dynamics, prep.time_step_s, {cfg.solver.newmark_beta, cfg.solver.newmark_gamma},
                                 {cfg.solver.newton_tolerance, cfg.solver.newton_max_iterations}) {}
   PlanetaryDynamics& sys() { return *p.dynamics; }
   void step() {
-    newton += solver.step(st);
+    solver.step(st);
     p.dynamics->set_roll_reference(st.q);
     ++steps;
   }

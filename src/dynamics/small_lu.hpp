@@ -1,0 +1,40 @@
+// LU factorization with partial pivoting for the small dense iteration
+// matrices of the time step (5 x 5 torsional, 18 x 18 lateral-torsional with
+// three planets, at most ~110 x 110 with 32 planets).
+//
+// Why not Eigen::PartialPivLU: for n = 5 its blocked, dynamic-size code spends
+// most of its time in set-up and dispatch (measured: a fresh factorization
+// every step made the step 1.7x slower with it, docs/benchmark.md). The
+// textbook right-looking elimination below (Golub & Van Loan, Algorithm 3.4.1)
+// does n^3/3 multiply-adds on a buffer allocated once, with no dispatch.
+// Same algorithm as LAPACK's dgetf2 (row pivoting on the largest |entry| of
+// the column), so the pivot order -- and hence the rounding -- is the textbook one.
+#pragma once
+
+#include <Eigen/Dense>
+
+#include <vector>
+
+namespace pw::dynamics {
+
+class SmallLU {
+public:
+  SmallLU() = default;
+  explicit SmallLU(int n) { resize(n); }
+  void resize(int n);
+  int size() const { return n_; }
+
+  /// Factorizes P A = L U (A square, size n). Returns false if a pivot is
+  /// exactly zero (A singular); the factorization is then unusable.
+  bool factorize(const Eigen::MatrixXd& a);
+  /// x = A^-1 b with the last factorization (x may alias b).
+  void solve(const Eigen::VectorXd& b, Eigen::VectorXd& x) const;
+
+private:
+  int n_ = 0;
+  std::vector<double> lu_;   // column-major n x n: L below the diagonal (unit diagonal implied), U on and above
+  std::vector<int> perm_;    // row perm_[i] of A is row i of P A
+  mutable std::vector<double> work_;
+};
+
+} // namespace pw::dynamics
