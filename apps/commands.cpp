@@ -1,4 +1,5 @@
 #include "commands.hpp"
+#include "engineering_summary.hpp"
 
 #include "core/error.hpp"
 #include "io/atomic_output.hpp"
@@ -103,6 +104,7 @@ int run_simulate(const SimulateOptions& o) {
 
   // Output names are checked before the (possibly long) run.
   io::AtomicOutput h5(o.output);
+  if (!o.report.empty()) io::AtomicOutput check_report_directory(o.report);
   ProgressPrinter progress(o.common.quiet);
   using clock = std::chrono::steady_clock;
   auto seconds_since = [](clock::time_point t) { return std::chrono::duration<double>(clock::now() - t).count(); };
@@ -131,10 +133,19 @@ int run_simulate(const SimulateOptions& o) {
                  "wall time %.2f s (simulate %.2f s, spectra %.2f s, write %.2f s)\n",
                  o.output.c_str(), result.time_s.size(), result.channels.size(), result.time_step_s,
                  dt ? dt->value : 0.0, fm ? fm->value : 0.0, seconds_since(t0), t_sim, t_spectra, t_write);
+    const auto* residual = find_scalar(result, "periodicity_residual");
+    if (residual && !(residual->value <= config.solver.periodicity_tolerance))
+      std::fprintf(stderr,
+                   "warning: the warm-up did not reach a steady state (periodicity residual %.3g > "
+                   "solver.periodicity_tolerance %.3g): the recording is of a transient\n",
+                   residual->value, config.solver.periodicity_tolerance);
     const model::WearHistory& w = result.wear;
     if (!w.mesh_cycles.empty())
       std::fprintf(stderr, "wear: %zu updates to %.6g mesh cycles\n", w.mesh_cycles.size() - 1, w.mesh_cycles.back());
   }
+  const std::string summary = engineering_summary(config, result, o.allowable_contact_stress_Pa);
+  if (!o.common.quiet) std::fputs(summary.c_str(), stdout);
+  if (!o.report.empty()) io::write_text_atomically(o.report, summary);
   if (!result.wear.stop_reason.empty()) {
     // Kept what was computed (written above); tell scripts it is incomplete.
     std::fprintf(stderr, "%s%s; results up to then are in %s\n", io::kErrorPrefix, result.wear.stop_reason.c_str(),

@@ -24,6 +24,8 @@ struct SimulateOptions {
   std::optional<double> kappa_m2_N;   ///< wear.coefficient_m2_N
   std::string output, csv;
   model::OutputSelection output_selection;  ///< --time-history-decimation, --channels
+  std::string report;                       ///< --report: the engineering summary as Markdown
+  double allowable_contact_stress_Pa = 0;   ///< --allowable-contact-stress-pa [Pa]
 };
 
 struct StiffnessOptions {

@@ -30,6 +30,7 @@
 // cases failed (their reasons are in the archive); 5 an unexpected failure.
 // Every error line starts with "planetwear: error: ".
 #include "commands.hpp"
+#include "engineering_summary.hpp"
 #include "calibrate_command.hpp"
 #include "diagnose_command.hpp"
 #include "indicators_command.hpp"
@@ -77,7 +78,15 @@ int main(int argc, char** argv) {
                 "store only these time-history channels (comma-separated names as in docs/output-format.md; a "
                 "name ending in '/' selects everything below it, e.g. --channels sun_planet/0/,housing/acceleration)")
       ->delimiter(',');
-  s->add_flag("-q,--quiet", sim.common.quiet, "no progress on stderr");
+  s->add_option("--report", sim.report,
+                "also write the engineering summary (mesh forces, dynamic factor, contact pressure, load sharing, "
+                "efficiency, wear) as Markdown to this file; it is printed on stdout unless --quiet");
+  sim.allowable_contact_stress_Pa = pw::app::kDefaultAllowableContactStressPa;
+  s->add_option("--allowable-contact-stress-pa", sim.allowable_contact_stress_Pa,
+                "allowable contact stress the summary compares the largest Hertzian pressure with [Pa] (default "
+                "1.5e9: ISO 6336-5 sigma_Hlim, case-hardened wrought steel, quality MQ)")
+      ->check(CLI::PositiveNumber);
+  s->add_flag("-q,--quiet", sim.common.quiet, "no progress on stderr and no summary on stdout");
 
   pw::app::StiffnessOptions stf;
   CLI::App* k = app.add_subcommand("stiffness", "Mesh stiffness of both mesh types by the potential energy method "

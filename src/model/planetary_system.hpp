@@ -25,6 +25,7 @@
 #include "stiffness/mesh_stiffness.hpp"
 
 #include <array>
+#include <cmath>
 #include <vector>
 
 namespace pw::model {
@@ -67,7 +68,7 @@ public:
   int size() const override { return structure_.dofs; }
   const Eigen::MatrixXd& mass() const override { return structure_.mass; }
   /// Applied torques [N m] set the scale of the generalized forces.
-  double force_scale() const override { return nominal_input_torque_Nm() + load_torque_; }
+  double force_scale() const override { return std::fabs(nominal_input_torque_Nm()) + std::fabs(load_torque_); }
   void force(double t, const Eigen::VectorXd& q, const Eigen::VectorXd& v, Eigen::VectorXd& g, Eigen::MatrixXd* K,
              Eigen::MatrixXd* C) override;
 

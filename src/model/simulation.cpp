@@ -4,6 +4,7 @@
 #include "core/error.hpp"
 #include "dynamics/modal.hpp"
 #include "model/memory_estimate.hpp"
+#include "model/mesh_loads.hpp"
 #include "model/sensor.hpp"
 #include "model/validate.hpp"
 #include "signal/spectrum.hpp"
@@ -434,6 +435,7 @@ struct RecordStats {
   std::vector<double> mean_sun_planet_force_N;  ///< per planet [N]
   double mean_carrier_angle_rad = 0;   ///< mean carrier angle perturbation [rad]
   double mean_carrier_speed_rad_s = 0; ///< mean carrier speed perturbation [rad/s]
+  std::vector<Scalar> mesh_loads;      ///< MeshLoadRecorder's summary (mesh_loads.hpp)
 };
 
 /// One output channel of the recording: its name, unit and description, and
@@ -540,10 +542,12 @@ RecordStats record(Integration& r, int cycles, SimulationResult& out, const Outp
     }
   }
   const double t0 = r.st.t;
+  MeshLoadRecorder loads(p.geometry, r.c.stage, sys.nominal_input_torque_Nm());
   for (std::int64_t k = 0; k < nrec; ++k) {
     r.step();
     const double w_sun = sun_encoder.step(sun_speed()), w_carrier = carrier_encoder.step(carrier_speed());
     const auto& ms = sys.mesh_states();
+    loads.add(ms);
     for (int i = 0; i < N; ++i) stats.mean_sun_planet_force_N[i] += ms[2 * i].force_N / static_cast<double>(nrec);
     if (!sys.structure().has_rigid_mode) {  // only the speed-controlled load's shaft torque needs them
       stats.mean_carrier_angle_rad += sys.carrier_theta_row().dot(r.st.q) / static_cast<double>(nrec);
@@ -588,6 +592,7 @@ RecordStats record(Integration& r, int cycles, SimulationResult& out, const Outp
                          "simulation time at which the recording starts: time_history/time + record_start_time is "
                          "the time of the absolute angles (sun/angle, carrier/angle)",
                          t0});
+  stats.mesh_loads = loads.scalars();
   return stats;
 }
 
@@ -688,6 +693,7 @@ SimulationResult simulate(const SimulationConfig& c, const ProgressFn& progress,
   for (int i = 0; i < N; ++i)
     scalar("load_sharing_factor/" + std::to_string(i), "1", "N mean(F_sp,i) / sum_k mean(F_sp,k)",
            tot != 0 ? N * mean_f[i] / tot : 0.0);
+  for (const Scalar& sc : rec.mesh_loads) r.scalars.push_back(sc);
   if (wear_on) {
     for (const auto& fh : r.wear.flanks) {
       const std::size_t per = static_cast<std::size_t>(fh.teeth) * fh.elements;

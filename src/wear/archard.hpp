@@ -25,23 +25,6 @@
 
 namespace pw::wear {
 
-/// Hertzian line contact of two cylinders (Johnson, Contact Mechanics, §4.2).
-struct HertzLineContact {
-  double half_width_m = 0;       ///< a
-  double max_pressure_Pa = 0;    ///< p0 = 2 F' / (pi a)
-  double mean_pressure_Pa = 0;   ///< F' / (2a) = (pi/4) p0
-};
-
-/// Contact modulus E* [Pa]: 1/E* = (1 - nu1^2)/E1 + (1 - nu2^2)/E2.
-double contact_modulus(double E1_Pa, double nu1, double E2_Pa, double nu2);
-
-/// Equivalent radius [m]: 1/R = 1/rho_a + 1/rho_b (external, convex-convex)
-/// or 1/rho_a - 1/rho_b (internal: the ring flank is concave, rho_b > rho_a).
-double equivalent_radius(double rho_a_m, double rho_b_m, bool internal);
-
-/// a = sqrt(4 F' R / (pi E*)) for load per unit width F' [N/m] >= 0.
-HertzLineContact hertz_line_contact(double load_per_width_N_m, double radius_m, double contact_modulus_Pa);
-
 /// Involute arc length between radii of curvature rho_1 and rho_2 [m].
 double involute_arc_length(double base_radius_m, double rho_1_m, double rho_2_m);
 

@@ -54,7 +54,19 @@ ls ./*partial* >/dev/null 2>&1 && { echo "FAIL partial files left"; fail=1; }
 check zero-mesh-cycles 1 "--mesh-cycles" bad.h5 -- "$PW" simulate --mesh-cycles 0 -o bad.h5
 # Wear beyond the safe limit: stop, say why, keep the results, exit 4.
 check wear-limit 4 "wear.max_wear_fraction_of_thickness" "" -- "$PW" simulate -q --speed-rpm 400 --mesh-cycles 2e5 \
-  --set wear.max_wear_fraction_of_thickness=1e-6 --set solver.record_mesh_cycles=1 -o stopped.h5
+  --set wear.max_wear_fraction_of_thickness=1e-6 --set solver.record_mesh_cycles=1 -o stopped.h5 --report stopped.md
 [ -f stopped.h5 ] || { echo "FAIL wear-limit: results not kept"; fail=1; }
+# The engineering summary: printed on stdout, the same text in --report, nothing with -q;
+# a wear run that stopped early says so in it; a non-positive allowable is an input error,
+# a report into a missing directory an I/O error (as -o) before the run.
+grep -q "Stopped early" stopped.md || { echo "FAIL wear-limit: summary does not say it stopped early"; fail=1; }
+check report 0 "" "" -- "$PW" simulate --speed-rpm 400 --set solver.record_mesh_cycles=2 --report summary.md -o rep.h5
+cmp -s summary.md stdout.txt || { echo "FAIL report: --report differs from the printed summary"; fail=1; }
+for col in "dynamic factor K_v" "largest contact pressure [MPa]" "Load-sharing factor" "allowable 1500 MPa"; do
+  grep -qF "$col" summary.md || { echo "FAIL report: summary lacks '$col'"; fail=1; }; done
+check report-quiet 0 "" "" -- "$PW" simulate -q --speed-rpm 400 --set solver.record_mesh_cycles=2 -o rep.h5
+[ -s stdout.txt ] && { echo "FAIL report-quiet: -q printed on stdout"; fail=1; }
+check report-allowable 1 "allowable-contact-stress-pa" bad.h5 -- "$PW" simulate --allowable-contact-stress-pa -1 -o bad.h5
+check report-bad-dir 3 "no_such_dir" bad.h5 -- "$PW" simulate --report no_such_dir/s.md -o bad.h5
 [ $fail -eq 0 ] && echo "all CLI checks passed"
 exit $fail
