@@ -18,6 +18,11 @@ NewmarkSolver::NewmarkSolver(SecondOrderSystem& system, double dt_s, NewmarkSche
   C_.setZero(n, n);
   J_.setZero(n, n);
   lu_.resize(n);
+  // Lumped models in these coordinates have a diagonal mass matrix (absolute
+  // rotations and translations); then M a is n products instead of n^2.
+  const Eigen::MatrixXd& M = sys_.mass();
+  mass_diagonal_ = M.diagonal();
+  diagonal_mass_ = (M - Eigen::MatrixXd(mass_diagonal_.asDiagonal())).cwiseAbs().maxCoeff() == 0.0;
 }
 
 void NewmarkSolver::initialize(NewmarkState& s) {
@@ -36,7 +41,10 @@ double NewmarkSolver::residual(double t1, double& scale, bool tangents) {
     sys_.force(t1, q_, v_, g_, &K_, &C_);
   else
     sys_.force(t1, q_, v_, g_, nullptr, nullptr);
-  r_.noalias() = sys_.mass() * a_;
+  if (diagonal_mass_)
+    r_ = mass_diagonal_.cwiseProduct(a_);
+  else
+    r_.noalias() = sys_.mass() * a_;
   scale = r_.lpNorm<Eigen::Infinity>() + g_.lpNorm<Eigen::Infinity>() + sys_.force_scale() + 1e-300;
   r_ -= g_;
   const double res = r_.lpNorm<Eigen::Infinity>();

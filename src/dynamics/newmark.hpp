@@ -110,6 +110,8 @@ private:
   double t_end_ = 0;         // time of the state the last step() returned: a_last_ is valid for it
   bool have_last_ = false;
   Eigen::MatrixXd K_, C_, J_;
+  Eigen::VectorXd mass_diagonal_;
+  bool diagonal_mass_ = false;
   SmallLU lu_;
   bool have_lu_ = false;  // lu_ holds an iteration matrix (of an earlier step: modified Newton)
   NewmarkStatistics stats_;

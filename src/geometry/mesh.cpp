@@ -437,9 +437,15 @@ int pairs_in_contact(const MeshGeometry& mesh, const MeshPhase& phase, int teeth
   const double u = phase.xi0_m + s_m;  // xi_n = u - n p_b
   const double n_first = std::ceil((u - mesh.end_active_m - margin_m) / pb);
   const double n_last = std::floor((u - mesh.start_active_m + margin_m) / pb);
+  if (!(n_first <= n_last)) return 0;
+  // Tooth indices of the first pair by one modulo each; the next pairs' follow by
+  // counting (this runs at every time step of every mesh).
+  const long long k0 = static_cast<long long>(n_first);
+  int ta = wrap_index(phase.tooth_a0 + k0, teeth_a), tb = wrap_index(phase.tooth_b0 + k0, teeth_b);
   for (double n = n_first; n <= n_last; n += 1.0) {
-    const long long k = static_cast<long long>(n);
-    out.push_back({u - n * pb, wrap_index(phase.tooth_a0 + k, teeth_a), wrap_index(phase.tooth_b0 + k, teeth_b)});
+    out.push_back({u - n * pb, ta, tb});
+    if (++ta == teeth_a) ta = 0;
+    if (++tb == teeth_b) tb = 0;
   }
   return static_cast<int>(out.size());
 }
