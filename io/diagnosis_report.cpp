@@ -442,7 +442,8 @@ void write_diagnosis_report(const std::filesystem::path& dir, const dg::Diagnosi
     j["lead"] = {{"name", l.name}, {"variant", l.variant}, {"named", d.winner == 0}, {"counts", d.lead.counts},
                  {"held_out_chi2", num(d.lead.held_out_chi2)}, {"bound_held_out", num(d.lead.bound_held_out)},
                  {"replicate_chi2", num(d.lead.replicate_chi2)}, {"within_bound", d.lead.within_bound}, {"explained_fraction", num(d.lead.explained_fraction)},
-                 {"at_bound", d.lead.at_bound}, {"failed", d.lead.failed}};
+                 {"at_bound", d.lead.at_bound}, {"posterior", num(d.lead.posterior)}, {"rival", d.lead.rival},
+                 {"failed", d.lead.failed}};
   } else {
     j["lead"] = nullptr;
   }

@@ -163,6 +163,9 @@ def main():
                          "(resume an interrupted run; only recordings without a report are diagnosed)")
     ap.add_argument("--min-accuracy", type=float, default=0.0, help="fail below this fraction of correct names")
     ap.add_argument("--require-controls", action="store_true", help="fail unless every control says 'none'")
+    ap.add_argument("--max-wrong-names", type=int, default=None,
+                    help="fail if more recordings than this are named a wrong effect with confidence "
+                         "(a control named anything, an effect named another; 'unexplained' is not a name)")
     ap.add_argument("--max-parameter-error", type=float, default=None,
                     help="fail if a correctly named effect's main parameter is off by more than this fraction")
     args = ap.parse_args()
@@ -207,7 +210,9 @@ def main():
             rows.append({"recording": name, "truth": t["effect"], "named": "crashed", "wall_s": wall})
             continue
         named = named_effect(report)
+        lead = (report.get("lead") or {}).get("name")
         row = {"recording": name, "truth": t["effect"], "named": named, "verdict": report["verdict"],
+               "lead": CANDIDATE_TO_EFFECT.get(lead, lead) if lead else None,
                "wall_s": round(wall, 1), "speed_rpm": t["speed_rpm"], "power_W": t["power_W"],
                "summary": report["summary"]}
         if named == t["effect"] and t["effect"] != "none":
@@ -237,6 +242,10 @@ def main():
     controls_ok = sum(1 for r in control_rows if r["named"] == "none")
     print(f"\nNamed the right effect: {correct}/{len(effect_rows)} = {100 * accuracy:.0f} %")
     print(f"Controls answered 'no missing physics': {controls_ok}/{len(control_rows)}")
+    wrong = [r["recording"] for r in rows if r["named"] not in (r["truth"], "none", "unexplained", "crashed")]
+    lead_right = sum(1 for r in effect_rows if r["named"] == "unexplained" and r.get("lead") == r["truth"])
+    print(f"Confident wrong names: {len(wrong)}{' ' + str(wrong) if wrong else ''}; "
+          f"'unexplained' with the right lead: {lead_right}")
     print("\nParameter errors (correctly named effects):")
     within = limits_ok = 0
     with_param = [r for r in rows if "parameter" in r]
@@ -260,7 +269,8 @@ def main():
     summary = {"rows": rows, "accuracy": accuracy, "correct": correct, "effects": len(effect_rows),
                "controls_ok": controls_ok, "controls": len(control_rows), "parameters_within_20pct": within,
                "parameters_checked": len(with_param) - len(with_limit), "lower_limits_ok": limits_ok,
-               "lower_limits_checked": len(with_limit), "crashed": crashed}
+               "lower_limits_checked": len(with_limit), "crashed": crashed, "confident_wrong_names": wrong,
+               "unexplained_with_right_lead": lead_right}
     (out / "summary.json").write_text(json.dumps(summary, indent=2) + "\n")
     status = 0
     if crashed:
@@ -268,6 +278,10 @@ def main():
         status = 1
     if accuracy < args.min_accuracy:
         print(f"run_corpus: accuracy {accuracy:.2f} below --min-accuracy {args.min_accuracy}", file=sys.stderr)
+        status = 1
+    if args.max_wrong_names is not None and len(wrong) > args.max_wrong_names:
+        print(f"run_corpus: {len(wrong)} confident wrong names (at most {args.max_wrong_names}): {wrong}",
+              file=sys.stderr)
         status = 1
     if args.require_controls and controls_ok < len(control_rows):
         print("run_corpus: a control was not answered 'no missing physics'", file=sys.stderr)

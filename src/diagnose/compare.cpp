@@ -69,28 +69,6 @@ std::string builtin_config_key(const model::SimulationConfig& c) {
 namespace {
 /// The upper end of solver.record_mesh_cycles (model::validate).
 constexpr double kMaxModelRecordCycles = 1e6;
-
-/// Steps per period of the highest natural frequency for the model runs of a
-/// diagnosis (docs/diagnose.md §2, "model time step"). `simulate` takes 32 per period
-/// of the highest mode, which for stiff meshes lies far above anything a recording
-/// resolves (27 kHz against a 2.5 kHz Nyquist frequency). The comparison uses only lines
-/// up to the recording's Nyquist frequency f_N, so the same accuracy criterion
-/// (average acceleration, relative period error (2 pi / n)^2 / 12 = 0.3 % at n = 32) is
-/// applied there: 32 steps per period of f_N. Modes above the band respond to in-band
-/// forcing quasi-statically, which Newmark reproduces at any step; their own period
-/// error stays bounded by model::prepare's floor of 8 steps per period (5 %), the
-/// coarsest step it accepts. Never finer than the configuration asks for; an explicit
-/// solver.time_step_s is left alone. The difference to a finer step stays in V as the
-/// "second discretization" fidelity direction (fit_context.cpp set_fidelity).
-int diagnosis_steps_per_mode_period(const model::SimulationConfig& c, double nyquist_Hz) {
-  constexpr int kStepsPerBandPeriod = 32;  // = the simulate default's criterion, applied to f_N
-  constexpr int kFloor = 8;                // model::prepare's validity floor
-  const double f_max = model::prepare(c).natural_frequencies_Hz.maxCoeff();
-  if (!(f_max > 0) || !(nyquist_Hz > 0)) return c.solver.steps_per_mode_period;
-  const double n = std::ceil(kStepsPerBandPeriod * nyquist_Hz / f_max);
-  return static_cast<int>(std::clamp(n, static_cast<double>(kFloor),
-                                     static_cast<double>(c.solver.steps_per_mode_period)));
-}
 } // namespace
 
 ModelComparison::ModelComparison(const Recording& recording, const model::SimulationConfig& config,
@@ -109,8 +87,6 @@ ModelComparison::ModelComparison(const Recording& recording, const model::Simula
           kMaxModelRecordCycles, " (solver.record_mesh_cycles); diagnose a shorter excerpt");
   base_.solver.record_mesh_cycles = static_cast<int>(cycles);
   model::validate(base_);
-  if (base_.solver.time_step_s <= 0 && rec_.sample_interval_s() > 0)
-    base_.solver.steps_per_mode_period = diagnosis_steps_per_mode_period(base_, 0.5 / rec_.sample_interval_s());
   const int nc = channels(), ncell = cells();
   for (int c = 0; c < nc; ++c)
     housing_.push_back(rec_.channels[static_cast<std::size_t>(spec_.channels[static_cast<std::size_t>(c)])].quantity ==

@@ -169,6 +169,10 @@ struct LeadAssessment {
   double replicate_chi2 = std::numeric_limits<double>::quiet_NaN();
   bool within_bound = false;          ///< condition (a): chi2_lead,h <= max(B_lead, replicate_chi2)
   std::vector<std::string> at_bound;  ///< condition (b) failures: "stiffness.scale at its bound 2"
+  /// Condition (d): BIC posterior probability of the lead among the counting candidates of other
+  /// names (1 without rivals), and the strongest rival's name (empty: none).
+  double posterior = 1.0;
+  std::string rival;
   std::string failed;                 ///< which condition failed, with numbers (empty: named)
 };
 

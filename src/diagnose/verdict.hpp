@@ -32,6 +32,12 @@
 //       confirms nothing (found on a calibrated independent-simulator recording whose
 //       stiffness change the recalibration absorbed: a transfer-path window that
 //       improved both halves by ~10 was named).
+//   (d) the data tell it apart from the other counting candidates: its BIC
+//       posterior probability among those of other names (equal prior odds,
+//       BIC summed over both halves) is at least 1 - alpha/2 -- the confidence
+//       the other steps ask for. Two near-equivalent explanations (a carrier
+//       runout is a pin-error pattern plus a small radial part) are a lead, not
+//       a finding.
 // Otherwise the verdict is "unexplained residual", with the best candidate
 // reported as a lead, never as a finding.
 //

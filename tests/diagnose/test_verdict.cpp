@@ -260,3 +260,52 @@ TEST(Verdict, NoFittableCandidateIsUnexplainedWithoutALead) {
 
 } // namespace
 } // namespace pw::diagnose
+
+namespace pw::diagnose {
+namespace {
+
+/// counting_friction() with a second counting candidate of another name whose BIC (both halves)
+/// is `delta` above the winner's, and, as a third, a variant of the winner's own name just behind it.
+Diagnosis friction_with_rival(double delta) {
+  Diagnosis d = counting_friction();
+  CandidateResult& w = d.candidates.front();
+  w.bic = 1200;
+  w.bic_held_out = 1150;
+  CandidateResult rival = w;
+  rival.name = "worn_profile";
+  rival.bic_held_out += delta;
+  CandidateResult same = w;
+  same.variant = "another variant";
+  same.bic_held_out += 0.1;
+  d.candidates.push_back(rival);
+  d.candidates.push_back(same);
+  return d;
+}
+
+} // namespace
+
+TEST(Verdict, TwoCountingExplanationsTheDataCannotTellApartAreALeadNotAFinding) {
+  // BIC 0.3 apart: posterior 1 / (1 + e^-0.15) = 0.54 < 0.995 (the quick corpus's pin error
+  // against carrier runout, docs/diagnose-log.md session 12).
+  Diagnosis d = friction_with_rival(0.3);
+  decide_verdict(d, inputs(1100));
+  EXPECT_EQ(d.verdict, Verdict::Unexplained);
+  EXPECT_EQ(d.winner, -1);
+  EXPECT_EQ(d.lead.rival, "worn_profile");
+  EXPECT_NEAR(d.lead.posterior, 1.0 / (1.0 + std::exp(-0.15)), 1e-12);
+  EXPECT_NE(d.summary.find("do not tell it from worn_profile"), std::string::npos) << d.summary;
+}
+
+TEST(Verdict, ARivalBeyondTheConfidenceBicMarginDoesNotBlockTheFinding) {
+  // Two candidates: P >= 1 - alpha/2 = 0.995 iff the rival's BIC is >= 2 ln(199) = 10.59 higher.
+  Diagnosis near = friction_with_rival(2 * std::log(199.0) - 0.05);
+  decide_verdict(near, inputs(1100));
+  EXPECT_EQ(near.verdict, Verdict::Unexplained);
+  Diagnosis far = friction_with_rival(2 * std::log(199.0) + 0.05);
+  decide_verdict(far, inputs(1100));
+  EXPECT_EQ(far.verdict, Verdict::MissingPhysicsFound);  // the same-name variant 0.1 behind is no rival
+  EXPECT_EQ(far.winner, 0);
+  EXPECT_GT(far.lead.posterior, 0.995);
+}
+
+} // namespace pw::diagnose
