@@ -11,6 +11,7 @@
 #include "diagnose/verdict.hpp"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <cstdio>
 #include <limits>
@@ -128,8 +129,10 @@ public:
   }
 
 private:
+  /// Progress, each line stamped with the time since the diagnosis started (the phases'
+  /// lengths are not known in advance; the candidate fits, the longest phase, give an ETA).
   void say(const std::string& s) const {
-    if (o_.progress) o_.progress(s);
+    if (o_.progress) o_.progress(fmt("%6.0f s  ", seconds_since(t_start_)) + s);
   }
   bool allowed(const Candidate& c) const {
     return o_.only_candidates.empty() ||
@@ -423,7 +426,15 @@ private:
     r.evidence_z = z;
     r.predicted_improvement = sc.S;
     r.seconds = seconds_since(tc);
-    say("  " + r.name + ": " + fmt("%.1f s", r.seconds) + ", " + std::to_string(r.simulations) + " simulations");
+    // Fits run in parallel: the phase's remaining time is its elapsed time per finished fit
+    // times the fits still to finish.
+    const int done = ++fits_done_;
+    const double phase_s = seconds_since(fits_start_);
+    const int total = static_cast<int>(shortlist_.size());
+    say("  " + r.name + ": " + fmt("%.1f s", r.seconds) + ", " + std::to_string(r.simulations) + " simulations (" +
+        std::to_string(done) + " of " + std::to_string(total) + " candidates fitted" +
+        (done < total ? ", this phase about " + fmt("%.0f s", phase_s / done * (total - done)) + " more" : std::string()) +
+        ")");
     return r;
   }
 
@@ -434,6 +445,8 @@ private:
     screening_->grid_starts(shortlist_, [&](const std::string& s) { say(s); });
     d_.candidates.resize(shortlist_.size());
     say("fitting " + std::to_string(shortlist_.size()) + " candidates");
+    fits_done_ = 0;
+    fits_start_ = Clock::now();
     parallel_for(static_cast<int>(shortlist_.size()), threads_, [&](int i) {
       d_.candidates[static_cast<std::size_t>(i)] = fit_screened((*screening_)[shortlist_[static_cast<std::size_t>(i)]]);
     });
@@ -613,6 +626,8 @@ private:
   std::optional<ToothMap> teeth_;
   std::optional<Screening> screening_;
   std::vector<std::size_t> shortlist_;           ///< screening indices fitted, in screening order
+  std::atomic<int> fits_done_{0};                ///< candidate fits finished (progress)
+  Clock::time_point fits_start_{};               ///< when the candidate fits started (progress)
 };
 
 } // namespace
