@@ -71,12 +71,6 @@ void check_synth_memory(const model::SimulationConfig& config, double seconds, c
                  "use a shorter --seconds (--decimate thins the recording only after the simulation)");
 }
 
-const model::Scalar* find_scalar(const model::SimulationResult& r, const std::string& name) {
-  for (const auto& s : r.scalars)
-    if (s.name == name) return &s;
-  return nullptr;
-}
-
 } // namespace
 
 std::vector<double> decimate(std::span<const double> x, int k) {
@@ -212,7 +206,8 @@ int run_synth(const SynthOptions& o) {
   //    first + j k, n_out of them. first: the filter's margin after the
   //    warm-up, or the sample at absolute time W T_mesh (--start-mesh-cycle W).
   const double dt = r.time_step_s;
-  const double t_start = find_scalar(r, "record_start_time") ? find_scalar(r, "record_start_time")->value : 0.0;
+  const model::Scalar* start = r.find_scalar("record_start_time");
+  const double t_start = start ? start->value : 0.0;
   const std::size_t margin = static_cast<std::size_t>(decimation_margin(k));
   std::size_t first = margin;
   if (o.start_mesh_cycle > 0) {

@@ -6,12 +6,6 @@
 
 namespace pw::diagnose {
 
-std::string fmt(const char* format, double v) {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, format, v);
-  return buf;
-}
-
 ScoreSummary summarize(const WindowScore& w) {
   ScoreSummary s;
   s.chi2 = w.chi2;

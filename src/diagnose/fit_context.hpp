@@ -5,6 +5,7 @@
 #pragma once
 
 #include "core/error.hpp"
+#include "core/format.hpp"
 #include "diagnose/candidates/candidate.hpp"
 #include "diagnose/compare.hpp"
 #include "diagnose/diagnose.hpp"
@@ -44,9 +45,6 @@ void parallel_for(int n, int threads, F&& body) {
 
 using Clock = std::chrono::steady_clock;
 inline double seconds_since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
-
-/// printf-style formatting of one number (report sentences).
-std::string fmt(const char* format, double v);
 
 ScoreSummary summarize(const WindowScore& w);
 

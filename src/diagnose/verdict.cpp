@@ -1,5 +1,6 @@
 #include "diagnose/verdict.hpp"
 
+#include "core/format.hpp"
 #include "core/statistics.hpp"
 #include "diagnose/locate.hpp"
 
@@ -10,12 +11,6 @@
 namespace pw::diagnose {
 
 namespace {
-
-std::string fmt(const char* f, double v) {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, f, v);
-  return buf;
-}
 
 std::string param_text(const FittedParameter& p) {
   char buf[200];

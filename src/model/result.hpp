@@ -77,6 +77,11 @@ struct SimulationResult {
       if (c.name == name) return &c;
     return nullptr;
   }
+  const Scalar* find_scalar(const std::string& name) const {
+    for (const auto& s : scalars)
+      if (s.name == name) return &s;
+    return nullptr;
+  }
 };
 
 } // namespace pw::model
