@@ -50,17 +50,21 @@ void MeshLoadRecorder::add(const std::vector<MeshState>& states) {
   }
 }
 
+double MeshLoadRecorder::mean_force_N(int mesh) const {
+  return steps_ > 0 ? meshes_.at(static_cast<std::size_t>(mesh)).sum_N / static_cast<double>(steps_) : 0.0;
+}
+
 std::vector<Scalar> MeshLoadRecorder::scalars() const {
   std::vector<Scalar> out;
   if (steps_ == 0) return out;
-  const double n = static_cast<double>(steps_);
   for (std::size_t f = 0; f < families_.size(); ++f) {
     const Family& fam = families_[f];
     double sum = 0, mx = 0, kv = 0, p2 = 0, xi = 0;
     int planet = 0;
     for (int i = 0; i < planets_; ++i) {
-      const PerMesh& a = meshes_[2 * static_cast<std::size_t>(i) + f];
-      const double mean = a.sum_N / n;
+      const std::size_t m = 2 * static_cast<std::size_t>(i) + f;
+      const PerMesh& a = meshes_[m];
+      const double mean = mean_force_N(static_cast<int>(m));
       sum += mean;
       mx = std::max(mx, a.max_N);
       if (mean > 0) kv = std::max(kv, a.max_N / mean);

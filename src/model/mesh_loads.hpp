@@ -35,6 +35,8 @@ public:
   void add(const std::vector<MeshState>& states);
   /// "mesh_load/<family>/<quantity>" scalars (SI units), empty before the first add().
   std::vector<Scalar> scalars() const;
+  /// Mean dynamic normal force of mesh m (sun-planet i at 2i) over the steps added [N]; 0 before any.
+  double mean_force_N(int mesh) const;
 
 private:
   struct Family {

@@ -520,7 +520,6 @@ RecordStats record(Integration& r, int cycles, SimulationResult& out, const Outp
   const double ratio = (r.c.stage.sun.teeth + r.c.stage.ring.teeth) / static_cast<double>(r.c.stage.sun.teeth);
   const double rbs = p.geometry.sun.base_radius_m;
   RecordStats stats;
-  stats.mean_sun_planet_force_N.assign(static_cast<std::size_t>(N), 0.0);
   // Speed encoders with a finite bandwidth: the filters see every step, stored or not.
   const SensorSettings& sn = r.c.sensor;
   EncoderFilter sun_encoder(sn.encoder_bandwidth_Hz, sn.encoder_filter_order, p.time_step_s);
@@ -548,7 +547,6 @@ RecordStats record(Integration& r, int cycles, SimulationResult& out, const Outp
     const double w_sun = sun_encoder.step(sun_speed()), w_carrier = carrier_encoder.step(carrier_speed());
     const auto& ms = sys.mesh_states();
     loads.add(ms);
-    for (int i = 0; i < N; ++i) stats.mean_sun_planet_force_N[i] += ms[2 * i].force_N / static_cast<double>(nrec);
     if (!sys.structure().has_rigid_mode) {  // only the speed-controlled load's shaft torque needs them
       stats.mean_carrier_angle_rad += sys.carrier_theta_row().dot(r.st.q) / static_cast<double>(nrec);
       stats.mean_carrier_speed_rad_s += sys.carrier_theta_row().dot(r.st.v) / static_cast<double>(nrec);
@@ -593,6 +591,7 @@ RecordStats record(Integration& r, int cycles, SimulationResult& out, const Outp
                          "the time of the absolute angles (sun/angle, carrier/angle)",
                          t0});
   stats.mesh_loads = loads.scalars();
+  for (int i = 0; i < N; ++i) stats.mean_sun_planet_force_N.push_back(loads.mean_force_N(2 * i));
   return stats;
 }
 
@@ -677,10 +676,11 @@ SimulationResult simulate(const SimulationConfig& c, const ProgressFn& progress,
   scalar("warmup_mesh_cycles", "1", "mesh periods integrated before recording", warm.cycles);
   scalar("periodicity_residual", "1", "relative change of mesh deflections over the last warm-up mesh period",
          warm.residual);
+  const dynamics::NewmarkStatistics& solver_stats = run.solver.statistics();
   scalar("time_steps", "1", "time steps integrated in total (warm-up, wear windows, recording)",
-         static_cast<double>(run.steps));
+         static_cast<double>(solver_stats.steps));
   scalar("mean_force_evaluations", "1", "force (Newton residual) evaluations per time step, averaged",
-         static_cast<double>(run.solver.statistics().force_evaluations) / static_cast<double>(std::max(1L, run.steps)));
+         static_cast<double>(solver_stats.force_evaluations) / static_cast<double>(std::max(1L, solver_stats.steps)));
   for (int i = 0; i < p.natural_frequencies_Hz.size(); ++i)
     scalar("natural_frequency/" + std::to_string(i), "Hz", "natural frequency of the linearized time-averaged model",
            p.natural_frequencies_Hz(i));

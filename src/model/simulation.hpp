@@ -81,7 +81,6 @@ struct Integration {
   const SimulationConfig& c;
   dynamics::NewmarkSolver solver;
   dynamics::NewmarkState st;
-  long steps = 0;  ///< time steps so far (the solver counts its force evaluations)
 
   Integration(PreparedStage& prep, const SimulationConfig& cfg)
       : p(prep), c(cfg), solver(*prep.dynamics, prep.time_step_s, {cfg.solver.newmark_beta, cfg.solver.newmark_gamma},
@@ -90,7 +89,6 @@ struct Integration {
   void step() {
     solver.step(st);
     p.dynamics->set_roll_reference(st.q);
-    ++steps;
   }
 };
 
