@@ -78,12 +78,6 @@ std::string toml_float(double v) {
   return std::string(buf.data(), end);
 }
 
-const model::Scalar* find_scalar(const model::SimulationResult& r, const std::string& name) {
-  for (const auto& s : r.scalars)
-    if (s.name == name) return &s;
-  return nullptr;
-}
-
 } // namespace
 
 std::string version_string() { return std::string("planetwear ") + std::string(io::software_version()); }
@@ -126,19 +120,19 @@ int run_simulate(const SimulateOptions& o) {
   h5.commit();
   const double t_write = seconds_since(t2);
   if (!o.common.quiet) {
-    const auto* fm = find_scalar(result, "mesh_frequency");
-    const auto* dt = find_scalar(result, "time_step");
+    const auto* fm = result.find_scalar("mesh_frequency");
+    const auto* dt = result.find_scalar("time_step");
     std::fprintf(stderr,
                  "wrote %s: %zu samples x %zu channels every %.3g s (time step %.3g s), mesh frequency %.4g Hz, "
                  "wall time %.2f s (simulate %.2f s, spectra %.2f s, write %.2f s)\n",
                  o.output.c_str(), result.time_s.size(), result.channels.size(), result.time_step_s,
                  dt ? dt->value : 0.0, fm ? fm->value : 0.0, seconds_since(t0), t_sim, t_spectra, t_write);
-    const auto* residual = find_scalar(result, "periodicity_residual");
-    if (residual && !(residual->value <= config.solver.periodicity_tolerance))
+    const model::Scalar* residual = result.find_scalar("periodicity_residual");
+    if (!reached_steady_state(config, result))
       std::fprintf(stderr,
                    "warning: the warm-up did not reach a steady state (periodicity residual %.3g > "
                    "solver.periodicity_tolerance %.3g): the recording is of a transient\n",
-                   residual->value, config.solver.periodicity_tolerance);
+                   residual ? residual->value : NAN, config.solver.periodicity_tolerance);
     const model::WearHistory& w = result.wear;
     if (!w.mesh_cycles.empty())
       std::fprintf(stderr, "wear: %zu updates to %.6g mesh cycles\n", w.mesh_cycles.size() - 1, w.mesh_cycles.back());

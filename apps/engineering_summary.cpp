@@ -1,5 +1,7 @@
 #include "engineering_summary.hpp"
 
+#include "core/format.hpp"
+
 #include <algorithm>
 #include <cstdio>
 #include <limits>
@@ -10,15 +12,8 @@ namespace pw::app {
 namespace {
 
 double scalar_or_nan(const model::SimulationResult& r, const std::string& name) {
-  for (const auto& s : r.scalars)
-    if (s.name == name) return s.value;
-  return std::numeric_limits<double>::quiet_NaN();
-}
-
-std::string fmt(const char* f, double v) {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, f, v);
-  return buf;
+  const model::Scalar* s = r.find_scalar(name);
+  return s ? s->value : std::numeric_limits<double>::quiet_NaN();
 }
 
 void mesh_table(std::string& o, const model::SimulationResult& r, double allowable_Pa) {
@@ -68,6 +63,10 @@ void wear_table(std::string& o, const model::WearHistory& w) {
 
 } // namespace
 
+bool reached_steady_state(const model::SimulationConfig& c, const model::SimulationResult& r) {
+  return scalar_or_nan(r, "periodicity_residual") <= c.solver.periodicity_tolerance;
+}
+
 std::string engineering_summary(const model::SimulationConfig& c, const model::SimulationResult& r,
                                 double allowable_Pa) {
   std::string o = "# Engineering summary\n\n";
@@ -77,7 +76,7 @@ std::string engineering_summary(const model::SimulationConfig& c, const model::S
        std::to_string(c.stage.planet_count) + " planets. Loads over the recorded " +
        fmt("%.0f", static_cast<double>(c.solver.record_mesh_cycles)) + " mesh periods, every time step.\n\n";
   const double residual = scalar_or_nan(r, "periodicity_residual");
-  if (!(residual <= c.solver.periodicity_tolerance))
+  if (!reached_steady_state(c, r))
     o += "**Warning: not a steady state.** The warm-up stopped after " +
          fmt("%.0f", scalar_or_nan(r, "warmup_mesh_cycles")) + " mesh periods with a periodicity residual of " +
          fmt("%.3g", residual) + " (solver.periodicity_tolerance " + fmt("%.3g", c.solver.periodicity_tolerance) +

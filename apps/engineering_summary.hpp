@@ -22,6 +22,10 @@ inline constexpr double kDefaultAllowableContactStressPa = 1.5e9;
 /// planet, the efficiency; for wear runs the largest wear depth per flank family
 /// and where, the backlash growth and why the run stopped early (if it did).
 /// Units: N, MPa, um, mm -- one unit per quantity, named in each header.
+/// The warm-up ended in a steady state: the result's periodicity_residual is within
+/// solver.periodicity_tolerance (else the recording is of a transient).
+bool reached_steady_state(const model::SimulationConfig& config, const model::SimulationResult& result);
+
 std::string engineering_summary(const model::SimulationConfig& config, const model::SimulationResult& result,
                                 double allowable_contact_stress_Pa);
 
