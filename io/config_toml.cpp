@@ -1,17 +1,18 @@
 // TOML <-> SimulationConfig.
 //
-// One schema, four uses: visit_config() lists every key once (section, name,
-// field reference, doc string) and is run with
+// One schema (config::visit_config, src/config/schema.hpp: every key once, with
+// its section, name, field reference and doc string), four uses here, run with
 //  * Reader    - file -> config (type checks, unknown keys per section),
 //  * Writer    - config -> TOML text (to_toml),
 //  * Setter    - one "key = value" -> config (apply_override),
 //  * KeyLister - the list of keys, their defaults and the allowed keys of each
 //                section (unknown-key detection, suggestions, config_keys()).
-// Adding a field to model::SimulationConfig means adding one line here (plus
+// Adding a field to model::SimulationConfig means adding one line to the schema (plus
 // config/seed.toml and docs/config.md; tests/io/config_toml_test.cpp checks
 // both against config_keys()).
 #include "io/config_toml.hpp"
 
+#include "config/schema.hpp"
 #include "io/io_error.hpp"
 #include "model/validate.hpp"
 
@@ -42,6 +43,8 @@ using model::ModelLevel;
 using model::SensorWindow;
 using model::SimulationConfig;
 using model::ToothModifier;
+using config::visit_config;
+using config::visit_tooth;
 
 // ---------------------------------------------------------------------------
 // Enumerations as strings.
@@ -248,146 +251,6 @@ T convert(const toml::node& n, const std::string& key, const Origin& origin) {
                                          guess.empty() ? "" : "; did you mean \"" + guess + "\"?", " (",
                                          origin.at(n), ")"));
   }
-}
-
-// ---------------------------------------------------------------------------
-// The schema: every key, once, in file order.
-
-template <class V, class Gear>
-void visit_gear(V& v, std::string_view section, Gear& g) {
-  v.section(section);
-  v.field("teeth", g.teeth, "number of teeth z [-]");
-  v.field("module_m", g.module_m, "module m [m]");
-  v.angle("pressure_angle_rad", "pressure_angle_deg", g.pressure_angle_rad, "reference pressure angle alpha0 [rad]");
-  v.field("profile_shift", g.profile_shift, "profile shift coefficient x, ISO 21771 [-]");
-  v.field("addendum_coef", g.addendum_coef, "addendum coefficient h_a* [-]");
-  v.field("dedendum_coef", g.dedendum_coef, "dedendum coefficient h_f* [-]");
-  v.field("root_fillet_coef", g.root_fillet_coef, "root fillet radius coefficient rho_f* [-]");
-  v.field("face_width_m", g.face_width_m, "face width b [m]");
-  v.field("youngs_modulus_Pa", g.material.youngs_modulus_Pa, "Young's modulus E [Pa]");
-  v.field("shear_modulus_Pa", g.material.shear_modulus_Pa, "shear modulus G [Pa]");
-  v.field("poisson_ratio", g.material.poisson_ratio, "Poisson's ratio nu [-]");
-  v.field("density_kg_m3", g.material.density_kg_m3, "density rho [kg/m^3]");
-}
-
-template <class V, class Tooth>
-void visit_tooth(V& v, Tooth& t) {
-  v.field("body", t.body, "gear carrying the tooth: \"sun\", \"planet\" or \"ring\"");
-  v.field("planet", t.planet, "planet index, 0-based (body = \"planet\" only; else 0) [-]");
-  v.field("tooth", t.tooth, "tooth index, 0-based (docs/derivation.md 1.4) [-]");
-  v.field("stiffness_factor", t.stiffness_factor, "multiplies the tooth's mesh stiffness, (0, 1] [-]");
-  v.field("profile_deviation_m", t.profile_deviation_m, "extra profile deviation of the loaded flank, >= 0 [m]");
-}
-
-template <class V, class Config>
-void visit_config(V& v, Config& c) {
-  v.section("stage");
-  v.field("planet_count", c.stage.planet_count, "number of planets N [-]");
-  v.field("planet_angles_rad", c.stage.planet_angles_rad, "planet angles psi_i [rad]; [] = equally spaced");
-  v.field("carrier_inertia_kgm2", c.stage.carrier_inertia_kgm2, "carrier inertia without planets [kg m^2]; 0 = derived");
-  v.field("carrier_mass_kg", c.stage.carrier_mass_kg, "carrier mass without planets [kg]; 0 = derived");
-  v.field("input_inertia_kgm2", c.stage.input_inertia_kgm2,
-          "inertia on the input shaft besides the sun (motor, coupling) [kg m^2]");
-  v.field("output_inertia_kgm2", c.stage.output_inertia_kgm2,
-          "inertia on the output shaft besides the carrier (load machine) [kg m^2]");
-  v.field("bore_ratio", c.stage.bore_ratio, "bore radius / root radius of sun and planets [-]");
-  visit_gear(v, "stage.sun", c.stage.sun);
-  visit_gear(v, "stage.planet", c.stage.planet);
-  visit_gear(v, "stage.ring", c.stage.ring);
-
-  v.section("operating");
-  v.field("input_speed_rpm", c.operating.input_speed_rpm, "sun speed [rpm]");
-  v.field("input_power_W", c.operating.input_power_W, "sun input power [W]");
-
-  v.section("stiffness");
-  v.field("samples_per_pair", c.stiffness.samples_per_pair, "roll positions per tooth-pair contact [-]");
-  v.field("include_fillet_foundation", c.stiffness.include_fillet_foundation, "include the fillet-foundation term");
-  v.field("scale", c.stiffness.scale, "multiplies every computed mesh stiffness [-]");
-
-  v.section("contact");
-  v.field("friction_coefficient", c.contact.friction_coefficient, "friction coefficient mu [-]");
-  v.field("friction_smoothing_m_s", c.contact.friction_smoothing_m_s, "sliding speed smoothing sgn(v) [m/s]");
-  v.field("mesh_damping_ratio", c.contact.mesh_damping_ratio, "viscous mesh damping ratio zeta [-]");
-  v.field("backlash_sun_planet_m", c.contact.backlash_sun_planet_m, "sun-planet backlash along the LOA [m]");
-  v.field("backlash_planet_ring_m", c.contact.backlash_planet_ring_m, "planet-ring backlash along the LOA [m]");
-  v.field("mesh_error_sun_planet_m", c.contact.mesh_error_sun_planet_m, "sun-planet profile error e_sp [m]");
-  v.field("mesh_error_planet_ring_m", c.contact.mesh_error_planet_ring_m, "planet-ring profile error e_pr [m]");
-
-  v.section("imperfections");
-  v.field("pin_error_m", c.imperfections.pin_error_m, "tangential pin position error per planet [m]; [] = none");
-  v.field("sun_eccentricity_m", c.imperfections.sun_eccentricity_m, "sun runout [m]");
-  v.field("sun_eccentricity_phase_rad", c.imperfections.sun_eccentricity_phase_rad, "sun runout phase [rad]");
-  v.field("carrier_eccentricity_m", c.imperfections.carrier_eccentricity_m, "carrier runout [m]");
-  v.field("carrier_eccentricity_phase_rad", c.imperfections.carrier_eccentricity_phase_rad,
-          "carrier runout phase [rad]");
-  v.field("torque_ripple_fraction", c.imperfections.torque_ripple_fraction, "input torque ripple / mean [-]");
-  v.field("torque_ripple_order", c.imperfections.torque_ripple_order, "ripple frequency / sun speed [-]");
-  v.field("worn_profile_depth_m", c.imperfections.worn_profile_depth_m,
-          "pre-existing Archard-shaped worn profile on every flank, largest depth [m]; 0 = none");
-  // Last in its section: Writer emits [[imperfections.teeth]] tables here.
-  v.teeth("teeth", c.imperfections.teeth, "damaged or modified teeth; [] = none");
-
-  v.section("bearings");
-  v.field("sun_N_m", c.bearings.sun_N_m, "sun bearing stiffness k_s [N/m]");
-  v.field("carrier_N_m", c.bearings.carrier_N_m, "carrier bearing stiffness k_c [N/m]");
-  v.field("ring_N_m", c.bearings.ring_N_m, "ring support stiffness k_r [N/m]");
-  v.field("planet_N_m", c.bearings.planet_N_m, "planet bearing stiffness k_p [N/m]");
-  v.field("ring_torsional_N_m", c.bearings.ring_torsional_N_m, "ring torsional support k_ru [N/m]");
-
-  v.section("solver");
-  v.field("level", c.solver.level, "model: \"torsional\" or \"lateral_torsional\"");
-  v.field("time_step_s", c.solver.time_step_s, "time step [s]; 0 = automatic");
-  v.field("min_steps_per_mesh", c.solver.min_steps_per_mesh, "automatic step: steps per mesh period [-]");
-  v.field("steps_per_mode_period", c.solver.steps_per_mode_period, "automatic step: steps per shortest mode period [-]");
-  v.field("newmark_beta", c.solver.newmark_beta, "Newmark beta [-]");
-  v.field("newmark_gamma", c.solver.newmark_gamma, "Newmark gamma [-]");
-  v.field("newton_tolerance", c.solver.newton_tolerance, "Newton relative residual tolerance [-]");
-  v.field("newton_max_iterations", c.solver.newton_max_iterations, "Newton iteration limit [-]");
-  v.field("warmup_max_mesh_cycles", c.solver.warmup_max_mesh_cycles, "warm-up limit [mesh periods]");
-  v.field("periodicity_tolerance", c.solver.periodicity_tolerance, "steady-state criterion [-]");
-  v.field("record_mesh_cycles", c.solver.record_mesh_cycles, "recorded mesh periods after warm-up [-]");
-  v.field("engagement_smoothing", c.solver.engagement_smoothing,
-          "true: tooth pairs enter and leave contact over one time step (sub-step engagement instant)");
-
-  v.section("wear");
-  v.field("mesh_cycles", c.wear.mesh_cycles, "mesh cycles to wear the stage through [-]; 0 = no wear (seed: 2e5)");
-  v.field("coefficient_m2_N", c.wear.coefficient_m2_N,
-          "dimensional wear coefficient kappa = K/H [m^2/N]; ignored when archard_K > 0");
-  v.field("archard_K", c.wear.archard_K, "dimensionless Archard K [-]; > 0: kappa = archard_K / hardness_Pa");
-  v.field("hardness_Pa", c.wear.hardness_Pa, "hardness H of the softer flank [Pa] (used with archard_K)");
-  v.field("elements_per_flank", c.wear.elements_per_flank, "microelements over each active flank [-]");
-  v.field("window_mesh_cycles", c.wear.window_mesh_cycles,
-          "dynamic window per wear update [mesh cycles]; 0 = automatic");
-  v.field("max_increment_fraction", c.wear.max_increment_fraction,
-          "largest wear increment per update / static sun-mesh deflection [-]");
-  v.field("max_wear_fraction_of_thickness", c.wear.max_wear_fraction_of_thickness,
-          "stop when a flank's wear exceeds this fraction of the chordal tooth thickness [-]");
-  v.field("snapshot_mesh_cycles", c.wear.snapshot_mesh_cycles,
-          "mesh cycles at which dynamic snapshots are stored [-]; [] = first and last");
-  v.field("snapshot_record_mesh_cycles", c.wear.snapshot_record_mesh_cycles,
-          "mesh cycles each dynamic snapshot records [-]");
-
-  v.section("sensor");
-  v.field("angle_rad", c.sensor.angle_rad, "housing accelerometer angle phi_s, CCW from planet 0 at t = 0 [rad]");
-  v.field("gain_m_s2_per_N", c.sensor.gain_m_s2_per_N, "transfer gain mesh force -> housing acceleration [m/s^2/N]");
-  v.field("window_width_rad", c.sensor.window_width_rad, "transfer-path window width sigma [rad]");
-  v.field("window", c.sensor.window, "window shape: \"gaussian\" or \"hann\"");
-  v.field("encoder_bandwidth_Hz", c.sensor.encoder_bandwidth_Hz,
-          "-3 dB bandwidth of the speed encoders' Butterworth low-pass (sun/speed, carrier/speed) [Hz]; 0 = ideal");
-  v.field("encoder_filter_order", c.sensor.encoder_filter_order, "order of the encoder low-pass, 1 or 2 [-]");
-
-  v.section("rig");
-  v.field("input_control", c.rig.input_control,
-          "input machine: \"power\" (constant power P/w, the seed's) or \"torque\" (constant torque)");
-  v.field("input_shaft_stiffness_N_m_rad", c.rig.input_shaft_stiffness_N_m_rad,
-          "shaft from the motor (stage.input_inertia_kgm2) to the sun [N m/rad]; 0 = rigid");
-  v.field("input_shaft_damping_N_m_s_rad", c.rig.input_shaft_damping_N_m_s_rad, "input shaft damping [N m s/rad]");
-  v.field("load_control", c.rig.load_control,
-          "load machine: \"torque\" (constant torque holding the mean speed) or \"speed\" (ideal speed control)");
-  v.field("output_shaft_stiffness_N_m_rad", c.rig.output_shaft_stiffness_N_m_rad,
-          "shaft from the carrier to the load machine [N m/rad]; 0 = rigid; > 0 with load_control = \"speed\"");
-  v.field("output_shaft_damping_N_m_s_rad", c.rig.output_shaft_damping_N_m_s_rad,
-          "output shaft damping [N m s/rad]");
 }
 
 constexpr std::string_view kTeethElement = "imperfections.teeth[]";

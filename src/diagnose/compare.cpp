@@ -1,5 +1,7 @@
 #include "diagnose/compare.hpp"
 
+#include "config/schema.hpp"
+
 #include "core/error.hpp"
 #include "core/statistics.hpp"
 #include "model/simulation.hpp"
@@ -13,57 +15,58 @@
 #include <cmath>
 #include <cstdio>
 #include <random>
+#include <string_view>
+#include <type_traits>
 
 namespace pw::diagnose {
 
+namespace {
+/// Appends every value of the schema (config/schema.hpp) to one string: two
+/// configurations share a key exactly when every key has the same value.
+class CacheKeyBuilder {
+public:
+  std::string key;
+
+  void section(std::string_view path) {
+    key += '[';
+    key += path;
+    key += ']';
+  }
+  template <class T>
+  void field(std::string_view /*key*/, const T& value, std::string_view /*doc*/) {
+    using U = std::remove_cv_t<T>;
+    if constexpr (std::is_same_v<U, std::vector<double>>) {
+      key += '(';
+      for (double v : value) append(v);
+      key += ')';
+    } else {
+      append(static_cast<double>(value));  // bool, int, enumeration, double
+    }
+  }
+  void angle(std::string_view key_rad, std::string_view /*key_deg*/, const double& value_rad, std::string_view doc) {
+    field(key_rad, value_rad, doc);
+  }
+  void teeth(std::string_view /*key*/, const std::vector<model::ToothModifier>& teeth, std::string_view /*doc*/) {
+    for (const auto& t : teeth) {
+      key += '{';
+      config::visit_tooth(*this, t);
+      key += '}';
+    }
+  }
+
+private:
+  void append(double v) {
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%.17g,", v);  // round-trip exact
+    key += buf;
+  }
+};
+} // namespace
+
 std::string builtin_config_key(const model::SimulationConfig& c) {
-  char buf[64];
-  std::string k;
-  auto add = [&](double v) {
-    std::snprintf(buf, sizeof buf, "%.17g,", v);
-    k += buf;
-  };
-  const auto& s = c.stage;
-  for (const auto* g : {&s.sun, &s.planet, &s.ring}) {
-    add(g->teeth); add(g->module_m); add(g->pressure_angle_rad); add(g->profile_shift); add(g->addendum_coef);
-    add(g->dedendum_coef); add(g->root_fillet_coef); add(g->face_width_m);
-    add(g->material.youngs_modulus_Pa); add(g->material.shear_modulus_Pa); add(g->material.poisson_ratio);
-    add(g->material.density_kg_m3);
-  }
-  add(s.planet_count); for (double a : s.planet_angles_rad) add(a);
-  add(s.carrier_inertia_kgm2); add(s.carrier_mass_kg); add(s.bore_ratio);
-  add(s.input_inertia_kgm2); add(s.output_inertia_kgm2);
-  add(c.operating.input_speed_rpm); add(c.operating.input_power_W);
-  add(c.stiffness.samples_per_pair); add(c.stiffness.include_fillet_foundation); add(c.stiffness.scale);
-  const auto& ct = c.contact;
-  add(ct.friction_coefficient); add(ct.friction_smoothing_m_s); add(ct.mesh_damping_ratio);
-  add(ct.backlash_sun_planet_m); add(ct.backlash_planet_ring_m); add(ct.mesh_error_sun_planet_m);
-  add(ct.mesh_error_planet_ring_m);
-  const auto& im = c.imperfections;
-  k += "|";
-  for (double e : im.pin_error_m) add(e);
-  add(im.sun_eccentricity_m); add(im.sun_eccentricity_phase_rad); add(im.carrier_eccentricity_m);
-  add(im.carrier_eccentricity_phase_rad); add(im.torque_ripple_fraction); add(im.torque_ripple_order);
-  add(im.worn_profile_depth_m);
-  for (const auto& t : im.teeth) {
-    add(static_cast<int>(t.body)); add(t.planet); add(t.tooth); add(t.stiffness_factor); add(t.profile_deviation_m);
-  }
-  k += "|";
-  const auto& b = c.bearings;
-  add(b.sun_N_m); add(b.carrier_N_m); add(b.ring_N_m); add(b.planet_N_m); add(b.ring_torsional_N_m);
-  const auto& v = c.solver;
-  add(static_cast<int>(v.level)); add(v.time_step_s); add(v.min_steps_per_mesh); add(v.steps_per_mode_period);
-  add(v.newmark_beta); add(v.newmark_gamma); add(v.newton_tolerance); add(v.newton_max_iterations);
-  add(v.warmup_max_mesh_cycles); add(v.periodicity_tolerance); add(v.record_mesh_cycles); add(v.engagement_smoothing);
-  k += "|";
-  add(c.sensor.angle_rad); add(c.sensor.gain_m_s2_per_N); add(c.sensor.window_width_rad);
-  add(static_cast<int>(c.sensor.window)); add(c.sensor.encoder_bandwidth_Hz); add(c.sensor.encoder_filter_order);
-  k += "|";
-  const auto& rg = c.rig;
-  add(static_cast<int>(rg.input_control)); add(rg.input_shaft_stiffness_N_m_rad); add(rg.input_shaft_damping_N_m_s_rad);
-  add(static_cast<int>(rg.load_control)); add(rg.output_shaft_stiffness_N_m_rad);
-  add(rg.output_shaft_damping_N_m_s_rad);
-  return k;
+  CacheKeyBuilder builder;
+  config::visit_config(builder, c);
+  return builder.key;
 }
 
 namespace {

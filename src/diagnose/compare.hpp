@@ -246,7 +246,8 @@ private:
   mutable double sim_seconds_ = 0;
 };
 
-/// Built-in cache key: every configuration field the diagnosis can vary.
+/// Built-in simulation cache key: every key of the configuration schema
+/// (config/schema.hpp) with its value, so no key can be left out of it.
 std::string builtin_config_key(const model::SimulationConfig& c);
 
 } // namespace pw::diagnose

@@ -4,6 +4,7 @@
 // error along the carrier tangent
 // e_t = (-sin psi, cos psi), the eccentricity by one vector (x, y) whose
 // tangential part at planet i is -x sin psi_i + y cos psi_i.
+#include "config/schema.hpp"
 #include "diagnose/candidates/candidate.hpp"
 #include "diagnose/kinematics.hpp"
 #include "io/config_toml.hpp"
@@ -195,6 +196,45 @@ TEST(Candidates, DampingScreenStepStaysInsideTheKeysRangeAtItsTop) {
   EXPECT_LE(p[0].screen_value, 1.0);
   EXPECT_LE(p[0].upper, 1.0);
   EXPECT_NE(p[0].screen_value, p[0].null_value);
+}
+
+// Every candidate of the library writes its parameters and its `--set` lines from
+// one key name (set_parameter over the configuration schema): reading the lines
+// back through the configuration reader gives the configuration apply() made,
+// key for key: exactly, apart from derived values (a runout's magnitude and phase
+// from its x, y), which the lines hold to format_value's 9 significant digits.
+TEST(Candidates, EveryCandidatesSetLinesReproduceTheConfigurationItsApplyWrites) {
+  model::SimulationConfig base = stage(3);
+  const ToothMap map(base);
+  for (const auto& cand : candidate_library()) {
+    SCOPED_TRACE(cand->name());
+    const auto specs = cand->parameters(base);
+    ASSERT_FALSE(specs.empty());
+    std::vector<double> x;
+    for (const auto& p : specs) {
+      const double v = p.lower + 0.375 * (p.upper - p.lower);
+      x.push_back(std::stod(format_value(v)));  // a value the --set line holds exactly
+    }
+    const auto variants = cand->variants(LocatedEvidence{}, base, map);
+    ASSERT_FALSE(variants.empty());
+    model::SimulationConfig applied = base;
+    std::vector<std::string> overrides;
+    cand->apply(applied, variants.front(), x, &overrides);
+    EXPECT_FALSE(overrides.empty());
+    model::SimulationConfig reproduced = base;
+    for (const auto& o : overrides) {
+      const auto eq = o.find('=');
+      io::apply_override(reproduced, o.substr(0, eq), o.substr(eq + 1));
+    }
+    for (const auto& key : io::config_keys()) {
+      double* got = config::find_number(reproduced, key.path);
+      double* want = config::find_number(applied, key.path);
+      if (!got) continue;
+      EXPECT_NEAR(*got, *want, 5e-9 * std::abs(*want)) << key.path;  // half a unit of the 9th digit
+      *got = *want;
+    }
+    EXPECT_EQ(io::to_toml(reproduced), io::to_toml(applied));  // every other key exactly
+  }
 }
 
 } // namespace

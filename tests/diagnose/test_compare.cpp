@@ -6,15 +6,18 @@
 // 333.5 Hz, carrier revolution 0.243 s), 3.2 carrier revolutions at 10 kHz; a
 // sun-speed channel (constant + white noise) and a sun-planet mesh
 // acceleration made of 8 mesh harmonics plus white noise.
+#include "core/error.hpp"
 #include "diagnose/compare.hpp"
 #include "diagnose/kinematics.hpp"
 #include "diagnose/stage_1200rpm.hpp"
+#include "io/config_toml.hpp"
 
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <numbers>
 #include <random>
+#include <string>
 
 namespace pw::diagnose {
 namespace {
@@ -103,6 +106,48 @@ TEST(Compare, DriftColumnTakesALinearAngleReferenceErrorWithItsSignAndSizeAndRem
       EXPECT_LT(b.chi2 - c.chi2, 0.5 * leak) << drift_in_sd << " sd, window " << w;
     }
   }
+}
+
+// The simulation cache key is derived from the configuration schema: any one
+// key changed gives another key (a stale key would reuse the simulation of a
+// different configuration). Every key of io::config_keys() is changed in turn
+// through the reader's own --set path, so a key the cache key missed fails here.
+TEST(Compare, BuiltinCacheKeyChangesWhenAnyOneKeyOfTheSchemaChanges) {
+  model::SimulationConfig base{};
+  io::apply_override(base, "imperfections.teeth[0].tooth", "1");  // one tooth modifier to vary
+  const std::string base_key = builtin_config_key(base);
+  const std::string base_toml = io::to_toml(base);
+  const std::vector<std::string> enum_names{"torsional", "lateral_torsional", "gaussian", "hann", "power",
+                                            "torque",    "speed",             "sun",      "planet", "ring"};
+  int changed = 0;
+  for (const auto& key : io::config_keys()) {
+    std::string path = key.path;
+    const auto element = path.find("[]");
+    if (element != std::string::npos) path.replace(element, 2, "[0]");
+    std::vector<std::string> values;
+    if (key.type == "float") values = {"0.987654321", "1.5"};
+    else if (key.type == "integer") values = {"7", "2"};
+    else if (key.type == "boolean") values = {"true", "false"};
+    else if (key.type == "array of floats") values = {"[0.5]"};
+    else if (key.type == "string") values = enum_names;
+    else if (key.type == "array of tables") values = {"[{body=\"ring\",tooth=3,stiffness_factor=0.5}]"};
+    bool varied = false;
+    for (const auto& v : values) {
+      model::SimulationConfig c = base;
+      try {
+        io::apply_override(c, path, v);
+      } catch (const InputError&) {
+        continue;  // not a value of this key (an enumeration's other names)
+      }
+      if (io::to_toml(c) == base_toml) continue;  // the value it already had
+      EXPECT_NE(builtin_config_key(c), base_key) << path << " = " << v;
+      varied = true;
+      break;
+    }
+    EXPECT_TRUE(varied) << "no value changed " << path;
+    changed += varied;
+  }
+  EXPECT_EQ(changed, static_cast<int>(io::config_keys().size()));
 }
 
 } // namespace

@@ -1,6 +1,7 @@
 // TOML configuration: defaults, strictness (unknown keys, types, ranges),
 // exact round trip, command-line overrides, and the checked-in sample.
 #include "io/config_toml.hpp"
+#include "config/schema.hpp"
 #include "io/io_error.hpp"
 #include "model/validate.hpp"
 
@@ -430,6 +431,34 @@ TEST(ConfigToml, OverridesAreValidatedOnceAfterTheLast) {
   test::expect_config_eq(d, model::SimulationConfig{});
 
   EXPECT_TRUE(thrown<InputError>([&] { apply_overrides(d, {"operating.input_speed_rpm"}); }));
+}
+
+// config::find_number (config/schema.hpp), through which the diagnosis's
+// candidates write their parameters, reaches exactly the schema's float keys,
+// and each one is the field the reader fills for that key.
+TEST(ConfigToml, FindNumberReachesEveryFloatKeyAsTheReaderFillsItAndNoOtherKey) {
+  int floats = 0;
+  for (const auto& key : io::config_keys()) {
+    model::SimulationConfig via_finder{};
+    double* field = config::find_number(via_finder, key.path);
+    const bool is_float = key.type == "float" && key.path.find("[]") == std::string::npos &&
+                          key.path.find("_deg") == std::string::npos;
+    if (!is_float) {
+      EXPECT_EQ(field, nullptr) << key.path;
+      continue;
+    }
+    ASSERT_NE(field, nullptr) << key.path;
+    ++floats;
+    *field = 0.123456789;
+    model::SimulationConfig via_reader{};
+    io::apply_override(via_reader, key.path, "0.123456789");
+    EXPECT_EQ(io::to_toml(via_finder), io::to_toml(via_reader)) << key.path;
+  }
+  EXPECT_GT(floats, 50);
+  model::SimulationConfig c{};
+  EXPECT_EQ(config::find_number(c, "contact.friction"), nullptr);
+  EXPECT_EQ(config::find_number(c, "friction_coefficient"), nullptr);
+  EXPECT_EQ(config::find_number(c, ""), nullptr);
 }
 
 } // namespace

@@ -40,12 +40,8 @@ public:
   }
   void apply(model::SimulationConfig& c, const Variant&, std::span<const double> x,
              std::vector<std::string>* o) const override {
-    c.contact.backlash_sun_planet_m = x[0];
-    c.contact.backlash_planet_ring_m = x[1];
-    if (o) {
-      o->push_back("contact.backlash_sun_planet_m=" + format_value(x[0]));
-      o->push_back("contact.backlash_planet_ring_m=" + format_value(x[1]));
-    }
+    set_parameter(c, "contact.backlash_sun_planet_m", x[0], o);
+    set_parameter(c, "contact.backlash_planet_ring_m", x[1], o);
   }
 };
 } // namespace

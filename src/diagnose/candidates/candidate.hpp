@@ -18,6 +18,7 @@
 #include <memory>
 #include <span>
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace pw::diagnose {
@@ -119,5 +120,13 @@ const Candidate* find_candidate(const std::string& name);
 
 /// "%.9g" of a double, for override strings.
 std::string format_value(double v);
+
+/// Writes `value` to the floating-point configuration key `key` (a key path of
+/// the schema, config/schema.hpp: "contact.friction_coefficient") and, if
+/// `overrides` is given, appends the `key=value` line (--set) that reproduces it.
+/// The field and its --set line come from one name, so they cannot disagree.
+/// Throws std::logic_error for a key the schema does not have (a programming error).
+void set_parameter(model::SimulationConfig& c, std::string_view key, double value,
+                   std::vector<std::string>* overrides);
 
 } // namespace pw::diagnose

@@ -25,8 +25,7 @@ public:
   }
   void apply(model::SimulationConfig& c, const Variant&, std::span<const double> x,
              std::vector<std::string>* o) const override {
-    c.contact.mesh_damping_ratio = x[0];
-    if (o) o->push_back("contact.mesh_damping_ratio=" + format_value(x[0]));
+    set_parameter(c, "contact.mesh_damping_ratio", x[0], o);
   }
 };
 } // namespace

@@ -55,8 +55,7 @@ public:
   }
   void apply(model::SimulationConfig& c, const Variant&, std::span<const double> x,
              std::vector<std::string>* o) const override {
-    c.sensor.encoder_bandwidth_Hz = x[0];
-    if (o) o->push_back("sensor.encoder_bandwidth_Hz=" + format_value(x[0]));
+    set_parameter(c, "sensor.encoder_bandwidth_Hz", x[0], o);
   }
 };
 

@@ -18,8 +18,7 @@ public:
   }
   void apply(model::SimulationConfig& c, const Variant&, std::span<const double> x,
              std::vector<std::string>* o) const override {
-    c.contact.friction_coefficient = x[0];
-    if (o) o->push_back("contact.friction_coefficient=" + format_value(x[0]));
+    set_parameter(c, "contact.friction_coefficient", x[0], o);
   }
 };
 } // namespace

@@ -3,9 +3,12 @@
 #include "diagnose/candidates/candidate.hpp"
 #include "diagnose/candidates/factories.hpp"
 
+#include "config/schema.hpp"
+
 #include <numbers>
 
 #include <cstdio>
+#include <stdexcept>
 
 namespace pw::diagnose {
 
@@ -18,6 +21,14 @@ std::string format_value(double v) {
   char buf[40];
   std::snprintf(buf, sizeof buf, "%.9g", v);
   return buf;
+}
+
+void set_parameter(model::SimulationConfig& c, std::string_view key, double value,
+                   std::vector<std::string>* overrides) {
+  double* field = config::find_number(c, key);
+  if (!field) throw std::logic_error("set_parameter: '" + std::string(key) + "' is not a floating-point key");
+  *field = value;
+  if (overrides) overrides->push_back(std::string(key) + "=" + format_value(value));
 }
 
 const std::vector<std::unique_ptr<Candidate>>& candidate_library() {

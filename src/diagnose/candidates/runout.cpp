@@ -54,17 +54,8 @@ public:
     const double e = sun_ ? x[0] : std::hypot(x[0], x[1]);
     const double phi = sun_ || e == 0 ? 0.0 : std::atan2(x[1], x[0]);
     const std::string p = sun_ ? "imperfections.sun_eccentricity" : "imperfections.carrier_eccentricity";
-    if (sun_) {
-      c.imperfections.sun_eccentricity_m = e;
-      c.imperfections.sun_eccentricity_phase_rad = phi;
-    } else {
-      c.imperfections.carrier_eccentricity_m = e;
-      c.imperfections.carrier_eccentricity_phase_rad = phi;
-    }
-    if (o) {
-      o->push_back(p + "_m=" + format_value(e));
-      o->push_back(p + "_phase_rad=" + format_value(phi));
-    }
+    set_parameter(c, p + "_m", e, o);
+    set_parameter(c, p + "_phase_rad", phi, o);
   }
 
 private:

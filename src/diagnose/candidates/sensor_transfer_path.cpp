@@ -20,8 +20,7 @@ public:
   }
   void apply(model::SimulationConfig& c, const Variant&, std::span<const double> x,
              std::vector<std::string>* o) const override {
-    c.sensor.window_width_rad = x[0];
-    if (o) o->push_back("sensor.window_width_rad=" + format_value(x[0]));
+    set_parameter(c, "sensor.window_width_rad", x[0], o);
   }
 };
 } // namespace

@@ -19,8 +19,7 @@ public:
   }
   void apply(model::SimulationConfig& c, const Variant&, std::span<const double> x,
              std::vector<std::string>* o) const override {
-    c.stiffness.scale = x[0];
-    if (o) o->push_back("stiffness.scale=" + format_value(x[0]));
+    set_parameter(c, "stiffness.scale", x[0], o);
   }
 };
 } // namespace

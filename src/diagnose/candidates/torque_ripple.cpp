@@ -37,12 +37,8 @@ public:
   }
   void apply(model::SimulationConfig& c, const Variant& v, std::span<const double> x,
              std::vector<std::string>* o) const override {
-    c.imperfections.torque_ripple_fraction = x[0];
-    c.imperfections.torque_ripple_order = v.order > 0 ? v.order : 1.0;
-    if (o) {
-      o->push_back("imperfections.torque_ripple_fraction=" + format_value(x[0]));
-      o->push_back("imperfections.torque_ripple_order=" + format_value(c.imperfections.torque_ripple_order));
-    }
+    set_parameter(c, "imperfections.torque_ripple_fraction", x[0], o);
+    set_parameter(c, "imperfections.torque_ripple_order", v.order > 0 ? v.order : 1.0, o);
   }
 };
 } // namespace

@@ -18,8 +18,7 @@ public:
   }
   void apply(model::SimulationConfig& c, const Variant&, std::span<const double> x,
              std::vector<std::string>* o) const override {
-    c.imperfections.worn_profile_depth_m = x[0];
-    if (o) o->push_back("imperfections.worn_profile_depth_m=" + format_value(x[0]));
+    set_parameter(c, "imperfections.worn_profile_depth_m", x[0], o);
   }
 };
 } // namespace
