@@ -8,7 +8,7 @@
 //  * KeyLister - the list of keys, their defaults and the allowed keys of each
 //                section (unknown-key detection, suggestions, config_keys()).
 // Adding a field to model::SimulationConfig means adding one line to the schema (plus
-// config/seed.toml and docs/config.md; tests/io/config_toml_test.cpp checks
+// config/seed.toml and docs/config.md; tests/io/test_config_toml.cpp checks
 // both against config_keys()).
 #include "io/config_toml.hpp"
 
