@@ -21,6 +21,7 @@
 #include "model/memory_estimate.hpp"
 #include "model/simulation.hpp"
 #include "model/validate.hpp"
+#include "signal/decimate.hpp"
 #include "wear/simulation.hpp"
 
 #include <CLI/CLI.hpp>
@@ -72,31 +73,6 @@ void check_synth_memory(const model::SimulationConfig& config, double seconds, c
 }
 
 } // namespace
-
-std::vector<double> decimate(std::span<const double> x, int k) {
-  if (k <= 1) return {x.begin(), x.end()};
-  const int half = decimation_margin(k);
-  const double fc = 0.4 / k;  // cutoff / input sample rate
-  std::vector<double> h(2 * static_cast<std::size_t>(half) + 1);
-  double sum = 0;
-  for (int m = -half; m <= half; ++m) {
-    const double sinc = m == 0 ? 2 * fc : std::sin(2 * kPi * fc * m) / (kPi * m);
-    const double a = kPi * (m + half) / half;  // Blackman over the 2 half + 1 taps
-    const double w = 0.42 - 0.5 * std::cos(a) + 0.08 * std::cos(2 * a);
-    h[static_cast<std::size_t>(m + half)] = sinc * w;
-    sum += sinc * w;
-  }
-  for (double& c : h) c /= sum;  // unit DC gain: speeds and offsets pass unchanged
-  std::vector<double> y;
-  const std::size_t n = x.size(), H = static_cast<std::size_t>(half);
-  for (std::size_t i = H; i + H < n; i += static_cast<std::size_t>(k)) {
-    double acc = 0;
-    const double* xi = x.data() + (i - H);
-    for (std::size_t m = 0; m < h.size(); ++m) acc += h[m] * xi[m];
-    y.push_back(acc);
-  }
-  return y;
-}
 
 CLI::App* add_synth_command(CLI::App& app, SynthOptions& o) {
   CLI::App* s = app.add_subcommand(
@@ -209,6 +185,7 @@ int run_synth(const SynthOptions& o) {
   const model::Scalar* start = r.find_scalar("record_start_time");
   const double t_start = start ? start->value : 0.0;
   const std::size_t margin = static_cast<std::size_t>(decimation_margin(k));
+  const signal::DecimationFilter filter = signal::decimation_filter(k, 16);  // 2 margin + 1 taps
   std::size_t first = margin;
   if (o.start_mesh_cycle > 0) {
     // Absolute time of sample i is t_start + time_s[i].
@@ -253,8 +230,7 @@ int run_synth(const SynthOptions& o) {
     sc.planet = 0;
     sc.sensor_angle_rad = s.quantity == diagnose::Quantity::HousingAcceleration ? config.sensor.angle_rad : 0.0;
     // 4. Anti-alias filter and decimation.
-    sc.values = decimate(std::span<const double>(ch->values).subspan(first - margin), k);
-    sc.values.resize(n_out);
+    sc.values = signal::decimate(ch->values, filter, first, n_out);
     // 5. Measurement noise and accelerometer offset.
     const double rms = rms_about_mean(sc.values);
     std::normal_distribution<double> noise(0.0, o.noise * rms);

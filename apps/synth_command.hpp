@@ -46,14 +46,8 @@ CLI::App* add_synth_command(CLI::App& app, SynthOptions& options);
 
 int run_synth(const SynthOptions& options);
 
-/// Zero-phase low-pass decimation by k: a Blackman-windowed sinc of
-/// 2 decimation_margin(k) + 1 = 32k + 1 taps (cutoff 0.4 of the new sample
-/// rate, unit DC gain, stop band from about 0.5 of it) evaluated at input
-/// samples i = m, m + k, m + 2k, ... with m = decimation_margin(k), as long as
-/// the whole kernel lies inside x (no edge effects: output j is input sample
-/// m + j k). k = 1 copies x.
-std::vector<double> decimate(std::span<const double> x, int k);
-/// Input samples the filter needs on each side of an output sample: 16k (0 for k = 1).
+/// Input samples the anti-alias filter (signal::decimation_filter(k, 16): 32k + 1
+/// taps) needs on each side of an output sample: 16k (0 for k = 1).
 inline int decimation_margin(int k) { return k > 1 ? 16 * k : 0; }
 
 } // namespace pw::app

@@ -12,6 +12,7 @@
 //    control gives "no missing physics" and 20 um of backlash is named, with a
 //    lower limit of its size at or below the truth.
 #include "diagnose/diagnose.hpp"
+#include "signal/decimate.hpp"
 #include "model/simulation.hpp"
 
 #include <gtest/gtest.h>
@@ -33,30 +34,10 @@ model::SimulationConfig fast_stage() {
   return c;
 }
 
-/// Zero-phase low-pass (Blackman-windowed sinc, cutoff 0.4 of the new rate,
-/// 64 k + 1 taps: > 100 dB stop band) evaluated at every k-th sample whose
-/// kernel lies inside x.
+/// Zero-phase low-pass (signal::decimation_filter with 64 k + 1 taps) at every
+/// k-th sample from `first`.
 std::vector<double> decimate(const std::vector<double>& x, int k, std::size_t first, std::size_t count) {
-  const int half = 32 * k;
-  const double fc = 0.4 / k;
-  std::vector<double> h(2 * static_cast<std::size_t>(half) + 1);
-  double sum = 0;
-  for (int m = -half; m <= half; ++m) {
-    const double s = m == 0 ? 2 * fc : std::sin(2 * kPi * fc * m) / (kPi * m);
-    const double a = kPi * (m + half) / half;
-    const double w = 0.42 - 0.5 * std::cos(a) + 0.08 * std::cos(2 * a);
-    h[static_cast<std::size_t>(m + half)] = s * w;
-    sum += s * w;
-  }
-  for (double& c : h) c /= sum;
-  std::vector<double> y;
-  for (std::size_t j = 0; j < count; ++j) {
-    const std::size_t i = first + j * static_cast<std::size_t>(k);
-    double acc = 0;
-    for (std::size_t m = 0; m < h.size(); ++m) acc += h[m] * x[i - static_cast<std::size_t>(half) + m];
-    y.push_back(acc);
-  }
-  return y;
+  return signal::decimate(x, signal::decimation_filter(k, 32), first, count);
 }
 
 /// A recording of `truth` (`revolutions` carrier revolutions, sampled every ~sample_s,
