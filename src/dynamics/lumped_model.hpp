@@ -85,11 +85,30 @@ struct Spring {
   double damping = 0;              ///< viscous damper in parallel [N s/m] or [N m s/rad]
 };
 
+/// The two kinds of gear pair of a planetary stage.
+enum class MeshKind { SunPlanet, PlanetRing };
+
+/// One mesh of the stage by what it is: planet `planet`'s sun-planet or
+/// planet-ring mesh. Every array over meshes (LumpedStructure::meshes, the mesh
+/// states and channels) holds sun-planet i at 2i and planet-ring i at 2i + 1;
+/// of() and index() are the only places that numbering is spelled out.
+struct MeshId {
+  int planet = 0;
+  MeshKind kind = MeshKind::SunPlanet;
+
+  static constexpr MeshId of(int index) {
+    return {index / 2, index % 2 == 0 ? MeshKind::SunPlanet : MeshKind::PlanetRing};
+  }
+  static constexpr MeshId of(std::size_t index) { return of(static_cast<int>(index)); }
+  constexpr int index() const { return 2 * planet + (kind == MeshKind::PlanetRing ? 1 : 0); }
+  constexpr bool sun_planet() const { return kind == MeshKind::SunPlanet; }
+};
+
 struct LumpedStructure {
   int dofs = 0;
   std::vector<std::string> dof_names;
   std::vector<Body> bodies;
-  std::vector<MeshCoupling> meshes;  ///< sun-planet i at 2i, planet-ring i at 2i+1
+  std::vector<MeshCoupling> meshes;  ///< indexed by MeshId::index(): sun-planet i at 2i, planet-ring i at 2i+1
   std::vector<Spring> springs;
   Eigen::MatrixXd mass;              ///< assembled M
   Eigen::MatrixXd support_stiffness; ///< assembled bearing / support springs

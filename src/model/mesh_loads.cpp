@@ -33,7 +33,7 @@ void MeshLoadRecorder::add(const std::vector<MeshState>& states) {
     PerMesh& acc = meshes_[m];
     acc.sum_N += st.force_N;
     acc.max_N = std::max(acc.max_N, st.force_N);
-    const Family& fam = families_[m % 2];
+    const Family& fam = families_[dynamics::MeshId::of(m).sun_planet() ? 0 : 1];
     const bool internal = fam.mesh.kind == geometry::GearKind::Internal;
     for (int j = 0; j < st.pairs; ++j) {
       const double F = st.pair_force_N[j];

@@ -69,8 +69,9 @@ PlanetaryDynamics::PlanetaryDynamics(const SimulationConfig& cfg, dynamics::Lump
   const Eigen::MatrixXd Minv = structure_.mass.inverse();
   for (int m = 0; m < nm; ++m) {
     const auto& mc = structure_.meshes[m];
-    const bool sp = (m % 2 == 0);
-    const int planet = m / 2;
+    const dynamics::MeshId id = dynamics::MeshId::of(m);
+    const bool sp = id.sun_planet();
+    const int planet = id.planet;
     // Equivalent mass of the mesh coordinate delta = g.q: 1 / (g^T M^-1 g).
     const double m_eq = 1.0 / mc.g.dot(Minv * mc.g);
     damping_.push_back(2.0 * cfg.contact.mesh_damping_ratio * std::sqrt(family(m).mean_stiffness_N_m * m_eq));
@@ -116,10 +117,12 @@ void PlanetaryDynamics::set_engagement_smoothing(double dt_s) {
 }
 
 const FlankSet& PlanetaryDynamics::flank_a(int m) const {
-  return m % 2 == 0 ? surfaces_.sun : surfaces_.planet_ring_side[m / 2];
+  const dynamics::MeshId id = dynamics::MeshId::of(m);
+  return id.sun_planet() ? surfaces_.sun : surfaces_.planet_ring_side[static_cast<std::size_t>(id.planet)];
 }
 const FlankSet& PlanetaryDynamics::flank_b(int m) const {
-  return m % 2 == 0 ? surfaces_.planet_sun_side[m / 2] : surfaces_.ring;
+  const dynamics::MeshId id = dynamics::MeshId::of(m);
+  return id.sun_planet() ? surfaces_.planet_sun_side[static_cast<std::size_t>(id.planet)] : surfaces_.ring;
 }
 
 double PlanetaryDynamics::input_torque_Nm(double t, const Eigen::VectorXd& q, const Eigen::VectorXd& v) const {
@@ -132,7 +135,7 @@ double PlanetaryDynamics::input_torque_Nm(double t, const Eigen::VectorXd& q, co
 
 double PlanetaryDynamics::imposed_deflection(int m, double t) const {
   double d = static_offset_[m];
-  if (m % 2 == 0 && sun_ecc_ != 0) {
+  if (dynamics::MeshId::of(m).sun_planet() && sun_ecc_ != 0) {
     // Sun runout rotates with the sun, i.e. at the sun's speed relative to
     // the carrier in this frame; it displaces the sun (body A).
     const double phi = sun_speed_rel_ * t + sun_ecc_phase_;
@@ -147,7 +150,9 @@ void PlanetaryDynamics::update_contact_geometry(double t) {
     const dynamics::MeshCoupling& mc = structure_.meshes[m];
     const dynamics::SparseCoupling& sc = sparse_[m];
     const MeshFamily& fam = family(m);
-    const geometry::MeshPhase& phase = (m % 2 == 0) ? phases_[m / 2].sun_planet : phases_[m / 2].planet_ring;
+    const dynamics::MeshId id = dynamics::MeshId::of(m);
+    const auto& planet_phases = phases_[static_cast<std::size_t>(id.planet)];
+    const geometry::MeshPhase& phase = id.sun_planet() ? planet_phases.sun_planet : planet_phases.planet_ring;
     const FlankSet& fa = flank_a(m);
     const FlankSet& fb = flank_b(m);
     MeshState& st = states_[m];

@@ -83,7 +83,9 @@ public:
   }
 
   const dynamics::LumpedStructure& structure() const { return structure_; }
-  const MeshFamily& family(int mesh) const { return mesh % 2 == 0 ? sun_planet_ : planet_ring_; }
+  const MeshFamily& family(int mesh) const {
+    return dynamics::MeshId::of(mesh).sun_planet() ? sun_planet_ : planet_ring_;
+  }
   /// States of all 2N meshes at the last force evaluation (sun-planet i at
   /// 2i, planet-ring i at 2i+1).
   const std::vector<MeshState>& mesh_states() const { return states_; }

@@ -185,7 +185,7 @@ PreparedStage prepare(const SimulationConfig& c) {
   // Natural frequencies at the time-averaged mesh stiffness.
   std::vector<double> kbar;
   for (std::size_t i = 0; i < structure.meshes.size(); ++i)
-    kbar.push_back(i % 2 == 0 ? sp.mean_stiffness_N_m : pr.mean_stiffness_N_m);
+    kbar.push_back(dynamics::MeshId::of(i).sun_planet() ? sp.mean_stiffness_N_m : pr.mean_stiffness_N_m);
   const Eigen::MatrixXd K = structure.support_stiffness + dynamics::mesh_stiffness_matrix(structure, kbar);
   const dynamics::ModalResult modal = dynamics::natural_frequencies(structure.mass, K);
   p.natural_frequencies_Hz = modal.frequencies_Hz;
@@ -445,7 +445,33 @@ struct RecordChannel {
   double* samples = nullptr;
 };
 
-/// The channels of the recording in their documented order (docs/output-format.md).
+/// The per-mesh quantities of the recording, in their channel order.
+enum class MeshQuantity : std::size_t { Deflection, Force, Acceleration, Stiffness, PairsInContact, Friction };
+constexpr std::size_t kMeshQuantities = 6;
+
+/// Where each channel of record_channels() sits: the mesh channels by mesh and
+/// quantity, then the stage-level channels. The one place the order is spelled
+/// out as numbers (record_channels() checks it builds the same count).
+struct ChannelLayout {
+  std::size_t meshes = 0, planets = 0;
+
+  std::size_t mesh(dynamics::MeshId id, MeshQuantity q) const {
+    return kMeshQuantities * static_cast<std::size_t>(id.index()) + static_cast<std::size_t>(q);
+  }
+  std::size_t mesh(int m, MeshQuantity q) const { return mesh(dynamics::MeshId::of(m), q); }
+  std::size_t sun_speed() const { return kMeshQuantities * meshes; }
+  std::size_t carrier_speed() const { return sun_speed() + 1; }
+  std::size_t transmission_error() const { return sun_speed() + 2; }
+  std::size_t input_torque() const { return sun_speed() + 3; }
+  std::size_t load_sharing(int planet) const { return sun_speed() + 4 + static_cast<std::size_t>(planet); }
+  std::size_t sun_angle() const { return sun_speed() + 4 + planets; }
+  std::size_t carrier_angle() const { return sun_angle() + 1; }
+  std::size_t housing() const { return sun_angle() + 2; }
+  std::size_t count() const { return housing() + 1; }
+};
+
+/// The channels of the recording in their documented order (docs/output-format.md),
+/// the order ChannelLayout indexes.
 std::vector<RecordChannel> record_channels(const dynamics::LumpedStructure& S, int planets) {
   std::vector<RecordChannel> ch;
   auto add = [&](std::string name, std::string unit, std::string desc) {
@@ -475,6 +501,10 @@ std::vector<RecordChannel> record_channels(const dynamics::LumpedStructure& S, i
   add("housing/acceleration", "m/s^2",
       "housing accelerometer at sensor.angle_rad: planet-ring mesh force fluctuations through the transfer-path "
       "window (model/sensor.hpp)");
+  const ChannelLayout layout{S.meshes.size(), static_cast<std::size_t>(planets)};
+  if (ch.size() != layout.count())  // a programming error: the two orders disagree
+    throw std::logic_error(detail::concat("record_channels built ", ch.size(), " channels, ChannelLayout has ",
+                                          layout.count()));
   return ch;
 }
 
@@ -494,16 +524,18 @@ RecordStats record(Integration& r, int cycles, SimulationResult& out, const Outp
   out.time_s.resize(static_cast<std::size_t>(nstore));
 
   std::vector<RecordChannel> ch = record_channels(S, N);
-  const std::size_t g0 = 6 * static_cast<std::size_t>(nm);       // first stage-level channel
-  const std::size_t g_angle = g0 + 4 + static_cast<std::size_t>(N);  // sun/angle
-  const std::size_t g_housing = g_angle + 2;
+  const ChannelLayout at{S.meshes.size(), static_cast<std::size_t>(N)};
+  const std::size_t g_housing = at.housing();
+  auto ring_force_channel = [&](int i) {
+    return at.mesh(dynamics::MeshId{i, dynamics::MeshKind::PlanetRing}, MeshQuantity::Force);
+  };
   // The housing sensor is computed from the ring-mesh forces and the carrier
   // angle after the run: store those too while it is wanted, drop them after.
   std::vector<bool> wanted(ch.size()), needed(ch.size());
   for (std::size_t k = 0; k < ch.size(); ++k) wanted[k] = needed[k] = sel.selects(ch[k].name);
   if (wanted[g_housing]) {
-    needed[g_angle + 1] = true;
-    for (int i = 0; i < N; ++i) needed[6 * static_cast<std::size_t>(2 * i + 1) + 1] = true;
+    needed[at.carrier_angle()] = true;
+    for (int i = 0; i < N; ++i) needed[ring_force_channel(i)] = true;
   }
   std::vector<std::size_t> stored_index(ch.size(), 0);
   for (std::size_t k = 0; k < ch.size(); ++k) {
@@ -557,31 +589,36 @@ RecordStats record(Integration& r, int cycles, SimulationResult& out, const Outp
     out.time_s[j] = r.st.t - t0;
     double fsum = 0;
     for (int m = 0; m < nm; ++m) {
-      const std::size_t c6 = 6 * static_cast<std::size_t>(m);
-      put(c6, j, ms[m].deflection_m);
-      put(c6 + 1, j, ms[m].force_N);
-      if (ch[c6 + 2].samples) put(c6 + 2, j, S.meshes[m].g.dot(r.st.a));
-      put(c6 + 3, j, ms[m].stiffness_N_m);
-      put(c6 + 4, j, ms[m].pairs_engaged);
-      put(c6 + 5, j, ms[m].friction_N);
-      if (m % 2 == 0) fsum += ms[m].force_N;
+      put(at.mesh(m, MeshQuantity::Deflection), j, ms[m].deflection_m);
+      put(at.mesh(m, MeshQuantity::Force), j, ms[m].force_N);
+      const std::size_t acc = at.mesh(m, MeshQuantity::Acceleration);
+      if (ch[acc].samples) put(acc, j, S.meshes[m].g.dot(r.st.a));
+      put(at.mesh(m, MeshQuantity::Stiffness), j, ms[m].stiffness_N_m);
+      put(at.mesh(m, MeshQuantity::PairsInContact), j, ms[m].pairs_engaged);
+      put(at.mesh(m, MeshQuantity::Friction), j, ms[m].friction_N);
+      if (dynamics::MeshId::of(m).sun_planet()) fsum += ms[m].force_N;
     }
-    put(g0, j, w_sun);
-    put(g0 + 1, j, w_carrier);
-    if (ch[g0 + 2].samples)
-      put(g0 + 2, j, rbs * (sys.sun_theta_row().dot(r.st.q) - ratio * sys.carrier_theta_row().dot(r.st.q)));
-    if (ch[g0 + 3].samples) put(g0 + 3, j, sys.input_torque_Nm(r.st.t, r.st.q, r.st.v));
-    for (int i = 0; i < N; ++i) put(g0 + 4 + i, j, fsum != 0 ? N * ms[2 * i].force_N / fsum : 0.0);
-    put(g_angle, j, p.sun_speed_rad_s * r.st.t + sys.sun_theta_row().dot(r.st.q));
-    put(g_angle + 1, j, p.carrier_speed_rad_s * r.st.t + sys.carrier_theta_row().dot(r.st.q));
+    put(at.sun_speed(), j, w_sun);
+    put(at.carrier_speed(), j, w_carrier);
+    if (ch[at.transmission_error()].samples)
+      put(at.transmission_error(), j,
+          rbs * (sys.sun_theta_row().dot(r.st.q) - ratio * sys.carrier_theta_row().dot(r.st.q)));
+    if (ch[at.input_torque()].samples) put(at.input_torque(), j, sys.input_torque_Nm(r.st.t, r.st.q, r.st.v));
+    for (int i = 0; i < N; ++i) {
+      const double F_sp = ms[static_cast<std::size_t>(dynamics::MeshId{i, dynamics::MeshKind::SunPlanet}.index())].force_N;
+      put(at.load_sharing(i), j, fsum != 0 ? N * F_sp / fsum : 0.0);
+    }
+    put(at.sun_angle(), j, p.sun_speed_rad_s * r.st.t + sys.sun_theta_row().dot(r.st.q));
+    put(at.carrier_angle(), j, p.carrier_speed_rad_s * r.st.t + sys.carrier_theta_row().dot(r.st.q));
   }
   if (wanted[g_housing]) {
     // Housing accelerometer (needs each planet's mean ring-mesh force over the record).
     std::vector<std::span<const double>> ring_force;
     for (int i = 0; i < N; ++i)
-      ring_force.emplace_back(out.channels[stored_index[6 * static_cast<std::size_t>(2 * i + 1) + 1]].values);
+      ring_force.emplace_back(out.channels[stored_index[ring_force_channel(i)]].values);
     std::vector<double> h = housing_acceleration_history(r.c.sensor, p.geometry.planet_angles_rad,
-                                                         out.channels[stored_index[g_angle + 1]].values, ring_force);
+                                                         out.channels[stored_index[at.carrier_angle()]].values,
+                                                         ring_force);
     // Last, as in the documented order (record_channels).
     out.channels.push_back({ch[g_housing].name, ch[g_housing].unit, ch[g_housing].description, std::move(h)});
   }

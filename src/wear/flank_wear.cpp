@@ -78,8 +78,9 @@ void FlankWearAccumulator::accumulate(double dt) {
   const model::ToothSurfaces& surf = sys_.surfaces();
   for (std::size_t m = 0; m < states.size(); ++m) {
     const model::MeshState& ms = states[m];
-    const bool sp = (m % 2 == 0);
-    const int i = static_cast<int>(m / 2);
+    const dynamics::MeshId id = dynamics::MeshId::of(m);
+    const bool sp = id.sun_planet();
+    const int i = id.planet;
     const int fa = sp ? 0 : 1 + planets_ + i;
     const int fb = sp ? 1 + i : 2 * planets_ + 1;
     const model::FlankSet& sa = sp ? surf.sun : surf.planet_ring_side[i];

@@ -227,7 +227,8 @@ model::WearHistory run_wear(model::Integration& r, const model::ProgressFn& repo
       w_ps += mean_wear(1 + i) / N;
       w_pr += mean_wear(1 + N + i) / N;
     }
-    for (int m = 0; m < 2 * N; ++m) sys.set_backlash_m(m, m % 2 == 0 ? b_sp0 + w_sun + w_ps : b_pr0 + w_pr + w_ring);
+    for (int m = 0; m < 2 * N; ++m)
+      sys.set_backlash_m(m, dynamics::MeshId::of(m).sun_planet() ? b_sp0 + w_sun + w_ps : b_pr0 + w_pr + w_ring);
     done += dN;
     ++updates;
     push_state(done);

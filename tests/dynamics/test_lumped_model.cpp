@@ -43,6 +43,25 @@ std::vector<double> sorted(const Eigen::VectorXd& v) {
   return s;
 }
 
+// MeshId names each mesh by planet and kind; the structure's mesh array is in
+// MeshId's order for both model levels (the names the builders give agree).
+TEST(LumpedModel, MeshIdIndexesTheStructuresMeshesByPlanetAndKindForBothLevels) {
+  StageLayout l = lin_parker_layout();
+  for (const LumpedStructure& s : {build_torsional(l), build_lateral_torsional(l, Bearings{})}) {
+    ASSERT_EQ(s.meshes.size(), 2 * l.planet_angles_rad.size());
+    for (int i = 0; i < static_cast<int>(l.planet_angles_rad.size()); ++i) {
+      const MeshId sp{i, MeshKind::SunPlanet}, pr{i, MeshKind::PlanetRing};
+      EXPECT_EQ(s.meshes[static_cast<std::size_t>(sp.index())].name, "sun_planet/" + std::to_string(i));
+      EXPECT_EQ(s.meshes[static_cast<std::size_t>(pr.index())].name, "planet_ring/" + std::to_string(i));
+      for (const MeshId id : {sp, pr}) {
+        const MeshId back = MeshId::of(id.index());
+        EXPECT_EQ(back.planet, id.planet);
+        EXPECT_EQ(back.kind, id.kind);
+      }
+    }
+  }
+}
+
 } // namespace
 
 TEST(LumpedModel, LateralTorsionalMatchesLinParker1999TableWithin0p1Percent) {
