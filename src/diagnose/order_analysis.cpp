@@ -451,12 +451,12 @@ int short_window_mesh_cycles(const Kinematics& k, double mesh_cycles) {
   return unit * (half / unit);
 }
 
-RecordingSpectra analyse_recording(const Recording& rec, const model::StageSpec& stage,
-                                   const OrderAnalysisOptions& o) {
-  RecordingSpectra s;
+// analyse_recording's phases, in order. Each fills its part of RecordingSpectra.
+namespace {
+
+/// The channels the model predicts (all but a tacho), checked against the time axis and the stage.
+void select_channels(const Recording& rec, const model::StageSpec& stage, RecordingSpectra& s) {
   const std::size_t n = rec.time_s.size();
-  const double dt = rec.sample_interval_s();
-  require(n >= 64 && dt > 0, "recording", rec.source, ": too few samples (", n, ")");
   for (std::size_t c = 0; c < rec.channels.size(); ++c) {
     const auto& ch = rec.channels[c];
     if (ch.quantity == Quantity::Tacho) continue;
@@ -469,13 +469,13 @@ RecordingSpectra analyse_recording(const Recording& rec, const model::StageSpec&
     s.channel_names.push_back(ch.name);
   }
   require(!s.channels.empty(), "recording", rec.source, ": no channel the model can predict");
-  s.speed = estimate_speed(rec, stage);
-  s.kinematics = kinematics(stage, s.speed.input_rpm);
-  s.carrier_angle = carrier_angle(rec, stage, s.speed, &s.angle_source);
-  s.angle_reference = rec.find(Quantity::SunSpeed)       ? AngleReference::SunSpeed
-                      : rec.find(Quantity::CarrierSpeed) ? AngleReference::CarrierSpeed
-                      : s.angle_source.rfind("tacho", 0) == 0 ? AngleReference::Tacho
-                                                               : AngleReference::ConstantSpeed;
+}
+
+/// The feature layout: halves of whole carrier revolutions, or of whole mesh cycles when the
+/// recording is shorter than two revolutions (docs/diagnose.md §2 "Short recordings").
+void choose_layout(const Recording& rec, const model::StageSpec& stage, const OrderAnalysisOptions& o,
+                   RecordingSpectra& s) {
+  const double dt = rec.sample_interval_s();
   const double total = s.carrier_angle.back() - s.carrier_angle.front();
   const int revs = static_cast<int>(std::floor(total / (2 * kPi) + 1e-9));
   const double fs = 1.0 / dt;
@@ -495,9 +495,15 @@ RecordingSpectra analyse_recording(const Recording& rec, const model::StageSpec&
     s.layout = make_layout_mesh_cycles(s.kinematics, stage.planet_count, Q, max_order, o.layout);
     drop_housing_channels(rec, s);
   }
-  const double R = s.layout.window_revolutions;
   require(s.layout.mesh_harmonics >= 1, "recording", rec.source, ": sample rate ", fs,
           " Hz leaves no mesh harmonic (", s.kinematics.mesh_Hz, " Hz) below ", o.layout.band_fraction, " fs");
+}
+
+/// The fit and held-out windows and every channel's order amplitudes in each (with their
+/// derivatives in the angle reference's drift when the angle comes from a speed channel).
+void window_amplitudes(const Recording& rec, RecordingSpectra& s) {
+  const double R = s.layout.window_revolutions;
+  const double total = s.carrier_angle.back() - s.carrier_angle.front();
   auto window = [&](std::string name, double a0) {
     OrderWindow w;
     w.name = std::move(name);
@@ -532,6 +538,14 @@ RecordingSpectra analyse_recording(const Recording& rec, const model::StageSpec&
       s.amplitude[static_cast<std::size_t>(w)][static_cast<std::size_t>(c)] = std::move(a);
       if (drifts) s.amplitude_drift[static_cast<std::size_t>(w)][static_cast<std::size_t>(c)] = std::move(da);
     }
+}
+
+/// The noise variance of every cell (see the comment inside).
+void estimate_noise(const Recording& rec, const model::StageSpec& stage, RecordingSpectra& s) {
+  const std::size_t n = rec.time_s.size();
+  const double dt = rec.sample_interval_s();
+  const double R = s.layout.window_revolutions;
+  const std::size_t nc = s.channels.size();
   // Noise (docs/diagnose.md §2). The features' own bins are no place to measure it: lines that
   // are not integer orders leak into every bin of a rectangular window. So, per channel, the
   // Hann-windowed periodogram of the whole recording (leakage falls as 1/d^3), normalised so
@@ -638,6 +652,13 @@ RecordingSpectra analyse_recording(const Recording& rec, const model::StageSpec&
       }
     }
   }
+}
+
+/// The extra noise the angle reference's random walk leaks into the cells near strong lines.
+void add_angle_drift_leak(const Recording& rec, const model::StageSpec& stage, RecordingSpectra& s) {
+  const double R = s.layout.window_revolutions;
+  const std::size_t nc = s.channels.size();
+  const bool drifts = s.angle_reference == AngleReference::SunSpeed || s.angle_reference == AngleReference::CarrierSpeed;
   // The angle reference integrates a speed channel with white noise (per-sample variance
   // s_w^2): its error is a random walk B with diffusion D = s_w^2 dt k^2 (k = Zs/(Zs+Zr) for
   // the sun speed, 1 for the carrier speed). Over a window of length T, B(t) = B(T) t/T + a
@@ -679,6 +700,28 @@ RecordingSpectra analyse_recording(const Recording& rec, const model::StageSpec&
         s.noise_variance[c][i] += leak;
       }
   }
+}
+
+} // namespace
+
+RecordingSpectra analyse_recording(const Recording& rec, const model::StageSpec& stage,
+                                   const OrderAnalysisOptions& o) {
+  RecordingSpectra s;
+  const std::size_t n = rec.time_s.size();
+  const double dt = rec.sample_interval_s();
+  require(n >= 64 && dt > 0, "recording", rec.source, ": too few samples (", n, ")");
+  select_channels(rec, stage, s);
+  s.speed = estimate_speed(rec, stage);
+  s.kinematics = kinematics(stage, s.speed.input_rpm);
+  s.carrier_angle = carrier_angle(rec, stage, s.speed, &s.angle_source);
+  s.angle_reference = rec.find(Quantity::SunSpeed)       ? AngleReference::SunSpeed
+                      : rec.find(Quantity::CarrierSpeed) ? AngleReference::CarrierSpeed
+                      : s.angle_source.rfind("tacho", 0) == 0 ? AngleReference::Tacho
+                                                               : AngleReference::ConstantSpeed;
+  choose_layout(rec, stage, o, s);
+  window_amplitudes(rec, s);
+  estimate_noise(rec, stage, s);
+  add_angle_drift_leak(rec, stage, s);
   return s;
 }
 

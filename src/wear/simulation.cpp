@@ -98,6 +98,53 @@ WearSnapshot record_snapshot(model::Integration& r, double mesh_cycles, wear::Fl
   return s;
 }
 
+/// The flank families' histories before the first state: names, teeth, elements and
+/// each element's distance from the pitch point. Families f: 0 sun, 1..N planet sun
+/// sides, N+1..2N planet ring sides, 2N+1 ring (FlankWearAccumulator's order).
+std::vector<FlankWearHistory> empty_flank_histories(const PlanetaryDynamics& sys,
+                                                    const std::vector<model::FlankSet*>& sets, int N) {
+  const int F = static_cast<int>(sets.size());
+  std::vector<FlankWearHistory> out;
+  for (int f = 0; f < F; ++f) {
+    FlankWearHistory fh;
+    const int i = f <= N ? f - 1 : f - 1 - N;
+    fh.name = f == 0 ? "sun" : f == F - 1 ? "ring"
+                                          : "planet_" + std::to_string(i) + (f <= N ? "/sun_side" : "/ring_side");
+    fh.teeth = sets[f]->teeth();
+    fh.elements = sets[f]->elements();
+    // Distance from the pitch point, positive towards this gear's tip:
+    // xi - xi_P on the driver (sun, planet ring side), xi_P - xi otherwise.
+    const bool driver = (f == 0) || (f > N && f < F - 1);
+    const double xp = sys.family(f == 0 || (f >= 1 && f <= N) ? 0 : 1).geometry.pitch_point_m;
+    for (int e = 0; e < fh.elements; ++e)
+      fh.distance_from_pitch_point_m.push_back(driver ? sets[f]->element_xi_m(e) - xp : xp - sets[f]->element_xi_m(e));
+    out.push_back(std::move(fh));
+  }
+  return out;
+}
+
+/// Backlash grows by the flank material removed on both gears of a mesh (mean
+/// over teeth and profile, since `initial`; derivation §5), from the design
+/// backlash b_sp0 (sun-planet) and b_pr0 (planet-ring).
+void grow_backlash(PlanetaryDynamics& sys, const std::vector<model::FlankSet*>& sets,
+                   const std::vector<std::vector<double>>& initial, double b_sp0, double b_pr0) {
+  const int F = static_cast<int>(sets.size());
+  const int N = (F - 2) / 2;
+  auto mean_wear = [&](int f) {
+    const auto& d = sets[f]->deviations();
+    double s = 0;
+    for (std::size_t k = 0; k < d.size(); ++k) s += d[k] - initial[f][k];
+    return s / static_cast<double>(d.size());
+  };
+  double w_sun = mean_wear(0), w_ring = mean_wear(F - 1), w_ps = 0, w_pr = 0;
+  for (int i = 0; i < N; ++i) {
+    w_ps += mean_wear(1 + i) / N;
+    w_pr += mean_wear(1 + N + i) / N;
+  }
+  for (int m = 0; m < 2 * N; ++m)
+    sys.set_backlash_m(m, dynamics::MeshId::of(m).sun_planet() ? b_sp0 + w_sun + w_ps : b_pr0 + w_pr + w_ring);
+}
+
 } // namespace
 
 /// The coupled wear loop (docs/derivation.md §5): dynamic window -> wear
@@ -133,21 +180,7 @@ model::WearHistory run_wear(model::Integration& r, const model::ProgressFn& repo
   WearHistory h;
   std::vector<model::FlankSet*> sets;
   for (int f = 0; f < F; ++f) sets.push_back(&acc.flank_set(sys.surfaces(), f));
-  for (int f = 0; f < F; ++f) {
-    FlankWearHistory fh;
-    const int i = f <= N ? f - 1 : f - 1 - N;
-    fh.name = f == 0 ? "sun" : f == F - 1 ? "ring"
-                                          : "planet_" + std::to_string(i) + (f <= N ? "/sun_side" : "/ring_side");
-    fh.teeth = sets[f]->teeth();
-    fh.elements = sets[f]->elements();
-    // Distance from the pitch point, positive towards this gear's tip:
-    // xi - xi_P on the driver (sun, planet ring side), xi_P - xi otherwise.
-    const bool driver = (f == 0) || (f > N && f < F - 1);
-    const double xp = sys.family(f == 0 || (f >= 1 && f <= N) ? 0 : 1).geometry.pitch_point_m;
-    for (int e = 0; e < fh.elements; ++e)
-      fh.distance_from_pitch_point_m.push_back(driver ? sets[f]->element_xi_m(e) - xp : xp - sets[f]->element_xi_m(e));
-    h.flanks.push_back(std::move(fh));
-  }
+  h.flanks = empty_flank_histories(sys, sets, N);
   const double b_sp0 = c.contact.backlash_sun_planet_m, b_pr0 = c.contact.backlash_planet_ring_m;
   auto push_state = [&](double cycles) {
     h.mesh_cycles.push_back(cycles);
@@ -214,21 +247,7 @@ model::WearHistory run_wear(model::Integration& r, const model::ProgressFn& repo
 #pragma omp parallel for schedule(static)
       for (long e = 0; e < n; ++e) d[e] += rf[e] * dN;
     }
-    // Backlash grows by the flank material removed on both gears of a mesh
-    // (mean over teeth and profile; derivation §5).
-    auto mean_wear = [&](int f) {
-      const auto& d = sets[f]->deviations();
-      double s = 0;
-      for (std::size_t k = 0; k < d.size(); ++k) s += d[k] - initial[f][k];
-      return s / static_cast<double>(d.size());
-    };
-    double w_sun = mean_wear(0), w_ring = mean_wear(F - 1), w_ps = 0, w_pr = 0;
-    for (int i = 0; i < N; ++i) {
-      w_ps += mean_wear(1 + i) / N;
-      w_pr += mean_wear(1 + N + i) / N;
-    }
-    for (int m = 0; m < 2 * N; ++m)
-      sys.set_backlash_m(m, dynamics::MeshId::of(m).sun_planet() ? b_sp0 + w_sun + w_ps : b_pr0 + w_pr + w_ring);
+    grow_backlash(sys, sets, initial, b_sp0, b_pr0);
     done += dN;
     ++updates;
     push_state(done);
