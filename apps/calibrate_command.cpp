@@ -74,6 +74,9 @@ void print_table(const diagnose::Calibration& cal) {
   std::printf("calibrated model:");
   for (const std::string& s : cal.overrides) std::printf(" --set %s", s.c_str());
   std::printf("\n");
+  for (const std::string& s : cal.at_bound)
+    std::printf("not a fit but a limit: %s (the rig lies beyond the model's range there; the discrepancy "
+                "budget carries the rest)\n", s.c_str());
 }
 
 } // namespace
@@ -124,6 +127,7 @@ int run_calibrate(const CalibrateCommandOptions& o) {
   // 2. The calibration.
   cal.discrepancy = diagnose::estimate_discrepancy(cells);
   cal.overrides = diagnose::median_overrides(params);
+  cal.at_bound = diagnose::parameters_at_bound(params);
   // 3. The file and the table.
   io::write_calibration(cal, o.output);
   print_table(cal);

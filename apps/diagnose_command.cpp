@@ -125,12 +125,14 @@ DiagnoseInputs read_diagnose_inputs(const DiagnoseCommandOptions& o) {
   }
   // A calibration's model first, the command line's --set after it (the user's word wins).
   CommonOptions common = o.common;
+  std::optional<diagnose::Calibration> calibration;
   if (!o.calibration.empty()) {
-    common.assignments = io::read_calibration(o.calibration).overrides;
+    calibration = io::read_calibration(o.calibration);
+    common.assignments = calibration->overrides;
     common.assignments.insert(common.assignments.end(), o.common.assignments.begin(), o.common.assignments.end());
   }
   RecordingInputs in = read_recording_inputs(common, o.recording, o.meta, o.columns, o.speed_rpm, o.power_W);
-  return DiagnoseInputs{std::move(in.config), std::move(in.recording)};
+  return DiagnoseInputs{std::move(in.config), std::move(in.recording), std::move(calibration)};
 }
 
 namespace {
@@ -138,10 +140,11 @@ namespace {
 using Inputs = DiagnoseInputs;
 Inputs read_inputs(const DiagnoseCommandOptions& o) { return read_diagnose_inputs(o); }
 
-diagnose::CompareOptions compare_options(const DiagnoseCommandOptions& o) {
+diagnose::CompareOptions compare_options(const DiagnoseCommandOptions& o,
+                                        const std::optional<diagnose::Calibration>& calibration) {
   diagnose::CompareOptions co;
   co.alpha = o.alpha;
-  if (!o.calibration.empty()) co.discrepancy = io::read_calibration(o.calibration).budgets();
+  if (calibration) co.discrepancy = calibration->budgets();
   // The simulation cache keys on the complete configuration (every key of the TOML schema).
   co.config_key = [](const model::SimulationConfig& c) { return io::to_toml(c); };
   return co;
@@ -160,7 +163,7 @@ void diagnose_and_report(const DiagnoseCommandOptions& o_in, const std::string& 
                          const sweep::RemoteSimulation& remote, int ranks) {
   namespace fs = std::filesystem;
   DiagnoseCommandOptions o = o_in;
-  read_inputs(o);  // every input error before the baseline's fit
+  const std::optional<diagnose::Calibration> calibration = read_inputs(o).calibration;  // every input error first
 
   // 2. Diagnose. One simulation slot per local thread plus one per serving rank.
   diagnose::DiagnoseOptions opt;
@@ -170,8 +173,8 @@ void diagnose_and_report(const DiagnoseCommandOptions& o_in, const std::string& 
   opt.remote_slots = ranks - 1;
   opt.only_candidates = o.candidates;
   opt.always_fit_candidates = o.always_fit;
-  if (!o.calibration.empty()) opt.extra_nuisance = io::read_calibration(o.calibration).rig_elements;
-  opt.compare = compare_options(o);
+  if (calibration) opt.extra_nuisance = calibration->rig_elements;
+  opt.compare = compare_options(o, calibration);
   opt.compare.remote = remote;
   if (!o.common.quiet) opt.progress = [](const std::string& s) { std::fprintf(stderr, "[diagnose] %s\n", s.c_str()); };
   std::optional<diagnose::BaselineReference> baseline;
@@ -191,6 +194,7 @@ void diagnose_and_report(const DiagnoseCommandOptions& o_in, const std::string& 
   ctx.recording_path = o.recording;
   ctx.config_path = o.common.config;
   ctx.calibration_path = o.calibration;
+  if (calibration) ctx.calibration_at_bound = calibration->at_bound;
   ctx.baseline_path = o.baseline;
   if (baseline) ctx.baseline_summary = baseline->summary;
   ctx.command_line = command_line;
@@ -229,7 +233,7 @@ int run_diagnose(const DiagnoseCommandOptions& o, const std::string& command_lin
   // A serving rank (mpirun -np P, P > 1) sets up the same comparison and simulates on request.
   const auto make_evaluate = [&o]() -> sweep::Evaluate {
     auto in = std::make_shared<const Inputs>(read_inputs(o));
-    auto cmp = std::make_shared<const diagnose::ModelComparison>(in->recording, in->config, compare_options(o));
+    auto cmp = std::make_shared<const diagnose::ModelComparison>(in->recording, in->config, compare_options(o, in->calibration));
     return [in, cmp](const model::SimulationConfig& c, bool keep) { return cmp->evaluate(c, keep); };
   };
   sweep::run_with_simulation_pool(

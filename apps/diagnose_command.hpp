@@ -14,6 +14,7 @@
 
 #include "commands.hpp"
 
+#include "diagnose/calibration.hpp"
 #include "diagnose/recording.hpp"
 
 #include <optional>
@@ -48,6 +49,7 @@ struct DiagnoseCommandOptions {
 struct DiagnoseInputs {
   model::SimulationConfig config;
   diagnose::Recording recording;
+  std::optional<diagnose::Calibration> calibration;  ///< --calibration, read once
 };
 
 /// Reads and validates the inputs of `options` (used by diagnose and calibrate); throws

@@ -67,6 +67,7 @@ void write_calibration(const diagnose::Calibration& c, const std::filesystem::pa
   cal.insert("speeds_rpm", to_array(c.speeds_rpm));
   cal.insert("verdicts", to_array(c.verdicts));
   cal.insert("rig_elements", to_array(c.rig_elements));
+  cal.insert("at_bound", to_array(c.at_bound));
   cal.insert("overrides", to_array(c.overrides));
   toml::array disc;
   for (const diagnose::DiscrepancyEstimate& d : c.discrepancy) {
@@ -112,6 +113,8 @@ diagnose::Calibration read_calibration(const std::filesystem::path& path) {
   c.verdicts = read_array<std::string>(cal["verdicts"].as_array(), path, "calibration.verdicts");
   c.rig_elements = read_array<std::string>(cal["rig_elements"].as_array(), path, "calibration.rig_elements");
   c.overrides = read_array<std::string>(cal["overrides"].as_array(), path, "calibration.overrides");
+  if (cal["at_bound"])  // optional: files written before it existed have none
+    c.at_bound = read_array<std::string>(cal["at_bound"].as_array(), path, "calibration.at_bound");
   const toml::array* disc = root["discrepancy"].as_array();
   if (!disc) throw InputError(where(path, "discrepancy"), "missing [[discrepancy]] entries");
   for (std::size_t i = 0; i < disc->size(); ++i) {

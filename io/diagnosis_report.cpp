@@ -150,6 +150,12 @@ Doc build(const dg::Diagnosis& d, const ReportContext& ctx) {
         (ctx.calibration_path.empty() ? std::string() : ", calibration `" + ctx.calibration_path + "`") +
         (ctx.baseline_path.empty() ? std::string() : ", healthy baseline `" + ctx.baseline_path + "`") + ", " +
         ctx.version + ".");
+  if (!ctx.calibration_at_bound.empty()) {
+    std::string list;
+    for (const auto& s : ctx.calibration_at_bound) list += (list.empty() ? "" : "; ") + s;
+    doc.p("The calibrated model is at the edge of its range: " + list +
+          ". Those values are limits, not fits; the calibration's discrepancy budget carries what they could not.");
+  }
   if (!ctx.baseline_path.empty())
     doc.p("Differential diagnosis: the recording is compared with the model fitted to the baseline plus what that "
           "model missed on the baseline, cell by cell (" + ctx.baseline_summary +
@@ -426,6 +432,7 @@ void write_diagnosis_report(const std::filesystem::path& dir, const dg::Diagnosi
   j["recording"] = ctx.recording_path;
   j["config"] = ctx.config_path;
   j["calibration"] = ctx.calibration_path;
+  j["calibration_at_bound"] = ctx.calibration_at_bound;
   j["baseline"] = ctx.baseline_path;
   j["command_line"] = ctx.command_line;
   j["verdict"] = dg::to_string(d.verdict);

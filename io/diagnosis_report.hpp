@@ -24,6 +24,7 @@ namespace pw::io {
 struct ReportContext {
   std::string recording_path, config_path, command_line, version;
   std::string calibration_path;  ///< --calibration file, empty: none
+  std::vector<std::string> calibration_at_bound;  ///< its calibrated values that are bounds, not fits
   std::string baseline_path;     ///< --baseline recording (differential diagnosis), empty: none
   std::string baseline_summary;  ///< diagnose::BaselineReference::summary
   bool plots_available = true;  ///< false: say in the reports that no PNGs were drawn

@@ -122,6 +122,37 @@ std::vector<std::string> median_overrides(const std::vector<std::vector<FittedPa
   return out;
 }
 
+std::vector<std::string> parameters_at_bound(const std::vector<std::vector<FittedParameter>>& per_recording) {
+  struct Count {
+    int lower = 0, upper = 0;
+    double lower_value = 0, upper_value = 0;
+  };
+  std::map<std::string, Count> counts;
+  std::vector<std::string> order;
+  for (const auto& params : per_recording)
+    for (const FittedParameter& p : params) {
+      if (p.name.rfind("sensor.gain", 0) == 0) continue;
+      if (!counts.count(p.name)) order.push_back(p.name);
+      Count& c = counts[p.name];
+      if (!p.at_bound) continue;
+      // at_bound does not say which end: the nearer one.
+      if (std::abs(p.value - p.upper) <= std::abs(p.value - p.lower)) ++c.upper, c.upper_value = p.upper;
+      else ++c.lower, c.lower_value = p.lower;
+    }
+  std::vector<std::string> out;
+  const std::string n = std::to_string(per_recording.size());
+  for (const std::string& name : order) {
+    const Count& c = counts[name];
+    if (c.upper > 0)
+      out.push_back(name + " at its upper bound " + format_value(c.upper_value) + " on " + std::to_string(c.upper) +
+                    " of " + n + " recordings");
+    if (c.lower > 0)
+      out.push_back(name + " at its lower bound " + format_value(c.lower_value) + " on " + std::to_string(c.lower) +
+                    " of " + n + " recordings");
+  }
+  return out;
+}
+
 std::vector<DiscrepancyEntry> Calibration::budgets() const {
   const double z = normal_quantile(alpha);
   std::vector<DiscrepancyEntry> out;

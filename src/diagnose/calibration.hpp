@@ -66,6 +66,12 @@ std::vector<DiscrepancyEstimate> estimate_discrepancy(const std::vector<std::vec
 /// "key=value" overrides (key = the parameter's configuration key).
 std::vector<std::string> median_overrides(const std::vector<std::vector<FittedParameter>>& per_recording);
 
+/// One line per nuisance parameter (sensor gains excepted) whose fit sat at a bound of its
+/// box on at least one recording: "stiffness.scale at its upper bound 2 on 8 of 8 recordings".
+/// A calibrated value at a bound is not a fit but a limit: the rig differs from the model by
+/// more than that parameter's range, and the discrepancy budget carries the rest.
+std::vector<std::string> parameters_at_bound(const std::vector<std::vector<FittedParameter>>& per_recording);
+
 /// A calibration as written by `planetwear calibrate` and read by `diagnose --calibration`.
 struct Calibration {
   std::vector<std::string> recordings;   ///< file names, for the record
@@ -73,6 +79,7 @@ struct Calibration {
   std::vector<std::string> verdicts;     ///< each recording's nuisance-only verdict before calibration
   std::vector<std::string> overrides;    ///< calibrated model: "key=value"
   std::vector<std::string> rig_elements; ///< candidates fitted as nuisance (e.g. encoder_bandwidth)
+  std::vector<std::string> at_bound;     ///< parameters_at_bound(): calibrated values that are limits
   double alpha = 0.01;                   ///< of the upper confidence limits
   std::vector<DiscrepancyEstimate> discrepancy;
   /// The budgets at z_{1-alpha}, for CompareOptions::discrepancy.

@@ -89,3 +89,29 @@ TEST(Calibration, CalibratedModelIsTheMedianOfTheFitsWithoutTheSensorGains) {
   ASSERT_EQ(o.size(), 1u);
   EXPECT_EQ(o[0], "stiffness.scale=1.1");
 }
+
+// A calibrated value at the edge of its box is a limit, not a fit: the calibration says
+// which parameter, which end and on how many recordings; parameters inside their boxes
+// and the sensor gains are not listed.
+TEST(Calibration, ParametersFittedAtABoundAreListedWithTheEndAndTheirCount) {
+  auto p = [](const std::string& n, double v, double lo, double hi, bool at_bound) {
+    FittedParameter f;
+    f.name = n;
+    f.value = v;
+    f.lower = lo;
+    f.upper = hi;
+    f.at_bound = at_bound;
+    return f;
+  };
+  const auto notes = parameters_at_bound({{p("stiffness.scale", 2.0, 0.5, 2.0, true),
+                                           p("contact.mesh_damping_ratio", 0.05, 0.005, 0.25, false),
+                                           p("sensor.gain_m_s2_per_N", 1.0, 0.0, 1.0, true)},
+                                          {p("stiffness.scale", 2.0, 0.5, 2.0, true),
+                                           p("contact.mesh_damping_ratio", 0.005, 0.005, 0.25, true)},
+                                          {p("stiffness.scale", 1.7, 0.5, 2.0, false),
+                                           p("contact.mesh_damping_ratio", 0.04, 0.005, 0.25, false)}});
+  ASSERT_EQ(notes.size(), 2u);
+  EXPECT_EQ(notes[0], "stiffness.scale at its upper bound 2 on 2 of 3 recordings");
+  EXPECT_EQ(notes[1], "contact.mesh_damping_ratio at its lower bound 0.005 on 1 of 3 recordings");
+  EXPECT_TRUE(parameters_at_bound({{p("stiffness.scale", 1.2, 0.5, 2.0, false)}}).empty());
+}

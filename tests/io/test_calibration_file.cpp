@@ -19,6 +19,7 @@ TEST(CalibrationFile, WrittenCalibrationReadsBackExactly) {
   c.verdicts = {"unexplained_residual", "no_missing_physics"};
   c.rig_elements = {"encoder_bandwidth"};
   c.overrides = {"stiffness.scale=1.2345", "sensor.encoder_bandwidth_Hz=987.5"};
+  c.at_bound = {"contact.mesh_damping_ratio at its upper bound 0.25 on 2 of 3 recordings"};
   diagnose::DiscrepancyEstimate d;
   d.quantity = diagnose::Quantity::HousingAcceleration;
   d.family = diagnose::Component::Planet;
@@ -38,6 +39,7 @@ TEST(CalibrationFile, WrittenCalibrationReadsBackExactly) {
   EXPECT_EQ(r.verdicts, c.verdicts);
   EXPECT_EQ(r.rig_elements, c.rig_elements);
   EXPECT_EQ(r.overrides, c.overrides);
+  EXPECT_EQ(r.at_bound, c.at_bound);
   ASSERT_EQ(r.discrepancy.size(), 1u);
   const auto& e = r.discrepancy[0];
   EXPECT_EQ(e.quantity, d.quantity);
