@@ -86,26 +86,24 @@ io::DatasetOptions compressed() {
   return o;
 }
 
-} // namespace
+/// What every part of the archive is written from: the campaign, one record per case
+/// (null: not run) and which cases are done.
+struct ArchiveRows {
+  const Campaign& c;
+  std::span<const std::shared_ptr<const CaseRecord>> records;
+  std::size_t n;
+  bool is_done(std::size_t i) const { return records[i] && records[i]->status == CaseStatus::Done; }
+};
 
-void write_archive(const std::filesystem::path& path, const Campaign& c,
-                   std::span<const std::shared_ptr<const CaseRecord>> records, const ArchiveRunInfo& info) {
-  const std::size_t n = c.cases.size();
-  if (records.size() != n)
-    throw std::invalid_argument("write_archive: " + std::to_string(records.size()) + " records for " +
-                                std::to_string(n) + " cases");
-  for (std::size_t i = 0; i < n; ++i)
-    if (records[i] && records[i]->index != static_cast<std::int64_t>(i))
-      throw std::invalid_argument("write_archive: record of case " + std::to_string(records[i]->index) +
-                                  " at position " + std::to_string(i));
+/// Root attributes (provenance, case counts) and the campaign's inputs.
+void write_provenance(io::H5File& f, const ArchiveRows& rows, const ArchiveRunInfo& info) {
+  const Campaign& c = rows.c;
+  const std::size_t n = rows.n;
   std::size_t done = 0, failed = 0;
-  for (const auto& r : records) {
+  for (const auto& r : rows.records) {
     if (r && r->status == CaseStatus::Done) ++done;
     if (r && r->status == CaseStatus::Failed) ++failed;
   }
-  auto is_done = [&](std::size_t i) { return records[i] && records[i]->status == CaseStatus::Done; };
-
-  io::H5File f = io::H5File::create(path);
   // Root: provenance.
   f.set_attribute("/", "format", kArchiveFormat);
   f.set_attribute("/", "format_version", kArchiveFormatVersion);
@@ -150,6 +148,13 @@ void write_archive(const std::filesystem::path& path, const Campaign& c,
   for (const auto& fa : c.factors) keys += (keys.empty() ? "" : ",") + fa.key;
   f.set_attribute("/campaign", "factors", keys);
 
+}
+
+/// The numeric columns of /design; returns the case indices (for the case scale).
+std::vector<int> write_design_numbers(io::H5File& f, const ArchiveRows& rows) {
+  const Campaign& c = rows.c;
+  const std::size_t n = rows.n;
+  const auto& records = rows.records;
   // Design table: numeric columns here, string columns below.
   std::vector<int> case_index(n), rank(n), row(n);
   std::vector<double> wall(n, kNaN);
@@ -189,6 +194,14 @@ void write_archive(const std::filesystem::path& path, const Campaign& c,
                   "one row per case; pandas: pd.DataFrame({k: (v.asstr()[:] if v.dtype.kind == 'O' else v[:]) "
                   "for k, v in h5py.File(path)['design'].items()})");
 
+  return case_index;
+}
+
+/// /results/scalars: one NaN-padded column per scalar any case has.
+void write_scalars(io::H5File& f, const ArchiveRows& rows) {
+  const std::size_t n = rows.n;
+  const auto& records = rows.records;
+  auto is_done = [&](std::size_t i) { return rows.is_done(i); };
   // Scalars.
   f.create_group("/results/scalars");
   f.set_attribute("/results", "description", "per-case results, first index = case; NaN where a case is not done");
@@ -206,6 +219,13 @@ void write_archive(const std::filesystem::path& path, const Campaign& c,
     f.set_attribute(p, "description", si.description);
   }
 
+}
+
+/// /results/wear/<family>: final profiles per flank family.
+void write_wear(io::H5File& f, const ArchiveRows& rows) {
+  const std::size_t n = rows.n;
+  const auto& records = rows.records;
+  auto is_done = [&](std::size_t i) { return rows.is_done(i); };
   // Wear: final profiles per flank family.
   f.create_group("/results/wear");
   const auto families = union_of(records, [](const CaseRecord& r, std::map<std::string, ScalarInfo>& m) {
@@ -251,6 +271,13 @@ void write_archive(const std::filesystem::path& path, const Campaign& c,
     f.set_attribute(g + "/elements", "description", "elements of this case (valid columns); 0 = no wear data");
   }
 
+}
+
+/// /results/spectra: one frequency axis per case, shared by its channels.
+void write_spectra(io::H5File& f, const ArchiveRows& rows) {
+  const std::size_t n = rows.n;
+  const auto& records = rows.records;
+  auto is_done = [&](std::size_t i) { return rows.is_done(i); };
   // Spectra: one frequency axis per case, shared by the channels.
   f.create_group("/results/spectra");
   const auto channels = union_of(records, [](const CaseRecord& r, std::map<std::string, ScalarInfo>& m) {
@@ -294,6 +321,14 @@ void write_archive(const std::filesystem::path& path, const Campaign& c,
     }
   }
 
+}
+
+/// /results/time_history: the decimated time histories.
+void write_time_histories(io::H5File& f, const ArchiveRows& rows) {
+  const Campaign& c = rows.c;
+  const std::size_t n = rows.n;
+  const auto& records = rows.records;
+  auto is_done = [&](std::size_t i) { return rows.is_done(i); };
   // Decimated time histories.
   const auto th_channels = union_of(records, [](const CaseRecord& r, std::map<std::string, ScalarInfo>& m) {
     for (const auto& ch : r.time_history.channels) m.try_emplace(ch.name, ScalarInfo{ch.unit, ch.description});
@@ -330,6 +365,13 @@ void write_archive(const std::filesystem::path& path, const Campaign& c,
       f.set_attribute(p, "description", ci.description);
     }
   }
+}
+
+/// The string columns of /design.
+void write_design_strings(io::H5File& f, const ArchiveRows& rows) {
+  const Campaign& c = rows.c;
+  const std::size_t n = rows.n;
+  const auto& records = rows.records;
   // String columns of /design (variable-length UTF-8, as h5py writes them).
   std::vector<std::string> status(n), message(n), role(n);
   for (std::size_t i = 0; i < n; ++i) {
@@ -345,6 +387,29 @@ void write_archive(const std::filesystem::path& path, const Campaign& c,
   f.write_strings("/design/sample_role", role);
   f.set_attribute("/design/sample_role", "description",
                   "saltelli designs: A, B or AB_<i> (A with factor i from B); empty for other designs");
+}
+
+} // namespace
+
+void write_archive(const std::filesystem::path& path, const Campaign& c,
+                   std::span<const std::shared_ptr<const CaseRecord>> records, const ArchiveRunInfo& info) {
+  const std::size_t n = c.cases.size();
+  if (records.size() != n)
+    throw std::invalid_argument("write_archive: " + std::to_string(records.size()) + " records for " +
+                                std::to_string(n) + " cases");
+  for (std::size_t i = 0; i < n; ++i)
+    if (records[i] && records[i]->index != static_cast<std::int64_t>(i))
+      throw std::invalid_argument("write_archive: record of case " + std::to_string(records[i]->index) +
+                                  " at position " + std::to_string(i));
+  const ArchiveRows rows{c, records, n};
+  io::H5File f = io::H5File::create(path);
+  write_provenance(f, rows, info);
+  const std::vector<int> case_index = write_design_numbers(f, rows);
+  write_scalars(f, rows);
+  write_wear(f, rows);
+  write_spectra(f, rows);
+  write_time_histories(f, rows);
+  write_design_strings(f, rows);
   write_case_scale(f, case_index);
   f.close();
 }
