@@ -283,6 +283,49 @@ std::string header_list(const std::vector<HeaderField>& header) {
 
 constexpr std::array<std::string_view, 5> kTimeNames{"time", "time_s", "t", "time_sec", "seconds"};
 
+/// Which file column feeds which slot of `table` (slot 0 = time when the file has a time
+/// column and no sample rate is given; -1: not read); fills table.has_time, its name and
+/// unit, and one entry of table.columns per column the sidecar describes.
+std::vector<int> assign_columns(const std::vector<HeaderField>& header, const RecordingMeta& meta,
+                                const std::string& src, RawTable& table) {
+  std::vector<int> slot(header.size(), -1);
+  int time_col = -1;
+  if (!meta.time_column.empty()) {
+    time_col = find_header(header, meta.time_column);
+    if (time_col < 0)
+      throw InputError(src, detail::concat("time column '", meta.time_column, "' (time_column in ", meta.source,
+                                           ") is not in the header; columns: ", header_list(header)));
+  } else {
+    for (auto n : kTimeNames)
+      if ((time_col = find_header(header, n)) >= 0) break;
+    if (time_col < 0 && !meta.sample_rate_Hz)
+      throw InputError(src, detail::concat("no time column (looked for 'time', 'time_s', 't'); columns: ",
+                                           header_list(header),
+                                           ". Name it with time_column, or give sample_rate_Hz for a file "
+                                           "without time"));
+  }
+  int slots = 0;
+  if (time_col >= 0 && !meta.sample_rate_Hz) {
+    table.has_time = true;
+    table.time_name = header[time_col].full;
+    table.time_unit = header[time_col].unit;
+    slot[time_col] = slots++;
+  }
+  for (const ColumnSpec& spec : meta.columns) {
+    const int c = find_header(header, spec.name);
+    if (c < 0)
+      throw InputError(src, detail::concat("column '", spec.name, "' (", diagnose::to_string(spec.quantity),
+                                           ", described in ", meta.source, ") is missing from the file; columns: ",
+                                           header_list(header)));
+    if (slot[c] >= 0)
+      throw InputError(src, detail::concat("column '", header[c].full, "' is used twice (as '", spec.name,
+                                           "' and as the time or another column)"));
+    slot[c] = slots++;
+    table.columns.push_back({&spec, header[c].unit, {}});
+  }
+  return slot;
+}
+
 RawTable read_csv(const std::filesystem::path& path, const RecordingMeta& meta) {
   const std::string src = source_of(path);
   std::vector<char> buffer(1 << 20);
@@ -372,41 +415,7 @@ RawTable read_csv(const std::filesystem::path& path, const RecordingMeta& meta) 
 
   // 3. Which file column feeds which slot (slot 0 = time if present).
   RawTable table;
-  std::vector<int> slot(header.size(), -1);
-  int time_col = -1;
-  if (!meta.time_column.empty()) {
-    time_col = find_header(header, meta.time_column);
-    if (time_col < 0)
-      throw InputError(src, detail::concat("time column '", meta.time_column, "' (time_column in ", meta.source,
-                                           ") is not in the header; columns: ", header_list(header)));
-  } else {
-    for (auto n : kTimeNames)
-      if ((time_col = find_header(header, n)) >= 0) break;
-    if (time_col < 0 && !meta.sample_rate_Hz)
-      throw InputError(src, detail::concat("no time column (looked for 'time', 'time_s', 't'); columns: ",
-                                           header_list(header),
-                                           ". Name it with time_column, or give sample_rate_Hz for a file "
-                                           "without time"));
-  }
-  int slots = 0;
-  if (time_col >= 0 && !meta.sample_rate_Hz) {
-    table.has_time = true;
-    table.time_name = header[time_col].full;
-    table.time_unit = header[time_col].unit;
-    slot[time_col] = slots++;
-  }
-  for (const ColumnSpec& spec : meta.columns) {
-    const int c = find_header(header, spec.name);
-    if (c < 0)
-      throw InputError(src, detail::concat("column '", spec.name, "' (", diagnose::to_string(spec.quantity),
-                                           ", described in ", meta.source, ") is missing from the file; columns: ",
-                                           header_list(header)));
-    if (slot[c] >= 0)
-      throw InputError(src, detail::concat("column '", header[c].full, "' is used twice (as '", spec.name,
-                                           "' and as the time or another column)"));
-    slot[c] = slots++;
-    table.columns.push_back({&spec, header[c].unit, {}});
-  }
+  const std::vector<int> slot = assign_columns(header, meta, src, table);
 
   // 4. Data rows, one pass. Capacity from the first row's length.
   std::vector<std::vector<double>*> out;
