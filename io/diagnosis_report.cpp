@@ -141,8 +141,8 @@ std::string html_escape(const std::string& s) {
   return o;
 }
 
-Doc build(const dg::Diagnosis& d, const ReportContext& ctx) {
-  Doc doc;
+// The report's sections, in order (build() below).
+void add_header(Doc& doc, const dg::Diagnosis& d, const ReportContext& ctx) {
   doc.h1("planetwear diagnose");
   doc.p("**Finding:** " + d.summary);
   doc.p("Verdict: `" + std::string(dg::to_string(d.verdict)) + "`. Recording `" + ctx.recording_path +
@@ -160,6 +160,9 @@ Doc build(const dg::Diagnosis& d, const ReportContext& ctx) {
     doc.p("Differential diagnosis: the recording is compared with the model fitted to the baseline plus what that "
           "model missed on the baseline, cell by cell (" + ctx.baseline_summary +
           "). Findings are changes from the baseline; a fault already present in the baseline cannot be seen.");
+}
+
+void add_kinematics(Doc& doc, const dg::Diagnosis& d) {
   const auto& k = d.kinematics;
   doc.h2("Operating point and kinematics");
   doc.p("Speed " + g(d.speed.input_rpm, 7) + " rpm (± " + g(d.speed.relative_std, 2) + " relative) from the " +
@@ -187,6 +190,9 @@ Doc build(const dg::Diagnosis& d, const ReportContext& ctx) {
                                       : " Channels not compared (their lines are all carrier-family lines): " +
                                             join(d.dropped_channels) + "."));
 
+}
+
+void add_residual(Doc& doc, const dg::Diagnosis& d) {
   doc.h2("Residual before and after");
   std::vector<std::vector<std::string>> rows{{"model", "chi2 fit half", "chi2 held out", "null bound (fit / held out)"}};
   rows.push_back({"nominal (as configured, at the recording's speed)", g(d.nominal_fit.chi2, 6),
@@ -226,6 +232,9 @@ Doc build(const dg::Diagnosis& d, const ReportContext& ctx) {
   }
   doc.p("Decision rule: " + d.rule);
 
+}
+
+void add_nuisance(Doc& doc, const dg::Diagnosis& d) {
   doc.h2("Nuisance parameters (fitted first)");
   {
     std::vector<std::vector<std::string>> t{{"parameter", "fitted", "start", "recalibrated"}};
@@ -236,6 +245,9 @@ Doc build(const dg::Diagnosis& d, const ReportContext& ctx) {
           "(smaller shifts are within the model's own fidelity).");
   }
 
+}
+
+void add_location(Doc& doc, const dg::Diagnosis& d) {
   if (d.located) {
     doc.h2("Where the residual lives");
     std::vector<std::vector<std::string>> t{
@@ -277,6 +289,9 @@ Doc build(const dg::Diagnosis& d, const ReportContext& ctx) {
     }
   }
 
+}
+
+void add_screening_and_candidates(Doc& doc, const dg::Diagnosis& d) {
   if (!d.screening.empty()) {
     doc.h2("Screening");
     doc.p("Every candidate moved from its no-effect value to a moderate one from the nuisance-fitted model; S = "
@@ -309,6 +324,9 @@ Doc build(const dg::Diagnosis& d, const ReportContext& ctx) {
     doc.pre(s);
   }
 
+}
+
+void add_plots_and_time(Doc& doc, const dg::Diagnosis& d, const ReportContext& ctx) {
   doc.h2("Plots");
   if (!ctx.plots_available) doc.p("No plots: " + ctx.plots_note + " (the data are in data/*.csv).");
   for (const auto& ps : d.plots) doc.img(series_file_stem(ps.name) + ".png");
@@ -320,6 +338,17 @@ Doc build(const dg::Diagnosis& d, const ReportContext& ctx) {
         " s, locate " + g(tm.locate_s, 3) + " s, screening " + g(tm.screening_s, 3) + " s, candidates " + g(tm.candidates_s, 3) + " s, phase variants " + g(tm.phase_s, 3) + " s, plot data " +
         g(tm.report_s, 3) + " s; " + std::to_string(tm.simulations) +
         " simulations (" + g(tm.simulate_s, 3) + " s summed over threads).");
+}
+
+Doc build(const dg::Diagnosis& d, const ReportContext& ctx) {
+  Doc doc;
+  add_header(doc, d, ctx);
+  add_kinematics(doc, d);
+  add_residual(doc, d);
+  add_nuisance(doc, d);
+  add_location(doc, d);
+  add_screening_and_candidates(doc, d);
+  add_plots_and_time(doc, d, ctx);
   return doc;
 }
 
@@ -409,10 +438,10 @@ void write_diagnosis_documents(const std::filesystem::path& dir, const dg::Diagn
   write_text_atomically(dir / "report.html", to_html(doc));
 }
 
-void write_diagnosis_report(const std::filesystem::path& dir, const dg::Diagnosis& d, const ReportContext& ctx) {
-  std::error_code ec;
-  std::filesystem::create_directories(dir / "data", ec);
-  if (ec) throw IoError("cannot create '" + (dir / "data").string() + "': " + ec.message());
+namespace {
+
+/// data/<series>.csv for every plot series.
+void write_plot_data(const std::filesystem::path& data_dir, const dg::Diagnosis& d) {
   for (const auto& ps : d.plots) {
     std::ostringstream o;
     o.precision(10);
@@ -425,8 +454,43 @@ void write_diagnosis_report(const std::filesystem::path& dir, const dg::Diagnosi
       for (const auto& [name, v] : ps.columns) o << "," << v[i];
       o << "\n";
     }
-    write_text_atomically(dir / "data" / (series_file_stem(ps.name) + ".csv"), o.str());
+    write_text_atomically(data_dir / (series_file_stem(ps.name) + ".csv"), o.str());
   }
+}
+
+/// report.json's "location": families, lines, rotations.
+json location_json(const dg::Diagnosis& d) {
+  json fam = json::array();
+  for (const auto& f : d.location.families)
+    fam.push_back({{"family", dg::to_string(f.family)}, {"z", num(f.z)}, {"share", num(f.share)},
+                   {"cells", f.cells}, {"frequency_Hz", f.frequency_Hz}, {"carrier_orders", f.carrier_orders},
+                   {"strongest_channel", f.strongest_channel}, {"meaning", f.meaning}});
+  json lines = json::array();
+  for (const auto& l : d.location.lines)
+    lines.push_back({{"order", l.order}, {"frequency_Hz", l.frequency_Hz}, {"channel", l.channel},
+                     {"chi2", l.chi2}, {"recording_amplitude", l.recording_amplitude},
+                     {"model_amplitude", l.model_amplitude}, {"labels", l.labels}});
+  json rot = json::array();
+  for (const auto& r : d.location.rotations)
+    rot.push_back({{"component", dg::to_string(r.component)}, {"channel", r.channel},
+                   {"period_mesh_cycles", r.period_mesh_cycles}, {"averages", r.averages},
+                   {"peak_angle_rad", r.peak_angle_rad}, {"peak_to_mean", r.peak_to_mean},
+                   {"reference", r.reference}, {"tooth", r.tooth}, {"tooth_note", r.tooth_note}});
+  return {{"families", fam}, {"significance_z", d.location.significance_z}, {"lines", lines},
+                   {"screened_family", d.location.screened_family >= 0
+                                           ? json(dg::to_string(static_cast<dg::Component>(d.location.screened_family)))
+                                           : json(nullptr)},
+                   {"screened_candidate", d.location.screened_candidate},
+                   {"rotations", rot}, {"input_orders", d.location.input_orders}};
+}
+
+} // namespace
+
+void write_diagnosis_report(const std::filesystem::path& dir, const dg::Diagnosis& d, const ReportContext& ctx) {
+  std::error_code ec;
+  std::filesystem::create_directories(dir / "data", ec);
+  if (ec) throw IoError("cannot create '" + (dir / "data").string() + "': " + ec.message());
+  write_plot_data(dir / "data", d);
   json j;
   j["tool"] = ctx.version;
   j["recording"] = ctx.recording_path;
@@ -511,30 +575,7 @@ void write_diagnosis_report(const std::filesystem::path& dir, const dg::Diagnosi
     j["fitted_parameters"] = ps;
   }
   j["final_overrides"] = d.final_overrides;
-  if (d.located) {
-    json fam = json::array();
-    for (const auto& f : d.location.families)
-      fam.push_back({{"family", dg::to_string(f.family)}, {"z", num(f.z)}, {"share", num(f.share)},
-                     {"cells", f.cells}, {"frequency_Hz", f.frequency_Hz}, {"carrier_orders", f.carrier_orders},
-                     {"strongest_channel", f.strongest_channel}, {"meaning", f.meaning}});
-    json lines = json::array();
-    for (const auto& l : d.location.lines)
-      lines.push_back({{"order", l.order}, {"frequency_Hz", l.frequency_Hz}, {"channel", l.channel},
-                       {"chi2", l.chi2}, {"recording_amplitude", l.recording_amplitude},
-                       {"model_amplitude", l.model_amplitude}, {"labels", l.labels}});
-    json rot = json::array();
-    for (const auto& r : d.location.rotations)
-      rot.push_back({{"component", dg::to_string(r.component)}, {"channel", r.channel},
-                     {"period_mesh_cycles", r.period_mesh_cycles}, {"averages", r.averages},
-                     {"peak_angle_rad", r.peak_angle_rad}, {"peak_to_mean", r.peak_to_mean},
-                     {"reference", r.reference}, {"tooth", r.tooth}, {"tooth_note", r.tooth_note}});
-    j["location"] = {{"families", fam}, {"significance_z", d.location.significance_z}, {"lines", lines},
-                     {"screened_family", d.location.screened_family >= 0
-                                             ? json(dg::to_string(static_cast<dg::Component>(d.location.screened_family)))
-                                             : json(nullptr)},
-                     {"screened_candidate", d.location.screened_candidate},
-                     {"rotations", rot}, {"input_orders", d.location.input_orders}};
-  }
+  if (d.located) j["location"] = location_json(d);
   json cands = json::array();
   for (const auto& c : d.candidates) cands.push_back(candidate_json(c, d.channels));
   j["candidates"] = cands;
