@@ -72,6 +72,23 @@ void check_synth_memory(const model::SimulationConfig& config, double seconds, c
                  "use a shorter --seconds (--decimate thins the recording only after the simulation)");
 }
 
+/// A once-per-revolution tacho of the sun shaft at simulated samples first + j k, j < n:
+/// kTachoHigh_V during the first kTachoDutyCycle of each turn, else 0.
+diagnose::SignalChannel tacho_channel(const model::SimulationResult& r, std::size_t first, std::size_t k,
+                                      std::size_t n) {
+  const model::Channel* angle = r.find("sun/angle");
+  if (!angle) throw SolverError("simulation produced no channel 'sun/angle'");
+  diagnose::SignalChannel sc;
+  sc.name = "tacho";
+  sc.quantity = diagnose::Quantity::Tacho;
+  sc.unit = "V";
+  for (std::size_t j = 0; j < n; ++j) {
+    const double turn = angle->values[first + j * k] / (2 * kPi);
+    sc.values.push_back(turn - std::floor(turn) < kTachoDutyCycle ? kTachoHigh_V : 0.0);
+  }
+  return sc;
+}
+
 } // namespace
 
 CLI::App* add_synth_command(CLI::App& app, SynthOptions& o) {
@@ -239,19 +256,7 @@ int run_synth(const SynthOptions& o) {
     for (double& v : sc.values) v += offset + (o.noise > 0 ? noise(rng) : 0.0);
     rec.channels.push_back(std::move(sc));
   }
-  if (o.tacho) {
-    const model::Channel* angle = r.find("sun/angle");
-    if (!angle) throw SolverError("simulation produced no channel 'sun/angle'");
-    diagnose::SignalChannel sc;
-    sc.name = "tacho";
-    sc.quantity = diagnose::Quantity::Tacho;
-    sc.unit = "V";
-    for (std::size_t j = 0; j < n_out; ++j) {
-      const double turn = angle->values[first + j * k] / (2 * kPi);
-      sc.values.push_back(turn - std::floor(turn) < kTachoDutyCycle ? kTachoHigh_V : 0.0);
-    }
-    rec.channels.push_back(std::move(sc));
-  }
+  if (o.tacho) rec.channels.push_back(tacho_channel(r, first, static_cast<std::size_t>(k), n_out));
 
   // 6. Write.
   const double fs = 1.0 / (dt * k);

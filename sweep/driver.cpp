@@ -424,20 +424,51 @@ private:
   std::_Exit(io::to_int(io::ExitCode::IoFailure));
 }
 
+/// The cases of this run without a record yet, in order; counts those already finished
+/// (and failed) into `finished` and `failed`.
+std::deque<std::size_t> pending_cases(const Setup& s, std::size_t& finished, std::size_t& failed) {
+  std::deque<std::size_t> pending;
+  for (std::size_t i = s.case_begin; i < s.case_end; ++i) {
+    if (!s.records[i]) {
+      pending.push_back(i);
+      continue;
+    }
+    ++finished;
+    if (s.records[i]->status == CaseStatus::Failed) ++failed;
+  }
+  return pending;
+}
+
+/// What the run's summary lines report.
+struct RunFigures {
+  double wall_s, case_seconds, busy_seconds, final_s;
+  std::size_t finished_run, finished_total, failed_total, during_checkpoint, running_at_checkpoints;
+};
+
+/// The two summary lines at the end of a run.
+std::string run_summary(const SweepOptions& o, const Setup& s, int ranks, const RunFigures& f,
+                        const CheckpointWriter& writer) {
+  const std::size_t n = s.campaign.cases.size();
+  std::ostringstream sum;
+  sum << std::fixed << std::setprecision(3) << "planetwear sweep: " << f.finished_run << " cases run in " << f.wall_s
+      << " s on " << ranks << " rank" << (ranks > 1 ? "s" : "") << " (case time " << f.case_seconds
+      << " s); rank-0 driver busy " << f.busy_seconds << " s (MPI + journal), " << writer.count()
+      << " checkpoints in " << writer.total_seconds() << " s on the writer thread (max " << writer.max_seconds()
+      << " s), final archive " << f.final_s << " s; while checkpoints were written " << f.running_at_checkpoints
+      << " case runs were in progress and " << f.during_checkpoint << " finished\n";
+  sum << "planetwear sweep: " << o.output.string() << ": " << f.finished_total - f.failed_total << " done, "
+      << f.failed_total << " failed of " << s.case_end - s.case_begin;
+  if (s.case_end - s.case_begin != n) sum << " (cases " << s.case_begin << ":" << s.case_end << " of " << n << ")";
+  sum << "\n";
+  return sum.str();
+}
+
 int master(const SweepOptions& o, Setup& s, int ranks, std::ostream& log) {
   const Campaign& c = s.campaign;
   const std::size_t n = c.cases.size();
   std::vector<RecordPtr>& records = s.records;
-  std::deque<std::size_t> pending;
   std::size_t finished_total = 0, failed_total = 0;
-  for (std::size_t i = s.case_begin; i < s.case_end; ++i) {
-    if (!records[i]) {
-      pending.push_back(i);
-      continue;
-    }
-    ++finished_total;
-    if (records[i]->status == CaseStatus::Failed) ++failed_total;
-  }
+  std::deque<std::size_t> pending = pending_cases(s, finished_total, failed_total);
   const auto t_start = Clock::now();
   Progress progress(o.quiet, log, s.case_end - s.case_begin);
   if (!o.quiet)
@@ -565,21 +596,12 @@ int master(const SweepOptions& o, Setup& s, int ranks, std::ostream& log) {
     abort_run(log, o.output, e.what());
   }
   progress.update(finished_total, failed_total, finished_run, 0, 0, true);
-  if (!o.quiet) {
-    const double wall = seconds_since(t_start);
-    std::ostringstream sum;
-    sum << std::fixed << std::setprecision(3) << "planetwear sweep: " << finished_run << " cases run in " << wall
-        << " s on " << ranks << " rank" << (ranks > 1 ? "s" : "") << " (case time " << case_seconds
-        << " s); rank-0 driver busy " << busy_seconds << " s (MPI + journal), " << writer.count()
-        << " checkpoints in " << writer.total_seconds() << " s on the writer thread (max " << writer.max_seconds()
-        << " s), final archive " << final_s << " s; while checkpoints were written " << running_at_checkpoints
-        << " case runs were in progress and " << during_checkpoint << " finished\n";
-    sum << "planetwear sweep: " << o.output.string() << ": " << finished_total - failed_total << " done, "
-        << failed_total << " failed of " << s.case_end - s.case_begin;
-    if (s.case_end - s.case_begin != n) sum << " (cases " << s.case_begin << ":" << s.case_end << " of " << n << ")";
-    sum << "\n";
-    log << sum.str() << std::flush;
-  }
+  if (!o.quiet)
+    log << run_summary(o, s, ranks,
+                       {seconds_since(t_start), case_seconds, busy_seconds, final_s, finished_run, finished_total,
+                        failed_total, during_checkpoint, running_at_checkpoints},
+                       writer)
+        << std::flush;
   return failed_total > 0 ? kExitCasesFailed : 0;
 }
 
