@@ -107,7 +107,7 @@ std::vector<std::string> median_overrides(const std::vector<std::vector<FittedPa
   std::vector<std::string> order;
   for (const auto& params : per_recording)
     for (const FittedParameter& p : params) {
-      if (p.name.rfind("sensor.gain", 0) == 0) continue;
+      if (p.sensor_gain) continue;
       if (!values.count(p.name)) order.push_back(p.name);
       values[p.name].push_back(p.value);
     }
@@ -131,7 +131,7 @@ std::vector<std::string> parameters_at_bound(const std::vector<std::vector<Fitte
   std::vector<std::string> order;
   for (const auto& params : per_recording)
     for (const FittedParameter& p : params) {
-      if (p.name.rfind("sensor.gain", 0) == 0) continue;
+      if (p.sensor_gain) continue;
       if (!counts.count(p.name)) order.push_back(p.name);
       Count& c = counts[p.name];
       if (!p.at_bound) continue;

@@ -81,6 +81,9 @@ struct FittedParameter {
   double value = 0, std_error = 0, lower = 0, upper = 0, initial = 0;
   bool at_bound = false;
   bool nuisance = false;
+  /// A housing-sensor gain, profiled in closed form on every model rather than fitted
+  /// (nuisance too; "sensor.gain_m_s2_per_N[channel]" with several housing channels).
+  bool sensor_gain = false;
   bool moved = false;           ///< nuisance: differs from its start by > z_{1-alpha/2} standard errors and > 5 %
   bool saturates = false;       ///< ParameterSpec::saturates: only a lower limit is identifiable
   /// Saturating parameter of the winner: the smallest value whose fit-half chi2 is within

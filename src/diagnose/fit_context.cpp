@@ -16,7 +16,7 @@ ScoreSummary summarize(const WindowScore& w) {
   return s;
 }
 
-bool is_sensor_gain(const FittedParameter& p) { return p.name.rfind("sensor.gain", 0) == 0; }
+bool is_sensor_gain(const FittedParameter& p) { return p.sensor_gain; }
 
 bool any_saturates(const std::vector<ParameterSpec>& specs) {
   return std::any_of(specs.begin(), specs.end(), [](const ParameterSpec& p) { return p.saturates; });
@@ -128,6 +128,7 @@ void append_gains(const FitContext& ctx, const WindowScore& fit, CandidateResult
     g.initial = ctx.base.sensor.gain_m_s2_per_N;
     g.at_bound = fit.gain_at_edge[c];
     g.nuisance = true;
+    g.sensor_gain = true;
     res.parameters.push_back(g);
     res.overrides.push_back("sensor.gain_m_s2_per_N=" + format_value(g.value));
   }

@@ -28,7 +28,7 @@ std::string param_text(const FittedParameter& p) {
   return s;
 }
 
-bool is_gain(const FittedParameter& p) { return p.name.rfind("sensor.gain", 0) == 0; }
+bool is_gain(const FittedParameter& p) { return p.sensor_gain; }
 
 /// "stiffness.scale at its bound 2" (the nearer end of its box); gains have no box, only the
 /// bracket of their profile search.

@@ -81,6 +81,7 @@ TEST(Calibration, CalibratedModelIsTheMedianOfTheFitsWithoutTheSensorGains) {
     FittedParameter f;
     f.name = n;
     f.value = v;
+    f.sensor_gain = n == "sensor.gain_m_s2_per_N";  // as fit_context.cpp makes the housing gains
     return f;
   };
   const auto o = median_overrides({{p("stiffness.scale", 1.0), p("sensor.gain_m_s2_per_N", 3.0)},
@@ -101,6 +102,7 @@ TEST(Calibration, ParametersFittedAtABoundAreListedWithTheEndAndTheirCount) {
     f.lower = lo;
     f.upper = hi;
     f.at_bound = at_bound;
+    f.sensor_gain = n == "sensor.gain_m_s2_per_N";
     return f;
   };
   const auto notes = parameters_at_bound({{p("stiffness.scale", 2.0, 0.5, 2.0, true),
