@@ -8,7 +8,8 @@
 // Validation of ranges happens once, in model::validate() (model/validate.hpp;
 // above the geometry, since it builds each gear to check it), which throws
 // pw::InputError naming the TOML key (section.key) that is wrong. The types
-// keep their namespace pw::model.
+// keep their namespace pw::model. Every field is also one line of the key
+// schema, config/schema.hpp (name, doc string, unit).
 #pragma once
 
 #include "config/gear_spec.hpp"
