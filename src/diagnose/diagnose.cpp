@@ -569,6 +569,7 @@ private:
     VerdictInputs vin;
     vin.noise_consistent = consistent_;
     vin.alpha = o_.alpha;
+    vin.discrepancy = co_.discrepancy;
     if (!d_.candidates.empty() && d_.candidates.front().failed.empty() &&
         std::isfinite(d_.candidates.front().held_out.chi2)) {
       say("scoring the best candidate against its own null on the held-out half");

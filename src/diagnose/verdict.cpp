@@ -252,6 +252,27 @@ bool recalibrated(const FittedParameter& p, double z) {
          shift > kRecalibration * std::fabs(p.initial);
 }
 
+std::string budget_sensitivity_text(const std::vector<DiscrepancyEntry>& budgets) {
+  // A relative budget s lets a line differ from the model by about s (one standard deviation
+  // of the model-form term) without counting; below 10 % that is of the order of the model's
+  // own fidelity and not worth a sentence.
+  constexpr double kReportedBudget = 0.1;
+  std::vector<DiscrepancyEntry> large;
+  for (const DiscrepancyEntry& b : budgets)
+    if (b.relative_std >= kReportedBudget) large.push_back(b);
+  if (large.empty()) return "";
+  std::sort(large.begin(), large.end(),
+            [](const DiscrepancyEntry& a, const DiscrepancyEntry& b) { return a.relative_std > b.relative_std; });
+  std::string list;
+  for (std::size_t i = 0; i < std::min<std::size_t>(3, large.size()); ++i)
+    list += std::string(i ? ", " : "") + to_string(large[i].family) + " lines of " + to_string(large[i].quantity) +
+            " " + fmt("%.0f %%", 100 * large[i].relative_std);
+  return " This is judged against the calibration's discrepancy budget, which lets lines differ from the model by "
+         "up to about " + list + " (relative, one standard deviation" +
+         (large.size() > 3 ? "; " + std::to_string(large.size() - 3) + " more" : std::string()) +
+         "): an effect that changes those lines by less than that is not detectable with this calibration.";
+}
+
 void decide_verdict(Diagnosis& d, const VerdictInputs& in) {
   d.excess_by_channel = channel_excess(d);
   d.lead = assess_lead(d, in);
@@ -273,7 +294,7 @@ void decide_verdict(Diagnosis& d, const VerdictInputs& in) {
                               "parameters were not fitted on: under the null that happens with probability alpha/2, "
                               "and nothing can be confirmed from it"
                             : std::string()) +
-                ".";
+                "." + budget_sensitivity_text(in.discrepancy);
   } else {
     d.verdict = Verdict::Unexplained;
     d.summary = unexplained_summary(d);

@@ -75,7 +75,15 @@ struct VerdictInputs {
   /// (ModelComparison::replicate_chi2; NaN: not used).
   double replicate_chi2 = std::numeric_limits<double>::quiet_NaN();
   double alpha = 0.01;
+  /// The calibration's discrepancy budgets in force (CompareOptions::discrepancy; empty: none).
+  /// A "no missing physics" under a budget says how large a change of the lines it leaves
+  /// undetectable.
+  std::vector<DiscrepancyEntry> discrepancy;
 };
+
+/// " Under the calibration's discrepancy budget ... not detectable" for the largest relative
+/// budgets (at least kReportedBudget), or "" if none is that large.
+std::string budget_sensitivity_text(const std::vector<DiscrepancyEntry>& budgets);
 
 /// Sets d.verdict, d.winner (0 = candidates.front() named, else -1), d.lead,
 /// d.excess_by_channel and d.summary; appends the verdict rule with its numbers

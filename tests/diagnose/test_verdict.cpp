@@ -246,6 +246,31 @@ TEST(Verdict, ConsistentWithoutCandidatesIsNoMissingPhysics) {
   EXPECT_EQ(d.lead.candidate, -1);
   EXPECT_TRUE(std::isnan(d.lead.explained_fraction));
   EXPECT_EQ(d.summary.find("did not replicate"), std::string::npos) << d.summary;
+  EXPECT_EQ(d.summary.find("discrepancy budget"), std::string::npos) << d.summary;  // no calibration
+}
+
+// "No missing physics" under a calibration whose budget lets lines move by tens of percent
+// says how large an undetectable effect is (the independent corpus's calibrations have
+// relative budgets of 0.7-4.9 on the mesh lines: a 25 % stiffness change went unseen).
+TEST(Verdict, NoMissingPhysicsUnderALargeDiscrepancyBudgetSaysWhatIsNotDetectable) {
+  Diagnosis d = counting_friction();
+  d.candidates.clear();
+  d.winner = -1;
+  d.nuisance.fit = score(500, 500);
+  d.nuisance.held_out = score(520, 500);
+  VerdictInputs in = inputs(std::nan(""));
+  in.noise_consistent = true;
+  in.discrepancy = {{Quantity::CarrierSpeed, Component::Mesh, 4.895, 0.0},
+                    {Quantity::MeshAccelerationSunPlanet, Component::Mesh, 0.8319, 0.0},
+                    {Quantity::SunSpeed, Component::Sun, 0.05, 0.0}};  // below 10 %: not listed
+  decide_verdict(d, in);
+  EXPECT_EQ(d.verdict, Verdict::NoMissingPhysics) << d.summary;
+  EXPECT_NE(d.summary.find("mesh lines of carrier_speed 490 %, mesh lines of mesh_acceleration_sun_planet 83 %"),
+            std::string::npos)
+      << d.summary;
+  EXPECT_NE(d.summary.find("not detectable with this calibration"), std::string::npos) << d.summary;
+  EXPECT_EQ(d.summary.find("sun lines"), std::string::npos) << d.summary;
+  EXPECT_EQ(budget_sensitivity_text({{Quantity::SunSpeed, Component::Mesh, 0.05, 1.0}}), "");
 }
 
 TEST(Verdict, NoFittableCandidateIsUnexplainedWithoutALead) {
