@@ -233,12 +233,18 @@ TEST(Verdict, ACandidateThatDoesNotCountIsALeadOnly) {
   EXPECT_NE(d.summary.find("not a finding (it does not count: fits the first half"), std::string::npos) << d.summary;
 }
 
-TEST(Verdict, ConsistentWithoutCandidatesIsNoMissingPhysics) {
+/// No candidate fitted; the nuisance-fitted model is within the noise on both halves.
+Diagnosis consistent_without_candidates() {
   Diagnosis d = counting_friction();
   d.candidates.clear();
   d.winner = -1;
   d.nuisance.fit = score(500, 500);
   d.nuisance.held_out = score(520, 500);
+  return d;
+}
+
+TEST(Verdict, ConsistentWithoutCandidatesIsNoMissingPhysics) {
+  Diagnosis d = consistent_without_candidates();
   VerdictInputs in = inputs(std::nan(""));
   in.noise_consistent = true;
   decide_verdict(d, in);
@@ -253,11 +259,7 @@ TEST(Verdict, ConsistentWithoutCandidatesIsNoMissingPhysics) {
 // says how large an undetectable effect is (the independent corpus's calibrations have
 // relative budgets of 0.7-4.9 on the mesh lines: a 25 % stiffness change went unseen).
 TEST(Verdict, NoMissingPhysicsUnderALargeDiscrepancyBudgetSaysWhatIsNotDetectable) {
-  Diagnosis d = counting_friction();
-  d.candidates.clear();
-  d.winner = -1;
-  d.nuisance.fit = score(500, 500);
-  d.nuisance.held_out = score(520, 500);
+  Diagnosis d = consistent_without_candidates();
   VerdictInputs in = inputs(std::nan(""));
   in.noise_consistent = true;
   in.discrepancy = {{Quantity::CarrierSpeed, Component::Mesh, 4.9, 0.0},
