@@ -136,7 +136,7 @@ void set_nominal_motion(LumpedStructure& s, const StageLayout& l) {
     return m.normal.dot(rot90(m.tangent_point_a - s.bodies[body].centre_m));
   };
   for (std::size_t i = 0; i < s.planet_bodies.size(); ++i) {
-    const MeshCoupling& sp = s.meshes[static_cast<std::size_t>(MeshId{i, MeshKind::SunPlanet}.index())];
+    const MeshCoupling& sp = s.meshes[static_cast<std::size_t>(MeshId{static_cast<int>(i), MeshKind::SunPlanet}.index())];
     w[s.planet_bodies[i]] = w[sp.body_a] * arm(sp, sp.body_a) / arm(sp, sp.body_b);
   }
   for (MeshCoupling& m : s.meshes) {
