@@ -2,10 +2,10 @@
 // copy used by `planetwear synth` and the tests that make recordings.
 //
 // The filter is a Blackman-windowed sinc (Oppenheim & Schafer, Discrete-Time
-// Signal Processing, 3rd ed., section 7.5: the Blackman window's first side lobe
-// is 58 dB down and its transition width 5.5 pi / half), cutoff 0.4 of the new
-// sample rate so that the band up to its Nyquist frequency 0.5 is in the
-// transition, with unit DC gain (speeds and offsets pass unchanged).
+// Signal Processing, 3rd ed., Table 7.2: peak approximation error about -74 dB,
+// transition width about 9.2 pi / M for a filter of order M = 2 half), cutoff 0.4
+// of the new sample rate so that the band up to its Nyquist frequency 0.5 is in
+// the transition, with unit DC gain (speeds and offsets pass unchanged).
 #pragma once
 
 #include <cstddef>

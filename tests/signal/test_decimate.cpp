@@ -1,9 +1,9 @@
 // Decimation through the anti-alias FIR (signal/decimate.hpp). Tolerances from
 // the Blackman window's properties (Oppenheim & Schafer, DTSP 3rd ed., Table
 // 7.2: pass-band ripple and stop-band level both about -74 dB, transition
-// width 11 pi / (2 half)): with half = 16 k the stop band starts near 0.49 of
-// the new sample rate, so a line at 0.7 of it must be at least 60 dB down and a
-// line at 0.1 of it must pass within 1e-3.
+// width about 9.2 pi / M, M = 2 half): with half = 16 k the stop band starts
+// near 0.47 of the new sample rate, so a line at 0.7 of it must be at least
+// 60 dB down and a line at 0.1 of it must pass within 1e-3.
 #include "signal/decimate.hpp"
 
 #include "core/error.hpp"
