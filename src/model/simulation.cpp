@@ -628,7 +628,8 @@ RecordStats record(Integration& r, int cycles, SimulationResult& out, const Outp
                          "the time of the absolute angles (sun/angle, carrier/angle)",
                          t0});
   stats.mesh_loads = loads.scalars();
-  for (int i = 0; i < N; ++i) stats.mean_sun_planet_force_N.push_back(loads.mean_force_N(2 * i));
+  for (int i = 0; i < N; ++i) stats.mean_sun_planet_force_N.push_back(
+        loads.mean_force_N(dynamics::MeshId{i, dynamics::MeshKind::SunPlanet}.index()));
   return stats;
 }
 
