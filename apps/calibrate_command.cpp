@@ -109,7 +109,6 @@ int run_calibrate(const CalibrateCommandOptions& o) {
     opt.nuisance_only = true;
     if (has_speed_channel(in.recording)) opt.extra_nuisance = rig;
     opt.compare.alpha = o.alpha;
-    opt.compare.config_key = [](const model::SimulationConfig& c) { return io::to_toml(c); };
     if (!o.common.quiet) {
       std::fprintf(stderr, "[calibrate] recording %zu of %zu: %s\n", i + 1, o.recordings.size(), d.recording.c_str());
       opt.progress = [](const std::string& s) { std::fprintf(stderr, "[calibrate]   %s\n", s.c_str()); };

@@ -145,8 +145,6 @@ diagnose::CompareOptions compare_options(const DiagnoseCommandOptions& o,
   diagnose::CompareOptions co;
   co.alpha = o.alpha;
   if (calibration) co.discrepancy = calibration->budgets();
-  // The simulation cache keys on the complete configuration (every key of the TOML schema).
-  co.config_key = [](const model::SimulationConfig& c) { return io::to_toml(c); };
   return co;
 }
 

@@ -244,7 +244,7 @@ std::shared_ptr<const ModelSpectra> ModelComparison::simulate(const model::Simul
   const auto& im = c.imperfections;
   if (!im.teeth.empty() || im.sun_eccentricity_m != 0 || im.torque_ripple_fraction != 0)
     c.solver.periodicity_tolerance = std::max(c.solver.periodicity_tolerance, opt_.tooth_level_speed_tolerance);
-  const std::string key = (opt_.config_key ? opt_.config_key(c) : builtin_config_key(c)) + (keep ? "#keep" : "");
+  const std::string key = builtin_config_key(c) + (keep ? "#keep" : "");
   {
     std::lock_guard<std::mutex> lock(mutex_);
     if (auto it = cache_.find(key); it != cache_.end()) return it->second;

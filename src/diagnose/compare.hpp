@@ -101,9 +101,6 @@ struct CompareOptions {
   /// solver.periodicity_tolerance of simulations with tooth-level features (damaged teeth,
   /// sun runout, torque ripple), whose warm-up otherwise runs until the mean speed holds to 1e-6.
   double tooth_level_speed_tolerance = 1e-4;
-  /// Identity of a configuration for the simulation cache (e.g. io::to_toml);
-  /// empty: a built-in key over the fields the diagnosis varies.
-  std::function<std::string(const model::SimulationConfig&)> config_key;
   /// Runs a prepared simulation elsewhere (another MPI rank: sweep/simulation_pool.hpp) and
   /// returns what ModelComparison::evaluate would return there, or nullopt when it has no
   /// idle capacity (the simulation then runs in this process). Empty: always here. Called
@@ -246,7 +243,7 @@ private:
   mutable double sim_seconds_ = 0;
 };
 
-/// Built-in simulation cache key: every key of the configuration schema
+/// The simulation cache key: every key of the configuration schema
 /// (config/schema.hpp) with its value, so no key can be left out of it.
 std::string builtin_config_key(const model::SimulationConfig& c);
 
