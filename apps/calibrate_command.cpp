@@ -39,7 +39,7 @@ CLI::App* add_calibrate_command(CLI::App& app, CalibrateCommandOptions& o) {
   c->add_option("-o,--output", o.output, "calibration file to write (TOML)")->required();
   c->add_option("--rig-elements", o.rig_elements,
                 "candidates fitted as nuisance parameters when the recording can see them (default: "
-                "encoder_bandwidth; 'none' for none)")
+                "encoder_bandwidth,tip_relief; 'none' for none)")
       ->delimiter(',');
   c->add_option("--threads", o.threads, "OpenMP threads (default: OMP_NUM_THREADS or all cores)")
       ->check(CLI::Range(0, 1024));
@@ -79,6 +79,14 @@ void print_table(const diagnose::Calibration& cal) {
                 "budget carries the rest)\n", s.c_str());
 }
 
+/// The rig elements a recording can see: an encoder's bandwidth only through a speed channel.
+std::vector<std::string> visible_rig_elements(const std::vector<std::string>& rig, const diagnose::Recording& r) {
+  std::vector<std::string> out;
+  for (const std::string& e : rig)
+    if (e != "encoder_bandwidth" || has_speed_channel(r)) out.push_back(e);
+  return out;
+}
+
 } // namespace
 
 int run_calibrate(const CalibrateCommandOptions& o) {
@@ -107,7 +115,7 @@ int run_calibrate(const CalibrateCommandOptions& o) {
     opt.alpha = o.alpha;
     opt.threads = o.threads;
     opt.nuisance_only = true;
-    if (has_speed_channel(in.recording)) opt.extra_nuisance = rig;
+    opt.extra_nuisance = visible_rig_elements(rig, in.recording);
     opt.compare.alpha = o.alpha;
     if (!o.common.quiet) {
       std::fprintf(stderr, "[calibrate] recording %zu of %zu: %s\n", i + 1, o.recordings.size(), d.recording.c_str());

@@ -89,6 +89,10 @@ void visit_config(V& v, Config& c) {
   v.field("backlash_planet_ring_m", c.contact.backlash_planet_ring_m, "planet-ring backlash along the LOA [m]");
   v.field("mesh_error_sun_planet_m", c.contact.mesh_error_sun_planet_m, "sun-planet profile error e_sp [m]");
   v.field("mesh_error_planet_ring_m", c.contact.mesh_error_planet_ring_m, "planet-ring profile error e_pr [m]");
+  v.field("tip_relief_m", c.contact.tip_relief_m,
+          "linear tip relief on every gear's tip, amount along the line of action [m]; 0 = none");
+  v.field("tip_relief_extent", c.contact.tip_relief_extent,
+          "roll length of the tip relief as a fraction of the double-contact zone (eps - 1) p_b [-]; 1 = long relief");
 
   v.section("imperfections");
   v.field("pin_error_m", c.imperfections.pin_error_m, "tangential pin position error per planet [m]; [] = none");

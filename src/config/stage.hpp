@@ -70,6 +70,15 @@ struct ContactSettings {
   double backlash_planet_ring_m = 0.0;   ///< [m]
   double mesh_error_sun_planet_m = 0.0;  ///< seed's e_sp: constant profile error along the LOA [m]
   double mesh_error_planet_ring_m = 0.0; ///< seed's e_pr [m]
+  /// Linear tip relief on every gear's tip (sun, planets, ring), the amount C_a of material
+  /// removed at the tip along the line of action [m] (ISO 21771 "tip relief"); 0 = unmodified
+  /// involutes, the seed's. Real gears carry it to soften the engagement impact; a gear set's
+  /// documentation often does not give it.
+  double tip_relief_m = 0.0;
+  /// Roll length of that relief as a fraction of the double-contact zone at the tip,
+  /// (epsilon_alpha - 1) p_b [-]: 1 = "long" relief (from the point of single contact to the
+  /// tip), 0.5 = "short" relief.
+  double tip_relief_extent = 1.0;
 };
 
 /// One gear body a tooth modification applies to.

@@ -76,6 +76,27 @@ void apply_worn_profile(double depth, const geometry::MeshGeometry& g, bool flan
   }
 }
 
+/// Linear tip relief (contact.tip_relief_m, ISO 21771 "tip relief"): material
+/// removed from each gear's tip, C_a at the tip and falling linearly to 0 over
+/// the roll length L = extent (eps_alpha - 1) p_b from the tip (extent 1: the
+/// long relief, from the point of single contact). Along the path of contact
+/// A's tip is at end_active (xi grows towards A's tip) and B's at start_active
+/// (geometry/mesh.hpp), for the internal mesh as for the external one. A pair's
+/// deflection is reduced by the deviations of both its flanks, so a relieved
+/// pair enters and leaves the load gradually (a load-dependent ramp, Tavakoli &
+/// Houser 1986, J. Mech. Trans. Autom. Des. 108:86).
+void apply_tip_relief(const ContactSettings& c, const geometry::MeshGeometry& g, bool flank_of_a, FlankSet& f) {
+  if (c.tip_relief_m == 0) return;
+  const double length = c.tip_relief_extent * (g.contact_ratio - 1) * g.base_pitch_m;
+  if (!(length > 0)) return;  // contact ratio 1: no double contact to relieve
+  for (int e = 0; e < f.elements(); ++e) {
+    const double xi = f.element_xi_m(e);
+    const double from_tip = flank_of_a ? g.end_active_m - xi : xi - g.start_active_m;
+    const double depth = c.tip_relief_m * std::max(0.0, 1.0 - from_tip / length);
+    for (int t = 0; t < f.teeth(); ++t) f.tooth_deviation(t)[e] += depth;
+  }
+}
+
 bool has_tooth_level_features(const SimulationConfig& c) {
   const Imperfections& i = c.imperfections;
   return !i.teeth.empty() || i.sun_eccentricity_m != 0 || i.torque_ripple_fraction != 0;
@@ -235,6 +256,12 @@ PreparedStage prepare(const SimulationConfig& c) {
   for (int i = 0; i < N; ++i) {
     apply_worn_profile(worn, gs, false, surf.planet_sun_side[i]);
     apply_worn_profile(worn, gr, true, surf.planet_ring_side[i]);
+  }
+  apply_tip_relief(c.contact, gs, true, surf.sun);
+  apply_tip_relief(c.contact, gr, false, surf.ring);
+  for (int i = 0; i < N; ++i) {
+    apply_tip_relief(c.contact, gs, false, surf.planet_sun_side[i]);
+    apply_tip_relief(c.contact, gr, true, surf.planet_ring_side[i]);
   }
 
   p.dynamics = std::make_unique<PlanetaryDynamics>(c, std::move(structure), std::move(sp), std::move(pr),

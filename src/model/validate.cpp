@@ -125,6 +125,8 @@ void validate_contact(const ContactSettings& c, double module_m) {
         "m; |e| below module");
   check(c.mesh_error_planet_ring_m, "contact.mesh_error_planet_ring_m", -module_m, module_m, Ends::Open,
         "m; |e| below module");
+  check(c.tip_relief_m, "contact.tip_relief_m", 0, module_m, Ends::OpenHigh, "m; below module");
+  check(c.tip_relief_extent, "contact.tip_relief_extent", 0, 1, Ends::OpenLow, "-");
 }
 
 void validate_imperfections(const Imperfections& im, const StageSpec& stage) {

@@ -54,6 +54,8 @@ inline void expect_config_eq(const model::SimulationConfig& a, const model::Simu
   EXPECT_EQ(a.contact.backlash_planet_ring_m, b.contact.backlash_planet_ring_m);
   EXPECT_EQ(a.contact.mesh_error_sun_planet_m, b.contact.mesh_error_sun_planet_m);
   EXPECT_EQ(a.contact.mesh_error_planet_ring_m, b.contact.mesh_error_planet_ring_m);
+  EXPECT_EQ(a.contact.tip_relief_m, b.contact.tip_relief_m);
+  EXPECT_EQ(a.contact.tip_relief_extent, b.contact.tip_relief_extent);
 
   const auto& ia = a.imperfections;
   const auto& ib = b.imperfections;
@@ -163,6 +165,8 @@ inline model::SimulationConfig nondefault_config() {
   c.contact.backlash_planet_ring_m = 2e-5;
   c.contact.mesh_error_sun_planet_m = -3e-6;
   c.contact.mesh_error_planet_ring_m = 4e-6;
+  c.contact.tip_relief_m = 5e-6;
+  c.contact.tip_relief_extent = 0.5;
 
   c.imperfections.pin_error_m = {1e-5, -1e-5, 0.0, 2e-6};
   c.imperfections.sun_eccentricity_m = 1e-5;

@@ -21,5 +21,6 @@ std::unique_ptr<Candidate> friction();              // friction.cpp
 std::unique_ptr<Candidate> backlash();              // backlash.cpp
 std::unique_ptr<Candidate> sensor_transfer_path();  // sensor_transfer_path.cpp
 std::unique_ptr<Candidate> encoder_bandwidth();     // encoder_bandwidth.cpp
+std::unique_ptr<Candidate> tip_relief();            // tip_relief.cpp
 
 } // namespace pw::diagnose::candidates

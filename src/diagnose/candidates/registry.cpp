@@ -48,6 +48,7 @@ const std::vector<std::unique_ptr<Candidate>>& candidate_library() {
     t.push_back(candidates::backlash());
     t.push_back(candidates::sensor_transfer_path());
     t.push_back(candidates::encoder_bandwidth());
+    t.push_back(candidates::tip_relief());
     return t;
   }();
   return table;
