@@ -328,8 +328,10 @@ void add_screening_and_candidates(Doc& doc, const dg::Diagnosis& d) {
 
 void add_plots_and_time(Doc& doc, const dg::Diagnosis& d, const ReportContext& ctx) {
   doc.h2("Plots");
+  // Link only what was drawn: a report that points at missing PNGs reads as a broken run.
   if (!ctx.plots_available) doc.p("No plots: " + ctx.plots_note + " (the data are in data/*.csv).");
-  for (const auto& ps : d.plots) doc.img(series_file_stem(ps.name) + ".png");
+  else
+    for (const auto& ps : d.plots) doc.img(series_file_stem(ps.name) + ".png");
   doc.h2("Time");
   const auto& tm = d.timing;
   doc.p("Total " + g(tm.total_s, 3) + " s on " + std::to_string(ctx.ranks) + " rank(s), " +

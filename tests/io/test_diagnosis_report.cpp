@@ -1,0 +1,79 @@
+// The diagnosis report (io/diagnosis_report.*) links only files it wrote:
+// every relative link and image of report.md and report.html names a file in
+// the report directory, with and without plots drawn.
+#include "io/diagnosis_report.hpp"
+
+#include "test_support.hpp"
+
+#include <gtest/gtest.h>
+
+#include <fstream>
+#include <regex>
+#include <set>
+#include <sstream>
+#include <string>
+
+namespace {
+
+namespace fs = std::filesystem;
+
+std::string read(const fs::path& p) {
+  std::ifstream in(p);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+/// Relative targets of Markdown links/images "](x)" and HTML src="x" / href="x".
+std::set<std::string> local_targets(const std::string& text) {
+  std::set<std::string> out;
+  const std::regex md(R"(\]\(([^)\s]+)\))"), html(R"((?:src|href)=\"([^\"]+)\")");
+  for (const std::regex* re : {&md, &html})
+    for (auto it = std::sregex_iterator(text.begin(), text.end(), *re); it != std::sregex_iterator(); ++it) {
+      const std::string t = (*it)[1];
+      if (t.rfind("http", 0) != 0 && t.rfind("#", 0) != 0 && t.rfind("data:", 0) != 0) out.insert(t);
+    }
+  return out;
+}
+
+pw::diagnose::Diagnosis with_one_plot() {
+  pw::diagnose::Diagnosis d;
+  d.summary = "No missing physics found.";
+  d.plots.push_back({"spectrum/w_sun", "spectrum", "carrier order", "amplitude [rad/s]", {1, 2},
+                     {{"recording", {0.1, 0.2}}}});
+  return d;
+}
+
+void expect_links_resolve(const fs::path& dir) {
+  for (const char* doc : {"report.md", "report.html"})
+    for (const std::string& t : local_targets(read(dir / doc)))
+      EXPECT_TRUE(fs::exists(dir / t)) << doc << " links " << t << ", which was not written";
+}
+
+} // namespace
+
+TEST(DiagnosisReport, WithoutPlotsLinksNoImageAndSaysWhy) {
+  pw::test::TempDir tmp;
+  pw::io::ReportContext ctx;
+  ctx.plots_available = false;
+  ctx.plots_note = "--no-plots was given";
+  const auto d = with_one_plot();
+  pw::io::write_diagnosis_report(tmp.path(), d, ctx);
+  pw::io::write_diagnosis_documents(tmp.path(), d, ctx);
+  const std::string md = read(tmp / "report.md");
+  EXPECT_EQ(md.find("spectrum_w_sun.png"), std::string::npos);
+  EXPECT_EQ(read(tmp / "report.html").find("spectrum_w_sun.png"), std::string::npos);
+  EXPECT_NE(md.find("No plots: --no-plots was given"), std::string::npos);
+  expect_links_resolve(tmp.path());
+}
+
+TEST(DiagnosisReport, WithPlotsLinksEachDrawnImage) {
+  pw::test::TempDir tmp;
+  pw::io::ReportContext ctx;
+  const auto d = with_one_plot();
+  pw::io::write_diagnosis_report(tmp.path(), d, ctx);
+  std::ofstream(tmp / "spectrum_w_sun.png") << "png";  // what scripts/plot_diagnosis.py draws
+  pw::io::write_diagnosis_documents(tmp.path(), d, ctx);
+  EXPECT_NE(read(tmp / "report.md").find("spectrum_w_sun.png"), std::string::npos);
+  expect_links_resolve(tmp.path());
+}
