@@ -350,8 +350,10 @@ double ModelComparison::chi2_of(const std::vector<double>& r, int w, const std::
   return chi2;
 }
 
-WindowScore ModelComparison::score(const std::vector<std::vector<double>>& m, int w, std::vector<double> gains,
-                                   bool profile_gain) const {
+WindowScore ModelComparison::score(const std::vector<std::vector<double>>& m, Half half, std::vector<double> gains,
+                                   HousingGains housing_gains) const {
+  const int w = window_index(half);
+  const bool profile_gain = housing_gains == HousingGains::Profile;
   const int nc = channels(), ncell = cells();
   if (gains.empty()) gains.assign(static_cast<std::size_t>(nc), 1.0);
   for (int c = 0; c < nc; ++c)
@@ -414,7 +416,8 @@ double ModelComparison::replicate_chi2(const std::vector<double>& gains_in) cons
 }
 
 double ModelComparison::null_quantile(const std::vector<std::vector<double>>& m, const std::vector<double>& gains_in,
-                                      int w, double alpha, int fitted_parameters) const {
+                                      Half half, double alpha, int fitted_parameters) const {
+  const int w = window_index(half);
   const int nc = channels(), ncell = cells();
   std::vector<double> gains = gains_in;
   if (gains.empty()) gains.assign(static_cast<std::size_t>(nc), 1.0);

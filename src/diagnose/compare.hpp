@@ -114,6 +114,15 @@ struct CompareOptions {
   std::vector<BaselineCell> baseline;
 };
 
+/// The two halves of a recording (docs/diagnose.md §2): the candidates are fitted on the first,
+/// the verdict is tested on the second. Index k of the per-window arrays is the k-th half.
+enum class Half { Fit, HeldOut };
+constexpr int window_index(Half h) { return h == Half::Fit ? 0 : 1; }
+constexpr Half half_of_window(int w) { return w == 0 ? Half::Fit : Half::HeldOut; }
+
+/// Whether a score fits the housing sensors' gains on its half or takes them as given.
+enum class HousingGains { Profile, Given };
+
 /// One model scored on one window.
 struct WindowScore {
   double chi2 = 0;                        ///< r^T V^{-1} r
@@ -171,11 +180,11 @@ public:
   /// last column of U (0: none, the angle does not come from an integrated speed channel).
   double angle_drift_std_rad() const { return drift_[0].empty() ? 0.0 : std::sqrt(spec_.angle_diffusion_T); }
 
-  /// Scores model amplitudes ([channel][bin], housing at gain 1) on window w.
-  /// profile_gain: fit the housing gains on this window (starting at `gains`);
-  /// else use `gains` (empty = 1).
-  WindowScore score(const std::vector<std::vector<double>>& model_amplitude, int window, std::vector<double> gains,
-                    bool profile_gain) const;
+  /// Scores model amplitudes ([channel][bin], housing at gain 1) on one half.
+  /// HousingGains::Profile: fit the housing gains on this half (starting at `gains`);
+  /// HousingGains::Given: use `gains` (empty = 1).
+  WindowScore score(const std::vector<std::vector<double>>& model_amplitude, Half half, std::vector<double> gains,
+                    HousingGains housing_gains) const;
 
   /// 1 - alpha quantile of chi2 under "the model explains the recording" on
   /// window w (Monte Carlo with the model's own amplitudes, see the top).
@@ -186,7 +195,7 @@ public:
   /// which the draw |e|^2 + 2 chi2(k) dominates stochastically: a correct model exceeds
   /// the returned quantile with probability <= alpha. k = 0 leaves the draws unchanged.
   double null_quantile(const std::vector<std::vector<double>>& model_amplitude, const std::vector<double>& gains,
-                       int window, double alpha, int fitted_parameters = 0) const;
+                       Half half, double alpha, int fitted_parameters = 0) const;
 
   /// chi2 of the recording's fit half used as the prediction of its held-out half
   /// (r = A_held - A_fit, the held-out window's V, housing gains `gains` for the fidelity

@@ -205,10 +205,14 @@ private:
 
   /// The nuisance start: the stiffness level moves the response through resonances and chi2
   /// is far from quadratic in it, so LM starts from the best of a coarse geometric scan over
-  /// its box (the first nuisance parameter; the others at their start values).
+  /// its box (the first nuisance parameter; the others at their start values). A rig element
+  /// fitted as nuisance (calibration) starts where it acts, its screening value; where the
+  /// recording is better without it, it starts absent instead, so that LM, which only accepts
+  /// improvements, can never end worse than the model without the element.
   std::vector<double> nuisance_start() {
+    const std::vector<ParameterSpec> specs = ctx().nuisance_specs();
     std::vector<double> x0;
-    for (const auto& p : ctx().nuisance_specs()) x0.push_back(p.initial);
+    for (const auto& p : specs) x0.push_back(p.initial);
     if (x0.empty() || ctx().nuisance.empty()) return x0;
     const ParameterSpec p0 = ctx().nuisance.front()->parameters(ctx().base).front();
     const double lo = p0.lower * kNuisanceScanInset, hi = p0.upper / kNuisanceScanInset;
@@ -220,9 +224,23 @@ private:
       x[0] = grid[static_cast<std::size_t>(i)];
       chi[static_cast<std::size_t>(i)] = ctx().fit_chi2(nullptr, Variant{}, {}, x);
     });
-    const double chi0 = cmp().score(nominal_->amplitude, 0, ctx().nuisance_gains, true).chi2;
+    const double chi0 = cmp().score(nominal_->amplitude, Half::Fit, ctx().nuisance_gains, HousingGains::Profile).chi2;
     const std::size_t b = static_cast<std::size_t>(std::min_element(chi.begin(), chi.end()) - chi.begin());
-    if (chi[b] < chi0) x0[0] = grid[b];
+    double best = chi[b];
+    if (chi[b] < chi0) {
+      x0[0] = grid[b];
+    } else {  // the nominal model (every parameter at its 'absent' value) is the better start
+      for (std::size_t k = 0; k < specs.size(); ++k) x0[k] = specs[k].null_value;
+      best = chi0;
+    }
+    // Each rig element the other way round (present <-> absent) if that is better.
+    for (std::size_t k = 1; k < specs.size(); ++k) {
+      if (specs[k].initial == specs[k].null_value) continue;
+      std::vector<double> x = x0;
+      x[k] = x0[k] == specs[k].null_value ? specs[k].initial : specs[k].null_value;
+      const double c = ctx().fit_chi2(nullptr, Variant{}, {}, x);
+      if (c < best) x0 = x, best = c;
+    }
     return x0;
   }
 
@@ -233,7 +251,7 @@ private:
     const auto t = Clock::now();
     ctx().nuisance_gains.assign(static_cast<std::size_t>(cmp().channels()), config_.sensor.gain_m_s2_per_N);
     {
-      const WindowScore f0 = cmp().score(nominal_->amplitude, 0, ctx().nuisance_gains, true);
+      const WindowScore f0 = cmp().score(nominal_->amplitude, Half::Fit, ctx().nuisance_gains, HousingGains::Profile);
       ctx().nuisance_gains = f0.gains;
       cmp().set_reference(nominal_->amplitude, ctx().nuisance_gains);
     }
@@ -250,11 +268,11 @@ private:
       d_.fidelity.push_back("linear drift of the angle reference over the window (sd " +
                             fmt("%.3g", cmp().angle_drift_std_rad()) + " rad)");
     const auto& amp = ctx().nuisance_sim->amplitude;
-    const WindowScore nf = cmp().score(amp, 0, ctx().nuisance_gains, true);
+    const WindowScore nf = cmp().score(amp, Half::Fit, ctx().nuisance_gains, HousingGains::Profile);
     ctx().nuisance_gains = nf.gains;
     d_.nuisance.gains = nf.gains;
     d_.nuisance.fit = summarize(nf);
-    d_.nuisance.held_out = summarize(cmp().score(amp, 1, nf.gains, false));
+    d_.nuisance.held_out = summarize(cmp().score(amp, Half::HeldOut, nf.gains, HousingGains::Given));
     for (auto& p : d_.nuisance.parameters)
       if (is_sensor_gain(p))
         for (int ch = 0; ch < cmp().channels(); ++ch)
@@ -262,9 +280,9 @@ private:
             const std::size_t c = static_cast<std::size_t>(ch);
             p.value = nf.gains[c], p.std_error = nf.gain_std[c], p.at_bound = nf.gain_at_edge[c];
           }
-    const WindowScore n0 = cmp().score(nominal_->amplitude, 0, ctx().nuisance_gains, true);
+    const WindowScore n0 = cmp().score(nominal_->amplitude, Half::Fit, ctx().nuisance_gains, HousingGains::Profile);
     d_.nominal_fit = summarize(n0);
-    d_.nominal_held_out = summarize(cmp().score(nominal_->amplitude, 1, n0.gains, false));
+    d_.nominal_held_out = summarize(cmp().score(nominal_->amplitude, Half::HeldOut, n0.gains, HousingGains::Given));
     // Recalibrated: statistically (z_{1-alpha/2} standard errors) and practically (more than
     // kRecalibration of its start: smaller shifts are within the model's fidelity, e.g. a
     // discretization difference moves the fitted stiffness level by a few 0.1 %).
@@ -276,8 +294,8 @@ private:
   /// 4. Noise test against the Monte-Carlo null of the nuisance-fitted model.
   void noise_test() {
     const auto& amp = ctx().nuisance_sim->amplitude;
-    d_.bound_fit = cmp().null_quantile(amp, ctx().nuisance_gains, 0, o_.alpha / 2);
-    d_.bound_held_out = cmp().null_quantile(amp, ctx().nuisance_gains, 1, o_.alpha / 2);
+    d_.bound_fit = cmp().null_quantile(amp, ctx().nuisance_gains, Half::Fit, o_.alpha / 2);
+    d_.bound_held_out = cmp().null_quantile(amp, ctx().nuisance_gains, Half::HeldOut, o_.alpha / 2);
     // The held-out half decides: the nuisance parameters were fitted on the other half, so only
     // this half tests them without bias. An excess on the fit half alone did not replicate (under
     // the null it happens with probability alpha/2) and is reported, not acted on; verdict
@@ -338,8 +356,8 @@ private:
 
   Location locate_on_nuisance_model(const LocateOptions& lo) {
     const auto& amp = ctx().nuisance_sim->amplitude;
-    const WindowScore nf = cmp().score(amp, 0, ctx().nuisance_gains, false);
-    const WindowScore nh = cmp().score(amp, 1, ctx().nuisance_gains, false);
+    const WindowScore nf = cmp().score(amp, Half::Fit, ctx().nuisance_gains, HousingGains::Given);
+    const WindowScore nh = cmp().score(amp, Half::HeldOut, ctx().nuisance_gains, HousingGains::Given);
     return locate(cmp(), nf, nh, amp, lo);
   }
 
@@ -582,8 +600,8 @@ private:
       const std::vector<std::string> saved_names = cmp().fidelity_names();
       set_fidelity(ctx(), l.config, nullptr);
       const auto amp = lc && lc->sensor_only() ? ctx().amplitudes(l.config, true) : cmp().simulate(l.config)->amplitude;
-      vin.lead_held_out_chi2 = cmp().score(amp, 1, l.gains, false).chi2;
-      vin.lead_bound_held_out = cmp().null_quantile(amp, l.gains, 1, o_.alpha / 2, static_cast<int>(l.parameters.size()));
+      vin.lead_held_out_chi2 = cmp().score(amp, Half::HeldOut, l.gains, HousingGains::Given).chi2;
+      vin.lead_bound_held_out = cmp().null_quantile(amp, l.gains, Half::HeldOut, o_.alpha / 2, static_cast<int>(l.parameters.size()));
       cmp().set_fidelity(saved_u, saved_names);
     }
     vin.replicate_chi2 = cmp().replicate_chi2(ctx().nuisance_gains);

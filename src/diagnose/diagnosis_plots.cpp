@@ -83,9 +83,9 @@ PlotSeries feature_table(const Diagnosis& d, const ModelComparison& cmp, std::si
 
 void tabulate_plots(Diagnosis& d, const ModelComparison& cmp, const Recording& recording, const ReportedModels& m) {
   const RecordingSpectra& sp = cmp.spectra();
-  const WindowScore nominal = cmp.score(m.nominal, 1, d.nuisance.gains, false);
-  const WindowScore nuisance = cmp.score(m.nuisance, 1, d.nuisance.gains, false);
-  const WindowScore after = cmp.score(m.final_model, 1, m.final_gains, false);
+  const WindowScore nominal = cmp.score(m.nominal, Half::HeldOut, d.nuisance.gains, HousingGains::Given);
+  const WindowScore nuisance = cmp.score(m.nuisance, Half::HeldOut, d.nuisance.gains, HousingGains::Given);
+  const WindowScore after = cmp.score(m.final_model, Half::HeldOut, m.final_gains, HousingGains::Given);
   for (int ch = 0; ch < cmp.channels(); ++ch) {
     const std::size_t c = static_cast<std::size_t>(ch);
     const std::string unit = recording.channels[static_cast<std::size_t>(sp.channels[c])].unit;

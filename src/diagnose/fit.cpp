@@ -90,7 +90,15 @@ LmResult levenberg_marquardt(const ResidualFn& f, const std::vector<Bound>& boun
           // The model failed there (e.g. a jammed mesh): difference the other way.
           h[i] = -h[i];
           vi[i] = v[i] + h[i];
-          cols[i] = f(xs(vi), &centre);
+          try {
+            cols[i] = f(xs(vi), &centre);
+          } catch (const SolverError&) {
+            // It fails on both sides: no slope is known, so the parameter is held this iteration
+            // (a zero column gives it a zero step) rather than the whole fit abandoned.
+            cols[i] = r;
+#pragma omp atomic
+            ++res.failed_evaluations;
+          }
         }
       } catch (...) {
 #pragma omp critical(pw_lm_error)

@@ -58,7 +58,7 @@ struct LmResult {
   double initial_cost = 0;
   int iterations = 0;
   int evaluations = 0;
-  int failed_evaluations = 0;       ///< trial steps where the model threw pw::SolverError (rejected)
+  int failed_evaluations = 0;       ///< trial steps and Jacobian columns where the model threw pw::SolverError
   bool converged = false;
   std::vector<bool> at_bound;       ///< parameter ended on its bound
   std::string message;
@@ -66,7 +66,8 @@ struct LmResult {
 
 /// Minimizes |r(x)|^2 over the box from x0 (clamped into it). A trial step
 /// whose evaluation throws pw::SolverError counts as a worse step; a Jacobian
-/// column that throws is differenced the other way; an exception at the start
+/// column that throws is differenced the other way, and when that throws too the
+/// parameter is held for the iteration (zero column); an exception at the start
 /// point propagates.
 LmResult levenberg_marquardt(const ResidualFn& residual, const std::vector<Bound>& bounds, std::vector<double> x0,
                              const LmOptions& options = {});

@@ -60,7 +60,7 @@ double FitContext::fit_chi2(const Candidate* cand, const Variant& v, std::span<c
                             std::span<const double> nx, bool sensor_only, std::atomic<long>* tally) const {
   try {
     const auto c = make(cand, v, cx, nx, nullptr);
-    return cmp.score(amplitudes(c, sensor_only, tally), 0, nuisance_gains, true).chi2;
+    return cmp.score(amplitudes(c, sensor_only, tally), Half::Fit, nuisance_gains, HousingGains::Profile).chi2;
   } catch (const SolverError&) {
     return std::numeric_limits<double>::infinity();
   }
@@ -71,7 +71,7 @@ std::vector<double> FitContext::fit_residual(const Candidate* cand, const Varian
                                              std::atomic<long>* tally) const {
   try {
     const auto c = make(cand, v, cx, nx, nullptr);
-    return cmp.score(amplitudes(c, sensor_only, tally), 0, nuisance_gains, true).residual;
+    return cmp.score(amplitudes(c, sensor_only, tally), Half::Fit, nuisance_gains, HousingGains::Profile).residual;
   } catch (const SolverError&) {
     return {};
   }
@@ -168,7 +168,7 @@ CandidateResult fit_model(FitContext& ctx, const Candidate* cand, const Variant&
     std::vector<double> cx, nx;
     split(x, cx, nx);
     const auto c = ctx.make(cand, v, cx, nx, nullptr);
-    return ctx.cmp.score(ctx.amplitudes(c, sensor_path_only, &sims), 0, ctx.nuisance_gains, true).residual;
+    return ctx.cmp.score(ctx.amplitudes(c, sensor_path_only, &sims), Half::Fit, ctx.nuisance_gains, HousingGains::Profile).residual;
   };
   LmOptions lo;
   lo.max_iterations = max_iterations;
@@ -192,8 +192,8 @@ CandidateResult fit_model(FitContext& ctx, const Candidate* cand, const Variant&
   }
   res.config = ctx.make(cand, v, cx, nx, &res.overrides);
   const auto amp = ctx.amplitudes(res.config, sensor_path_only, &sims);
-  const WindowScore fit = ctx.cmp.score(amp, 0, ctx.nuisance_gains, true);
-  const WindowScore held = ctx.cmp.score(amp, 1, fit.gains, false);
+  const WindowScore fit = ctx.cmp.score(amp, Half::Fit, ctx.nuisance_gains, HousingGains::Profile);
+  const WindowScore held = ctx.cmp.score(amp, Half::HeldOut, fit.gains, HousingGains::Given);
   res.gains = fit.gains;
   append_gains(ctx, fit, res);
   res.fit = summarize(fit);
@@ -203,7 +203,7 @@ CandidateResult fit_model(FitContext& ctx, const Candidate* cand, const Variant&
     std::vector<double> null_x;
     for (const auto& p : cspec) null_x.push_back(p.null_value);
     const auto c0 = ctx.make(cand, v, null_x, nx, nullptr);
-    res.null_chi2_fit = ctx.cmp.score(ctx.amplitudes(c0, sensor_path_only, &sims), 0, ctx.nuisance_gains, true).chi2;
+    res.null_chi2_fit = ctx.cmp.score(ctx.amplitudes(c0, sensor_path_only, &sims), Half::Fit, ctx.nuisance_gains, HousingGains::Profile).chi2;
   }
   res.lm_message = lm.message;
   res.simulations = static_cast<int>(sims.load());

@@ -37,7 +37,7 @@ struct NuisanceDirections {
 } // namespace
 
 Screening::Screening(FitContext& ctx, double alpha) : ctx_(ctx), alpha_(alpha) {
-  res0_ = ctx.cmp.score(ctx.nuisance_sim->amplitude, 0, ctx.nuisance_gains, true).residual;
+  res0_ = ctx.cmp.score(ctx.nuisance_sim->amplitude, Half::Fit, ctx.nuisance_gains, HousingGains::Profile).residual;
   // The nuisance parameters' own secants, shared by every candidate: the screening step is
   // joint, so physics the nuisance fit absorbed (a worn profile read as a damping level) is
   // given back to its candidate.

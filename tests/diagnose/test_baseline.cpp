@@ -44,7 +44,7 @@ std::pair<double, double> held_out(const Recording& rec, const std::vector<std::
                                    const CompareOptions& co = {}) {
   ModelComparison cmp(rec, test::stage_1200rpm(), co);
   cmp.set_reference(model, {});
-  return {cmp.score(model, 1, {}, false).chi2, cmp.null_quantile(model, {}, 1, kAlphaHalf)};
+  return {cmp.score(model, Half::HeldOut, {}, HousingGains::Given).chi2, cmp.null_quantile(model, {}, Half::HeldOut, kAlphaHalf)};
 }
 
 std::vector<BaselineCell> baseline_of(const Recording& base, const std::vector<std::vector<double>>& model) {

@@ -84,8 +84,8 @@ TEST(Compare, DriftColumnTakesALinearAngleReferenceErrorWithItsSignAndSizeAndRem
     ASSERT_NEAR(biased.angle_drift_std_rad(), sd, 0.05 * sd);  // the bias does not change the noise
     for (int w = 0; w < 2; ++w) {
       const auto& model = exact.spectra().amplitude[static_cast<std::size_t>(w)];
-      const WindowScore c = clean.score(model, w, {}, false);
-      const WindowScore b = biased.score(model, w, {}, false);
+      const WindowScore c = clean.score(model, half_of_window(w), {}, HousingGains::Given);
+      const WindowScore b = biased.score(model, half_of_window(w), {}, HousingGains::Given);
       ASSERT_FALSE(b.fidelity_z.empty());
       const double dz = b.fidelity_z.back() - c.fidelity_z.back();
       EXPECT_LT(dz, -0.5 * drift_in_sd) << drift_in_sd << " sd, window " << w;

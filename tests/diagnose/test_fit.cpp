@@ -1,6 +1,8 @@
 // Levenberg-Marquardt on an analytic model with a known covariance.
 #include "diagnose/fit.hpp"
 
+#include "core/error.hpp"
+
 #include <Eigen/Dense>
 #include <gtest/gtest.h>
 
@@ -47,6 +49,22 @@ TEST(Fit, RecoversExponentialDecayParametersAndTheirCovariance) {
   EXPECT_NEAR(r.std_error[1], sb, 0.05 * sb);
   EXPECT_NEAR(r.covariance[0][1], -s12 / det, 0.05 * std::fabs(s12 / det));
   EXPECT_NEAR(r.cost, m, 4 * std::sqrt(2.0 * m));  // chi2(m - 2)
+}
+
+TEST(Fit, AParameterTheModelCannotMoveOnEitherSideIsHeldWhileTheOthersConverge) {
+  // r = (x0 - 3, x1 - 5), but the model fails (pw::SolverError) whenever x1 leaves its start
+  // value 1: x1's Jacobian column fails both ways. The fit must finish, keep x1 = 1, fit x0.
+  ResidualFn f = [](const std::vector<double>& x, const std::vector<double>*) {
+    if (x[1] != 1.0) throw SolverError("jammed");
+    return std::vector<double>{x[0] - 3.0, x[1] - 5.0};
+  };
+  LmOptions o;
+  o.max_iterations = 20;
+  o.threads = 1;
+  const LmResult r = levenberg_marquardt(f, {{0, 10, false}, {0, 10, false}}, {1.0, 1.0}, o);
+  EXPECT_NEAR(r.x[0], 3.0, 1e-6);
+  EXPECT_EQ(r.x[1], 1.0);
+  EXPECT_GE(r.failed_evaluations, 2);  // both sides of x1, at least once
 }
 
 TEST(Fit, StaysInsideTheBoxAndFlagsTheBound) {

@@ -75,7 +75,7 @@ Location locate_against_unmodulated(Component fault, double beta, unsigned seed)
   const ModelComparison model(modulated_mesh(fault, 0.0, 1e-9, seed), stage_1200rpm());
   const auto& m = model.spectra().amplitude[0];
   EXPECT_EQ(cmp.spectra().layout.revolutions, 3);
-  return locate(cmp, cmp.score(m, 0, {}, false), cmp.score(m, 1, {}, false), m);
+  return locate(cmp, cmp.score(m, Half::Fit, {}, HousingGains::Given), cmp.score(m, Half::HeldOut, {}, HousingGains::Given), m);
 }
 
 bool names(const LocatedLine& line, Component family) {
