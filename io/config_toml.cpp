@@ -12,6 +12,8 @@
 // both against config_keys()).
 #include "io/config_toml.hpp"
 
+#include "core/format.hpp"
+
 #include "config/schema.hpp"
 #include "io/io_error.hpp"
 #include "model/validate.hpp"
@@ -134,9 +136,7 @@ std::string join_list(const std::vector<std::string>& items) {
 std::string format_double(double v) {
   if (std::isnan(v)) return "nan";
   if (std::isinf(v)) return v > 0 ? "inf" : "-inf";
-  std::array<char, 64> buf{};
-  const auto result = std::to_chars(buf.data(), buf.data() + buf.size(), v);  // shortest round trip
-  std::string s(buf.data(), result.ptr);
+  std::string s = round_trip(v);
   if (s.find_first_of(".e") == std::string::npos) s += ".0";  // keep it a TOML float
   return s;
 }

@@ -1,6 +1,7 @@
 #include "campaign.hpp"
 
 #include "core/error.hpp"
+#include "core/format.hpp"
 #include "geometry/mesh.hpp"
 #include "io/config_toml.hpp"
 #include "io/io_error.hpp"
@@ -181,8 +182,7 @@ std::string normalize_unit(std::string_view unit) {
 
 std::string format_value(double v, bool integer) {
   if (integer) return std::to_string(static_cast<long long>(v));
-  std::array<char, 64> buf{};
-  return std::string(buf.data(), std::to_chars(buf.data(), buf.data() + buf.size(), v).ptr);
+  return round_trip(v);
 }
 
 Factor read_factor(const Reader& r, const toml::table& t, std::size_t i, const std::vector<io::KeyInfo>& keys) {

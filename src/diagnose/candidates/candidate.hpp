@@ -118,7 +118,7 @@ const std::vector<std::unique_ptr<Candidate>>& candidate_library();
 /// nullptr if no candidate has that name.
 const Candidate* find_candidate(const std::string& name);
 
-/// "%.9g" of a double, for override strings.
+/// A double for override strings: the shortest text that reads back exactly (core/format.hpp).
 std::string format_value(double v);
 
 /// Writes `value` to the floating-point configuration key `key` (a key path of

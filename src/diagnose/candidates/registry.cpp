@@ -4,10 +4,10 @@
 #include "diagnose/candidates/factories.hpp"
 
 #include "config/schema.hpp"
+#include "core/format.hpp"
 
 #include <numbers>
 
-#include <cstdio>
 #include <stdexcept>
 
 namespace pw::diagnose {
@@ -17,11 +17,7 @@ std::vector<Variant> Candidate::variants(const LocatedEvidence&, const model::Si
   return {Variant{}};
 }
 
-std::string format_value(double v) {
-  char buf[40];
-  std::snprintf(buf, sizeof buf, "%.9g", v);
-  return buf;
-}
+std::string format_value(double v) { return round_trip(v); }
 
 void set_parameter(model::SimulationConfig& c, std::string_view key, double value,
                    std::vector<std::string>* overrides) {
