@@ -5,6 +5,8 @@
 // the relief of its two flanks, a pair at the pitch point is not.
 #include "model/simulation.hpp"
 
+#include "imposed_deflection.hpp"
+
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -72,17 +74,8 @@ TEST(TipRelief, RelievedPairsCarryLessLoadAndPitchPointPairsTheSame) {
   const double len = (g.contact_ratio - 1) * g.base_pitch_m;
   bool saw_tip = false, saw_pitch = false;
   for (double t = 0; t < 2 / pp.mesh_frequency_Hz; t += 1e-5) {
-    MeshState st[2];
-    PreparedStage* ps[2] = {&pp, &pr};
-    for (int w = 0; w < 2; ++w) {
-      PlanetaryDynamics& sys = *ps[w]->dynamics;
-      const int n = sys.size();
-      Eigen::VectorXd q = Eigen::VectorXd::Zero(n), v = Eigen::VectorXd::Zero(n), gen(n);
-      sys.set_roll_reference(q);
-      q(0) = 4e-6 / sys.structure().meshes[0].g(0);  // 4 um on the sun meshes through the sun alone
-      sys.force(t, q, v, gen, nullptr, nullptr);
-      st[w] = sys.mesh_states()[0];
-    }
+    const MeshState st[2] = {pw::test::sun_mesh_under_deflection(pp, t, 4e-6),
+                             pw::test::sun_mesh_under_deflection(pr, t, 4e-6)};
     ASSERT_EQ(st[0].pairs, st[1].pairs);
     for (int j = 0; j < st[0].pairs; ++j) {
       const double xi = st[0].pair[j].xi_m, f0 = st[0].pair_force_N[j], f1 = st[1].pair_force_N[j];

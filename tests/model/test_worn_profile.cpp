@@ -4,6 +4,8 @@
 // contact: pairs far from the pitch point carry less load.
 #include "model/simulation.hpp"
 
+#include "imposed_deflection.hpp"
+
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -78,23 +80,14 @@ TEST(WornProfile, PairsFarFromThePitchPointCarryLessLoad) {
   // pitch point (d ~ 0) it hardly changes.
   SimulationConfig unworn, worn;
   worn.imperfections.worn_profile_depth_m = 1e-6;
-  PreparedStage pu = prepare(unworn), pw = prepare(worn);
+  PreparedStage pu = prepare(unworn), pworn = prepare(worn);
   const auto& g = pu.geometry.sun_planet;
   const double xi_p = g.pitch_point_m, L = g.end_active_m - g.start_active_m;
   double drop_far = 0, force_far = 0, drop_pitch = 1, force_pitch = 0;
   bool saw_far = false, saw_pitch = false;
   for (double t = 0; t < 2 / pu.mesh_frequency_Hz; t += 1e-5) {
-    MeshState st[2];
-    PreparedStage* ps[2] = {&pu, &pw};
-    for (int w = 0; w < 2; ++w) {
-      PlanetaryDynamics& sys = *ps[w]->dynamics;
-      const int n = sys.size();
-      Eigen::VectorXd q = Eigen::VectorXd::Zero(n), v = Eigen::VectorXd::Zero(n), gen(n);
-      sys.set_roll_reference(q);
-      q(0) = 4e-6 / sys.structure().meshes[0].g(0);  // 4 um on the sun meshes through the sun alone
-      sys.force(t, q, v, gen, nullptr, nullptr);
-      st[w] = sys.mesh_states()[0];
-    }
+    const MeshState st[2] = {pw::test::sun_mesh_under_deflection(pu, t, 4e-6),
+                             pw::test::sun_mesh_under_deflection(pworn, t, 4e-6)};
     ASSERT_EQ(st[0].pairs, st[1].pairs);
     for (int j = 0; j < st[0].pairs; ++j) {
       const double xi = st[0].pair[j].xi_m, f0 = st[0].pair_force_N[j], f1 = st[1].pair_force_N[j];
