@@ -92,7 +92,7 @@ void visit_config(V& v, Config& c) {
   v.field("tip_relief_m", c.contact.tip_relief_m,
           "linear tip relief on every gear's tip, amount along the line of action [m]; 0 = none");
   v.field("tip_relief_extent", c.contact.tip_relief_extent,
-          "roll length of the tip relief as a fraction of the double-contact zone (eps - 1) p_b [-]; 1 = long relief");
+          "roll length of the tip relief as a fraction of the double-contact zone (eps - 1) p_b [-]; 0.5 = short relief, 1 = long");
 
   v.section("imperfections");
   v.field("pin_error_m", c.imperfections.pin_error_m, "tangential pin position error per planet [m]; [] = none");

@@ -77,8 +77,12 @@ struct ContactSettings {
   double tip_relief_m = 0.0;
   /// Roll length of that relief as a fraction of the double-contact zone at the tip,
   /// (epsilon_alpha - 1) p_b [-]: 1 = "long" relief (from the point of single contact to the
-  /// tip), 0.5 = "short" relief.
-  double tip_relief_extent = 1.0;
+  /// tip), 0.5 = "short" relief, the default: the longest for which one pair of every
+  /// double-contact position is unrelieved, so that at a load whose deflection is below the
+  /// relief the mesh still carries it as the unmodified gears would (a long relief unloads both
+  /// pairs there, by C_a / 2 each, and the mesh separates). Gears that run over a range of loads,
+  /// and a relief the documentation does not give, call for that.
+  double tip_relief_extent = 0.5;
 };
 
 /// One gear body a tooth modification applies to.

@@ -69,6 +69,7 @@ TEST(TipRelief, RelievedPairsCarryLessLoadAndPitchPointPairsTheSame) {
   // k_j 4 um; at the pitch point (single contact, outside both reliefs) nothing changes.
   SimulationConfig plain, relieved;
   relieved.contact.tip_relief_m = 3e-6;
+  relieved.contact.tip_relief_extent = 1.0;
   PreparedStage pp = prepare(plain), pr = prepare(relieved);
   const auto& g = pp.geometry.sun_planet;
   const double len = (g.contact_ratio - 1) * g.base_pitch_m;
@@ -93,4 +94,27 @@ TEST(TipRelief, RelievedPairsCarryLessLoadAndPitchPointPairsTheSame) {
     }
   }
   EXPECT_TRUE(saw_tip && saw_pitch);
+}
+
+TEST(TipRelief, ShortReliefKeepsALightlyLoadedMeshInContactWhereALongOneSeparatesIt) {
+  // Relief 3 um against a 1 um deflection. Short relief (the default, half the double-contact
+  // zone): at every roll position one pair is unrelieved, so the mesh always carries force.
+  // Long relief: mid double-contact both pairs are relieved by 1.5 um > 1 um, the mesh separates.
+  SimulationConfig shortr, longr;
+  shortr.contact.tip_relief_m = longr.contact.tip_relief_m = 3e-6;
+  longr.contact.tip_relief_extent = 1.0;
+  ASSERT_EQ(shortr.contact.tip_relief_extent, 0.5);
+  PreparedStage ps = prepare(shortr), pl = prepare(longr);
+  double least_short = 1e300, least_long = 1e300;
+  for (double t = 0; t < 2 / ps.mesh_frequency_Hz; t += 2e-6) {
+    const MeshState s = pw::test::sun_mesh_under_deflection(ps, t, 1e-6);
+    const MeshState l = pw::test::sun_mesh_under_deflection(pl, t, 1e-6);
+    double fs = 0, fl = 0;
+    for (int j = 0; j < s.pairs; ++j) fs += s.pair_force_N[j];
+    for (int j = 0; j < l.pairs; ++j) fl += l.pair_force_N[j];
+    least_short = std::min(least_short, fs), least_long = std::min(least_long, fl);
+  }
+  // Short: at least an unmodified single pair's force at 1 um (k_single >= 1e8 N/m for the seed).
+  EXPECT_GT(least_short, 1e8 * 1e-6);
+  EXPECT_EQ(least_long, 0.0);
 }

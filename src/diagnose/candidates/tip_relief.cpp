@@ -6,7 +6,7 @@
 // gear's: when the rig's gears are relieved and the configuration does not say
 // so, every mesh harmonic above the first few is over-predicted. This
 // candidate names that and fits the amount (the relief's length stays
-// contact.tip_relief_extent: one parameter, the long relief by default).
+// contact.tip_relief_extent: one parameter, the short relief by default).
 //
 // 'Absent' is the configured amount, or 0.1 um when none is configured (the
 // log scale's floor: three orders below the tooth deflection at a light
