@@ -208,7 +208,8 @@ private:
   /// its box (the first nuisance parameter; the others at their start values). A rig element
   /// fitted as nuisance (calibration) starts where it acts, its screening value; where the
   /// recording is better without it, it starts absent instead, so that LM, which only accepts
-  /// improvements, can never end worse than the model without the element.
+  /// improvements, ends no worse than that start without the element (LM is local: a fit
+  /// without the element from another start may still end lower).
   std::vector<double> nuisance_start() {
     const std::vector<ParameterSpec> specs = ctx().nuisance_specs();
     std::vector<double> x0;
