@@ -26,7 +26,7 @@ struct CalibrateCommandOptions {
   CommonOptions common;
   std::vector<std::string> recordings, metas;
   std::string output;
-  std::vector<std::string> rig_elements{"encoder_bandwidth", "tip_relief"};
+  std::vector<std::string> rig_elements{"encoder_bandwidth"};
   int threads = 0;
   double alpha = 0.01;
 };
