@@ -83,6 +83,7 @@ int run_sweep(const SweepCommandOptions& o) {
       if (!c.cases[i].role.empty()) std::printf("  %s  %lld", c.cases[i].role.c_str(), c.cases[i].row);
       std::printf("\n");
     }
+    for (const std::string& line : sweep::rank_correlation_report(c)) std::printf("%s\n", line.c_str());
     return 0;
   }
   require(!o.output.empty(), "--output", "required: the archive to write, e.g. -o results.h5");

@@ -3,7 +3,7 @@
 # Works as root (CI) or as a user with sudo. Nothing is downloaded at build time.
 set -eu
 PKGS="build-essential cmake pkg-config libeigen3-dev libhdf5-dev hdf5-tools libfftw3-dev
-libopenmpi-dev openmpi-bin libgtest-dev libcli11-dev libtomlplusplus-dev nlohmann-json3-dev
+libopenmpi-dev openmpi-bin libgtest-dev libcli11-dev libtomlplusplus-dev nlohmann-json3-dev libboost-dev
 python3-numpy python3-h5py python3-pandas python3-matplotlib python3-scipy python3-pytest
 python3-xarray python3-h5netcdf python3-setuptools python3-pip"
 missing=""

@@ -14,6 +14,8 @@
 #include <cerrno>
 #include <charconv>
 #include <cmath>
+#include <tuple>
+#include <cstdio>
 #include <cstring>
 #include <fstream>
 #include <sstream>
@@ -185,9 +187,26 @@ std::string format_value(double v, bool integer) {
   return round_trip(v);
 }
 
+/// [design] correlation = [[1, 0.5], [0.5, 1]]: a square array of numbers (checked in make_design).
+SquareMatrix read_correlation(const Reader& r, const toml::node& n) {
+  const std::string p = "design.correlation";
+  const toml::array* rows = n.as_array();
+  require(rows && !rows->empty(), p, "must be a square array of arrays of numbers, one row per factor",
+          r.at(n));
+  SquareMatrix c;
+  c.size = static_cast<int>(rows->size());
+  for (std::size_t i = 0; i < rows->size(); ++i) {
+    const toml::array* row = (*rows)[i].as_array();
+    require(row && row->size() == rows->size(), p, "row ", i, " must be an array of ", rows->size(),
+            " numbers (the matrix is square)", r.at((*rows)[i]));
+    for (const toml::node& v : *row) c.values.push_back(r.number(v, p));
+  }
+  return c;
+}
+
 Factor read_factor(const Reader& r, const toml::table& t, std::size_t i, const std::vector<io::KeyInfo>& keys) {
   const std::string p = "factors[" + std::to_string(i) + "]";
-  r.check_keys(t, p, {"key", "unit", "min", "max", "levels", "points", "scale"});
+  r.check_keys(t, p, {"key", "unit", "min", "max", "levels", "points", "scale", "distribution", "mean", "std_dev", "mode"});
   Factor f;
   const auto key = r.string(t, "key", p + ".key");
   require(key.has_value() && !key->empty(), p + ".key", "missing: the configuration key to vary, e.g. key = "
@@ -231,6 +250,32 @@ Factor read_factor(const Reader& r, const toml::table& t, std::size_t i, const s
     else throw InputError(p + ".scale", detail::concat("must be \"linear\" or \"log\", got \"", *scale, "\"",
                                                        r.at(*t.get("scale"))));
   }
+  if (const auto dist = r.string(t, "distribution", p + ".distribution")) {
+    if (*dist == "uniform") f.distribution.kind = DistributionKind::Uniform;
+    else if (*dist == "normal") f.distribution.kind = DistributionKind::Normal;
+    else if (*dist == "lognormal") f.distribution.kind = DistributionKind::LogNormal;
+    else if (*dist == "triangular") f.distribution.kind = DistributionKind::Triangular;
+    else throw InputError(p + ".distribution", detail::concat("must be \"uniform\", \"normal\", \"lognormal\" or "
+                                                              "\"triangular\", got \"", *dist, "\"",
+                                                              r.at(*t.get("distribution"))));
+  }
+  // Each distribution's parameters, and only those (a stray one is a mistake worth naming).
+  const DistributionKind kind = f.distribution.kind;
+  const bool moments = kind == DistributionKind::Normal || kind == DistributionKind::LogNormal;
+  const std::string named = " (distribution = \"" + std::string(to_string(kind)) + "\")";
+  for (const char* name : {"mean", "std_dev"}) {
+    const auto v = r.number(t, name, p + "." + name);
+    require(moments || !v, p + "." + name, name, " is a parameter of normal and lognormal factors, not of this one",
+            named);
+    require(!moments || v, p + "." + name, "missing: a ", to_string(kind), " factor needs mean and std_dev, in ",
+            f.unit.empty() ? std::string("its unit") : f.unit);
+    if (v) (std::string(name) == "mean" ? f.distribution.mean : f.distribution.std_dev) = *v;
+  }
+  const auto mode = r.number(t, "mode", p + ".mode");
+  require(kind == DistributionKind::Triangular || !mode, p + ".mode",
+          "mode is a parameter of triangular factors, not of this one", named);
+  require(kind != DistributionKind::Triangular || mode, p + ".mode", "missing: a triangular factor needs min, mode and max");
+  if (mode) f.distribution.mode = *mode;
   return f;
 }
 
@@ -259,6 +304,32 @@ std::string_view to_string(DesignType type) {
   case DesignType::Saltelli: return "saltelli";
   }
   return "?";
+}
+
+std::vector<std::string> rank_correlation_report(const Campaign& c) {
+  const int d = static_cast<int>(c.factors.size());
+  if (c.design.type != DesignType::LatinHypercube || d < 2 || c.cases.size() < 2) return {};
+  const SquareMatrix achieved = achieved_rank_correlation(c.cases, d);
+  auto target = [&](int i, int j) { return c.design.correlation.size == d ? c.design.correlation(i, j) : 0.0; };
+  std::vector<std::string> lines;
+  lines.push_back(detail::concat("rank correlations of the ", c.cases.size(), " cases (Spearman; target in brackets",
+                                 c.design.correlation.size == d ? ", imposed by Iman-Conover" : ", none imposed",
+                                 "):"));
+  double worst = 0;
+  int wi = 0, wj = 1;
+  for (int i = 0; i < d; ++i)
+    for (int j = i + 1; j < d; ++j) {
+      const double dev = std::fabs(achieved(i, j) - target(i, j));
+      if (dev > worst) std::tie(worst, wi, wj) = std::make_tuple(dev, i, j);
+      char buf[64];
+      std::snprintf(buf, sizeof buf, "%+.3f [%+.3f]", achieved(i, j), target(i, j));
+      if (d <= 8) lines.push_back("  " + c.factors[i].key + " ~ " + c.factors[j].key + ": " + buf);
+    }
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%.3f", worst);
+  lines.push_back(detail::concat("  largest deviation from the target: ", buf, " (", c.factors[wi].key, " ~ ",
+                                 c.factors[wj].key, ")"));
+  return lines;
 }
 
 std::string_view to_string(Scale scale) { return scale == Scale::Log ? "log" : "linear"; }
@@ -352,10 +423,11 @@ Campaign parse_campaign(std::string_view text, const std::filesystem::path& base
     c.design.list_name = c.list_file.string();
   } else if (*type == "latin_hypercube") {
     c.design.type = DesignType::LatinHypercube;
-    r.check_keys(*d, "design", {"type", "samples", "seed"}, " for latin_hypercube designs");
+    r.check_keys(*d, "design", {"type", "samples", "seed", "correlation"}, " for latin_hypercube designs");
     const auto samples = r.integer(*d, "samples", "design.samples");
     require(samples.has_value(), "design.samples", "missing: the number of cases");
     c.design.samples = *samples;
+    if (const toml::node* n = d->get("correlation")) c.design.correlation = read_correlation(r, *n);
   } else if (*type == "saltelli") {
     c.design.type = DesignType::Saltelli;
     r.check_keys(*d, "design", {"type", "base_samples", "seed"}, " for saltelli designs");

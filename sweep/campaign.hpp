@@ -123,6 +123,13 @@ std::uint64_t fnv1a64(std::string_view data, std::uint64_t hash = 0xcbf29ce48422
 std::string hex64(std::uint64_t value);
 
 std::string_view to_string(DesignType type);
+
+/// What a sampled design achieved, as lines for the user (empty for other designs or
+/// one factor): a latin_hypercube's Spearman rank correlations between the factors'
+/// values, each with its target (0 without design.correlation), and the largest
+/// deviation from the target. Plain Latin hypercubes carry spurious correlations of
+/// order 1/sqrt(samples); printed so that nobody reads an effect into them.
+std::vector<std::string> rank_correlation_report(const Campaign& c);
 std::string_view to_string(Scale scale);
 
 } // namespace pw::sweep

@@ -68,6 +68,52 @@ void check_value(const Factor& f, double v, const std::string& param, const std:
   if (f.scale == Scale::Log) require(v > 0, param, f.key, ": scale = \"log\" needs positive values, got ", v);
 }
 
+/// A sampled factor's distribution: parameters finite and in range, bounds consistent.
+void check_distribution(const Factor& f, std::size_t i) {
+  const Distribution& d = f.distribution;
+  const std::string name(to_string(d.kind));
+  require(f.scale == Scale::Linear, factor_param(i, "scale"), f.key, ": scale = \"log\" is for uniform factors; a ",
+          name, " factor's spacing follows from its distribution (a log-normal one: distribution = \"lognormal\")");
+  if (f.min) require(std::isfinite(*f.min), factor_param(i, "min"), f.key, ": must be finite, got ", *f.min);
+  if (f.max) require(std::isfinite(*f.max), factor_param(i, "max"), f.key, ": must be finite, got ", *f.max);
+  if (f.min && f.max)
+    require(*f.min < *f.max, factor_param(i, "max"), f.key, ": max = ", *f.max, " ", f.unit, " must be above min = ",
+            *f.min, " ", f.unit);
+  if (f.integer) {
+    if (f.min) require(is_whole(*f.min), factor_param(i, "min"), f.key, " is an integer key: min must be whole, got ", *f.min);
+    if (f.max) require(is_whole(*f.max), factor_param(i, "max"), f.key, " is an integer key: max must be whole, got ", *f.max);
+  }
+  if (d.kind == DistributionKind::Triangular) {
+    require(f.min && f.max, factor_param(i, f.min ? "max" : "min"), f.key,
+            ": a triangular distribution needs min, mode and max");
+    require(std::isfinite(d.mode) && d.mode >= *f.min && d.mode <= *f.max, factor_param(i, "mode"), f.key,
+            ": mode must lie in [min, max] = [", *f.min, ", ", *f.max, "] ", f.unit, ", got ", d.mode);
+    return;
+  }
+  require(std::isfinite(d.mean), factor_param(i, "mean"), f.key, ": must be finite, got ", d.mean);
+  require(std::isfinite(d.std_dev) && d.std_dev > 0, factor_param(i, "std_dev"), f.key, ": must be > 0 [", f.unit,
+          "], got ", d.std_dev);
+  if (d.kind == DistributionKind::LogNormal) {
+    require(d.mean > 0, factor_param(i, "mean"), f.key, ": a lognormal factor's mean must be > 0, got ", d.mean);
+    if (f.max) require(*f.max > 0, factor_param(i, "max"), f.key, ": a lognormal factor takes positive values; max = ",
+                       *f.max, " leaves none");
+  }
+  // The truncated range must carry probability: the inverse CDF of an empty range is meaningless.
+  const double lo = f.min.value_or(-std::numeric_limits<double>::infinity());
+  const double hi = f.max.value_or(std::numeric_limits<double>::infinity());
+  const double a = inverse_cdf(d, 0.0, lo, hi), b = inverse_cdf(d, std::nextafter(1.0, 0.0), lo, hi);
+  require(a < b, factor_param(i, f.min ? "min" : "max"), f.key, ": the truncation [", lo, ", ", hi, "] ", f.unit,
+          " holds no probability of the ", name, " distribution (mean ", d.mean, ", std_dev ", d.std_dev, ")");
+}
+
+/// Bounds or distribution of a factor a sampled design (latin_hypercube, saltelli) draws.
+void check_sampled(const Factor& f, std::size_t i) {
+  if (f.distribution.kind == DistributionKind::Uniform)
+    check_bounds(f, i);
+  else
+    check_distribution(f, i);
+}
+
 void require_no_levels(const Factor& f, std::size_t i, const char* design) {
   require(f.levels.empty(), factor_param(i, "levels"), f.key, ": levels are only used by full_factorial designs, not ",
           design);
@@ -84,13 +130,27 @@ std::string trim(const std::string& s) { return std::string(io::trim_space(s)); 
 } // namespace
 
 double from_unit(double u, const Factor& f) {
+  if (f.distribution.kind != DistributionKind::Uniform) {
+    const double v = inverse_cdf(f.distribution, u, f.min.value_or(-std::numeric_limits<double>::infinity()),
+                                 f.max.value_or(std::numeric_limits<double>::infinity()));
+    return f.integer ? round_half_away(v) : v;
+  }
   const double lo = *f.min, hi = *f.max;
   double v = f.scale == Scale::Log ? std::exp(std::log(lo) + u * (std::log(hi) - std::log(lo))) : lo + u * (hi - lo);
   v = std::clamp(v, lo, hi);  // guards the last ulp of exp/log and of lo + u (hi - lo)
   return f.integer ? round_half_away(v) : v;
 }
 
+SquareMatrix achieved_rank_correlation(const std::vector<DesignPoint>& cases, int factors) {
+  std::vector<double> sample;
+  sample.reserve(cases.size() * static_cast<std::size_t>(factors));
+  for (const DesignPoint& p : cases) sample.insert(sample.end(), p.values.begin(), p.values.end());
+  return spearman(sample, static_cast<long long>(cases.size()), factors);
+}
+
 std::vector<double> factorial_levels(const Factor& f, int default_points, std::size_t i) {
+  require(f.distribution.kind == DistributionKind::Uniform, factor_param(i, "distribution"), f.key,
+          ": distributions are drawn by latin_hypercube and saltelli designs; a full_factorial takes levels");
   if (!f.levels.empty()) {
     require(!f.points, factor_param(i, "points"), f.key, ": give levels or points, not both");
     std::set<double> seen;
@@ -230,7 +290,11 @@ std::vector<DesignPoint> make_design(const std::vector<Factor>& factors, const D
     break;
   }
   case DesignType::List: {
-    for (std::size_t i = 0; i < factors.size(); ++i) require_no_levels(factors[i], i, "list");
+    for (std::size_t i = 0; i < factors.size(); ++i) {
+      require_no_levels(factors[i], i, "list");
+      require(factors[i].distribution.kind == DistributionKind::Uniform, factor_param(i, "distribution"),
+              factors[i].key, ": distributions are drawn by latin_hypercube and saltelli designs, not list");
+    }
     for (auto& row : parse_case_list(spec.list_text, factors, spec.list_name)) cases.push_back({std::move(row), "", -1});
     require(static_cast<long long>(cases.size()) <= kMaxCases, "design.file", "more than ", kMaxCases, " cases");
     break;
@@ -240,9 +304,17 @@ std::vector<DesignPoint> make_design(const std::vector<Factor>& factors, const D
     require(spec.samples <= kMaxCases, "design.samples", "must be <= ", kMaxCases, ", got ", spec.samples);
     for (std::size_t i = 0; i < factors.size(); ++i) {
       require_no_levels(factors[i], i, "latin_hypercube");
-      check_bounds(factors[i], i);
+      check_sampled(factors[i], i);
     }
-    const auto u = latin_hypercube_unit(spec.samples, d, spec.seed);
+    auto u = latin_hypercube_unit(spec.samples, d, spec.seed);
+    if (spec.correlation.size > 0) {
+      require(spec.correlation.size == d, "design.correlation", "is ", spec.correlation.size, " x ",
+              spec.correlation.size, " but the campaign has ", d, " factors (one row and column per factor, in "
+              "the order of the [[factors]] tables)");
+      const std::string problem = correlation_matrix_problem(spec.correlation);
+      require(problem.empty(), "design.correlation", problem);
+      impose_rank_correlation(u, spec.samples, d, spec.correlation, spec.seed);
+    }
     for (long long c = 0; c < spec.samples; ++c) {
       DesignPoint p;
       for (int j = 0; j < d; ++j) p.values.push_back(from_unit(u[static_cast<std::size_t>(c) * d + j], factors[j]));
@@ -258,7 +330,7 @@ std::vector<DesignPoint> make_design(const std::vector<Factor>& factors, const D
             " + 2) cases exceed the limit of ", kMaxCases);
     for (std::size_t i = 0; i < factors.size(); ++i) {
       require_no_levels(factors[i], i, "saltelli");
-      check_bounds(factors[i], i);
+      check_sampled(factors[i], i);
     }
     const SaltelliMatrices m = saltelli_unit(spec.base_samples, d, spec.seed);
     auto point = [&](long long j, int replaced_from_B /* -1: A, d: B */) {

@@ -28,7 +28,10 @@
 //                   origin (seed = 0: row 0 is every factor's minimum).
 //
 // Unit-cube values u in [0, 1) map to a factor as min + u (max - min), or
-// exp(ln min + u (ln max - ln min)) for scale = "log". Values of integer keys
+// exp(ln min + u (ln max - ln min)) for scale = "log", or through the inverse
+// CDF of the factor's distribution (distribution.hpp: normal, lognormal,
+// triangular). A latin_hypercube may be given a target rank correlation
+// (rank_correlation.hpp, Iman & Conover 1982). Values of integer keys
 // are rounded to the nearest whole number (ties away from zero).
 //
 // Reference: A. Saltelli et al., "Variance based sensitivity analysis of model
@@ -39,6 +42,9 @@
 // standard) turned into doubles and bounded integers by the code in
 // design.cpp, so a seed gives the same design with every compiler.
 #pragma once
+
+#include "distribution.hpp"
+#include "rank_correlation.hpp"
 
 #include <cstdint>
 #include <optional>
@@ -58,6 +64,9 @@ struct Factor {
   std::vector<double> levels;   ///< explicit levels (full_factorial only)
   std::optional<int> points;    ///< levels between min and max (full_factorial; default design.points)
   Scale scale = Scale::Linear;
+  /// latin_hypercube, saltelli: the values' distribution (uniform over [min, max] by
+  /// default; normal and lognormal are truncated to min/max when given).
+  Distribution distribution;
   bool integer = false;         ///< the key takes whole numbers
 };
 
@@ -72,6 +81,9 @@ struct DesignSpec {
   long long samples = 0;         ///< latin_hypercube: number of cases
   long long base_samples = 0;    ///< saltelli: N
   std::uint64_t seed = 0;        ///< latin_hypercube, saltelli
+  /// latin_hypercube: target rank (Spearman) correlation of the factors, imposed by
+  /// Iman-Conover (rank_correlation.hpp); size 0 = none (the plain hypercube).
+  SquareMatrix correlation;
 };
 
 /// One case of a design.
@@ -90,7 +102,10 @@ inline constexpr long long kMaxCases = 10'000'000;
 /// bounds, repeated levels, non-positive values on a log scale, non-whole
 /// values of integer keys, points < 2, samples or base_samples <= 0, list rows
 /// with missing, extra or unparsable values, too many factors for the Sobol'
-/// table, zero cases or more than kMaxCases.
+/// table, zero cases or more than kMaxCases, distribution parameters out of range
+/// ("factors[0].std_dev"), a distribution on a design that does not sample, a
+/// correlation that is not a valid correlation matrix of the factors
+/// ("design.correlation") or on a design other than latin_hypercube.
 std::vector<DesignPoint> make_design(const std::vector<Factor>& factors, const DesignSpec& spec);
 
 // --- building blocks (tested separately) -----------------------------------
@@ -108,8 +123,12 @@ struct SaltelliMatrices {
 };
 SaltelliMatrices saltelli_unit(long long N, int d, std::uint64_t seed);
 
-/// u in [0, 1) -> factor value (scale, rounding of integer keys).
+/// u in [0, 1) -> factor value (scale or distribution, rounding of integer keys).
 double from_unit(double u, const Factor& f);
+
+/// Spearman rank correlation of the factor values of `cases` (what a sampled
+/// design achieved; the plain Latin hypercube's spurious correlations included).
+SquareMatrix achieved_rank_correlation(const std::vector<DesignPoint>& cases, int factors);
 
 /// The numbers of a CSV table whose header names every factor once; rows in
 /// file order, values in factor order. Blank lines and lines starting with '#'

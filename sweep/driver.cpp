@@ -474,6 +474,8 @@ int master(const SweepOptions& o, Setup& s, int ranks, std::ostream& log) {
   if (!o.quiet)
     log << "planetwear sweep: " << n << " cases, " << pending.size() << " to run on " << ranks << " rank"
         << (ranks > 1 ? "s" : "") << " -> " << o.output.string() << "\n";
+  if (!o.quiet)
+    for (const std::string& line : rank_correlation_report(c)) log << "planetwear sweep: " << line << "\n";
 
   LocalWorker local;
   CheckpointWriter writer(o.output, c, {ranks, s.case_begin, s.case_end});

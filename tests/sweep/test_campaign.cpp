@@ -50,6 +50,16 @@ TEST(Campaign, ShippedCampaignsParseAndEveryCaseIsValid) {
   EXPECT_EQ(demo.cases.size(), 16u);
   EXPECT_EQ(demo.design.type, DesignType::LatinHypercube);
   EXPECT_EQ(demo.factors[2].scale, Scale::Log);
+  const Campaign uncertain = read_campaign(dir / "saltelli_uncertain.toml");
+  EXPECT_NO_THROW(validate_cases(uncertain));
+  EXPECT_EQ(uncertain.cases.size(), 8u * (3 + 2));
+  EXPECT_EQ(uncertain.factors[2].distribution.kind, DistributionKind::LogNormal);
+  for (const auto& p : uncertain.cases) {
+    EXPECT_GE(p.values[0], 0.0);  // the normal friction truncated to [0, 0.2]
+    EXPECT_LE(p.values[0], 0.2);
+    EXPECT_GE(p.values[1], 0.02);  // the triangular damping on its support
+    EXPECT_LE(p.values[1], 0.1);
+  }
 }
 
 TEST(Campaign, BaseConfigIsRelativeToTheCampaignAndBaseSetOverridesIt) {
@@ -188,6 +198,33 @@ TEST(Campaign, UnknownKeysAndWrongTypesAreNamed) {
   const auto syntax = thrown<InputError>([&] { (void)parse_campaign("[design\n", ".", "c.toml"); });
   ASSERT_TRUE(syntax);
   EXPECT_TRUE(contains(syntax->what(), "c.toml:1:"));
+}
+
+TEST(Campaign, DistributionsAndCorrelationParseAndMisspellingsAreNamed) {
+  const std::string friction = "[[factors]]\nkey = \"contact.friction_coefficient\"\nunit = \"1\"\n";
+  const std::string power = "[[factors]]\nkey = \"operating.input_power_W\"\nunit = \"W\"\n";
+  const std::string lhs = "[design]\ntype = \"latin_hypercube\"\nsamples = 64\nseed = 1\n";
+  const Campaign c = parse_campaign(friction + "distribution = \"normal\"\nmean = 0.06\nstd_dev = 0.01\nmin = 0.0\n" +
+                                        power + "distribution = \"triangular\"\nmin = 500.0\nmode = 1000.0\nmax = 2000.0\n" +
+                                        lhs + "correlation = [[1.0, -0.5], [-0.5, 1.0]]\n",
+                                    ".", "c.toml");
+  EXPECT_EQ(c.factors[0].distribution.kind, DistributionKind::Normal);
+  EXPECT_EQ(c.factors[1].distribution.mode, 1000.0);
+  EXPECT_EQ(c.design.correlation.size, 2);
+  const auto report = rank_correlation_report(c);
+  ASSERT_EQ(report.size(), 3u);
+  EXPECT_TRUE(contains(report[1], "[-0.500]"));
+  EXPECT_TRUE(rejected(friction + "distribution = \"gauss\"\n" + lhs, "factors[0].distribution", "\"normal\""));
+  EXPECT_TRUE(rejected(friction + "distribution = \"normal\"\nmean = 0.06\n" + lhs, "factors[0].std_dev", "missing"));
+  EXPECT_TRUE(rejected(friction + "min = 0.0\nmax = 0.1\nmean = 0.06\n" + lhs, "factors[0].mean", "not of this one"));
+  EXPECT_TRUE(rejected(friction + "distribution = \"triangular\"\nmin = 0.0\nmax = 0.1\n" + lhs, "factors[0].mode",
+                       "missing"));
+  const std::string two = friction + "min = 0.0\nmax = 0.1\n" + power + "min = 500.0\nmax = 2000.0\n";
+  EXPECT_TRUE(rejected(two + lhs + "correlation = [[1.0, 0.5, 0.0], [0.5, 1.0, 0.0], [0.0, 0.0, 1.0]]\n",
+                       "design.correlation", "2 factors"));
+  EXPECT_TRUE(rejected(two + lhs + "correlation = [[1.0, 0.5], [0.5]]\n", "design.correlation", "square"));
+  EXPECT_TRUE(rejected(two + "[design]\ntype = \"saltelli\"\nbase_samples = 8\ncorrelation = [[1.0, 0.5], [0.5, 1.0]]\n",
+                       "design.correlation", "saltelli"));
 }
 
 TEST(Campaign, ListDesignReadsItsCsvBesideTheCampaign) {
