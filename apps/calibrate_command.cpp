@@ -54,12 +54,6 @@ CLI::App* add_calibrate_command(CLI::App& app, CalibrateCommandOptions& o) {
 
 namespace {
 
-bool has_speed_channel(const diagnose::Recording& r) {
-  return std::any_of(r.channels.begin(), r.channels.end(), [](const diagnose::SignalChannel& c) {
-    return c.quantity == diagnose::Quantity::SunSpeed || c.quantity == diagnose::Quantity::CarrierSpeed;
-  });
-}
-
 void print_table(const diagnose::Calibration& cal) {
   const double z = normal_quantile(cal.alpha);
   std::printf("%-30s %-12s %12s %12s %6s %14s %6s\n", "channel kind", "family", "sigma_rel", "budget", "cells",
@@ -83,7 +77,7 @@ void print_table(const diagnose::Calibration& cal) {
 std::vector<std::string> visible_rig_elements(const std::vector<std::string>& rig, const diagnose::Recording& r) {
   std::vector<std::string> out;
   for (const std::string& e : rig)
-    if (e != "encoder_bandwidth" || has_speed_channel(r)) out.push_back(e);
+    if (diagnose::find_candidate(e)->observable_in(r)) out.push_back(e);
   return out;
 }
 

@@ -2,7 +2,8 @@
 """Runs `planetwear diagnose` on an indepsim corpus and scores it against truth.json.
 
     /usr/bin/python3 scripts/indepsim/confusion.py DIR --planetwear PATH/planetwear
-        [--jobs N] [--threads 1] [--include-held-out] [--calibration-per-rig | --calibrate] [--timeout S]
+        [--jobs N] [--threads 1] [--include-held-out] [--calibration-per-rig | --calibrate | --differential]
+        [--timeout S]
         [--only NAME,...] [--gearset G] [--dry-run] [--check-reader]
 
 For each recording DIR/<gearset>/recordings/rec_NN.csv (sidecar rec_NN.json) it runs
@@ -23,6 +24,11 @@ that operating point (outputs under DIR/diagnosis_cal/).
 --calibrate: `planetwear calibrate` on each gear set's healthy baselines (held-out ones never),
 written to DIR/diagnosis_calibrated/<gearset>/calibration.toml; every other recording is then
 diagnosed with --calibration (docs/diagnose.md section 6a).
+
+--differential: every recording that is not itself a baseline is diagnosed against its
+operating point's healthy baseline (truth.json "baseline"; also when that baseline is held out:
+it is the rig's reference run), `--baseline B.csv --baseline-meta B.json` (docs/diagnose.md
+section 6b); outputs under DIR/diagnosis_diff/.
 """
 import argparse
 import concurrent.futures as cf
@@ -164,6 +170,9 @@ def main(argv=None):
     ap.add_argument("--calibrate", action="store_true",
                     help="planetwear calibrate on each gear set's (non-held-out) baselines, then diagnose the other "
                          "recordings with --calibration (outputs under DIR/diagnosis_calibrated/)")
+    ap.add_argument("--differential", action="store_true",
+                    help="diagnose each recording against its operating point's healthy baseline (--baseline); "
+                         "outputs under DIR/diagnosis_diff/")
     ap.add_argument("--timeout", type=float, default=3 * 3600)
     ap.add_argument("--only", default="", help="comma-separated gearset/rec_NN keys")
     ap.add_argument("--gearset", default="")
@@ -191,8 +200,10 @@ def main(argv=None):
         bad = [k for k, v in res.items() if v["result"] != v["expected"]]
         print(f"{len(keys) - len(bad)}/{len(keys)} as expected" + (f"; unexpected: {bad}" if bad else ""))
         return 1 if bad else 0
+    if sum([a.calibrate, a.calibration_per_rig, a.differential]) > 1:
+        ap.error("--calibrate, --calibration-per-rig and --differential are alternatives")
     outroot = ("diagnosis_calibrated" if a.calibrate else "diagnosis_cal" if a.calibration_per_rig
-               else "diagnosis")
+               else "diagnosis_diff" if a.differential else "diagnosis")
     results = {}
     t_start = time.time()
     done_times = []
@@ -264,6 +275,12 @@ def main(argv=None):
             cal_files[g] = cf_path
             keys[:] = [k for k in keys if k not in bases]
         jobs_for(keys, extra=lambda k: ["--calibration", cal_files[recs[k]["gearset"]]])
+    elif a.differential:
+        def baseline_args(k):
+            csvp = os.path.join(a.corpus, recs[recs[k]["baseline"]]["csv"])
+            return ["--baseline", csvp, "--baseline-meta", os.path.splitext(csvp)[0] + ".json"]
+        keys[:] = [k for k in keys if recs[k]["role"] != "baseline" and recs[k].get("baseline")]
+        jobs_for(keys, extra=baseline_args)
     else:
         jobs_for(keys)
 

@@ -21,9 +21,9 @@ namespace pw::model {
 
 /// Sun (external), planets (external, identical) and a fixed ring (internal).
 struct StageSpec {
-  geometry::GearSpec sun{21};
-  geometry::GearSpec planet{30};
-  geometry::GearSpec ring{81, 3e-3, 0.349066, 0.0, 1.0, 1.25, 0.38, 0.05, geometry::GearKind::Internal, {}};
+  geometry::GearSpec sun{.teeth = 21};
+  geometry::GearSpec planet{.teeth = 30};
+  geometry::GearSpec ring{.teeth = 81, .kind = geometry::GearKind::Internal};
   int planet_count = 3;  ///< N [-]
   /// Planet carrier angles psi_i [rad], counter-clockwise from planet 0.
   /// Empty: equally spaced, psi_i = 2 pi i / N.

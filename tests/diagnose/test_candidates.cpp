@@ -186,6 +186,20 @@ TEST(Candidates, EncoderBandwidthIsAbsentAtTheTopOfItsBoxAndEveryValueIsInTheKey
   EXPECT_NO_THROW(model::validate(b));
 }
 
+TEST(Candidates, EncoderBandwidthIsObservableOnlyInSpeedChannels) {
+  // A calibration on housing accelerometers alone cannot see the encoders: leaving the rig
+  // element out there keeps a parameter the data cannot inform out of the fit.
+  const Candidate* c = find_candidate("encoder_bandwidth");
+  ASSERT_NE(c, nullptr);
+  Recording r;
+  r.channels.push_back({"a_h", Quantity::HousingAcceleration, "m/s^2", 0, 0.0, {}});
+  r.channels.push_back({"a_sp0", Quantity::MeshAccelerationSunPlanet, "m/s^2", 0, 0.0, {}});
+  EXPECT_FALSE(c->observable_in(r));
+  EXPECT_TRUE(find_candidate("friction")->observable_in(r));
+  r.channels.push_back({"w_carrier", Quantity::CarrierSpeed, "rad/s", 0, 0.0, {}});
+  EXPECT_TRUE(c->observable_in(r));
+}
+
 TEST(Candidates, DampingScreenStepStaysInsideTheKeysRangeAtItsTop) {
   // contact.mesh_damping_ratio <= 1 (model/validate.cpp): at 1 the screening secant points down.
   const Candidate* c = find_candidate("damping_level");

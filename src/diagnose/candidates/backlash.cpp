@@ -31,7 +31,8 @@ public:
       const double upper = std::max(0.1 * b.stage.sun.module_m, 2 * b0);  // [m] the configuration allows < 1 module
       // Play of a few tens of um is typical for module-3 gears (ISO 1328 / DIN 3967 fits).
       const double screen = std::min(upper, std::max(2e-5, 2 * b0));
-      ParameterSpec p{key, "m", b0, upper, false, screen, b0, screen};
+      ParameterSpec p{.name = key, .unit = "m", .lower = b0, .upper = upper,
+          .log_scale = false, .initial = screen, .null_value = b0, .screen_value = screen};
       p.saturates = true;
       return p;
     };

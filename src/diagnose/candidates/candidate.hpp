@@ -14,6 +14,7 @@
 
 #include "config/stage.hpp"
 #include "diagnose/kinematics.hpp"
+#include "diagnose/recording.hpp"
 
 #include <memory>
 #include <span>
@@ -100,6 +101,12 @@ public:
                      std::vector<std::string>* overrides = nullptr) const = 0;
   /// Parameters that change only the housing-sensor channels (no new simulation needed).
   virtual bool sensor_only() const { return false; }
+  /// Whether `recording` has a channel this candidate's parameters change (default: every
+  /// channel does). A calibration leaves out rig elements its recordings cannot see.
+  virtual bool observable_in(const Recording& recording) const {
+    (void)recording;
+    return true;
+  }
   /// Start values equivalent to another candidate's fitted parameters `other_x` when the
   /// two are near-aliases of one physics (pin errors and a carrier eccentricity: both
   /// displace the planet centres in the carrier); empty if there is no such mapping.

@@ -49,9 +49,14 @@ public:
     const double screen = std::clamp(kScreenInMeshFrequencies * fm, lower, upper);
     // Start from the configured (calibrated) bandwidth when there is one.
     const double start = b.sensor.encoder_bandwidth_Hz > 0 ? absent : screen;
-    ParameterSpec p{"sensor.encoder_bandwidth_Hz", "Hz", lower, upper, true, start, absent, screen};
+    ParameterSpec p{.name = "sensor.encoder_bandwidth_Hz", .unit = "Hz", .lower = lower, .upper = upper,
+        .log_scale = true, .initial = start, .null_value = absent, .screen_value = screen};
     p.saturates = true;
     return {p};
+  }
+  /// Only speed channels pass through the encoders.
+  bool observable_in(const Recording& r) const override {
+    return r.find(Quantity::SunSpeed) != nullptr || r.find(Quantity::CarrierSpeed) != nullptr;
   }
   void apply(model::SimulationConfig& c, const Variant&, std::span<const double> x,
              std::vector<std::string>* o) const override {

@@ -14,7 +14,8 @@ public:
   std::vector<Component> families() const override { return {Component::Mesh}; }
   std::vector<ParameterSpec> parameters(const model::SimulationConfig& b) const override {
     const double mu = b.contact.friction_coefficient;
-    return {{"contact.friction_coefficient", "1", 0.0, 0.4, false, mu > 0.05 ? 0.5 * mu : 0.1, mu, mu + 0.05}};
+    return {ParameterSpec{.name = "contact.friction_coefficient", .unit = "1", .lower = 0.0, .upper = 0.4,
+        .log_scale = false, .initial = mu > 0.05 ? 0.5 * mu : 0.1, .null_value = mu, .screen_value = mu + 0.05}};
   }
   void apply(model::SimulationConfig& c, const Variant&, std::span<const double> x,
              std::vector<std::string>* o) const override {

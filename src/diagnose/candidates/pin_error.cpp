@@ -21,7 +21,9 @@ public:
     std::vector<ParameterSpec> p;
     const double m = b.stage.sun.module_m;
     for (int i = 1; i < b.stage.planet_count; ++i)
-      p.push_back({"pin_error_m[" + std::to_string(i) + "]", "m", -0.02 * m, 0.02 * m, false, 0.0, 0.0, 1e-6});
+      p.push_back(ParameterSpec{.name = "pin_error_m[" + std::to_string(i) + "]", .unit = "m", .lower = -0.02 * m,
+          .upper = 0.02 * m,
+          .log_scale = false, .initial = 0.0, .null_value = 0.0, .screen_value = 1e-6});
     return p;
   }
   /// From a carrier eccentricity (x, y): its tangential part at planet i, -x sin psi_i + y cos psi_i

@@ -27,8 +27,12 @@ public:
   std::vector<ParameterSpec> parameters(const model::SimulationConfig& b) const override {
     const double m = 0.02 * b.stage.sun.module_m;
     if (sun_)  // rotates with the sun: its phase changes no amplitude, only the magnitude is fitted
-      return {{"sun_eccentricity_m", "m", 1e-8, m, true, 0.05 * m, 1e-8, 1e-6}};
-    return {{"carrier_eccentricity_x_m", "m", -m, m, false, 0.05 * m, 0.0, 1e-6}, {"carrier_eccentricity_y_m", "m", -m, m, false, 0.0, 0.0, 1e-6}};
+      return {ParameterSpec{.name = "sun_eccentricity_m", .unit = "m", .lower = 1e-8, .upper = m,
+          .log_scale = true, .initial = 0.05 * m, .null_value = 1e-8, .screen_value = 1e-6}};
+    return {ParameterSpec{.name = "carrier_eccentricity_x_m", .unit = "m", .lower = -m, .upper = m,
+        .log_scale = false, .initial = 0.05 * m, .null_value = 0.0, .screen_value = 1e-6},
+        ParameterSpec{.name = "carrier_eccentricity_y_m", .unit = "m", .lower = -m, .upper = m,
+        .log_scale = false, .initial = 0.0, .null_value = 0.0, .screen_value = 1e-6}};
   }
   /// Carrier runout from pin errors p_i (p_0 = 0): the eccentricity (x, y) and common offset c
   /// whose tangential pattern -x sin psi_i + y cos psi_i - c fits p_i best (least squares; exact

@@ -16,7 +16,9 @@ public:
   std::vector<Component> families() const override { return {Component::Carrier}; }
   bool sensor_only() const override { return true; }
   std::vector<ParameterSpec> parameters(const model::SimulationConfig& b) const override {
-    return {{"sensor.window_width_rad", "rad", 0.1, 1.25, true, b.sensor.window_width_rad, b.sensor.window_width_rad, 1.3 * b.sensor.window_width_rad}};
+    return {ParameterSpec{.name = "sensor.window_width_rad", .unit = "rad", .lower = 0.1, .upper = 1.25,
+        .log_scale = true, .initial = b.sensor.window_width_rad, .null_value = b.sensor.window_width_rad,
+        .screen_value = 1.3 * b.sensor.window_width_rad}};
   }
   void apply(model::SimulationConfig& c, const Variant&, std::span<const double> x,
              std::vector<std::string>* o) const override {

@@ -41,7 +41,9 @@ public:
     const double screen = configured > 0 ? (1.5 * absent <= upper ? 1.5 * absent : absent / 1.5)
                                          : std::min(kScreen_m, upper);
     const double start = configured > 0 ? configured : screen;
-    return {{"contact.tip_relief_m", "m", std::min(kAbsent_m, absent), upper, true, start, absent, screen}};
+    return {ParameterSpec{.name = "contact.tip_relief_m", .unit = "m", .lower = std::min(kAbsent_m, absent),
+        .upper = upper,
+        .log_scale = true, .initial = start, .null_value = absent, .screen_value = screen}};
   }
   void apply(model::SimulationConfig& c, const Variant&, std::span<const double> x,
              std::vector<std::string>* o) const override {

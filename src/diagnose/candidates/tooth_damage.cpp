@@ -41,7 +41,8 @@ public:
     return {};
   }
   std::vector<ParameterSpec> parameters(const model::SimulationConfig&) const override {
-    return {{"stiffness_factor", "1", 0.05, 1.0, false, 0.7, 1.0, 0.8}};
+    return {ParameterSpec{.name = "stiffness_factor", .unit = "1", .lower = 0.05, .upper = 1.0,
+        .log_scale = false, .initial = 0.7, .null_value = 1.0, .screen_value = 0.8}};
   }
   /// Appended to a variant fitted on tooth 0 standing for any tooth of its gear.
   static constexpr const char* kCanonical = " (severity fitted on a stand-in tooth)";

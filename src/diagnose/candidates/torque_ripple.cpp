@@ -17,7 +17,8 @@ public:
   }
   std::vector<Component> families() const override { return {Component::InputShaft}; }
   std::vector<ParameterSpec> parameters(const model::SimulationConfig&) const override {
-    return {{"torque_ripple_fraction", "1", 1e-4, 0.5, true, 0.01, 1e-4, 0.02}};
+    return {ParameterSpec{.name = "torque_ripple_fraction", .unit = "1", .lower = 1e-4, .upper = 0.5,
+        .log_scale = true, .initial = 0.01, .null_value = 1e-4, .screen_value = 0.02}};
   }
   std::vector<Variant> variants(const LocatedEvidence& ev, const model::SimulationConfig&,
                                 const ToothMap&) const override {

@@ -14,7 +14,9 @@ public:
   }
   std::vector<Component> families() const override { return {Component::Mesh}; }
   std::vector<ParameterSpec> parameters(const model::SimulationConfig& b) const override {
-    return {{"worn_profile_depth_m", "m", 1e-7, 0.02 * b.stage.sun.module_m, true, 2e-6, 1e-7, 5e-7}};
+    return {ParameterSpec{.name = "worn_profile_depth_m", .unit = "m", .lower = 1e-7,
+        .upper = 0.02 * b.stage.sun.module_m,
+        .log_scale = true, .initial = 2e-6, .null_value = 1e-7, .screen_value = 5e-7}};
   }
   void apply(model::SimulationConfig& c, const Variant&, std::span<const double> x,
              std::vector<std::string>* o) const override {
