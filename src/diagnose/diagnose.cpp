@@ -132,8 +132,16 @@ private:
   /// Progress, each line stamped with the time since the diagnosis started (the phases'
   /// lengths are not known in advance; the candidate fits, the longest phase, give an ETA).
   void say(const std::string& s) const {
-    if (o_.progress) o_.progress(fmt("%6.0f s  ", seconds_since(t_start_)) + s);
+    if (!o_.progress) return;
+    o_.progress(fmt("%6.0f s  ", seconds_since(t_start_)) + (stage_.empty() ? "" : "[" + stage_ + "] ") + s);
   }
+  /// Enters step `k` of docs/diagnose.md §5 (of kSteps): every progress line until the next
+  /// says where in the procedure the diagnosis is (steps a run does not need are skipped).
+  void step(int k, const std::string& s) {
+    stage_ = "step " + std::to_string(k) + "/" + std::to_string(kSteps);
+    say(s);
+  }
+  static constexpr int kSteps = 12;
   bool allowed(const Candidate& c) const {
     return o_.only_candidates.empty() ||
            std::find(o_.only_candidates.begin(), o_.only_candidates.end(), c.name()) != o_.only_candidates.end();
@@ -154,7 +162,7 @@ private:
 #endif
     threads_ += std::max(0, o_.remote_slots);
     d_.timing.threads = threads_;
-    say("order analysis of the recording");
+    step(1, "order analysis of the recording");
     const auto t = Clock::now();
     co_ = o_.compare;
     co_.alpha = o_.alpha;
@@ -196,7 +204,7 @@ private:
 
   /// 2. The model at the recording's speed and its fidelity directions.
   void simulate_baseline() {
-    say("baseline model at " + fmt("%.6g", cmp().spectra().speed.input_rpm) + " rpm and its fidelity variants");
+    step(2, "baseline model at " + fmt("%.6g", cmp().spectra().speed.input_rpm) + " rpm and its fidelity variants");
     const auto t = Clock::now();
     set_fidelity(ctx(), ctx().base, &nominal_);
     d_.model_speed_rpm = nominal_->mean_input_rpm;
@@ -248,7 +256,7 @@ private:
   /// 3. The nuisance parameters (LM from the scan's best point; gains profiled), then the
   /// fidelity directions and the reference model at the fitted model.
   void fit_nuisance() {
-    say("fitting the nuisance parameters");
+    step(3, "fitting the nuisance parameters");
     const auto t = Clock::now();
     ctx().nuisance_gains.assign(static_cast<std::size_t>(cmp().channels()), config_.sensor.gain_m_s2_per_N);
     {
@@ -294,6 +302,7 @@ private:
 
   /// 4. Noise test against the Monte-Carlo null of the nuisance-fitted model.
   void noise_test() {
+    step(4, "noise test of the nuisance-fitted model");
     const auto& amp = ctx().nuisance_sim->amplitude;
     d_.bound_fit = cmp().null_quantile(amp, ctx().nuisance_gains, Half::Fit, o_.alpha / 2);
     d_.bound_held_out = cmp().null_quantile(amp, ctx().nuisance_gains, Half::HeldOut, o_.alpha / 2);
@@ -343,7 +352,7 @@ private:
 
   /// 5. Locate the residual of the nuisance-fitted model (locate.hpp).
   void locate_residual() {
-    say("locating the residual");
+    step(5, "locating the residual");
     const auto t = Clock::now();
     d_.location = locate_on_nuisance_model(o_.locate);
     const RecordingSpectra& sp = cmp().spectra();
@@ -376,7 +385,7 @@ private:
                  resolvable(c, layout);
         },
         d_.location.evidence, *teeth_);
-    say("screening " + std::to_string(screening_->variants()) + " candidate variants (" +
+    step(6, "screening " + std::to_string(screening_->variants()) + " candidate variants (" +
         std::to_string(screening_->simulations()) + " simulations)");
     screening_->simulate_secants();
     screening_->linearize();
@@ -461,9 +470,10 @@ private:
   /// fitted further.
   void fit_candidates() {
     const auto t = Clock::now();
+    step(7, "grid starts of the one-parameter candidates");
     screening_->grid_starts(shortlist_, [&](const std::string& s) { say(s); });
     d_.candidates.resize(shortlist_.size());
-    say("fitting " + std::to_string(shortlist_.size()) + " candidates");
+    step(8, "fitting " + std::to_string(shortlist_.size()) + " candidates");
     fits_done_ = 0;
     fits_start_ = Clock::now();
     parallel_for(static_cast<int>(shortlist_.size()), threads_, [&](int i) {
@@ -575,16 +585,19 @@ private:
   /// 11.-12. The winner's place (phase_search.hpp) and, if saturating, its lower limit.
   void refine_winner() {
     CandidateResult& w = d_.candidates.front();
+    step(11, "phase variants of " + w.name);
     const auto t = Clock::now();
     search_phases(ctx(), w, d_.location.evidence, *teeth_, o_.max_iterations,
                   [&](CandidateResult& r) { assess(r); }, [&](const std::string& s) { say(s); });
     d_.timing.phase_s = seconds_since(t);
+    stage_ = "step " + std::to_string(kSteps) + "/" + std::to_string(kSteps);  // the lower limit, the last step
     profile_saturating(ctx(), w, o_.alpha, [&](const std::string& s) { say(s); });
   }
 
   /// The verdict (verdict.hpp): the best candidate is named only if its own fitted model
   /// explains the held-out half within its Monte-Carlo null and nothing it rests on sits at a bound.
   void decide() {
+    stage_ = "verdict";
     VerdictInputs vin;
     vin.noise_consistent = consistent_;
     vin.alpha = o_.alpha;
@@ -635,6 +648,7 @@ private:
   const model::SimulationConfig& config_;
   const DiagnoseOptions& o_;
   const Clock::time_point t_start_;
+  std::string stage_;  // "step k/12" or "verdict": the part of the procedure progress lines belong to
   int threads_ = 1;
   CompareOptions co_;
   std::optional<ModelComparison> cmp_;
