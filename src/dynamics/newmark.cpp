@@ -5,6 +5,11 @@
 #include <cmath>
 
 namespace pw::dynamics {
+namespace {
+/// A chord iteration (an earlier step's factorization) that reduces the residual at least this
+/// much per iteration is kept; a weaker one refreshes the tangents (a pair entered contact).
+constexpr double kChordContraction = 0.1;
+} // namespace
 
 NewmarkSolver::NewmarkSolver(SecondOrderSystem& system, double dt_s, NewmarkScheme scheme, NewtonSettings newton)
     : sys_(system), dt_(dt_s), scheme_(scheme), newton_(newton) {
@@ -145,7 +150,15 @@ int NewmarkSolver::attempt(NewmarkState& s, bool extrapolate) {
       lu_.solve(r_, da_);
       a_ = a_prev_ - da_;
       const double trial = evaluate(false);
-      if (trial < 0.1 * res) {
+      if (trial < kChordContraction * res) {
+        const double tolerance = newton_.relative_tolerance * scale;
+        if (newton_.predicted_stop && trial > tolerance && trial * (trial / res) <= tolerance) {
+          lu_.solve(r_, da_);  // r_ is the residual at a_: one more chord update, not evaluated
+          a_ -= da_;
+          q_ = q_pred_ + (b * dt * dt) * a_;
+          v_ = v_pred_ + (gm * dt) * a_;
+          return accept();
+        }
         res = trial;
         continue;
       }

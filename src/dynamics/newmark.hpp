@@ -34,6 +34,15 @@ struct NewtonSettings {
   /// from the root instead of O(dt), which saves about one force evaluation per
   /// step. The root is the same to the Newton tolerance.
   bool extrapolate_start = true;
+  /// Stop one chord iteration early when convergence is predicted: chord iterations contract
+  /// linearly, so after a contraction q = r_k / r_(k-1) < 0.1 the next iterate's residual is
+  /// about q r_k. When that is within the tolerance (and r_k is not), the next iterate is taken
+  /// without evaluating its residual (the stopping rule of Hairer & Wanner, Solving ODEs II,
+  /// IV.8, on the residual instead of the increment). Saves about one force evaluation in
+  /// two steps (docs/benchmark.md). The system's per-force state (mesh forces) then belongs to
+  /// the last evaluated iterate, one chord update away from the accepted one (a relative
+  /// difference of the order of the tolerance).
+  bool predicted_stop = true;
 };
 
 /// A second-order ODE system M a = g(t, q, v) with constant mass matrix.
