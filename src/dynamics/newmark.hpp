@@ -38,10 +38,11 @@ struct NewtonSettings {
   /// linearly, so after a contraction q = r_k / r_(k-1) < 0.1 the next iterate's residual is
   /// about q r_k. When that is within the tolerance (and r_k is not), the next iterate is taken
   /// without evaluating its residual (the stopping rule of Hairer & Wanner, Solving ODEs II,
-  /// IV.8, on the residual instead of the increment). Saves about one force evaluation in
-  /// two steps (docs/benchmark.md). The system's per-force state (mesh forces) then belongs to
-  /// the last evaluated iterate, one chord update away from the accepted one (a relative
-  /// difference of the order of the tolerance).
+  /// IV.8, on the residual instead of the increment). The accepted iterate is the one the
+  /// measured stop would evaluate and accept, unless the prediction fails; 0.4-1 fewer force
+  /// evaluations per step (docs/benchmark.md). The system's per-force state (mesh forces) then
+  /// belongs to the last evaluated iterate, one chord update before the accepted one (a
+  /// relative difference of the order of the tolerance).
   bool predicted_stop = true;
 };
 
