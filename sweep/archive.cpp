@@ -178,6 +178,13 @@ std::vector<int> write_design_numbers(io::H5File& f, const ArchiveRows& rows) {
     f.set_attribute(p, "scale", to_string(fa.scale));
     if (fa.min) f.set_attribute(p, "min", *fa.min);
     if (fa.max) f.set_attribute(p, "max", *fa.max);
+    const Distribution& dist = fa.distribution;
+    f.set_attribute(p, "distribution", std::string(to_string(dist.kind)));
+    if (dist.kind == DistributionKind::Normal || dist.kind == DistributionKind::LogNormal) {
+      f.set_attribute(p, "mean", dist.mean);
+      f.set_attribute(p, "std_dev", dist.std_dev);
+    }
+    if (dist.kind == DistributionKind::Triangular) f.set_attribute(p, "mode", dist.mode);
     columns += "," + fa.key;
   }
   f.write("/design/wall_time", std::span<const double>(wall));

@@ -122,6 +122,7 @@ TEST(Archive, RecordsReadBackExactlyAndPendingRowsAreNaN) {
   EXPECT_EQ(f.read_int_attribute("/", "cases_pending"), 1);
   EXPECT_EQ(f.read_doubles("/design/operating.input_speed_rpm"), (std::vector<double>{100, 200, 400}));
   EXPECT_EQ(f.read_string_attribute("/design/operating.input_speed_rpm", "unit"), "rpm");
+  EXPECT_EQ(f.read_string_attribute("/design/operating.input_speed_rpm", "distribution"), "uniform");
   EXPECT_EQ(f.read_ints("/design/case"), (std::vector<int>{0, 1, 2}));
   EXPECT_EQ(f.read_ints("/design/rank"), (std::vector<int>{0, -1, -1}));
   EXPECT_EQ(f.read_string_attribute("/design/wall_time", "unit"), "s");
