@@ -100,7 +100,10 @@ void validate_stage(const StageSpec& s) {
   check(s.carrier_mass_kg, "stage.carrier_mass_kg", 0, kInf, Ends::Closed, "kg; 0 = derived");
   check(s.input_inertia_kgm2, "stage.input_inertia_kgm2", 0, kInf, Ends::Closed, "kg m^2");
   check(s.output_inertia_kgm2, "stage.output_inertia_kgm2", 0, kInf, Ends::Closed, "kg m^2");
-  check(s.bore_ratio, "stage.bore_ratio", 0, 0.9, Ends::Closed, "-");
+  // The fillet-foundation compliance (Sainsot et al. 2004) is fitted for h_f = 1/bore_ratio in
+  // [1.4, 7]; [0.15, 0.7] keeps inside it with round numbers (h_f 1.43 .. 6.67).
+  check(s.bore_ratio, "stage.bore_ratio", 0.15, 0.7, Ends::Closed,
+        "-; Sainsot's fillet-foundation fit covers bore / root radius 1/7 .. 1/1.4");
 }
 
 void validate_operating(const OperatingPoint& op) {
