@@ -1,6 +1,7 @@
 #include "design.hpp"
 
 #include "sobol.hpp"
+#include "random_index.hpp"
 
 #include "core/error.hpp"
 #include "io/csv_fields.hpp"
@@ -23,16 +24,6 @@ std::string factor_param(std::size_t index, const char* field) {
 /// Uniform double in [0, 1) from the top 53 bits of one engine output.
 double unit_double(std::mt19937_64& engine) { return static_cast<double>(engine() >> 11) * 0x1p-53; }
 
-/// Uniform integer in [0, n) by rejection (no modulo bias), n >= 1.
-std::uint64_t below(std::mt19937_64& engine, std::uint64_t n) {
-  const std::uint64_t max = std::numeric_limits<std::uint64_t>::max();
-  const std::uint64_t limit = max - (max % n + 1) % n;  // values above `limit` are rejected
-  std::uint64_t x;
-  do {
-    x = engine();
-  } while (x > limit);
-  return x % n;
-}
 
 bool is_whole(double v) { return std::isfinite(v) && std::floor(v) == v; }
 

@@ -1,4 +1,5 @@
 #include "rank_correlation.hpp"
+#include "random_index.hpp"
 
 #include "core/error.hpp"
 
@@ -18,16 +19,6 @@ namespace {
 
 using Matrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
 
-/// Uniform integer in [0, n) by rejection (as design.cpp: no modulo bias).
-std::uint64_t below(std::mt19937_64& engine, std::uint64_t n) {
-  const std::uint64_t max = std::numeric_limits<std::uint64_t>::max();
-  const std::uint64_t limit = max - (max % n + 1) % n;
-  std::uint64_t x;
-  do {
-    x = engine();
-  } while (x > limit);
-  return x % n;
-}
 
 /// Ranks 0..n-1 of column j (ties: their average rank).
 std::vector<double> ranks(const double* column, long long n, int stride) {
