@@ -6,6 +6,7 @@
 #include "diagnose/candidates/candidate.hpp"
 #include "diagnose/diagnosis_plots.hpp"
 #include "diagnose/fit_context.hpp"
+#include "diagnose/forecast.hpp"
 #include "diagnose/phase_search.hpp"
 #include "diagnose/screening.hpp"
 #include "diagnose/verdict.hpp"
@@ -16,7 +17,11 @@
 #include <cstdio>
 #include <limits>
 #include <numbers>
+#include <condition_variable>
+#include <mutex>
 #include <optional>
+#include <stop_token>
+#include <thread>
 
 #ifdef _OPENMP
 #include <omp.h>
@@ -107,7 +112,9 @@ std::string ranking_reason(const CandidateResult& r, bool winner, double best_bi
 class DiagnosisRun {
 public:
   DiagnosisRun(const Recording& recording, const model::SimulationConfig& config, const DiagnoseOptions& o)
-      : recording_(recording), config_(config), o_(o), t_start_(Clock::now()) {}
+      : recording_(recording), config_(config), o_(o), t_start_(Clock::now()) {
+    if (o_.progress) heartbeat_ = std::jthread([this](std::stop_token stop) { heartbeat(stop); });
+  }
 
   Diagnosis run() {
     analyse_recording();
@@ -129,19 +136,101 @@ public:
   }
 
 private:
-  /// Progress, each line stamped with the time since the diagnosis started (the phases'
-  /// lengths are not known in advance; the candidate fits, the longest phase, give an ETA).
+  /// Progress, each line stamped with the time since the diagnosis started, the step it
+  /// belongs to and the forecast's percentage and ETA (forecast.hpp).
   void say(const std::string& s) const {
     if (!o_.progress) return;
-    o_.progress(fmt("%6.0f s  ", seconds_since(t_start_)) + (stage_.empty() ? "" : "[" + stage_ + "] ") + s);
+    std::lock_guard<std::mutex> lock(say_mutex_);
+    last_said_ = Clock::now();
+    std::string tag = stage_;
+    if (sims_started_) {
+      const long done = cmp_->simulations();
+      const std::string eta = to_string(forecast_.estimate(done, done - sims_at_step_, seconds_since(t_sims_)));
+      if (!eta.empty()) tag += (tag.empty() ? "" : ", ") + eta;
+    }
+    o_.progress(fmt("%6.0f s  ", seconds_since(t_start_)) + (tag.empty() ? "" : "[" + tag + "] ") + s);
   }
   /// Enters step `k` of docs/diagnose.md §5 (of kSteps): every progress line until the next
   /// says where in the procedure the diagnosis is (steps a run does not need are skipped).
   void step(int k, const std::string& s) {
-    stage_ = "step " + std::to_string(k) + "/" + std::to_string(kSteps);
+    set_stage("step " + std::to_string(k) + "/" + std::to_string(kSteps), s);
+    enter(k);
     say(s);
   }
+  void set_stage(const std::string& stage, const std::string& activity) {
+    std::lock_guard<std::mutex> lock(say_mutex_);
+    stage_ = stage;
+    activity_ = activity;
+  }
+  /// A line at least every kHeartbeatSeconds while a step runs without one (the nuisance fit
+  /// and the candidate fits print nothing between their ends), so that a log shows the run is
+  /// alive and its ETA moving.
+  void heartbeat(std::stop_token stop) {
+    std::mutex m;
+    std::condition_variable_any cv;
+    std::unique_lock<std::mutex> lock(m);
+    while (!stop.stop_requested()) {
+      cv.wait_for(lock, stop, std::chrono::seconds(1), [] { return false; });
+      std::string activity;
+      {
+        std::lock_guard<std::mutex> guard(say_mutex_);
+        if (stage_.empty() || seconds_since(last_said_) < kHeartbeatSeconds) continue;
+        activity = activity_;
+      }
+      say("... " + activity + (sims_started_ ? " (" + std::to_string(cmp_->simulations()) + " simulations so far)" : ""));
+    }
+  }
+  static constexpr double kHeartbeatSeconds = 30;
+  /// The forecast's current step: the simulations counted from here belong to it.
+  void enter(int k) {
+    std::lock_guard<std::mutex> lock(say_mutex_);
+    forecast_.begin(k);
+    if (sims_started_) sims_at_step_ = cmp_->simulations();
+  }
+  void expect(int k, long simulations) {
+    std::lock_guard<std::mutex> lock(say_mutex_);
+    forecast_.expect(k, simulations);
+  }
   static constexpr int kSteps = 12;
+  static constexpr int kVerdictStep = SimulationForecast::kSteps;  ///< the verdict and report, after step 12
+
+  /// The forecast of every step from what the options and the candidate library say, before
+  /// the recording has decided anything (forecast.hpp): candidates fitted to the shortlist's
+  /// size, each with the library's mean parameter count.
+  void forecast_all_steps() {
+    const std::size_t pn = ctx().nuisance_specs().size();
+    expect(2, kFidelitySimulations);
+    expect(3, kNuisanceScan + static_cast<long>(pn > 0 ? pn - 1 : 0) +
+                            lm_simulations(pn, 2 * o_.max_iterations) + kFidelitySimulations);
+    long params = 0, candidates = 0, one_parameter = 0;
+    for (const auto& c : candidate_library()) {
+      if (c->nuisance() || extra_nuisance(*c) || !allowed(*c)) continue;
+      const std::size_t k = c->parameters(ctx().base).size();
+      params += static_cast<long>(k);
+      ++candidates;
+      if (k == 1) ++one_parameter;
+    }
+    expect(6, params + static_cast<long>(pn));
+    const long fitted = std::min<long>(o_.max_candidates, candidates);
+    const std::size_t mean_k = candidates > 0 ? static_cast<std::size_t>(std::lround(static_cast<double>(params) / static_cast<double>(candidates))) : 0;
+    expect(7, std::min<long>(fitted, one_parameter) * (Screening::kGridPoints + 1));
+    expect(8, (fitted + std::min<long>(fitted, kRefinedCandidates)) * lm_simulations(mean_k + pn, o_.max_iterations));
+    expect(kVerdictStep, kFidelitySimulations + 2);  // the leader's fidelity and model, the report's model
+  }
+  /// The forecast of the fits once the shortlist is known.
+  void forecast_fits() {
+    const std::size_t pn = ctx().nuisance_specs().size();
+    expect(7, static_cast<long>(screening_->grid_simulations(shortlist_)));
+    long fits = 0, largest = 0;
+    for (std::size_t i : shortlist_) {
+      const Screen& sc = (*screening_)[i];
+      const long f = lm_simulations(sc.spec.size() + (sc.c->sensor_only() ? 0 : pn), o_.max_iterations);
+      fits += f;
+      largest = std::max(largest, f);
+    }
+    expect(8, fits + static_cast<long>(std::min(kRefinedCandidates, shortlist_.size())) * largest);
+  }
+  static constexpr long kFidelitySimulations = 4;  ///< set_fidelity: the model and 3 variants
   bool allowed(const Candidate& c) const {
     return o_.only_candidates.empty() ||
            std::find(o_.only_candidates.begin(), o_.only_candidates.end(), c.name()) != o_.only_candidates.end();
@@ -200,10 +289,13 @@ private:
     ctx_.emplace(FitContext{cmp(), cmp().base(), {}, {}, nullptr, {}, threads_});
     for (const auto& c : candidate_library())
       if ((c->nuisance() || extra_nuisance(*c)) && allowed(*c)) ctx().nuisance.push_back(c.get());
+    forecast_all_steps();
   }
 
   /// 2. The model at the recording's speed and its fidelity directions.
   void simulate_baseline() {
+    t_sims_ = Clock::now();
+    sims_started_ = true;
     step(2, "baseline model at " + fmt("%.6g", cmp().spectra().speed.input_rpm) + " rpm and its fidelity variants");
     const auto t = Clock::now();
     set_fidelity(ctx(), ctx().base, &nominal_);
@@ -311,6 +403,8 @@ private:
     // the null it happens with probability alpha/2) and is reported, not acted on; verdict
     // condition (c) would refuse to name anything on it anyway (verdict.hpp).
     consistent_ = d_.nuisance.held_out.chi2 <= d_.bound_held_out;
+    if ((consistent_ && !o_.always_fit_candidates) || o_.nuisance_only)
+      for (int k = 5; k <= kSteps; ++k) expect(k, 0);  // no candidates are fitted
     const RecordingSpectra& sp = cmp().spectra();
     char rule[1400];
     std::snprintf(
@@ -385,12 +479,14 @@ private:
                  resolvable(c, layout);
         },
         d_.location.evidence, *teeth_);
+    expect(6, static_cast<long>(screening_->simulations()));
     step(6, "screening " + std::to_string(screening_->variants()) + " candidate variants (" +
         std::to_string(screening_->simulations()) + " simulations)");
     screening_->simulate_secants();
     screening_->linearize();
     const std::vector<std::size_t> best_of = screening_->best_per_candidate();
     shortlist_ = screening_->shortlist(best_of, o_.max_candidates);
+    forecast_fits();
     for (std::size_t i : best_of) {
       const Screen& s = (*screening_)[i];
       ScreenResult sr;
@@ -618,6 +714,9 @@ private:
   /// 10. The winner (the best counting candidate) and why each of the others lost.
   void explain_ranking() {
     if (!d_.candidates.empty() && d_.candidates.front().counts()) d_.winner = 0;
+    if (d_.winner == 0)
+      expect(11, expected_phase_search_simulations(ctx(), d_.candidates.front(), d_.location.evidence,
+                                                             *teeth_, o_.max_iterations));
     const double best_bic = d_.winner == 0 ? d_.candidates.front().bic + d_.candidates.front().bic_held_out : 0;
     for (std::size_t i = 0; i < d_.candidates.size(); ++i)
       d_.candidates[i].reason = ranking_reason(d_.candidates[i], static_cast<int>(i) == d_.winner, best_bic);
@@ -631,14 +730,15 @@ private:
     search_phases(ctx(), w, d_.location.evidence, *teeth_, o_.max_iterations,
                   [&](CandidateResult& r) { assess(r); }, [&](const std::string& s) { say(s); });
     d_.timing.phase_s = seconds_since(t);
-    stage_ = "step " + std::to_string(kSteps) + "/" + std::to_string(kSteps);  // the lower limit, the last step
+    set_stage("step " + std::to_string(kSteps) + "/" + std::to_string(kSteps), "the lower limit of " + w.name);
     profile_saturating(ctx(), w, o_.alpha, [&](const std::string& s) { say(s); });
   }
 
   /// The verdict (verdict.hpp): the best candidate is named only if its own fitted model
   /// explains the held-out half within its Monte-Carlo null and nothing it rests on sits at a bound.
   void decide() {
-    stage_ = "verdict";
+    set_stage("verdict", "the verdict");
+    enter(kVerdictStep);
     VerdictInputs vin;
     vin.noise_consistent = consistent_;
     vin.alpha = o_.alpha;
@@ -689,7 +789,10 @@ private:
   const model::SimulationConfig& config_;
   const DiagnoseOptions& o_;
   const Clock::time_point t_start_;
-  std::string stage_;  // "step k/12" or "verdict": the part of the procedure progress lines belong to
+  mutable std::mutex say_mutex_;             ///< guards the three below (the heartbeat reads them)
+  std::string stage_;                        ///< "step k/12" or "verdict": the part progress lines belong to
+  std::string activity_;                     ///< what that part does, for the heartbeat
+  mutable Clock::time_point last_said_{};    ///< the last progress line
   int threads_ = 1;
   CompareOptions co_;
   std::optional<ModelComparison> cmp_;
@@ -701,8 +804,13 @@ private:
   std::optional<ToothMap> teeth_;
   std::optional<Screening> screening_;
   std::vector<std::size_t> shortlist_;           ///< screening indices fitted, in screening order
+  SimulationForecast forecast_;                  ///< simulations still expected (progress; under say_mutex_)
+  std::atomic<bool> sims_started_{false};        ///< the first simulation has started (cmp_ exists)
+  Clock::time_point t_sims_{};                   ///< when it started
+  long sims_at_step_ = 0;                        ///< simulations run before the current step
   std::atomic<int> fits_done_{0};                ///< candidate fits finished (progress)
   Clock::time_point fits_start_{};               ///< when the candidate fits started (progress)
+  std::jthread heartbeat_;                       ///< last: stopped and joined before the rest goes
 };
 
 } // namespace

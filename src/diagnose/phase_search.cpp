@@ -1,6 +1,7 @@
 #include "diagnose/phase_search.hpp"
 
 #include "core/statistics.hpp"
+#include "diagnose/forecast.hpp"
 
 #include <Eigen/Dense>
 
@@ -227,6 +228,30 @@ void profile_saturating(FitContext& ctx, CandidateResult& w, double alpha, const
   }
   for (std::size_t i = 0; i < wspec.size() && i < w.parameters.size(); ++i)
     if (wspec[i].saturates) w.parameters[i].lower_limit = wspec[i].null_value + s_low * (own[i] - wspec[i].null_value);
+}
+
+} // namespace pw::diagnose
+
+namespace pw::diagnose {
+
+long expected_phase_search_simulations(const FitContext& ctx, const CandidateResult& w, const LocatedEvidence& evidence,
+                                       const ToothMap& teeth, int max_iterations) {
+  const Candidate* cand = find_candidate(w.name);
+  if (!cand) return 0;
+  const std::vector<ParameterSpec> spec = cand->parameters(ctx.base);
+  const std::size_t own = spec.size(), nuisance = ctx.nuisance_x.size();
+  long n = 0;
+  // One pass (PhasePass): every phase screened, the followed minima's Broyden rounds and the
+  // refit of the best place; a further pass only runs when the place moved.
+  const std::size_t phases = cand->phase_variants(w.chosen, evidence, ctx.base, teeth).size();
+  if (phases > 0) {
+    const bool profiled = cand->phase_trades_with_parameters();
+    n += static_cast<long>(phases * (profiled ? 1 + own : 1));
+    if (profiled) n += static_cast<long>(kRefinedPhases) * kRefinementRounds;
+    n += lm_simulations(own + nuisance, std::max(2, max_iterations / 2));
+  }
+  if (any_saturates(spec)) n += kProfileGrid + kProfileRefine;  // profile_saturating
+  return n;
 }
 
 } // namespace pw::diagnose

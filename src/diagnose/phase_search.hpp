@@ -30,4 +30,9 @@ void search_phases(FitContext& ctx, CandidateResult& winner, const LocatedEviden
 /// chi2_{1-alpha}(1) of the fit's. No-op for a candidate without a saturating parameter.
 void profile_saturating(FitContext& ctx, CandidateResult& winner, double alpha, const Progress& say);
 
+/// Simulations search_phases (its first pass) and profile_saturating are expected to run for
+/// `winner` (forecast.hpp: LM to its iteration cap).
+long expected_phase_search_simulations(const FitContext& ctx, const CandidateResult& winner,
+                                       const LocatedEvidence& evidence, const ToothMap& teeth, int max_iterations);
+
 } // namespace pw::diagnose

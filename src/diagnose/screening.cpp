@@ -14,8 +14,6 @@ namespace {
 
 /// Relative secant step of the nuisance parameters.
 constexpr double kNuisanceStep = 0.02;
-/// Values per one-parameter candidate in the grid of starts (at the centres of equal cells).
-constexpr int kGrid = 6;
 /// A start is kept this fraction of the box's span inside it (LM's unit transform is singular on the edge).
 constexpr double kInsideBox = 1e-3;
 
@@ -226,20 +224,31 @@ std::vector<std::size_t> Screening::shortlist(const std::vector<std::size_t>& be
   return out;
 }
 
+namespace {
+/// A shortlisted variant whose start comes from the grid: one parameter, simulated.
+bool gridded(const Screen& sc) { return !sc.failed && sc.spec.size() == 1 && !sc.c->sensor_only(); }
+} // namespace
+
+std::size_t Screening::grid_simulations(const std::vector<std::size_t>& shortlist) const {
+  std::size_t n = 0;
+  for (std::size_t i : shortlist)
+    if (gridded(screens_[i])) n += kGridPoints + 1;
+  return n;
+}
+
 void Screening::grid_starts(const std::vector<std::size_t>& shortlist,
                             const std::function<void(const std::string&)>& say) {
   struct GridPoint {
     std::size_t screen;
     double x;
   };
-  const auto gridded = [&](const Screen& sc) { return !sc.failed && sc.spec.size() == 1 && !sc.c->sensor_only(); };
   std::vector<GridPoint> grid;
   for (std::size_t i : shortlist) {
     const Screen& sc = screens_[i];
     if (!gridded(sc)) continue;
     const ParameterSpec& ps = sc.spec.front();
-    for (int g = 0; g < kGrid; ++g) {
-      const double f = (g + 0.5) / kGrid;
+    for (int g = 0; g < kGridPoints; ++g) {
+      const double f = (g + 0.5) / kGridPoints;
       const double x = ps.log_scale ? ps.lower * std::pow(ps.upper / ps.lower, f) : ps.lower + f * (ps.upper - ps.lower);
       grid.push_back({i, x});
     }

@@ -56,10 +56,19 @@ public:
   /// contact pattern): the linearized step can start LM in the wrong basin near "absent".
   /// Their starts become the best of that step and a grid over the box (fit-half chi2).
   void grid_starts(const std::vector<std::size_t>& shortlist, const std::function<void(const std::string&)>& say);
+  /// Simulations grid_starts(shortlist) runs (the grid and each linearized start).
+  std::size_t grid_simulations(const std::vector<std::size_t>& shortlist) const;
+  /// Values per one-parameter candidate in the grid of starts (at the centres of equal cells).
+  static constexpr int kGridPoints = 6;
 
   const Screen& operator[](std::size_t i) const { return screens_[i]; }
 
 private:
+  /// The joint Gauss-Newton step of one non-saturating variant and the nuisance on the box:
+  /// sets its S, start and nuisance start (linearize()).
+  void joint_step(Screen& sc, const std::vector<std::size_t>& nuse, const Eigen::Ref<const Eigen::VectorXd>& r_res,
+                  double S_nuis) const;
+
   struct Task {
     std::size_t screen, param;
   };
