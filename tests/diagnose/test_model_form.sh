@@ -4,6 +4,7 @@
 # torsional model, must come out "unexplained_residual" with its best candidate as a lead
 # (measured 2026-11-25: lead worn_profile counts by the likelihood-ratio rule but explains
 # 1 % of the held-out excess, 1566 times its bound; 2 min 39 s at 1 thread on a loaded machine).
+# Its progress lines are checked too (step tags in order, percentage and ETA).
 # Usage: test_model_form.sh <planetwear> <workdir>
 set -eu
 PW=$1
@@ -11,9 +12,24 @@ rm -rf "$2"; mkdir -p "$2"; cd "$2"
 "$PW" synth -q --speed-rpm 1200 --power-w 20000 --seconds 0.78 --noise 0.05 --dc-offset 0.2 --seed 3 \
   --sensor-angle-deg 40 --decimate 40 --start-mesh-cycle 450 --set solver.level=lateral_torsional \
   --set solver.periodicity_tolerance=1e-3 -o lt.csv
-OMP_NUM_THREADS=1 "$PW" diagnose -q -r lt.csv -o report --threads 1 --no-plots
+OMP_NUM_THREADS=1 "$PW" diagnose -r lt.csv -o report --threads 1 --no-plots 2> progress.txt
 /usr/bin/python3 - <<'PY'
-import json, sys
+import json, re, sys
+# Progress (docs/diagnose.md section 5): every line tagged with its step, in order, and from the
+# first timed simulation on with a percentage and an ETA.
+steps = []
+for line in open("progress.txt"):
+    m = re.match(r"\[diagnose\]\s+\d+ s  \[(step (\d+)/12|verdict)(, (\d+) %, ETA [^]]+)?\] ", line)
+    if not m:
+        continue
+    k = int(m.group(2)) if m.group(2) else 13
+    steps.append(k)
+    if k >= 3 and not m.group(3):
+        sys.exit("progress line without percentage/ETA: " + line)
+    if m.group(4) and not 0 <= int(m.group(4)) <= 100:
+        sys.exit("percentage out of range: " + line)
+if steps != sorted(steps) or 13 not in steps or 8 not in steps:
+    sys.exit(f"progress steps out of order or missing: {steps}")
 r = json.load(open("report/report.json"))
 if r["verdict"] != "unexplained_residual" or r["missing_physics"] is not None:
     sys.exit(f"verdict {r['verdict']} ({r['missing_physics']}): a model-form difference must not be named")
