@@ -147,41 +147,13 @@ void Screening::linearize() {
         if (c0 > c1) sc.start[i] = ps.screen_value;
       }
     }
-    // Joint Gauss-Newton step (candidate + nuisance) with an active set: candidate parameters
-    // whose step leaves their box are held at their null value.
-    std::vector<bool> active(p, !saturating);
-    for (int pass = 0; pass < static_cast<int>(p) + 1; ++pass) {
-      std::vector<const std::vector<double>*> cols;
-      std::vector<std::size_t> idx;
-      for (std::size_t i = 0; i < p; ++i)
-        if (active[i]) idx.push_back(i), cols.push_back(&sc.cols[i]);
-      if (idx.empty()) break;
-      for (std::size_t i : nuse) cols.push_back(&ncols_[i]);
-      const Eigen::Index q = static_cast<Eigen::Index>(cols.size());
-      Eigen::MatrixXd J(m_res, q);
-      for (Eigen::Index a = 0; a < q; ++a)
-        for (Eigen::Index k = 0; k < m_res; ++k) J(k, a) = (*cols[static_cast<std::size_t>(a)])[static_cast<std::size_t>(k)];
-      const Eigen::VectorXd g = J.transpose() * r_res;
-      const Eigen::VectorXd dx = -(J.transpose() * J).ldlt().solve(g);
-      bool ok = true;
-      for (std::size_t a = 0; a < idx.size(); ++a) {
-        const auto& ps = sc.spec[idx[a]];
-        const double x = ps.null_value + dx(static_cast<Eigen::Index>(a));
-        if (x < ps.lower || x > ps.upper) {
-          active[idx[a]] = false;
-          ok = false;
-        }
-      }
-      if (!ok) continue;
-      sc.S = std::max(0.0, -g.dot(dx) - S_nuis);
-      for (std::size_t a = 0; a < idx.size(); ++a) sc.start[idx[a]] = sc.spec[idx[a]].null_value + dx(static_cast<Eigen::Index>(a));
-      for (std::size_t a = 0; a < nuse.size(); ++a) {
-        const auto& ps = nspec_[nuse[a]];
-        sc.nuisance_start[nuse[a]] = std::clamp(ctx_.nuisance_x[nuse[a]] + dx(static_cast<Eigen::Index>(idx.size() + a)),
-                                                ps.lower, ps.upper);
-      }
-      break;
-    }
+    // Joint Gauss-Newton step (candidate + nuisance) on the box: a candidate parameter whose
+    // step leaves its box is held on the bound it crossed (a projected active set), and the
+    // others and the nuisance are solved again with its contribution in the residual. Holding
+    // it at 'absent' instead would score an effect larger than the box as no effect at all
+    // (S = 0): measured, a pin error whose linear step left its +-0.02 m box was never fitted
+    // and its near-alias, a carrier eccentricity, was named (docs/diagnose-log.md, session 15).
+    if (!saturating) joint_step(sc, nuse, r_res, S_nuis);
     // A start on the no-effect value would give LM nothing to difference: keep it inside.
     for (std::size_t i = 0; i < p; ++i) {
       const auto& ps = sc.spec[i];
@@ -189,6 +161,57 @@ void Screening::linearize() {
       sc.start[i] = std::clamp(sc.start[i], ps.lower + kInsideBox * span, ps.upper - kInsideBox * span);
       if (sc.start[i] == ps.null_value) sc.start[i] = 0.5 * (ps.null_value + ps.screen_value);
     }
+  }
+}
+
+void Screening::joint_step(Screen& sc, const std::vector<std::size_t>& nuse, const Eigen::Ref<const Eigen::VectorXd>& r_res,
+                           double S_nuis) const {
+  const std::size_t p = sc.spec.size();
+  const Eigen::Index m_res = r_res.size();
+  std::vector<double> held(p, std::numeric_limits<double>::quiet_NaN());  // NaN: free, else the bound it is held on
+  for (std::size_t pass = 0; pass <= p; ++pass) {
+    Eigen::VectorXd r_eff = r_res;
+    std::vector<const std::vector<double>*> cols;
+    std::vector<std::size_t> idx;
+    for (std::size_t i = 0; i < p; ++i) {
+      if (std::isnan(held[i])) {
+        idx.push_back(i), cols.push_back(&sc.cols[i]);
+        continue;
+      }
+      const double d = held[i] - sc.spec[i].null_value;
+      for (Eigen::Index k = 0; k < m_res; ++k) r_eff(k) += sc.cols[i][static_cast<std::size_t>(k)] * d;
+    }
+    for (std::size_t i : nuse) cols.push_back(&ncols_[i]);
+    const Eigen::Index q = static_cast<Eigen::Index>(cols.size());
+    Eigen::VectorXd dx = Eigen::VectorXd::Zero(q), g = Eigen::VectorXd::Zero(q);
+    if (q > 0) {
+      Eigen::MatrixXd J(m_res, q);
+      for (Eigen::Index a = 0; a < q; ++a)
+        for (Eigen::Index k = 0; k < m_res; ++k) J(k, a) = (*cols[static_cast<std::size_t>(a)])[static_cast<std::size_t>(k)];
+      g = J.transpose() * r_eff;
+      dx = -(J.transpose() * J).ldlt().solve(g);
+    }
+    bool inside = true;
+    for (std::size_t a = 0; a < idx.size(); ++a) {
+      const auto& ps = sc.spec[idx[a]];
+      const double x = ps.null_value + dx(static_cast<Eigen::Index>(a));
+      if (x < ps.lower || x > ps.upper) {
+        held[idx[a]] = x < ps.lower ? ps.lower : ps.upper;
+        inside = false;
+      }
+    }
+    if (!inside) continue;
+    // Linear least squares: the cost after the step is |r_eff|^2 + g.dx.
+    const double improvement = r_res.squaredNorm() - (r_eff.squaredNorm() + g.dot(dx));
+    sc.S = std::max(0.0, improvement - S_nuis);
+    for (std::size_t i = 0; i < p; ++i) sc.start[i] = held[i];
+    for (std::size_t a = 0; a < idx.size(); ++a) sc.start[idx[a]] = sc.spec[idx[a]].null_value + dx(static_cast<Eigen::Index>(a));
+    for (std::size_t a = 0; a < nuse.size(); ++a) {
+      const auto& ps = nspec_[nuse[a]];
+      sc.nuisance_start[nuse[a]] = std::clamp(ctx_.nuisance_x[nuse[a]] + dx(static_cast<Eigen::Index>(idx.size() + a)),
+                                              ps.lower, ps.upper);
+    }
+    return;
   }
 }
 
