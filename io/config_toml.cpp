@@ -549,6 +549,21 @@ private:
 };
 
 /// Message of an InputError without its "parameter: " prefix.
+/// The `_deg` spelling of an angle key `..._rad`, or "" for any other key.
+std::string degree_alias(const std::string& key) {
+  constexpr std::string_view rad = "_rad";
+  if (key.size() <= rad.size() || key.compare(key.size() - rad.size(), rad.size(), rad) != 0) return {};
+  return key.substr(0, key.size() - rad.size()) + "_deg";
+}
+
+std::string bare_message(const InputError& e);
+
+/// A range error of an angle the user gave in degrees, named by the key they wrote: the range
+/// is checked (and stated) in radians, so the message says how the two relate.
+InputError in_degrees(const InputError& e, const std::string& deg_key, const std::string& where) {
+  return InputError(deg_key, bare_message(e) + " (" + e.parameter() + " = " + deg_key + " x pi/180; " + where + ")");
+}
+
 std::string bare_message(const InputError& e) {
   const std::string what = e.what();
   const std::string prefix = e.parameter() + ": ";
@@ -586,14 +601,12 @@ model::SimulationConfig parse_config(std::string_view toml_text, std::string_vie
   } catch (const InputError& e) {
     // Point at the offending line if the key is in the file.
     const toml::table& croot = root;
-    auto at = toml::at_path(croot, e.parameter());
-    const std::string rad = "pressure_angle_rad";
-    if (!at && e.parameter().size() > rad.size() &&
-        e.parameter().compare(e.parameter().size() - rad.size(), rad.size(), rad) == 0) {
-      at = toml::at_path(croot, e.parameter().substr(0, e.parameter().size() - 3) + "deg");
-    }
-    const std::string where = at ? origin.at(*at.node()) : "in " + origin.label;
-    throw InputError(e.parameter(), bare_message(e) + " (" + where + ")");
+    if (const auto at = toml::at_path(croot, e.parameter()))
+      throw InputError(e.parameter(), bare_message(e) + " (" + origin.at(*at.node()) + ")");
+    const std::string deg = degree_alias(e.parameter());
+    if (const auto at = deg.empty() ? toml::node_view<const toml::node>{} : toml::at_path(croot, deg))
+      throw in_degrees(e, deg, origin.at(*at.node()));
+    throw InputError(e.parameter(), bare_message(e) + " (in " + origin.label + ")");
   }
   return config;
 }
@@ -664,6 +677,12 @@ void apply_overrides(model::SimulationConfig& config, const std::vector<std::str
   try {
     model::validate(updated);
   } catch (const InputError& e) {
+    const std::string deg = degree_alias(e.parameter());
+    const bool given_in_degrees =
+        !deg.empty() && std::any_of(assignments.begin(), assignments.end(), [&](const std::string& a) {
+          return trim(std::string_view(a).substr(0, a.find('='))) == deg;
+        });
+    if (given_in_degrees) throw in_degrees(e, deg, "after the command-line overrides");
     throw InputError(e.parameter(), bare_message(e) + " (after the command-line overrides)");
   }
   config = std::move(updated);

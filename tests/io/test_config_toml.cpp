@@ -238,8 +238,26 @@ TEST(ConfigToml, PressureAngleGivenTwiceIsRejected) {
 TEST(ConfigToml, PressureAngleOutOfRangeInDegreesPointsAtTheDegreeKey) {
   const auto e = parse_error("[stage.ring]\n\npressure_angle_deg = 50\n");
   ASSERT_TRUE(e);
-  EXPECT_EQ(e->parameter(), "stage.ring.pressure_angle_rad");
+  EXPECT_EQ(e->parameter(), "stage.ring.pressure_angle_deg");  // the key the user wrote
+  EXPECT_TRUE(contains(e->what(), "stage.ring.pressure_angle_rad = stage.ring.pressure_angle_deg x pi/180"));
   EXPECT_TRUE(contains(e->what(), "case.toml:3:"));
+}
+
+TEST(ConfigToml, PressureAngleOverrideOutOfRangeInDegreesNamesTheDegreeKey) {
+  model::SimulationConfig c{};
+  try {
+    apply_overrides(c, {"stage.sun.pressure_angle_deg=80"});
+    FAIL() << "a pressure angle of 80 deg was accepted";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.parameter(), "stage.sun.pressure_angle_deg");
+    EXPECT_TRUE(contains(e.what(), "after the command-line overrides"));
+  }
+  try {  // given in radians, the radian key is named
+    apply_overrides(c, {"stage.sun.pressure_angle_rad=1.4"});
+    FAIL() << "a pressure angle of 1.4 rad was accepted";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.parameter(), "stage.sun.pressure_angle_rad");
+  }
 }
 
 TEST(ConfigToml, EnumerationsAreStringsAndMisspellingsAreSuggested) {
