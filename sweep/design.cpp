@@ -29,24 +29,32 @@ bool is_whole(double v) { return std::isfinite(v) && std::floor(v) == v; }
 
 double round_half_away(double v) { return v < 0 ? -std::floor(-v + 0.5) : std::floor(v + 0.5); }
 
+/// The bounds factor `i` gives (either may be absent): finite, min < max, whole for integer keys.
+void check_given_bounds(const Factor& f, std::size_t i) {
+  if (f.min) require(std::isfinite(*f.min), factor_param(i, "min"), f.key, ": must be finite, got ", *f.min);
+  if (f.max) require(std::isfinite(*f.max), factor_param(i, "max"), f.key, ": must be finite, got ", *f.max);
+  if (f.min && f.max)
+    require(*f.min < *f.max, factor_param(i, "max"), f.key, ": max = ", *f.max, " ", f.unit, " is ",
+            *f.min == *f.max ? "equal to" : "below", " min = ", *f.min, " ", f.unit,
+            *f.min == *f.max ? " (a fixed value belongs in [base.set])" : " (bounds reversed)");
+  if (f.integer) {
+    if (f.min)
+      require(is_whole(*f.min), factor_param(i, "min"), f.key, " is an integer key: min must be a whole number, got ",
+              *f.min);
+    if (f.max)
+      require(is_whole(*f.max), factor_param(i, "max"), f.key, " is an integer key: max must be a whole number, got ",
+              *f.max);
+  }
+}
+
 /// Bounds of factor `i`: present, finite, min < max, positive for log scale,
 /// whole for integer keys.
 void check_bounds(const Factor& f, std::size_t i) {
   require(f.min.has_value(), factor_param(i, "min"), f.key, ": this design needs bounds min and max");
   require(f.max.has_value(), factor_param(i, "max"), f.key, ": this design needs bounds min and max");
-  require(std::isfinite(*f.min), factor_param(i, "min"), f.key, ": must be finite, got ", *f.min);
-  require(std::isfinite(*f.max), factor_param(i, "max"), f.key, ": must be finite, got ", *f.max);
-  require(*f.min < *f.max, factor_param(i, "max"), f.key, ": max = ", *f.max, " ", f.unit, " is ",
-          *f.min == *f.max ? "equal to" : "below", " min = ", *f.min, " ", f.unit,
-          *f.min == *f.max ? " (a fixed value belongs in [base.set])" : " (bounds reversed)");
+  check_given_bounds(f, i);
   if (f.scale == Scale::Log)
     require(*f.min > 0, factor_param(i, "min"), f.key, ": scale = \"log\" needs min > 0, got ", *f.min);
-  if (f.integer) {
-    require(is_whole(*f.min), factor_param(i, "min"), f.key, " is an integer key: min must be a whole number, got ",
-            *f.min);
-    require(is_whole(*f.max), factor_param(i, "max"), f.key, " is an integer key: max must be a whole number, got ",
-            *f.max);
-  }
 }
 
 /// A value of a factor from its levels or a case list: finite, within bounds if
@@ -65,15 +73,7 @@ void check_distribution(const Factor& f, std::size_t i) {
   const std::string name(to_string(d.kind));
   require(f.scale == Scale::Linear, factor_param(i, "scale"), f.key, ": scale = \"log\" is for uniform factors; a ",
           name, " factor's spacing follows from its distribution (a log-normal one: distribution = \"lognormal\")");
-  if (f.min) require(std::isfinite(*f.min), factor_param(i, "min"), f.key, ": must be finite, got ", *f.min);
-  if (f.max) require(std::isfinite(*f.max), factor_param(i, "max"), f.key, ": must be finite, got ", *f.max);
-  if (f.min && f.max)
-    require(*f.min < *f.max, factor_param(i, "max"), f.key, ": max = ", *f.max, " ", f.unit, " must be above min = ",
-            *f.min, " ", f.unit);
-  if (f.integer) {
-    if (f.min) require(is_whole(*f.min), factor_param(i, "min"), f.key, " is an integer key: min must be whole, got ", *f.min);
-    if (f.max) require(is_whole(*f.max), factor_param(i, "max"), f.key, " is an integer key: max must be whole, got ", *f.max);
-  }
+  check_given_bounds(f, i);
   if (d.kind == DistributionKind::Triangular) {
     require(f.min && f.max, factor_param(i, f.min ? "max" : "min"), f.key,
             ": a triangular distribution needs min, mode and max");
@@ -180,7 +180,7 @@ std::vector<double> latin_hypercube_unit(long long n, int d, std::uint64_t seed)
   std::vector<std::size_t> perm(N);
   for (int j = 0; j < d; ++j) {
     for (std::size_t k = 0; k < N; ++k) perm[k] = k;
-    for (std::size_t k = N; k > 1; --k) std::swap(perm[k - 1], perm[below(engine, k)]);  // Fisher-Yates
+    shuffle(perm, engine);
     for (std::size_t k = 0; k < N; ++k) {
       const double x = (static_cast<double>(perm[k]) + unit_double(engine)) / static_cast<double>(N);
       u[k * d + j] = std::min(x, std::nextafter(1.0, 0.0));

@@ -96,7 +96,7 @@ void impose_rank_correlation(std::vector<double>& unit, long long n, int d, cons
   Matrix R(n, d);
   for (int j = 0; j < d; ++j) {
     std::vector<double> col = scores;
-    for (std::size_t k = col.size(); k > 1; --k) std::swap(col[k - 1], col[below(engine, k)]);  // Fisher-Yates
+    shuffle(col, engine);
     for (long long i = 0; i < n; ++i) R(i, j) = col[static_cast<std::size_t>(i)];
   }
   // (2), (3) R* = R E^-T P^T.
