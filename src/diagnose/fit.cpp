@@ -185,6 +185,45 @@ LmResult levenberg_marquardt(const ResidualFn& f, const std::vector<Bound>& boun
   return res;
 }
 
+BoxedLeastSquares boxed_least_squares(const Eigen::MatrixXd& A, const Eigen::VectorXd& lower,
+                                      const Eigen::VectorXd& upper, const Eigen::MatrixXd& B, const Eigen::VectorXd& r) {
+  const Eigen::Index p = A.cols(), q = B.cols(), m = r.size();
+  if (A.rows() != m || B.rows() != m || lower.size() != p || upper.size() != p)
+    throw std::invalid_argument("boxed_least_squares: the shapes of A, B, r and the bounds do not match");
+  BoxedLeastSquares out;
+  out.a = Eigen::VectorXd::Zero(p);
+  out.held.assign(static_cast<std::size_t>(p), false);
+  for (Eigen::Index pass = 0; pass <= p; ++pass) {
+    Eigen::VectorXd r_eff = r;
+    std::vector<Eigen::Index> free;
+    for (Eigen::Index i = 0; i < p; ++i) {
+      if (out.held[static_cast<std::size_t>(i)]) r_eff += A.col(i) * out.a(i);
+      else free.push_back(i);
+    }
+    const Eigen::Index k = static_cast<Eigen::Index>(free.size());
+    Eigen::MatrixXd J(m, k + q);
+    for (Eigen::Index c = 0; c < k; ++c) J.col(c) = A.col(free[static_cast<std::size_t>(c)]);
+    J.rightCols(q) = B;
+    Eigen::VectorXd x = Eigen::VectorXd::Zero(k + q);
+    if (k + q > 0) x = -(J.transpose() * J).ldlt().solve(J.transpose() * r_eff);
+    bool inside = true;
+    for (Eigen::Index c = 0; c < k; ++c) {
+      const Eigen::Index i = free[static_cast<std::size_t>(c)];
+      out.a(i) = x(c);
+      if (x(c) < lower(i) || x(c) > upper(i)) {
+        out.a(i) = x(c) < lower(i) ? lower(i) : upper(i);
+        out.held[static_cast<std::size_t>(i)] = true;
+        inside = false;
+      }
+    }
+    if (!inside) continue;
+    out.b = x.tail(q);
+    out.cost = (r_eff + J * x).squaredNorm();
+    return out;
+  }
+  throw std::logic_error("boxed_least_squares: no solution inside the box after holding every parameter");
+}
+
 SecantProfile::SecantProfile(std::vector<double> x0, Eigen::VectorXd r0, Eigen::MatrixXd J0)
     : x_(x0), best_x_(std::move(x0)), r_(std::move(r0)), jacobian_(std::move(J0)), best_cost_(r_.squaredNorm()) {
   if (jacobian_.rows() != r_.size() || jacobian_.cols() != static_cast<Eigen::Index>(x_.size()))

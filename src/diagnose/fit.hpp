@@ -72,6 +72,20 @@ struct LmResult {
 LmResult levenberg_marquardt(const ResidualFn& residual, const std::vector<Bound>& bounds, std::vector<double> x0,
                              const LmOptions& options = {});
 
+/// Minimizer of the linear least-squares cost |r + A a + B b|^2 with each a_i in the box
+/// [lower_i, upper_i] and b free, by a projected active set: solve for all free; every a_i whose
+/// value leaves its box is held on the bound it crossed (its column times that value moves into
+/// the residual) and the rest solved again, until the solution is inside (at most columns(A) + 1
+/// solves). Exact when no held parameter would move back inside at the optimum (the usual case
+/// of a box smaller than the unconstrained step); a first step, not a full bounded solver.
+struct BoxedLeastSquares {
+  Eigen::VectorXd a, b;   ///< the step (a on its boxes)
+  double cost = 0;        ///< |r + A a + B b|^2 at the step
+  std::vector<bool> held; ///< a_i held on a bound
+};
+BoxedLeastSquares boxed_least_squares(const Eigen::MatrixXd& A, const Eigen::VectorXd& lower,
+                                      const Eigen::VectorXd& upper, const Eigen::MatrixXd& B, const Eigen::VectorXd& r);
+
 /// A parameter vector profiled by bounded Gauss-Newton steps on a secant Jacobian that
 /// Broyden's rank-one update (J += (y - J s) s^T / s^T s, Nocedal & Wright, Numerical
 /// Optimization, 2nd ed., eq. 11.27) refreshes from each new evaluation: one model

@@ -167,51 +167,25 @@ void Screening::linearize() {
 void Screening::joint_step(Screen& sc, const std::vector<std::size_t>& nuse, const Eigen::Ref<const Eigen::VectorXd>& r_res,
                            double S_nuis) const {
   const std::size_t p = sc.spec.size();
-  const Eigen::Index m_res = r_res.size();
-  std::vector<double> held(p, std::numeric_limits<double>::quiet_NaN());  // NaN: free, else the bound it is held on
-  for (std::size_t pass = 0; pass <= p; ++pass) {
-    Eigen::VectorXd r_eff = r_res;
-    std::vector<const std::vector<double>*> cols;
-    std::vector<std::size_t> idx;
-    for (std::size_t i = 0; i < p; ++i) {
-      if (std::isnan(held[i])) {
-        idx.push_back(i), cols.push_back(&sc.cols[i]);
-        continue;
-      }
-      const double d = held[i] - sc.spec[i].null_value;
-      for (Eigen::Index k = 0; k < m_res; ++k) r_eff(k) += sc.cols[i][static_cast<std::size_t>(k)] * d;
-    }
-    for (std::size_t i : nuse) cols.push_back(&ncols_[i]);
-    const Eigen::Index q = static_cast<Eigen::Index>(cols.size());
-    Eigen::VectorXd dx = Eigen::VectorXd::Zero(q), g = Eigen::VectorXd::Zero(q);
-    if (q > 0) {
-      Eigen::MatrixXd J(m_res, q);
-      for (Eigen::Index a = 0; a < q; ++a)
-        for (Eigen::Index k = 0; k < m_res; ++k) J(k, a) = (*cols[static_cast<std::size_t>(a)])[static_cast<std::size_t>(k)];
-      g = J.transpose() * r_eff;
-      dx = -(J.transpose() * J).ldlt().solve(g);
-    }
-    bool inside = true;
-    for (std::size_t a = 0; a < idx.size(); ++a) {
-      const auto& ps = sc.spec[idx[a]];
-      const double x = ps.null_value + dx(static_cast<Eigen::Index>(a));
-      if (x < ps.lower || x > ps.upper) {
-        held[idx[a]] = x < ps.lower ? ps.lower : ps.upper;
-        inside = false;
-      }
-    }
-    if (!inside) continue;
-    // Linear least squares: the cost after the step is |r_eff|^2 + g.dx.
-    const double improvement = r_res.squaredNorm() - (r_eff.squaredNorm() + g.dot(dx));
-    sc.S = std::max(0.0, improvement - S_nuis);
-    for (std::size_t i = 0; i < p; ++i) sc.start[i] = held[i];
-    for (std::size_t a = 0; a < idx.size(); ++a) sc.start[idx[a]] = sc.spec[idx[a]].null_value + dx(static_cast<Eigen::Index>(a));
-    for (std::size_t a = 0; a < nuse.size(); ++a) {
-      const auto& ps = nspec_[nuse[a]];
-      sc.nuisance_start[nuse[a]] = std::clamp(ctx_.nuisance_x[nuse[a]] + dx(static_cast<Eigen::Index>(idx.size() + a)),
-                                              ps.lower, ps.upper);
-    }
-    return;
+  const Eigen::Index m = r_res.size();
+  const auto column = [&](const std::vector<double>& c) { return Eigen::Map<const Eigen::VectorXd>(c.data(), m); };
+  // The candidate's parameters as offsets from 'absent', on their boxes; the nuisance free.
+  Eigen::MatrixXd A(m, static_cast<Eigen::Index>(p)), B(m, static_cast<Eigen::Index>(nuse.size()));
+  Eigen::VectorXd lower(static_cast<Eigen::Index>(p)), upper(static_cast<Eigen::Index>(p));
+  for (std::size_t i = 0; i < p; ++i) {
+    const auto ii = static_cast<Eigen::Index>(i);
+    A.col(ii) = column(sc.cols[i]);
+    lower(ii) = sc.spec[i].lower - sc.spec[i].null_value;
+    upper(ii) = sc.spec[i].upper - sc.spec[i].null_value;
+  }
+  for (std::size_t a = 0; a < nuse.size(); ++a) B.col(static_cast<Eigen::Index>(a)) = column(ncols_[nuse[a]]);
+  const BoxedLeastSquares step = boxed_least_squares(A, lower, upper, B, r_res);
+  sc.S = std::max(0.0, r_res.squaredNorm() - step.cost - S_nuis);
+  for (std::size_t i = 0; i < p; ++i) sc.start[i] = sc.spec[i].null_value + step.a(static_cast<Eigen::Index>(i));
+  for (std::size_t a = 0; a < nuse.size(); ++a) {
+    const auto& ps = nspec_[nuse[a]];
+    sc.nuisance_start[nuse[a]] =
+        std::clamp(ctx_.nuisance_x[nuse[a]] + step.b(static_cast<Eigen::Index>(a)), ps.lower, ps.upper);
   }
 }
 

@@ -7,7 +7,9 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 #include <random>
+#include <stdexcept>
 
 namespace pw::diagnose {
 namespace {
@@ -161,6 +163,86 @@ TEST(LocalMinimaOnClosedPath, FindsEachBasinOnceBestFirstWithTheEndsNextToTheCur
   // Nothing below the current value: no minima; the count is capped.
   EXPECT_TRUE(local_minima_on_closed_path({12, 11, 13}, 10.0, 4).empty());
   EXPECT_EQ(local_minima_on_closed_path({1, 2, 1, 2, 1}, 10.0, 2).size(), 2u);
+}
+
+// --- the screening's box-constrained linear step (boxed_least_squares) ------------------
+
+/// Minimum over b of |r + A a + B b|^2 for a given a (closed form), for brute-force checks.
+double cost_at(const Eigen::MatrixXd& A, const Eigen::VectorXd& a, const Eigen::MatrixXd& B, const Eigen::VectorXd& r) {
+  const Eigen::VectorXd re = r + A * a;
+  if (B.cols() == 0) return re.squaredNorm();
+  const Eigen::VectorXd b = -(B.transpose() * B).ldlt().solve(B.transpose() * re);
+  return (re + B * b).squaredNorm();
+}
+
+TEST(BoxedLeastSquares, InsideTheBoxItIsTheUnconstrainedSolution) {
+  std::mt19937 rng(11);
+  std::normal_distribution<double> nd;
+  const Eigen::Index m = 40;
+  Eigen::MatrixXd A(m, 3), B(m, 2);
+  Eigen::VectorXd r(m);
+  for (Eigen::Index k = 0; k < m; ++k) {
+    for (Eigen::Index j = 0; j < 3; ++j) A(k, j) = nd(rng);
+    for (Eigen::Index j = 0; j < 2; ++j) B(k, j) = nd(rng);
+    r(k) = nd(rng);
+  }
+  Eigen::MatrixXd J(m, 5);
+  J << A, B;
+  const Eigen::VectorXd x = J.colPivHouseholderQr().solve(-r);
+  const Eigen::VectorXd big = Eigen::VectorXd::Constant(3, 1e6);
+  const BoxedLeastSquares s = boxed_least_squares(A, -big, big, B, r);
+  for (Eigen::Index j = 0; j < 3; ++j) EXPECT_NEAR(s.a(j), x(j), 1e-10);
+  for (Eigen::Index j = 0; j < 2; ++j) EXPECT_NEAR(s.b(j), x(3 + j), 1e-10);
+  EXPECT_NEAR(s.cost, (r + J * x).squaredNorm(), 1e-10);
+  for (bool h : s.held) EXPECT_FALSE(h);
+}
+
+TEST(BoxedLeastSquares, AStepBeyondTheBoxIsHeldOnTheBoundItCrossedNotAtZero) {
+  // Orthogonal columns separate the problem: the exact answer is each unconstrained value clipped.
+  // a_0 wants 10 on [-1, 2] -> 2; a_1 wants -0.5 on [-1, 1] -> -0.5; b wants 3.
+  const Eigen::Index m = 3;
+  Eigen::MatrixXd A = Eigen::MatrixXd::Zero(m, 2), B = Eigen::MatrixXd::Zero(m, 1);
+  A(0, 0) = 1, A(1, 1) = 1, B(2, 0) = 1;
+  const Eigen::Vector3d r(-10, 0.5, -3);
+  const BoxedLeastSquares s = boxed_least_squares(A, Eigen::Vector2d(-1, -1), Eigen::Vector2d(2, 1), B, r);
+  EXPECT_DOUBLE_EQ(s.a(0), 2.0);
+  EXPECT_TRUE(s.held[0]);
+  EXPECT_DOUBLE_EQ(s.a(1), -0.5);
+  EXPECT_FALSE(s.held[1]);
+  EXPECT_DOUBLE_EQ(s.b(0), 3.0);
+  EXPECT_DOUBLE_EQ(s.cost, 64.0);  // (-10 + 2)^2: the improvement 100 - 64 is what the box allows, not 0
+}
+
+TEST(BoxedLeastSquares, CorrelatedColumnsMatchABruteForceSearchOfTheBox) {
+  // Two correlated candidate columns (cos 0.6) and a nuisance column; the unconstrained step
+  // leaves the box on one side: the projected active set's cost equals the grid minimum over
+  // the box (b profiled in closed form) to the grid's resolution, and no grid point is lower.
+  const Eigen::Index m = 4;
+  Eigen::MatrixXd A(m, 2), B(m, 1);
+  A << 1, 0.6, 0, 0.8, 0, 0, 0, 0;
+  B << 0, 0, 1, 0.3;
+  const Eigen::Vector4d r(-5, -1, 0.4, 2);
+  const Eigen::Vector2d lower(-1, -1), upper(1.5, 1.5);
+  const BoxedLeastSquares s = boxed_least_squares(A, lower, upper, B, r);
+  double best = std::numeric_limits<double>::infinity();
+  const int n = 401;
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < n; ++j) {
+      const Eigen::Vector2d a(lower(0) + (upper(0) - lower(0)) * i / (n - 1), lower(1) + (upper(1) - lower(1)) * j / (n - 1));
+      best = std::min(best, cost_at(A, a, B, r));
+    }
+  EXPECT_LE(s.cost, best + 1e-9);
+  EXPECT_NEAR(s.cost, cost_at(A, s.a, B, r), 1e-10);  // the reported cost is the cost at the step
+  EXPECT_GE(s.a(0), lower(0));
+  EXPECT_LE(s.a(0), upper(0));
+  EXPECT_GE(s.a(1), lower(1));
+  EXPECT_LE(s.a(1), upper(1));
+}
+
+TEST(BoxedLeastSquares, MismatchedShapesAreRefused) {
+  const Eigen::MatrixXd A = Eigen::MatrixXd::Zero(3, 2), B = Eigen::MatrixXd::Zero(4, 1);
+  EXPECT_THROW(boxed_least_squares(A, Eigen::Vector2d(0, 0), Eigen::Vector2d(1, 1), B, Eigen::Vector3d::Zero()),
+               std::invalid_argument);
 }
 
 } // namespace
