@@ -101,6 +101,7 @@ ModelComparison::ModelComparison(const Recording& recording, const model::Simula
   vns_.assign(m, 0.0);
   disc_.assign(m, 0.0);
   disc_abs_.assign(m, 0.0);
+  disc_sd_.assign(m, 0.0);
   for (const DiscrepancyEntry& e : opt_.discrepancy)
     for (int c = 0; c < nc; ++c) {
       if (rec_.channels[static_cast<std::size_t>(spec_.channels[static_cast<std::size_t>(c)])].quantity != e.quantity)
@@ -195,7 +196,8 @@ void ModelComparison::set_reference(const std::vector<std::vector<double>>& m, c
       const std::size_t f = static_cast<std::size_t>(c * ncell + i);
       const double g = is_housing(c) ? gains[static_cast<std::size_t>(c)] : 1.0;
       const double a = model_amplitude(m, c, i, g);
-      const double v = rice_variance(a, s2_[f]) + (disc_[f] * a) * (disc_[f] * a) + disc_abs_[f] + offset_var_[f];
+      disc_sd_[f] = disc_[f] * a;
+      const double v = rice_variance(a, s2_[f]) + disc_sd_[f] * disc_sd_[f] + disc_abs_[f] + offset_var_[f];
       for (int w = 0; w < 2; ++w) d_[static_cast<std::size_t>(w)][f] = v + vns_[f];
     }
 }
@@ -450,8 +452,14 @@ double ModelComparison::null_quantile(const std::vector<std::vector<double>>& m,
       double af = a[f];
       for (std::size_t k = 0; k < q; ++k) af += z[k] * u_[k][f] * gains[c];
       // Calibrated discrepancy: a relative amplitude error per cell (drawn only when present,
-      // so that uncalibrated draws keep their random sequence).
-      if (disc_[f] > 0) af *= 1 + disc_[f] * nd(rng);
+      // so that uncalibrated draws keep their random sequence), of the size V allows for it:
+      // relative to the reference model's amplitude. Drawn relative to the scored model's own
+      // amplitude, a candidate that adds strong lines where the calibrated healthy model has
+      // weak ones would widen its own null by (discrepancy x its lines)^2 that chi2, weighted
+      // by V, never charges: measured, an independent recording's pin error fitted 6-14x off
+      // left 100x the noise bound and passed its own bound of 850x (docs/diagnose-log.md,
+      // session 16).
+      if (disc_[f] > 0) af += disc_sd_[f] * nd(rng);
       af = std::fabs(af);
       const double scale = std::max(0.1, 1 + spec_.noise_relative_se[c][i] *
                                                  eps[c * static_cast<std::size_t>(groups) +

@@ -187,7 +187,9 @@ public:
                     HousingGains housing_gains) const;
 
   /// 1 - alpha quantile of chi2 under "the model explains the recording" on
-  /// window w (Monte Carlo with the model's own amplitudes, see the top).
+  /// window w (Monte Carlo with the model's own amplitudes, see the top). A calibrated relative
+  /// discrepancy is drawn with the standard deviation V holds, relative to the reference
+  /// model's amplitudes (set_reference), not the scored model's.
   /// fitted_parameters = k > 0: the model's k parameters were fitted on the OTHER window,
   /// and each draw adds 2 chi2(k). Why: linearized, the held-out residual is e + J_h d with
   /// d ~ N(0, (J_f'J_f)^-1) from the fit window, J_h ~ J_f, so its chi2 is
@@ -239,6 +241,7 @@ private:
   std::vector<double> vns_;
   std::vector<double> disc_;                 // [feature]: relative discrepancy (CompareOptions::discrepancy)
   std::vector<double> disc_abs_;             // [feature]: absolute discrepancy variance
+  std::vector<double> disc_sd_;              // [feature]: relative discrepancy x the reference amplitude (set_reference)
   std::vector<double> offset_, offset_var_;  // [feature]: baseline offset and its variance
   std::vector<double> dispersion_;           // [channel]
   int ns_cells_ = 0;

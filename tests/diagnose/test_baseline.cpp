@@ -110,5 +110,40 @@ TEST(Baseline, ABaselineWithoutTheRecordingsCellsIsRefusedNamingTheOption) {
   }
 }
 
+TEST(CalibratedDiscrepancy, AModelWithStrongerLinesThanTheReferenceIsNotGivenAWiderNull) {
+  // V holds the calibrated relative discrepancy at the reference (healthy, calibrated) model's
+  // amplitudes. The null of a scored model must draw it the same size: a candidate whose mesh
+  // lines are 10x the reference's must not get (0.5 x 10 a)^2 of allowance per cell that its
+  // chi2, weighted by V, never charges (an 850-fold bound measured in session 16).
+  CompareOptions co;
+  co.discrepancy.push_back({Quantity::MeshAccelerationSunPlanet, Component::Mesh, 0.5, 0.0});
+  const Recording rec = synthetic(0.0, 5);
+  ModelComparison cmp(rec, test::stage_1200rpm(), co);
+  const auto model = perfect_model();
+  cmp.set_reference(model, {});
+  auto strong = model;
+  for (double& a : strong[1]) a *= 10;  // the mesh acceleration's lines
+  const double q_ref = cmp.null_quantile(model, {}, Half::HeldOut, kAlphaHalf);
+  const double q_strong = cmp.null_quantile(strong, {}, Half::HeldOut, kAlphaHalf);
+  // Without a discrepancy the stronger lines change the null only through the Rician variance
+  // (lines near the noise floor): the calibrated ratio must be that one to Monte-Carlo error
+  // (a few % at 1000 draws), where drawing the discrepancy at the scored amplitudes multiplies
+  // the mesh cells' share by 100.
+  ModelComparison plain(rec, test::stage_1200rpm());
+  plain.set_reference(model, {});
+  const double p_ref = plain.null_quantile(model, {}, Half::HeldOut, kAlphaHalf);
+  const double p_strong = plain.null_quantile(strong, {}, Half::HeldOut, kAlphaHalf);
+  EXPECT_NEAR((q_strong / q_ref) / (p_strong / p_ref), 1.0, 0.1)
+      << "calibrated " << q_ref << " -> " << q_strong << ", plain " << p_ref << " -> " << p_strong;
+  // The discrepancy is in V: lines 30 % off the reference cost far less chi2 with it than
+  // without (noise alone makes the strong mesh lines' 30 % many standard deviations).
+  auto off = model;
+  for (double& a : off[1]) a *= 1.3;
+  const double chi_plain = plain.score(off, Half::HeldOut, {}, HousingGains::Given).chi2;
+  const double chi_cal = cmp.score(off, Half::HeldOut, {}, HousingGains::Given).chi2;
+  EXPECT_LT(chi_cal, q_ref) << "30 % is within a calibrated relative discrepancy of 50 %";
+  EXPECT_GT(chi_plain, p_ref) << "30 % is far outside the noise";
+}
+
 } // namespace
 } // namespace pw::diagnose
