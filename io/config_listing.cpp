@@ -42,7 +42,7 @@ std::string keys_json() {
   nlohmann::ordered_json keys = nlohmann::ordered_json::array();
   for (const KeyInfo& k : config_keys())
     keys.push_back({{"key", k.path}, {"type", k.type}, {"unit", unit_of_doc(k.doc)}, {"default", k.default_value},
-                    {"doc", k.doc}});
+                    {"range", k.range}, {"doc", k.doc}});
   return keys.dump(2) + "\n";
 }
 

@@ -285,18 +285,19 @@ public:
   }
 
   template <class T>
-  void field(std::string_view key, const T& value, std::string_view doc) {
-    add(key, std::string(type_name<T>()), format_value(value), doc);
+  void field(std::string_view key, const T& value, std::string_view doc, const config::Range& range = {}) {
+    add(key, std::string(type_name<T>()), format_value(value), doc, config::describe(range));
   }
 
-  void angle(std::string_view key_rad, std::string_view key_deg, const double& value_rad, std::string_view doc) {
-    field(key_rad, value_rad, doc);
+  void angle(std::string_view key_rad, std::string_view key_deg, const double& value_rad, std::string_view doc,
+             const config::Range& range = {}) {
+    field(key_rad, value_rad, doc, range);
     add(key_deg, "float", format_double(value_rad * 180.0 / std::numbers::pi),
-        "alternative to " + std::string(key_rad) + " [deg]; give only one");
+        "alternative to " + std::string(key_rad) + " [deg]; give only one", config::describe(range) + " (in rad)");
   }
 
   void teeth(std::string_view key, const std::vector<ToothModifier>& /*value*/, std::string_view doc) {
-    add(key, "array of tables", "[]", doc);
+    add(key, "array of tables", "[]", doc, "");
     const std::string outer = section_;
     section_ = std::string(kTeethElement);
     s_.allowed[section_];
@@ -306,11 +307,12 @@ public:
   }
 
 private:
-  void add(std::string_view key, std::string type, std::string default_value, std::string_view doc) {
+  void add(std::string_view key, std::string type, std::string default_value, std::string_view doc,
+           std::string range) {
     s_.allowed[section_].emplace_back(key);
     const std::string path = join_key(section_, key);
     s_.all_fields.push_back(path);
-    s_.keys.push_back({path, std::move(type), std::move(default_value), std::string(doc)});
+    s_.keys.push_back({path, std::move(type), std::move(default_value), std::string(doc), std::move(range)});
   }
 
   Schema& s_;
@@ -393,12 +395,12 @@ public:
   }
 
   template <class T>
-  void field(std::string_view key, T& value, std::string_view /*doc*/) {
+  void field(std::string_view key, T& value, std::string_view /*doc*/, const config::Range& = {}) {
     if (!table_) return;
     if (const toml::node* n = table_->get(key)) value = convert<T>(*n, join_key(shown_, key), origin_);
   }
 
-  void angle(std::string_view key_rad, std::string_view key_deg, double& value_rad, std::string_view /*doc*/) {
+  void angle(std::string_view key_rad, std::string_view key_deg, double& value_rad, std::string_view /*doc*/, const config::Range& = {}) {
     if (!table_) return;
     const toml::node* rad = table_->get(key_rad);
     const toml::node* deg = table_->get(key_deg);
@@ -457,11 +459,11 @@ public:
   }
 
   template <class T>
-  void field(std::string_view key, const T& value, std::string_view /*doc*/) {
+  void field(std::string_view key, const T& value, std::string_view /*doc*/, const config::Range& = {}) {
     text += std::string(key) + " = " + format_value(value) + "\n";
   }
 
-  void angle(std::string_view key_rad, std::string_view /*key_deg*/, const double& value_rad, std::string_view doc) {
+  void angle(std::string_view key_rad, std::string_view /*key_deg*/, const double& value_rad, std::string_view doc, const config::Range& = {}) {
     field(key_rad, value_rad, doc);
   }
 
@@ -493,13 +495,13 @@ public:
   void section(std::string_view path) { section_ = std::string(path); }
 
   template <class T>
-  void field(std::string_view key, T& value, std::string_view /*doc*/) {
+  void field(std::string_view key, T& value, std::string_view /*doc*/, const config::Range& = {}) {
     if (join_key(section_, key) != target_) return;
     value = convert<T>(value_, target_, origin_);
     found_ = true;
   }
 
-  void angle(std::string_view key_rad, std::string_view key_deg, double& value_rad, std::string_view doc) {
+  void angle(std::string_view key_rad, std::string_view key_deg, double& value_rad, std::string_view doc, const config::Range& = {}) {
     field(key_rad, value_rad, doc);
     if (join_key(section_, key_deg) == target_) {
       value_rad = convert<double>(value_, target_, origin_) * (std::numbers::pi / 180.0);

@@ -68,6 +68,7 @@ struct KeyInfo {
   std::string type;           ///< "integer", "float", "boolean", "string", "array of floats", "array of tables"
   std::string default_value;  ///< TOML text of the default
   std::string doc;            ///< one line, with the unit
+  std::string range;          ///< allowed values as the schema states them ("in (0, 1]", ">= 0", a rule's text; "" for none)
 };
 
 /// Every accepted key in file order, including the alternative

@@ -33,7 +33,7 @@ public:
     key += ']';
   }
   template <class T>
-  void field(std::string_view /*key*/, const T& value, std::string_view /*doc*/) {
+  void field(std::string_view /*key*/, const T& value, std::string_view /*doc*/, const config::Range& = {}) {
     using U = std::remove_cv_t<T>;
     if constexpr (std::is_same_v<U, std::vector<double>>) {
       key += '(';
@@ -43,7 +43,7 @@ public:
       append(static_cast<double>(value));  // bool, int, enumeration, double
     }
   }
-  void angle(std::string_view key_rad, std::string_view /*key_deg*/, const double& value_rad, std::string_view doc) {
+  void angle(std::string_view key_rad, std::string_view /*key_deg*/, const double& value_rad, std::string_view doc, const config::Range& = {}) {
     field(key_rad, value_rad, doc);
   }
   void teeth(std::string_view /*key*/, const std::vector<model::ToothModifier>& teeth, std::string_view /*doc*/) {

@@ -5,11 +5,17 @@
 // "imperfections.teeth[2].tooth") and whose message gives the value and the
 // allowed range. The ranges are listed in docs/config.md.
 //
+// Each key's own range is stated in the schema (config/schema.hpp, config/range.hpp) and
+// checked here by a visitor over it (RangeChecker); written out below are only the rules
+// that involve other keys (or have a message of their own), each schema entry of kind
+// Rule naming what is checked here.
+//
 // Not checked here (they need the mesh geometry): interference, contact ratio,
 // the assembly condition and planet tip-circle clearance. Those are checked by
 // geometry::make_stage_geometry() when the model is built.
 #include "model/validate.hpp"
 
+#include "config/schema.hpp"
 #include "core/error.hpp"
 #include "geometry/gear.hpp"
 
@@ -18,44 +24,72 @@
 #include <numbers>
 #include <string>
 #include <string_view>
+#include <type_traits>
+#include <vector>
 
 namespace pw::model {
 namespace {
 
-constexpr double kInf = std::numeric_limits<double>::infinity();
 constexpr double kMaxWearMeshCycles = 1e12;   ///< [-]
-constexpr double kMaxWearCoefficient = 1e-10;  ///< kappa [m^2/N], exclusive
-/// sqrt(2 pi) sigma <= pi: the Hann window spans at most the whole ring [rad].
-constexpr double kMaxSensorWindowWidth = 1.25;
+constexpr double kMaxWearCoefficient = config::kMaxWearCoefficient_m2_N;
 
-/// Which ends of [lo, hi] belong to the allowed interval.
-enum class Ends { Closed, Open, OpenLow, OpenHigh };
+using config::Ends;
 
-/// "> 0", ">= 0", "(0, 0.5]", "[0.5, 1]" ... for a message.
-std::string describe(double lo, double hi, Ends ends) {
-  const bool lo_open = ends == Ends::Open || ends == Ends::OpenLow;
-  const bool hi_open = ends == Ends::Open || ends == Ends::OpenHigh;
-  if (hi == kInf) return detail::concat(lo_open ? "> " : ">= ", lo);
-  return detail::concat("in ", lo_open ? "(" : "[", lo, ", ", hi, hi_open ? ")" : "]");
-}
-
-/// A finite double inside the interval; NaN and +-inf always fail.
+/// A finite double inside [lo, hi] with the given ends: a range that depends on other keys
+/// (the module, the mesh period), so it is built here rather than stated in the schema.
 void check(double value, const std::string& key, double lo, double hi, Ends ends, std::string_view unit) {
-  const bool lo_open = ends == Ends::Open || ends == Ends::OpenLow;
-  const bool hi_open = ends == Ends::Open || ends == Ends::OpenHigh;
-  const bool ok = std::isfinite(value) && (lo_open ? value > lo : value >= lo) &&
-                  (hi == kInf || (hi_open ? value < hi : value <= hi));
-  require(ok, key, "must be a finite number ", describe(lo, hi, ends), " [", unit, "], got ", value);
-}
-
-/// Any finite double (angles, signed errors).
-void check_finite(double value, const std::string& key, std::string_view unit) {
-  require(std::isfinite(value), key, "must be a finite number [", unit, "], got ", value);
+  const config::Range r = config::interval(lo, hi, ends, unit);
+  require(r.contains(value), key, "must be a finite number ", config::describe(r), " [", unit, "], got ", value);
 }
 
 void check_int(int value, const std::string& key, int lo, int hi) {
   require(value >= lo && value <= hi, key, "must be an integer in [", lo, ", ", hi, "], got ", value);
 }
+
+/// Checks every number against the range the schema states for it (intervals and "finite";
+/// rules are checked by the functions below, with the keys they involve).
+class RangeChecker {
+public:
+  void section(std::string_view path) { section_ = std::string(path); }
+  template <class T>
+  void field(std::string_view key, const T& value, std::string_view /*doc*/, const config::Range& range = {}) {
+    if (range.kind != config::RangeKind::Interval && range.kind != config::RangeKind::Finite) return;
+    static_assert(std::is_same_v<T, int> || std::is_same_v<T, double> || std::is_same_v<T, std::vector<double>> ||
+                      std::is_same_v<T, bool> || std::is_enum_v<T>,
+                  "a new value type needs its range check here");
+    const std::string path = section_ + "." + std::string(key);
+    if constexpr (std::is_same_v<T, int>) {
+      require(range.contains(value), path, "must be an integer ", config::describe(range), ", got ", value);
+    } else if constexpr (std::is_same_v<T, std::vector<double>>) {
+      for (std::size_t i = 0; i < value.size(); ++i) number(detail::concat(path, "[", i, "]"), value[i], range);
+    } else if constexpr (std::is_same_v<T, double>) {
+      number(path, value, range);
+    }
+  }
+  void angle(std::string_view key_rad, std::string_view /*key_deg*/, const double& value_rad, std::string_view doc,
+             const config::Range& range = {}) {
+    field(key_rad, value_rad, doc, range);
+  }
+  void teeth(std::string_view key, const std::vector<ToothModifier>& teeth, std::string_view /*doc*/) {
+    const std::string outer = section_;
+    for (std::size_t i = 0; i < teeth.size(); ++i) {
+      section_ = detail::concat(outer, ".", key, "[", i, "]");
+      config::visit_tooth(*this, teeth[i]);
+    }
+    section_ = outer;
+  }
+
+private:
+  static void number(const std::string& path, double value, const config::Range& range) {
+    if (range.kind == config::RangeKind::Finite)
+      require(range.contains(value), path, "must be a finite number [", range.note, "], got ", value);
+    else
+      require(range.contains(value), path, "must be a finite number ", config::describe(range), " [", range.note,
+              "], got ", value);
+  }
+
+  std::string section_;
+};
 
 /// Message of an InputError without its "parameter: " prefix.
 std::string bare_message(const InputError& e) {
@@ -81,7 +115,6 @@ void validate_stage(const StageSpec& s) {
   validate_gear(s.planet, "stage.planet", geometry::GearKind::External);
   validate_gear(s.ring, "stage.ring", geometry::GearKind::Internal);
 
-  check_int(s.planet_count, "stage.planet_count", 1, 32);
   const auto n = static_cast<std::size_t>(s.planet_count);
   require(s.planet_angles_rad.empty() || s.planet_angles_rad.size() == n, "stage.planet_angles_rad",
           "must be empty (equal spacing) or list one angle per planet (stage.planet_count = ", s.planet_count,
@@ -96,30 +129,9 @@ void validate_stage(const StageSpec& s) {
             "rad; increasing, below 2 pi");
     }
   }
-  check(s.carrier_inertia_kgm2, "stage.carrier_inertia_kgm2", 0, kInf, Ends::Closed, "kg m^2; 0 = derived");
-  check(s.carrier_mass_kg, "stage.carrier_mass_kg", 0, kInf, Ends::Closed, "kg; 0 = derived");
-  check(s.input_inertia_kgm2, "stage.input_inertia_kgm2", 0, kInf, Ends::Closed, "kg m^2");
-  check(s.output_inertia_kgm2, "stage.output_inertia_kgm2", 0, kInf, Ends::Closed, "kg m^2");
-  // The fillet-foundation compliance (Sainsot et al. 2004) is fitted for h_f = 1/bore_ratio in
-  // [1.4, 7]; [0.15, 0.7] keeps inside it with round numbers (h_f 1.43 .. 6.67).
-  check(s.bore_ratio, "stage.bore_ratio", 0.15, 0.7, Ends::Closed,
-        "-; Sainsot's fillet-foundation fit covers bore / root radius 1/7 .. 1/1.4");
-}
-
-void validate_operating(const OperatingPoint& op) {
-  check(op.input_speed_rpm, "operating.input_speed_rpm", 0, 1e5, Ends::OpenLow, "rpm");
-  check(op.input_power_W, "operating.input_power_W", 0, 1e9, Ends::OpenLow, "W");
-}
-
-void validate_stiffness(const StiffnessSettings& st) {
-  check_int(st.samples_per_pair, "stiffness.samples_per_pair", 16, 100000);
-  check(st.scale, "stiffness.scale", 0, 1e3, Ends::OpenLow, "-");
 }
 
 void validate_contact(const ContactSettings& c, double module_m) {
-  check(c.friction_coefficient, "contact.friction_coefficient", 0, 1, Ends::OpenHigh, "-");
-  check(c.friction_smoothing_m_s, "contact.friction_smoothing_m_s", 0, 1, Ends::OpenLow, "m/s");
-  check(c.mesh_damping_ratio, "contact.mesh_damping_ratio", 0, 1, Ends::Closed, "-");
   // Backlash and profile errors are fractions of a tooth; a module or more is
   // a unit mistake (mm typed as m), not a gear.
   check(c.backlash_sun_planet_m, "contact.backlash_sun_planet_m", 0, module_m, Ends::OpenHigh, "m; below module");
@@ -129,7 +141,6 @@ void validate_contact(const ContactSettings& c, double module_m) {
   check(c.mesh_error_planet_ring_m, "contact.mesh_error_planet_ring_m", -module_m, module_m, Ends::Open,
         "m; |e| below module");
   check(c.tip_relief_m, "contact.tip_relief_m", 0, module_m, Ends::OpenHigh, "m; below module");
-  check(c.tip_relief_extent, "contact.tip_relief_extent", 0, 1, Ends::OpenLow, "-");
 }
 
 void validate_imperfections(const Imperfections& im, const StageSpec& stage) {
@@ -141,12 +152,8 @@ void validate_imperfections(const Imperfections& im, const StageSpec& stage) {
     check(im.pin_error_m[i], detail::concat("imperfections.pin_error_m[", i, "]"), -module_m, module_m, Ends::Open,
           "m; |e| below module");
   check(im.sun_eccentricity_m, "imperfections.sun_eccentricity_m", 0, module_m, Ends::OpenHigh, "m; below module");
-  check_finite(im.sun_eccentricity_phase_rad, "imperfections.sun_eccentricity_phase_rad", "rad");
   check(im.carrier_eccentricity_m, "imperfections.carrier_eccentricity_m", 0, module_m, Ends::OpenHigh,
         "m; below module");
-  check_finite(im.carrier_eccentricity_phase_rad, "imperfections.carrier_eccentricity_phase_rad", "rad");
-  check(im.torque_ripple_fraction, "imperfections.torque_ripple_fraction", 0, 1, Ends::OpenHigh, "-");
-  check(im.torque_ripple_order, "imperfections.torque_ripple_order", 0, 1e3, Ends::OpenLow, "-");
   check(im.worn_profile_depth_m, "imperfections.worn_profile_depth_m", 0, module_m, Ends::OpenHigh,
         "m; below module");
 
@@ -167,7 +174,6 @@ void validate_imperfections(const Imperfections& im, const StageSpec& stage) {
               body_name(t.body), "\", got ", t.planet);
     }
     check_int(t.tooth, key + ".tooth", 0, gear->teeth - 1);
-    check(t.stiffness_factor, key + ".stiffness_factor", 0, 1, Ends::OpenLow, "-");
     check(t.profile_deviation_m, key + ".profile_deviation_m", 0, gear->module_m, Ends::OpenHigh,
           "m; below the module of that gear");
     for (std::size_t j = 0; j < i; ++j) {
@@ -180,16 +186,8 @@ void validate_imperfections(const Imperfections& im, const StageSpec& stage) {
 }
 
 void validate_sensor(const SensorSettings& s) {
-  check_finite(s.angle_rad, "sensor.angle_rad", "rad");
-  // A gain of 1 m/s^2 per N or more would be a housing lighter than 1 kg.
-  check(s.gain_m_s2_per_N, "sensor.gain_m_s2_per_N", 0, 1, Ends::OpenLow, "m/s^2 per N");
   require(s.window == SensorWindow::Gaussian || s.window == SensorWindow::Hann, "sensor.window",
           "must be \"gaussian\" or \"hann\"");
-  // Above ~1.25 rad the Hann window (half-width sqrt(2 pi) sigma) would
-  // overlap itself around the ring, and a Gaussian no longer localizes.
-  check(s.window_width_rad, "sensor.window_width_rad", 0, kMaxSensorWindowWidth, Ends::OpenLow, "rad");
-  check(s.encoder_bandwidth_Hz, "sensor.encoder_bandwidth_Hz", 0, kInf, Ends::OpenHigh, "Hz; 0 = ideal encoder");
-  check_int(s.encoder_filter_order, "sensor.encoder_filter_order", 1, 2);
 }
 
 void validate_rig(const RigSettings& r, const StageSpec& st) {
@@ -197,13 +195,6 @@ void validate_rig(const RigSettings& r, const StageSpec& st) {
           "must be \"power\" or \"torque\"");
   require(r.load_control == LoadControl::Torque || r.load_control == LoadControl::Speed, "rig.load_control",
           "must be \"torque\" or \"speed\"");
-  check(r.input_shaft_stiffness_N_m_rad, "rig.input_shaft_stiffness_N_m_rad", 0, kInf, Ends::OpenHigh,
-        "N m/rad; 0 = rigid");
-  check(r.input_shaft_damping_N_m_s_rad, "rig.input_shaft_damping_N_m_s_rad", 0, kInf, Ends::OpenHigh, "N m s/rad");
-  check(r.output_shaft_stiffness_N_m_rad, "rig.output_shaft_stiffness_N_m_rad", 0, kInf, Ends::OpenHigh,
-        "N m/rad; 0 = rigid");
-  check(r.output_shaft_damping_N_m_s_rad, "rig.output_shaft_damping_N_m_s_rad", 0, kInf, Ends::OpenHigh,
-        "N m s/rad");
   // A shaft needs a body at its far end: a massless motor behind a spring would
   // leave the spring's far end undetermined.
   require(r.input_shaft_stiffness_N_m_rad == 0 || st.input_inertia_kgm2 > 0, "rig.input_shaft_stiffness_N_m_rad",
@@ -226,14 +217,6 @@ void validate_rig(const RigSettings& r, const StageSpec& st) {
   }
 }
 
-void validate_bearings(const BearingSettings& b) {
-  check(b.sun_N_m, "bearings.sun_N_m", 0, kInf, Ends::OpenLow, "N/m");
-  check(b.carrier_N_m, "bearings.carrier_N_m", 0, kInf, Ends::OpenLow, "N/m");
-  check(b.ring_N_m, "bearings.ring_N_m", 0, kInf, Ends::OpenLow, "N/m");
-  check(b.planet_N_m, "bearings.planet_N_m", 0, kInf, Ends::OpenLow, "N/m");
-  check(b.ring_torsional_N_m, "bearings.ring_torsional_N_m", 0, kInf, Ends::OpenLow, "N/m");
-}
-
 void validate_solver(const SolverSettings& s, const SimulationConfig& c) {
   require(s.level == ModelLevel::Torsional || s.level == ModelLevel::LateralTorsional, "solver.level",
           "must be \"torsional\" or \"lateral_torsional\"");
@@ -243,15 +226,6 @@ void validate_solver(const SolverSettings& s, const SimulationConfig& c) {
   const double mesh_period_s = 60.0 / (zs * zr / (zs + zr) * c.operating.input_speed_rpm);
   check(s.time_step_s, "solver.time_step_s", 0, mesh_period_s / 8, Ends::Closed,
         detail::concat("s; 0 = automatic, else at most 1/8 of the mesh period ", mesh_period_s, " s"));
-  check_int(s.min_steps_per_mesh, "solver.min_steps_per_mesh", 8, 1000000);
-  check_int(s.steps_per_mode_period, "solver.steps_per_mode_period", 8, 1000000);
-  check(s.newmark_beta, "solver.newmark_beta", 0, 0.5, Ends::OpenLow, "-");
-  check(s.newmark_gamma, "solver.newmark_gamma", 0.5, 1, Ends::Closed, "-");
-  check(s.newton_tolerance, "solver.newton_tolerance", 0, 1e-2, Ends::OpenLow, "-");
-  check_int(s.newton_max_iterations, "solver.newton_max_iterations", 1, 1000);
-  check_int(s.warmup_max_mesh_cycles, "solver.warmup_max_mesh_cycles", 1, 1000000);
-  check(s.periodicity_tolerance, "solver.periodicity_tolerance", 0, 1e-1, Ends::OpenLow, "-");
-  check_int(s.record_mesh_cycles, "solver.record_mesh_cycles", 1, 1000000);
 }
 
 void validate_wear(const WearSettings& w) {
@@ -261,11 +235,6 @@ void validate_wear(const WearSettings& w) {
   require(w.mesh_cycles >= 0, "wear.mesh_cycles", "must be >= 0 (0 = no wear) [-], got ", w.mesh_cycles);
   require(w.mesh_cycles <= kMaxWearMeshCycles, "wear.mesh_cycles", "must be at most ", kMaxWearMeshCycles,
           " [-], got ", w.mesh_cycles);
-  // kappa = K/H: mild-wear steel is 1e-18..1e-14 m^2/N; 1e-10 and above is a
-  // unit mistake (mm^2/N typed as m^2/N is a factor 1e6 too large).
-  check(w.coefficient_m2_N, "wear.coefficient_m2_N", 0, kMaxWearCoefficient, Ends::OpenHigh, "m^2/N");
-  check(w.archard_K, "wear.archard_K", 0, 1, Ends::OpenHigh, "-");
-  check(w.hardness_Pa, "wear.hardness_Pa", 0, kInf, Ends::OpenLow, "Pa");
   require(w.archard_K / w.hardness_Pa < kMaxWearCoefficient, "wear.archard_K",
           "gives kappa = archard_K / hardness_Pa = ", w.archard_K / w.hardness_Pa, " m^2/N, must be below ",
           kMaxWearCoefficient, " m^2/N (the limit of wear.coefficient_m2_N); got archard_K = ", w.archard_K,
@@ -273,10 +242,6 @@ void validate_wear(const WearSettings& w) {
   require(w.elements_per_flank >= 2 && w.elements_per_flank <= 10000, "wear.elements_per_flank",
           "must be an integer in [2, 10000], got ", w.elements_per_flank,
           " (element counts < 2 cannot resolve a wear profile)");
-  check_int(w.window_mesh_cycles, "wear.window_mesh_cycles", 0, 1000000);
-  check(w.max_increment_fraction, "wear.max_increment_fraction", 0, 1, Ends::OpenLow, "-");
-  check(w.max_wear_fraction_of_thickness, "wear.max_wear_fraction_of_thickness", 0, 0.5, Ends::OpenLow, "-");
-  check_int(w.snapshot_record_mesh_cycles, "wear.snapshot_record_mesh_cycles", 1, 100000);
   for (std::size_t i = 0; i < w.snapshot_mesh_cycles.size(); ++i)
     check(w.snapshot_mesh_cycles[i], detail::concat("wear.snapshot_mesh_cycles[", i, "]"), 0, w.mesh_cycles,
           Ends::Closed, "-; at most wear.mesh_cycles");
@@ -288,11 +253,11 @@ void validate(const SimulationConfig& c) {
   // Order matters only for which error a config with several mistakes reports
   // first: gears before everything that depends on their teeth and module.
   validate_stage(c.stage);
-  validate_operating(c.operating);
-  validate_stiffness(c.stiffness);
+  // Every key's own range (the schema), before the rules that read other keys.
+  RangeChecker ranges;
+  config::visit_config(ranges, c);
   validate_contact(c.contact, c.stage.sun.module_m);
   validate_imperfections(c.imperfections, c.stage);
-  validate_bearings(c.bearings);
   validate_solver(c.solver, c);
   validate_wear(c.wear);
   validate_sensor(c.sensor);

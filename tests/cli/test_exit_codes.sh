@@ -57,7 +57,7 @@ check wear-stopped 4 "${P}wear stopped.*wear.max_wear_fraction_of_thickness" "" 
   --mesh-cycles 2e5 --set wear.max_wear_fraction_of_thickness=1e-6 --set solver.record_mesh_cycles=1 -o stopped.h5
 [ -f stopped.h5 ] || { echo "FAIL wear-stopped: results not kept"; fail=1; }
 
-# keys --format json: every key of the text listing, with type, unit, default and doc.
+# keys --format json: every key of the text listing, with type, unit, default, range and doc.
 "$PW" keys > keys.txt || fail=1
 "$PW" keys --format json > keys.json || fail=1
 /usr/bin/python3 - keys.txt keys.json <<'PY' || fail=1
@@ -66,9 +66,10 @@ text = [line.split()[0] for line in open(sys.argv[1]) if line.strip()]
 keys = json.load(open(sys.argv[2]))
 assert [k["key"] for k in keys] == text, "json keys differ from the text listing"
 for k in keys:
-    assert set(k) == {"key", "type", "unit", "default", "doc"}, k
+    assert set(k) == {"key", "type", "unit", "default", "range", "doc"}, k
 speed = next(k for k in keys if k["key"] == "operating.input_speed_rpm")
 assert speed["unit"] == "rpm" and speed["default"] == "100.0" and speed["type"] == "float", speed
+assert speed["range"] == "in (0, 100000]", speed
 PY
 
 # config --template: commented, accepted by simulate, equal to the defaults.
