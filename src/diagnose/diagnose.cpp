@@ -14,11 +14,11 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <condition_variable>
 #include <cstdio>
 #include <limits>
-#include <numbers>
-#include <condition_variable>
 #include <mutex>
+#include <numbers>
 #include <optional>
 #include <stop_token>
 #include <thread>
@@ -200,8 +200,8 @@ private:
   void forecast_all_steps() {
     const std::size_t pn = ctx().nuisance_specs().size();
     expect(2, kFidelitySimulations);
-    expect(3, kNuisanceScan + static_cast<long>(pn > 0 ? pn - 1 : 0) +
-                            lm_simulations(pn, 2 * o_.max_iterations) + kFidelitySimulations);
+    expect(3, kNuisanceScan + static_cast<long>(pn > 0 ? pn - 1 : 0) + lm_simulations(pn, 2 * o_.max_iterations) +
+                  kFidelitySimulations);
     long params = 0, candidates = 0, one_parameter = 0;
     for (const auto& c : candidate_library()) {
       if (c->nuisance() || extra_nuisance(*c) || !allowed(*c)) continue;
@@ -212,7 +212,9 @@ private:
     }
     expect(6, params + static_cast<long>(pn));
     const long fitted = std::min<long>(o_.max_candidates, candidates);
-    const std::size_t mean_k = candidates > 0 ? static_cast<std::size_t>(std::lround(static_cast<double>(params) / static_cast<double>(candidates))) : 0;
+    const std::size_t mean_k =
+        candidates > 0 ? static_cast<std::size_t>(std::lround(static_cast<double>(params) / static_cast<double>(candidates)))
+                       : 0;
     expect(7, std::min<long>(fitted, one_parameter) * (Screening::kGridPoints + 1));
     expect(8, (fitted + std::min<long>(fitted, kRefinedCandidates)) * lm_simulations(mean_k + pn, o_.max_iterations));
     expect(kVerdictStep, kFidelitySimulations + 2);  // the leader's fidelity and model, the report's model
@@ -224,7 +226,8 @@ private:
     long fits = 0, largest = 0;
     for (std::size_t i : shortlist_) {
       const Screen& sc = (*screening_)[i];
-      const long f = lm_simulations(sc.spec.size() + (sc.c->sensor_only() ? 0 : pn), o_.max_iterations);
+      if (sc.c->sensor_only()) continue;  // fitted on the nuisance model's simulation: none of its own
+      const long f = lm_simulations(sc.spec.size() + pn, o_.max_iterations);
       fits += f;
       largest = std::max(largest, f);
     }
