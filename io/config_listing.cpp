@@ -62,7 +62,7 @@ std::string config_template() {
                                 section + "]\n"
                           : "\n[" + section + "]\n";
     }
-    text += "# " + k.doc + " (" + k.type + ")\n";
+    text += "# " + k.doc + " (" + k.type + (k.range.empty() ? "" : "; " + k.range) + ")\n";
     text += std::string(commented_out(k) ? "# " : "") + name_of(k.path) + " = " + k.default_value + "\n";
   }
   return text;

@@ -41,18 +41,18 @@ inline constexpr double kMaxSensorWindowWidth_rad = 1.25;
 template <class V, class Gear>
 void visit_gear(V& v, std::string_view section, Gear& g) {
   v.section(section);
-  v.field("teeth", g.teeth, "number of teeth z [-]", rule("checked with the gear geometry (geometry::make_geometry)"));
-  v.field("module_m", g.module_m, "module m [m]", rule("checked with the gear geometry (geometry::make_geometry)"));
-  v.angle("pressure_angle_rad", "pressure_angle_deg", g.pressure_angle_rad, "reference pressure angle alpha0 [rad]", rule("checked with the gear geometry (geometry::make_geometry)"));
-  v.field("profile_shift", g.profile_shift, "profile shift coefficient x, ISO 21771 [-]", rule("checked with the gear geometry (geometry::make_geometry)"));
-  v.field("addendum_coef", g.addendum_coef, "addendum coefficient h_a* [-]", rule("checked with the gear geometry (geometry::make_geometry)"));
-  v.field("dedendum_coef", g.dedendum_coef, "dedendum coefficient h_f* [-]", rule("checked with the gear geometry (geometry::make_geometry)"));
-  v.field("root_fillet_coef", g.root_fillet_coef, "root fillet radius coefficient rho_f* [-]", rule("checked with the gear geometry (geometry::make_geometry)"));
-  v.field("face_width_m", g.face_width_m, "face width b [m]", rule("checked with the gear geometry (geometry::make_geometry)"));
-  v.field("youngs_modulus_Pa", g.material.youngs_modulus_Pa, "Young's modulus E [Pa]", rule("checked with the gear geometry (geometry::make_geometry)"));
-  v.field("shear_modulus_Pa", g.material.shear_modulus_Pa, "shear modulus G [Pa]", rule("checked with the gear geometry (geometry::make_geometry)"));
-  v.field("poisson_ratio", g.material.poisson_ratio, "Poisson's ratio nu [-]", rule("checked with the gear geometry (geometry::make_geometry)"));
-  v.field("density_kg_m3", g.material.density_kg_m3, "density rho [kg/m^3]", rule("checked with the gear geometry (geometry::make_geometry)"));
+  v.field("teeth", g.teeth, "number of teeth z [-]", rule("as docs/config.md states, checked with the whole gear"));
+  v.field("module_m", g.module_m, "module m [m]", rule("as docs/config.md states, checked with the whole gear"));
+  v.angle("pressure_angle_rad", "pressure_angle_deg", g.pressure_angle_rad, "reference pressure angle alpha0 [rad]", rule("as docs/config.md states, checked with the whole gear"));
+  v.field("profile_shift", g.profile_shift, "profile shift coefficient x, ISO 21771 [-]", rule("as docs/config.md states, checked with the whole gear"));
+  v.field("addendum_coef", g.addendum_coef, "addendum coefficient h_a* [-]", rule("as docs/config.md states, checked with the whole gear"));
+  v.field("dedendum_coef", g.dedendum_coef, "dedendum coefficient h_f* [-]", rule("as docs/config.md states, checked with the whole gear"));
+  v.field("root_fillet_coef", g.root_fillet_coef, "root fillet radius coefficient rho_f* [-]", rule("as docs/config.md states, checked with the whole gear"));
+  v.field("face_width_m", g.face_width_m, "face width b [m]", rule("as docs/config.md states, checked with the whole gear"));
+  v.field("youngs_modulus_Pa", g.material.youngs_modulus_Pa, "Young's modulus E [Pa]", rule("as docs/config.md states, checked with the whole gear"));
+  v.field("shear_modulus_Pa", g.material.shear_modulus_Pa, "shear modulus G [Pa]", rule("as docs/config.md states, checked with the whole gear"));
+  v.field("poisson_ratio", g.material.poisson_ratio, "Poisson's ratio nu [-]", rule("as docs/config.md states, checked with the whole gear"));
+  v.field("density_kg_m3", g.material.density_kg_m3, "density rho [kg/m^3]", rule("as docs/config.md states, checked with the whole gear"));
 }
 
 /// The keys of one tooth modifier (an element of imperfections.teeth).
