@@ -456,9 +456,9 @@ double ModelComparison::null_quantile(const std::vector<std::vector<double>>& m,
       // relative to the reference model's amplitude. Drawn relative to the scored model's own
       // amplitude, a candidate that adds strong lines where the calibrated healthy model has
       // weak ones would widen its own null by (discrepancy x its lines)^2 that chi2, weighted
-      // by V, never charges: measured, an independent recording's pin error fitted 6-14x off
-      // left 100x the noise bound and passed its own bound of 850x (docs/diagnose-log.md,
-      // session 16).
+      // by V, never charges: measured, an independent recording's pin errors, fitted far from
+      // the truth with 96x the noise bound left, passed their own bound of 850x the noise bound
+      // (docs/diagnose-log.md, session 16).
       if (disc_[f] > 0) af += disc_sd_[f] * nd(rng);
       af = std::fabs(af);
       const double scale = std::max(0.1, 1 + spec_.noise_relative_se[c][i] *
