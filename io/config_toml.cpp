@@ -551,6 +551,13 @@ private:
 };
 
 /// Message of an InputError without its "parameter: " prefix.
+std::string bare_message(const InputError& e) {
+  const std::string what = e.what();
+  const std::string prefix = e.parameter() + ": ";
+  if (!e.parameter().empty() && what.rfind(prefix, 0) == 0) return what.substr(prefix.size());
+  return what;
+}
+
 /// The `_deg` spelling of an angle key `..._rad`, or "" for any other key.
 std::string degree_alias(const std::string& key) {
   constexpr std::string_view rad = "_rad";
@@ -558,19 +565,10 @@ std::string degree_alias(const std::string& key) {
   return key.substr(0, key.size() - rad.size()) + "_deg";
 }
 
-std::string bare_message(const InputError& e);
-
 /// A range error of an angle the user gave in degrees, named by the key they wrote: the range
 /// is checked (and stated) in radians, so the message says how the two relate.
 InputError in_degrees(const InputError& e, const std::string& deg_key, const std::string& where) {
   return InputError(deg_key, bare_message(e) + " (" + e.parameter() + " = " + deg_key + " x pi/180; " + where + ")");
-}
-
-std::string bare_message(const InputError& e) {
-  const std::string what = e.what();
-  const std::string prefix = e.parameter() + ": ";
-  if (!e.parameter().empty() && what.rfind(prefix, 0) == 0) return what.substr(prefix.size());
-  return what;
 }
 
 std::string_view trim(std::string_view s) {

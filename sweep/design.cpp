@@ -24,7 +24,6 @@ std::string factor_param(std::size_t index, const char* field) {
 /// Uniform double in [0, 1) from the top 53 bits of one engine output.
 double unit_double(std::mt19937_64& engine) { return static_cast<double>(engine() >> 11) * 0x1p-53; }
 
-
 bool is_whole(double v) { return std::isfinite(v) && std::floor(v) == v; }
 
 double round_half_away(double v) { return v < 0 ? -std::floor(-v + 0.5) : std::floor(v + 0.5); }

@@ -77,7 +77,10 @@ void visit_config(V& v, Config& c) {
           "inertia on the input shaft besides the sun (motor, coupling) [kg m^2]", at_least(0, "kg m^2"));
   v.field("output_inertia_kgm2", c.stage.output_inertia_kgm2,
           "inertia on the output shaft besides the carrier (load machine) [kg m^2]", at_least(0, "kg m^2"));
-  v.field("bore_ratio", c.stage.bore_ratio, "bore radius / root radius of sun and planets [-]", interval(0.15, 0.7, Ends::Closed, "-; Sainsot's fillet-foundation fit covers bore / root radius 1/7 .. 1/1.4"));
+  // The fillet-foundation compliance (Sainsot et al. 2004) is fitted for h_f = 1/bore_ratio in
+  // [1.4, 7]; [0.15, 0.7] keeps inside it with round numbers (h_f 1.43 .. 6.67).
+  v.field("bore_ratio", c.stage.bore_ratio, "bore radius / root radius of sun and planets [-]",
+          interval(0.15, 0.7, Ends::Closed, "-; Sainsot's fillet-foundation fit covers bore / root radius 1/7 .. 1/1.4"));
   visit_gear(v, "stage.sun", c.stage.sun);
   visit_gear(v, "stage.planet", c.stage.planet);
   visit_gear(v, "stage.ring", c.stage.ring);
@@ -160,7 +163,9 @@ void visit_config(V& v, Config& c) {
 
   v.section("sensor");
   v.field("angle_rad", c.sensor.angle_rad, "housing accelerometer angle phi_s, CCW from planet 0 at t = 0 [rad]", any_finite("rad"));
-  v.field("gain_m_s2_per_N", c.sensor.gain_m_s2_per_N, "transfer gain mesh force -> housing acceleration [m/s^2/N]", interval(0, 1, Ends::OpenLow, "m/s^2 per N"));
+  // A gain of 1 m/s^2 per N or more would be a housing lighter than 1 kg.
+  v.field("gain_m_s2_per_N", c.sensor.gain_m_s2_per_N, "transfer gain mesh force -> housing acceleration [m/s^2/N]",
+          interval(0, 1, Ends::OpenLow, "m/s^2 per N"));
   v.field("window_width_rad", c.sensor.window_width_rad, "transfer-path window width sigma [rad]", interval(0, kMaxSensorWindowWidth_rad, Ends::OpenLow, "rad"));
   v.field("window", c.sensor.window, "window shape: \"gaussian\" or \"hann\"");
   v.field("encoder_bandwidth_Hz", c.sensor.encoder_bandwidth_Hz,
