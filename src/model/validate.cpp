@@ -250,12 +250,12 @@ void validate_wear(const WearSettings& w) {
 } // namespace
 
 void validate(const SimulationConfig& c) {
-  // Order matters only for which error a config with several mistakes reports
-  // first: gears before everything that depends on their teeth and module.
-  validate_stage(c.stage);
-  // Every key's own range (the schema), before the rules that read other keys.
+  // Order matters only for which error a config with several mistakes reports first.
+  // Every key's own range (the schema) first: the rules below read other keys (the planet
+  // count, the module, the mesh period) and need them in range.
   RangeChecker ranges;
   config::visit_config(ranges, c);
+  validate_stage(c.stage);  // the gears, before everything that depends on their teeth and module
   validate_contact(c.contact, c.stage.sun.module_m);
   validate_imperfections(c.imperfections, c.stage);
   validate_solver(c.solver, c);
