@@ -91,8 +91,7 @@ std::vector<SnapshotSignals> read_wear_snapshots(const std::filesystem::path& pa
   require(f.exists("/wear/snapshots") && f.is_group("/wear/snapshots"), option, "'", path.string(),
           "' has no /wear/snapshots: run `planetwear simulate --mesh-cycles N --set "
           "wear.snapshot_record_mesh_cycles=M ...` (docs/indicators.md)");
-  const double zs = config.stage.sun.teeth, zr = config.stage.ring.teeth;
-  const double omega_c = config.operating.input_speed_rpm * 2 * std::numbers::pi / 60 * zs / (zs + zr);
+  const double omega_c = model::carrier_speed(config.stage, config.operating.input_speed_rpm * 2 * std::numbers::pi / 60);
   std::vector<SnapshotSignals> out;
   for (const std::string& k : f.members("/wear/snapshots")) {
     const std::string g = "/wear/snapshots/" + k;

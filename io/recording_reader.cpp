@@ -683,8 +683,7 @@ diagnose::Recording finish(RawTable&& t, const RecordingMeta& meta, const model:
                                          config.stage.sun.teeth, " mesh cycles) each"));
 
   // Channels: units, conversion, plausibility.
-  const double zs = config.stage.sun.teeth, zr = config.stage.ring.teeth;
-  const double w_sun = rpm * 2 * kPi / 60, w_carrier = w_sun * zs / (zs + zr);
+  const double w_sun = rpm * 2 * kPi / 60, w_carrier = model::carrier_speed(config.stage, w_sun);
   for (RawColumn& c : t.columns) {
     const ColumnSpec& s = *c.spec;
     const std::string col = detail::concat("column '", s.name, "' (", diagnose::to_string(s.quantity), ")");
@@ -768,8 +767,7 @@ const char* si_unit(Quantity q) {
 }
 
 double mesh_frequency_Hz(const model::SimulationConfig& c, double speed_rpm) {
-  const double zs = c.stage.sun.teeth, zr = c.stage.ring.teeth;
-  return zs * zr / (zs + zr) * speed_rpm / 60.0;
+  return model::mesh_frequency_Hz(c.stage, speed_rpm);
 }
 
 double required_sample_rate_Hz(const model::SimulationConfig& c, double speed_rpm) {

@@ -272,4 +272,22 @@ struct SimulationConfig {
   RigSettings rig{};
 };
 
+/// Stage kinematics with the ring fixed (Willis: (w_s - w_c) Z_s = -(0 - w_c) Z_r), the one
+/// place the speed ratio and the mesh frequency are written. Speeds in any one unit.
+/// Carrier speed from the sun's: w_c = w_s Z_s / (Z_s + Z_r).
+inline double carrier_speed(const StageSpec& s, double sun_speed) {
+  return sun_speed * s.sun.teeth / static_cast<double>(s.sun.teeth + s.ring.teeth);
+}
+/// Sun speed from the carrier's: w_s = w_c (Z_s + Z_r) / Z_s.
+inline double sun_speed(const StageSpec& s, double carrier_speed) {
+  return carrier_speed * static_cast<double>(s.sun.teeth + s.ring.teeth) / s.sun.teeth;
+}
+/// Carrier-to-sun speed ratio Z_s / (Z_s + Z_r) [-].
+inline double carrier_to_sun_ratio(const StageSpec& s) { return carrier_speed(s, 1.0); }
+/// Mesh frequency f_m = Z_r f_c = Z_s Z_r / (Z_s + Z_r) n_s / 60 [Hz] at sun speed n_s [rpm].
+inline double mesh_frequency_Hz(const StageSpec& s, double sun_speed_rpm) {
+  const double zs = s.sun.teeth, zr = s.ring.teeth;
+  return zs * zr / (zs + zr) * sun_speed_rpm / 60.0;
+}
+
 } // namespace pw::model

@@ -7,7 +7,9 @@
 #include "diagnose/diagnosis_plots.hpp"
 #include "diagnose/fit_context.hpp"
 #include "diagnose/forecast.hpp"
+#include "diagnose/nuisance_start.hpp"
 #include "diagnose/phase_search.hpp"
+#include "diagnose/ranking.hpp"
 #include "diagnose/screening.hpp"
 #include "diagnose/verdict.hpp"
 
@@ -40,10 +42,6 @@ const char* to_string(Verdict v) {
 
 namespace {
 
-/// Points of the coarse geometric scan of the first nuisance parameter (the stiffness level)
-/// before its LM fit, and how far inside its box the scan stays (factor on each end).
-constexpr int kNuisanceScan = 7;
-constexpr double kNuisanceScanInset = 1.4;
 /// Candidates fitted further after the first ranking.
 constexpr std::size_t kRefinedCandidates = 2;
 
@@ -79,32 +77,6 @@ std::string unresolved_text(const Diagnosis& d) {
   if (!d.unresolved_candidates.empty()) t += "; not fitted: " + join(d.unresolved_candidates);
   if (!d.dropped_channels.empty()) t += "; channels not compared (carrier family only): " + join(d.dropped_channels);
   return t + ".";
-}
-
-/// Why a fitted candidate won or lost, with its numbers.
-std::string ranking_reason(const CandidateResult& r, bool winner, double best_bic) {
-  char buf[400];
-  if (winner)
-    std::snprintf(buf, sizeof buf,
-                  "lowest BIC (both halves) among the candidates that improve significantly on both halves "
-                  "(fit: -%.1f, held out: -%.1f; threshold %.1f)",
-                  r.delta_chi2_fit, r.delta_chi2_held_out, r.lr_threshold);
-  else if (!r.failed.empty())
-    std::snprintf(buf, sizeof buf, "%s", r.failed.c_str());
-  else if (!r.significant)
-    std::snprintf(buf, sizeof buf, "improvement on the fit half %.1f is below the threshold %.1f", r.delta_chi2_fit,
-                  r.lr_threshold);
-  else if (!r.holds)
-    std::snprintf(buf, sizeof buf, "fits the first half (-%.1f) but does not hold on the held-out half (%+.1f; threshold %.1f)",
-                  r.delta_chi2_fit, -r.delta_chi2_held_out, r.lr_threshold);
-  else if (!r.non_null)
-    std::snprintf(buf, sizeof buf,
-                  "improves both halves (-%.1f, -%.1f) but its parameters do not differ from 'absent' beyond "
-                  "their standard errors (Wald test): the gain is the nuisance parameters converging further",
-                  r.delta_chi2_fit, r.delta_chi2_held_out);
-  else
-    std::snprintf(buf, sizeof buf, "BIC (both halves) %.1f higher than the winner's", r.bic + r.bic_held_out - best_bic);
-  return buf;
 }
 
 /// One diagnosis (docs/diagnose.md §5): run() reads as its phases; the state they pass on lives
@@ -200,7 +172,7 @@ private:
   void forecast_all_steps() {
     const std::size_t pn = ctx().nuisance_specs().size();
     expect(2, kFidelitySimulations);
-    expect(3, kNuisanceScan + static_cast<long>(pn > 0 ? pn - 1 : 0) + lm_simulations(pn, 2 * o_.max_iterations) +
+    expect(3, kNuisanceScanPoints + static_cast<long>(pn > 0 ? pn - 1 : 0) + lm_simulations(pn, 2 * o_.max_iterations) +
                   kFidelitySimulations);
     long params = 0, candidates = 0, one_parameter = 0;
     for (const auto& c : candidate_library()) {
@@ -306,46 +278,12 @@ private:
     d_.timing.baseline_s = seconds_since(t);
   }
 
-  /// The nuisance start: the stiffness level moves the response through resonances and chi2
-  /// is far from quadratic in it, so LM starts from the best of a coarse geometric scan over
-  /// its box (the first nuisance parameter; the others at their start values). A rig element
-  /// fitted as nuisance (calibration) starts where it acts, its screening value; where the
-  /// recording is better without it, it starts absent instead, so that LM, which only accepts
-  /// improvements, ends no worse than that start without the element (LM is local: a fit
-  /// without the element from another start may still end lower).
-  std::vector<double> nuisance_start() {
-    const std::vector<ParameterSpec> specs = ctx().nuisance_specs();
-    std::vector<double> x0;
-    for (const auto& p : specs) x0.push_back(p.initial);
-    if (x0.empty() || ctx().nuisance.empty()) return x0;
-    const ParameterSpec p0 = ctx().nuisance.front()->parameters(ctx().base).front();
-    const double lo = p0.lower * kNuisanceScanInset, hi = p0.upper / kNuisanceScanInset;
-    std::vector<double> grid(kNuisanceScan), chi(kNuisanceScan, std::numeric_limits<double>::infinity());
-    for (int i = 0; i < kNuisanceScan; ++i)
-      grid[static_cast<std::size_t>(i)] = lo * std::pow(hi / lo, i / (kNuisanceScan - 1.0));
-    parallel_for(kNuisanceScan, threads_, [&](int i) {
-      std::vector<double> x = x0;
-      x[0] = grid[static_cast<std::size_t>(i)];
-      chi[static_cast<std::size_t>(i)] = ctx().fit_chi2(nullptr, Variant{}, {}, x);
-    });
+  /// The nuisance fit's start (nuisance_start.hpp): a scan of the stiffness level, or the nominal model.
+  std::vector<double> nuisance_start_point() {
+    if (ctx().nuisance.empty()) return {};
     const double chi0 = cmp().score(nominal_->amplitude, Half::Fit, ctx().nuisance_gains, HousingGains::Profile).chi2;
-    const std::size_t b = static_cast<std::size_t>(std::min_element(chi.begin(), chi.end()) - chi.begin());
-    double best = chi[b];
-    if (chi[b] < chi0) {
-      x0[0] = grid[b];
-    } else {  // the nominal model (every parameter at its 'absent' value) is the better start
-      for (std::size_t k = 0; k < specs.size(); ++k) x0[k] = specs[k].null_value;
-      best = chi0;
-    }
-    // Each rig element the other way round (present <-> absent) if that is better.
-    for (std::size_t k = 1; k < specs.size(); ++k) {
-      if (specs[k].initial == specs[k].null_value) continue;
-      std::vector<double> x = x0;
-      x[k] = x0[k] == specs[k].null_value ? specs[k].initial : specs[k].null_value;
-      const double c = ctx().fit_chi2(nullptr, Variant{}, {}, x);
-      if (c < best) x0 = x, best = c;
-    }
-    return x0;
+    return nuisance_start(ctx().nuisance_specs(), chi0,
+                          [&](const std::vector<double>& x) { return ctx().fit_chi2(nullptr, Variant{}, {}, x); }, threads_);
   }
 
   /// 3. The nuisance parameters (LM from the scan's best point; gains profiled), then the
@@ -359,7 +297,7 @@ private:
       ctx().nuisance_gains = f0.gains;
       cmp().set_reference(nominal_->amplitude, ctx().nuisance_gains);
     }
-    const std::vector<double> x0 = nuisance_start();
+    const std::vector<double> x0 = nuisance_start_point();
     d_.nuisance = fit_model(ctx(), nullptr, Variant{}, true, threads_, 2 * o_.max_iterations, &x0);
     for (const auto& p : d_.nuisance.parameters)
       if (!is_sensor_gain(p)) ctx().nuisance_x.push_back(p.value);
@@ -625,43 +563,18 @@ private:
     if (added) rank();
   }
 
-  /// Significance on both halves, the Wald (or likelihood-ratio) test of 'absent', and the
-  /// information criteria of a fitted candidate against the nuisance-only model.
+  /// Significance on both halves, the test of 'absent' and the information criteria of a fitted
+  /// candidate against the nuisance-only model (ranking.hpp).
   void assess(CandidateResult& r) const {
-    const int k = std::max(1, r.own_parameters);
-    r.lr_threshold = chi2_quantile(k, o_.alpha);
-    r.delta_chi2_fit = d_.nuisance.fit.chi2 - r.fit.chi2;
-    r.delta_chi2_held_out = d_.nuisance.held_out.chi2 - r.held_out.chi2;
-    r.significant = r.delta_chi2_fit > r.lr_threshold;
-    r.holds = r.delta_chi2_held_out > r.lr_threshold;
-    r.non_null = false;
-    if (const Candidate* cand = find_candidate(r.name); cand && r.failed.empty()) {
-      const auto spec = cand->parameters(ctx_->base);
-      // A saturating parameter has no meaningful standard error: 'absent' is tested by the
-      // likelihood ratio against the same model with its own parameters at 'absent'.
-      if (std::isfinite(r.null_chi2_fit)) {
-        r.non_null = r.null_chi2_fit - r.fit.chi2 > r.lr_threshold;
-      } else {
-        const double zw = normal_quantile(o_.alpha / (2.0 * k));
-        for (std::size_t i = 0; i < spec.size() && i < r.parameters.size(); ++i) {
-          const FittedParameter& p = r.parameters[i];
-          if (p.std_error > 0 && std::fabs(p.value - spec[i].null_value) > zw * p.std_error) r.non_null = true;
-        }
-      }
-    }
-    const double kt = static_cast<double>(d_.nuisance.parameters.size() + static_cast<std::size_t>(r.own_parameters));
-    r.aic = r.fit.chi2 + 2.0 * kt;
-    r.bic = r.fit.chi2 + kt * ln_m_;
-    r.bic_held_out = r.held_out.chi2 + kt * ln_m_;
+    const RankingBasis basis{d_.nuisance.fit.chi2, d_.nuisance.held_out.chi2, d_.nuisance.parameters.size(), o_.alpha,
+                             ln_m_};
+    const Candidate* cand = find_candidate(r.name);
+    const std::vector<ParameterSpec> spec = cand ? cand->parameters(ctx_->base) : std::vector<ParameterSpec>{};
+    assess_candidate(r, basis, cand ? &spec : nullptr);
   }
 
   /// Counting candidates first, then by BIC summed over both halves.
-  void rank() {
-    std::stable_sort(d_.candidates.begin(), d_.candidates.end(), [](const CandidateResult& a, const CandidateResult& b) {
-      if (a.counts() != b.counts()) return a.counts();
-      return a.bic + a.bic_held_out < b.bic + b.bic_held_out;
-    });
-  }
+  void rank() { rank_candidates(d_.candidates); }
 
   /// The two best candidates that improve the fit half are fitted further (their LM stopped at
   /// the Jacobian cap), so that the ranking between near-equivalent physics (pin errors and a

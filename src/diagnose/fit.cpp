@@ -269,4 +269,10 @@ std::vector<std::size_t> local_minima_on_closed_path(const std::vector<double>& 
   return out;
 }
 
+std::vector<double> geometric_grid(double lo, double hi, int n) {
+  std::vector<double> g(static_cast<std::size_t>(n));
+  for (int i = 0; i < n; ++i) g[static_cast<std::size_t>(i)] = lo * std::pow(hi / lo, static_cast<double>(i) / (n - 1));
+  return g;
+}
+
 } // namespace pw::diagnose

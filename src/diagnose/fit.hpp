@@ -125,4 +125,8 @@ private:
 /// hypotheses are distinct minima.
 std::vector<std::size_t> local_minima_on_closed_path(const std::vector<double>& f, double end, std::size_t max_count);
 
+/// n >= 2 points lo (hi / lo)^(i / (n - 1)), i = 0 .. n-1, from lo to hi (0 < lo): the scans of
+/// a parameter whose natural scale is logarithmic.
+std::vector<double> geometric_grid(double lo, double hi, int n);
+
 } // namespace pw::diagnose

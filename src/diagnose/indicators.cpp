@@ -197,8 +197,7 @@ std::vector<IndicatorRow> recording_indicators(const Recording& rec, const model
   const SpeedEstimate speed = estimate_speed(rec, c.stage);
   std::vector<double> theta = carrier_angle(rec, c.stage, speed, angle_source);
   // Absolute angle: the carrier turned at the estimated speed since t = 0 (docs/recordings.md "Angles").
-  const double zs = c.stage.sun.teeth, zr = c.stage.ring.teeth;
-  const double omega_c = speed.input_rpm * 2 * kPi / 60 * zs / (zs + zr);
+  const double omega_c = model::carrier_speed(c.stage, speed.input_rpm * 2 * kPi / 60);
   for (double& v : theta) v += omega_c * rec.time_s.front();
   std::vector<IndicatorRow> rows;
   for (const SignalChannel& sc : rec.channels) {

@@ -85,7 +85,7 @@ Kinematics kinematics(const model::StageSpec& stage, double rpm) {
   k.ring_teeth = stage.ring.teeth;
   k.planets = stage.planet_count;
   k.sun_Hz = rpm / 60.0;
-  k.carrier_Hz = k.sun_Hz * k.sun_teeth / static_cast<double>(k.sun_teeth + k.ring_teeth);
+  k.carrier_Hz = model::carrier_speed(stage, k.sun_Hz);
   k.sun_relative_Hz = k.sun_Hz - k.carrier_Hz;
   k.mesh_Hz = k.ring_teeth * k.carrier_Hz;
   k.planet_relative_Hz = k.mesh_Hz / k.planet_teeth;

@@ -139,7 +139,6 @@ double rice_variance(double nu, double s2) {
 }
 
 SpeedEstimate estimate_speed(const Recording& r, const model::StageSpec& st) {
-  const double zs = st.sun.teeth, zr = st.ring.teeth;
   SpeedEstimate e;
   if (const SignalChannel* c = r.find(Quantity::SunSpeed)) {
     const auto [m, se] = mean_and_error(c->values);
@@ -150,7 +149,7 @@ SpeedEstimate estimate_speed(const Recording& r, const model::StageSpec& st) {
   }
   if (const SignalChannel* cc = r.find(Quantity::CarrierSpeed)) {
     const auto [m, se] = mean_and_error(cc->values);
-    e.input_rpm = m * (zs + zr) / zs * 60 / (2 * kPi);
+    e.input_rpm = model::sun_speed(st, m) * 60 / (2 * kPi);
     e.relative_std = std::fabs(se / m);
     e.source = "mean of the carrier_speed channel '" + cc->name + "' x (Zs+Zr)/Zs";
     return e;
@@ -220,8 +219,7 @@ SpeedEstimate estimate_speed(const Recording& r, const model::StageSpec& st) {
 
 std::vector<double> carrier_angle(const Recording& r, const model::StageSpec& st, const SpeedEstimate& speed,
                                   std::string* source) {
-  const double zs = st.sun.teeth, zr = st.ring.teeth;
-  const double ratio = zs / (zs + zr);
+  const double ratio = model::carrier_to_sun_ratio(st);
   std::vector<double> th;
   std::string src;
   const double omega_c = speed.input_rpm * 2 * kPi / 60 * ratio;
@@ -675,7 +673,7 @@ void add_angle_drift_leak(const Recording& rec, const model::StageSpec& stage, R
   // With the per-bin noise variance of the speed channel, s_b^2 = s_w^2 / n, D T = s_b^2 T^2 k^2.
   if (drifts) {
     const Quantity q = s.angle_reference == AngleReference::SunSpeed ? Quantity::SunSpeed : Quantity::CarrierSpeed;
-    const double k = q == Quantity::SunSpeed ? stage.sun.teeth / static_cast<double>(stage.sun.teeth + stage.ring.teeth) : 1.0;
+    const double k = q == Quantity::SunSpeed ? model::carrier_to_sun_ratio(stage) : 1.0;
     for (std::size_t c = 0; c < nc; ++c) {
       if (rec.channels[static_cast<std::size_t>(s.channels[c])].quantity != q) continue;
       const double T = 0.5 * ((s.windows[0].t_end_s - s.windows[0].t_begin_s) + (s.windows[1].t_end_s - s.windows[1].t_begin_s));

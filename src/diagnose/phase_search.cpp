@@ -1,6 +1,7 @@
 #include "diagnose/phase_search.hpp"
 
 #include "core/statistics.hpp"
+#include "diagnose/fit.hpp"
 #include "diagnose/forecast.hpp"
 
 #include <Eigen/Dense>
@@ -194,6 +195,24 @@ void search_phases(FitContext& ctx, CandidateResult& w, const LocatedEvidence& e
   }
 }
 
+double lower_limit_scale(const std::function<double(double)>& chi2_at, double limit, int threads) {
+  // The grid on [lo, hi] and the smallest index from which every larger grid point fits
+  // within the limit.
+  const auto scan = [&](double lo, double hi, int n) {
+    const std::vector<double> sv = geometric_grid(lo, hi, n);
+    std::vector<double> chi(sv.size());
+    parallel_for(n, threads, [&](int i) { chi[static_cast<std::size_t>(i)] = chi2_at(sv[static_cast<std::size_t>(i)]); });
+    int first = n;
+    while (first > 0 && chi[static_cast<std::size_t>(first - 1)] <= limit) --first;
+    return std::pair<std::vector<double>, int>(sv, first);
+  };
+  auto [s1, f1] = scan(kProfileLowest, 1.0, kProfileGrid);
+  if (f1 == 0) return s1.front();
+  if (f1 == static_cast<int>(s1.size())) return 1.0;
+  auto [s2, f2] = scan(s1[static_cast<std::size_t>(f1 - 1)], s1[static_cast<std::size_t>(f1)], kProfileRefine);
+  return s2[static_cast<std::size_t>(std::min(f2, static_cast<int>(s2.size()) - 1))];
+}
+
 void profile_saturating(FitContext& ctx, CandidateResult& w, double alpha, const Progress& say) {
   const Candidate* cand = find_candidate(w.name);
   const std::vector<ParameterSpec> wspec = cand->parameters(ctx.base);
@@ -207,25 +226,8 @@ void profile_saturating(FitContext& ctx, CandidateResult& w, double alpha, const
     for (std::size_t i = 0; i < own.size(); ++i) x[i] = wspec[i].null_value + sc * (own[i] - wspec[i].null_value);
     return ctx.fit_chi2(cand, w.chosen, x, s.nuisance);
   };
-  // The grid on [lo, hi] and the smallest index from which every larger grid point fits
-  // within the limit.
-  const auto scan = [&](double lo, double hi, int n) {
-    std::vector<double> sv(static_cast<std::size_t>(n)), chi(static_cast<std::size_t>(n));
-    for (int i = 0; i < n; ++i) sv[static_cast<std::size_t>(i)] = lo * std::pow(hi / lo, static_cast<double>(i) / (n - 1));
-    parallel_for(n, ctx.threads, [&](int i) { chi[static_cast<std::size_t>(i)] = chi2_at(sv[static_cast<std::size_t>(i)]); });
-    int first = n;
-    while (first > 0 && chi[static_cast<std::size_t>(first - 1)] <= limit) --first;
-    return std::pair<std::vector<double>, int>(sv, first);
-  };
   say("profiling the saturating parameter(s) of " + w.name + " for their lower limit");
-  auto [s1, f1] = scan(kProfileLowest, 1.0, kProfileGrid);
-  double s_low = 1.0;
-  if (f1 == 0)
-    s_low = s1.front();
-  else if (f1 < static_cast<int>(s1.size())) {
-    auto [s2, f2] = scan(s1[static_cast<std::size_t>(f1 - 1)], s1[static_cast<std::size_t>(f1)], kProfileRefine);
-    s_low = s2[static_cast<std::size_t>(std::min(f2, static_cast<int>(s2.size()) - 1))];
-  }
+  const double s_low = lower_limit_scale(chi2_at, limit, ctx.threads);
   for (std::size_t i = 0; i < wspec.size() && i < w.parameters.size(); ++i)
     if (wspec[i].saturates) w.parameters[i].lower_limit = wspec[i].null_value + s_low * (own[i] - wspec[i].null_value);
 }

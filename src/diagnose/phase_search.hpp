@@ -30,6 +30,12 @@ void search_phases(FitContext& ctx, CandidateResult& winner, const LocatedEviden
 /// chi2_{1-alpha}(1) of the fit's. No-op for a candidate without a saturating parameter.
 void profile_saturating(FitContext& ctx, CandidateResult& winner, double alpha, const Progress& say);
 
+/// The profile's scale: the smallest s in [1e-6, 1] along x(s) = null + s (x_fit - null) from
+/// which chi2_at(s) stays within `limit` up to s = 1, on a 13-point geometric grid refined by 6
+/// points between the last grid point above the limit and the first within (so to a factor
+/// (1e-6)^(1/12 * 1/5) ~ 1.26 of the crossing); 1e-6 if every point is within, 1 if s = 1 is not.
+double lower_limit_scale(const std::function<double(double)>& chi2_at, double limit, int threads);
+
 /// Simulations search_phases (its first pass) and profile_saturating are expected to run for
 /// `winner` (forecast.hpp: LM to its iteration cap).
 long expected_phase_search_simulations(const FitContext& ctx, const CandidateResult& winner,

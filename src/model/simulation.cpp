@@ -155,9 +155,9 @@ PreparedStage prepare(const SimulationConfig& c) {
   p.geometry = geometry::make_stage_geometry(c.stage);
   const auto& geo = p.geometry;
   p.masses = mass_properties(c, geo);
-  const double zs = c.stage.sun.teeth, zr = c.stage.ring.teeth;
+  const double zs = c.stage.sun.teeth;
   p.sun_speed_rad_s = c.operating.input_speed_rpm * 2 * kPi / 60;
-  p.carrier_speed_rad_s = p.sun_speed_rad_s * zs / (zs + zr);
+  p.carrier_speed_rad_s = carrier_speed(c.stage, p.sun_speed_rad_s);
   p.mesh_frequency_Hz = zs * (p.sun_speed_rad_s - p.carrier_speed_rad_s) / (2 * kPi);
 
   MeshFamily sp = make_family(c.stage.sun, c.stage.planet, geo.sun_planet, c);

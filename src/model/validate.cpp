@@ -220,10 +220,7 @@ void validate_rig(const RigSettings& r, const StageSpec& st) {
 void validate_solver(const SolverSettings& s, const SimulationConfig& c) {
   require(s.level == ModelLevel::Torsional || s.level == ModelLevel::LateralTorsional, "solver.level",
           "must be \"torsional\" or \"lateral_torsional\"");
-  // Mesh frequency with the ring fixed: f_m = Zs Zr / (Zs + Zr) * n_s / 60.
-  const double zs = c.stage.sun.teeth;
-  const double zr = c.stage.ring.teeth;
-  const double mesh_period_s = 60.0 / (zs * zr / (zs + zr) * c.operating.input_speed_rpm);
+  const double mesh_period_s = 1.0 / mesh_frequency_Hz(c.stage, c.operating.input_speed_rpm);
   check(s.time_step_s, "solver.time_step_s", 0, mesh_period_s / 8, Ends::Closed,
         detail::concat("s; 0 = automatic, else at most 1/8 of the mesh period ", mesh_period_s, " s"));
 }

@@ -26,10 +26,9 @@ constexpr double kAbsentInMeshFrequencies = 1e4;
 constexpr double kLowestInMeshFrequencies = 0.25;
 constexpr double kScreenInMeshFrequencies = 2.0;
 
-/// Mesh frequency Zs Zr / (Zs + Zr) n_s / 60 of the configured operating point [Hz].
+/// Mesh frequency of the configured operating point [Hz].
 double mesh_frequency_Hz(const model::SimulationConfig& b) {
-  const double zs = b.stage.sun.teeth, zr = b.stage.ring.teeth;
-  return zs * zr / (zs + zr) * b.operating.input_speed_rpm / 60.0;
+  return model::mesh_frequency_Hz(b.stage, b.operating.input_speed_rpm);
 }
 
 class EncoderBandwidth final : public Candidate {

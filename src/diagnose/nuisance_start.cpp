@@ -1,0 +1,44 @@
+#include "diagnose/nuisance_start.hpp"
+
+#include "diagnose/fit.hpp"
+#include "diagnose/fit_context.hpp"
+
+#include <algorithm>
+#include <limits>
+
+namespace pw::diagnose {
+
+std::vector<double> nuisance_start(const std::vector<ParameterSpec>& specs, double chi2_nominal,
+                                   const NuisanceChi2& chi2, int threads) {
+  std::vector<double> x0;
+  for (const auto& p : specs) x0.push_back(p.initial);
+  if (x0.empty()) return x0;
+  const ParameterSpec& p0 = specs.front();
+  const std::vector<double> grid =
+      geometric_grid(p0.lower * kNuisanceScanInset, p0.upper / kNuisanceScanInset, kNuisanceScanPoints);
+  std::vector<double> chi(grid.size(), std::numeric_limits<double>::infinity());
+  parallel_for(static_cast<int>(grid.size()), threads, [&](int i) {
+    std::vector<double> x = x0;
+    x[0] = grid[static_cast<std::size_t>(i)];
+    chi[static_cast<std::size_t>(i)] = chi2(x);
+  });
+  const std::size_t b = static_cast<std::size_t>(std::min_element(chi.begin(), chi.end()) - chi.begin());
+  double best = chi[b];
+  if (chi[b] < chi2_nominal) {
+    x0[0] = grid[b];
+  } else {  // the nominal model (every parameter at its 'absent' value) is the better start
+    for (std::size_t k = 0; k < specs.size(); ++k) x0[k] = specs[k].null_value;
+    best = chi2_nominal;
+  }
+  // Each rig element the other way round (present <-> absent) if that is better.
+  for (std::size_t k = 1; k < specs.size(); ++k) {
+    if (specs[k].initial == specs[k].null_value) continue;
+    std::vector<double> x = x0;
+    x[k] = x0[k] == specs[k].null_value ? specs[k].initial : specs[k].null_value;
+    const double c = chi2(x);
+    if (c < best) x0 = x, best = c;
+  }
+  return x0;
+}
+
+} // namespace pw::diagnose

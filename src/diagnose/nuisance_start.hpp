@@ -1,0 +1,29 @@
+// Where the nuisance fit starts (docs/diagnose.md §5, step 3). The stiffness level moves the
+// response through resonances, so chi2 is far from quadratic in it and LM, a local method, needs
+// a start near the right basin: a coarse geometric scan over the first nuisance parameter's box
+// (the others at their start values) picks it, unless the nominal model (every parameter
+// 'absent') fits better. A rig element fitted as nuisance (calibration) then starts present or
+// absent, whichever fits better: LM only accepts improvements, so it ends no worse than that.
+// Pure over a chi2 function, so the choice is tested without simulating. Internal to src/diagnose.
+#pragma once
+
+#include "diagnose/candidates/candidate.hpp"
+
+#include <functional>
+#include <vector>
+
+namespace pw::diagnose {
+
+/// Points of the coarse scan, and how far inside the box it stays (factor on each end).
+inline constexpr int kNuisanceScanPoints = 7;
+inline constexpr double kNuisanceScanInset = 1.4;
+
+/// chi2 of the fit half at nuisance parameters x (thread-safe: the scan runs in parallel).
+using NuisanceChi2 = std::function<double(const std::vector<double>& x)>;
+
+/// The start of the nuisance fit for `specs` (the first one scanned, log-spaced over
+/// [lower * inset, upper / inset]); `chi2_nominal` is the nominal model's chi2.
+std::vector<double> nuisance_start(const std::vector<ParameterSpec>& specs, double chi2_nominal,
+                                   const NuisanceChi2& chi2, int threads);
+
+} // namespace pw::diagnose

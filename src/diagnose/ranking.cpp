@@ -1,0 +1,70 @@
+#include "diagnose/ranking.hpp"
+
+#include "core/statistics.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+
+namespace pw::diagnose {
+
+void assess_candidate(CandidateResult& r, const RankingBasis& b, const std::vector<ParameterSpec>* own_spec) {
+  const int k = std::max(1, r.own_parameters);
+  r.lr_threshold = chi2_quantile(k, b.alpha);
+  r.delta_chi2_fit = b.nuisance_fit_chi2 - r.fit.chi2;
+  r.delta_chi2_held_out = b.nuisance_held_out_chi2 - r.held_out.chi2;
+  r.significant = r.delta_chi2_fit > r.lr_threshold;
+  r.holds = r.delta_chi2_held_out > r.lr_threshold;
+  r.non_null = false;
+  if (own_spec && r.failed.empty()) {
+    // A saturating parameter has no meaningful standard error: 'absent' is tested by the
+    // likelihood ratio against the same model with its own parameters at 'absent'.
+    if (std::isfinite(r.null_chi2_fit)) {
+      r.non_null = r.null_chi2_fit - r.fit.chi2 > r.lr_threshold;
+    } else {
+      const double zw = normal_quantile(b.alpha / (2.0 * k));
+      for (std::size_t i = 0; i < own_spec->size() && i < r.parameters.size(); ++i) {
+        const FittedParameter& p = r.parameters[i];
+        if (p.std_error > 0 && std::fabs(p.value - (*own_spec)[i].null_value) > zw * p.std_error) r.non_null = true;
+      }
+    }
+  }
+  const double kt = static_cast<double>(b.nuisance_parameters + static_cast<std::size_t>(r.own_parameters));
+  r.aic = r.fit.chi2 + 2.0 * kt;
+  r.bic = r.fit.chi2 + kt * b.ln_m;
+  r.bic_held_out = r.held_out.chi2 + kt * b.ln_m;
+}
+
+void rank_candidates(std::vector<CandidateResult>& candidates) {
+  std::stable_sort(candidates.begin(), candidates.end(), [](const CandidateResult& a, const CandidateResult& b) {
+    if (a.counts() != b.counts()) return a.counts();
+    return a.bic + a.bic_held_out < b.bic + b.bic_held_out;
+  });
+}
+
+std::string ranking_reason(const CandidateResult& r, bool winner, double best_bic) {
+  char buf[400];
+  if (winner)
+    std::snprintf(buf, sizeof buf,
+                  "lowest BIC (both halves) among the candidates that improve significantly on both halves "
+                  "(fit: -%.1f, held out: -%.1f; threshold %.1f)",
+                  r.delta_chi2_fit, r.delta_chi2_held_out, r.lr_threshold);
+  else if (!r.failed.empty())
+    std::snprintf(buf, sizeof buf, "%s", r.failed.c_str());
+  else if (!r.significant)
+    std::snprintf(buf, sizeof buf, "improvement on the fit half %.1f is below the threshold %.1f", r.delta_chi2_fit,
+                  r.lr_threshold);
+  else if (!r.holds)
+    std::snprintf(buf, sizeof buf, "fits the first half (-%.1f) but does not hold on the held-out half (%+.1f; threshold %.1f)",
+                  r.delta_chi2_fit, -r.delta_chi2_held_out, r.lr_threshold);
+  else if (!r.non_null)
+    std::snprintf(buf, sizeof buf,
+                  "improves both halves (-%.1f, -%.1f) but its parameters do not differ from 'absent' beyond "
+                  "their standard errors (Wald test): the gain is the nuisance parameters converging further",
+                  r.delta_chi2_fit, r.delta_chi2_held_out);
+  else
+    std::snprintf(buf, sizeof buf, "BIC (both halves) %.1f higher than the winner's", r.bic + r.bic_held_out - best_bic);
+  return buf;
+}
+
+} // namespace pw::diagnose

@@ -1,0 +1,43 @@
+// The ranking of fitted candidates (docs/diagnose.md §5, steps 8-10), as pure functions over
+// their results so that each rule can be tested on hand-built fits:
+//   * assess: a candidate "counts" when it improves chi2 over the nuisance-only model by more
+//     than chi2_{1-alpha}(k) on the fit half and on the held-out half, and some own parameter
+//     differs from its 'absent' value beyond z_{1-alpha/2k} standard errors (Wald) -- or, for a
+//     saturating parameter, whose standard error means nothing, by the likelihood ratio against
+//     'absent'; its AIC and BIC count the nuisance parameters and its own;
+//   * rank: counting candidates first, then by BIC summed over both halves (stable);
+//   * ranking_reason: why each won or lost, with its numbers.
+// Internal to src/diagnose.
+#pragma once
+
+#include "diagnose/candidates/candidate.hpp"
+#include "diagnose/diagnose.hpp"
+
+#include <cstddef>
+#include <string>
+#include <vector>
+
+namespace pw::diagnose {
+
+/// What every candidate is judged against: the nuisance-only model's fit.
+struct RankingBasis {
+  double nuisance_fit_chi2 = 0;       ///< chi2 of the nuisance-only model, fit half
+  double nuisance_held_out_chi2 = 0;  ///< same, held-out half
+  std::size_t nuisance_parameters = 0;
+  double alpha = 0.01;  ///< family-wise significance level
+  double ln_m = 0;      ///< BIC penalty per parameter: ln(features)
+};
+
+/// Sets r's thresholds, significance on both halves, test of 'absent' and information criteria.
+/// `own_spec`: the candidate's own parameters (null if the candidate is unknown: no test of
+/// 'absent' then, r.non_null stays false).
+void assess_candidate(CandidateResult& r, const RankingBasis& basis, const std::vector<ParameterSpec>* own_spec);
+
+/// Counting candidates first, then by BIC summed over both halves; ties keep their order.
+void rank_candidates(std::vector<CandidateResult>& candidates);
+
+/// Why a fitted candidate won or lost, with its numbers (`best_bic`: the winner's BIC summed
+/// over both halves).
+std::string ranking_reason(const CandidateResult& r, bool winner, double best_bic);
+
+} // namespace pw::diagnose

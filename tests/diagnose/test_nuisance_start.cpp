@@ -1,0 +1,115 @@
+// The nuisance fit's start (nuisance_start.hpp) and the saturating parameter's profile scale
+// (phase_search.hpp lower_limit_scale) on closed-form chi2 functions: which grid point each picks,
+// when the nominal model wins, when a rig element starts absent, and that threads do not matter.
+#include "diagnose/fit.hpp"
+#include "diagnose/nuisance_start.hpp"
+#include "diagnose/phase_search.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+namespace pw::diagnose {
+namespace {
+
+ParameterSpec spec(double lower, double upper, double initial, double null_value) {
+  ParameterSpec p;
+  p.name = "p";
+  p.lower = lower;
+  p.upper = upper;
+  p.log_scale = true;
+  p.initial = initial;
+  p.null_value = null_value;
+  return p;
+}
+
+/// The stiffness level [0.5, 2], start 1 = 'absent'; chi2 with one basin at `minimum` (log scale).
+std::vector<ParameterSpec> stiffness_only() { return {spec(0.5, 2.0, 1.0, 1.0)}; }
+NuisanceChi2 basin_at(double minimum) {
+  return [minimum](const std::vector<double>& x) { return 10.0 + 1000.0 * std::pow(std::log(x[0] / minimum), 2); };
+}
+
+TEST(GeometricGrid, RunsFromLoToHiWithAConstantRatio) {
+  const std::vector<double> g = geometric_grid(0.5 * 1.4, 2.0 / 1.4, kNuisanceScanPoints);
+  ASSERT_EQ(g.size(), 7u);
+  EXPECT_DOUBLE_EQ(g.front(), 0.7);
+  EXPECT_NEAR(g.back(), 2.0 / 1.4, 1e-15);
+  for (std::size_t i = 1; i < g.size(); ++i) EXPECT_NEAR(g[i] / g[i - 1], std::pow(2.0 / 1.4 / 0.7, 1.0 / 6), 1e-14);
+}
+
+TEST(NuisanceStart, TheScanStartsAtTheGridPointNearestTheBasin) {
+  const std::vector<double> grid = geometric_grid(0.5 * kNuisanceScanInset, 2.0 / kNuisanceScanInset, kNuisanceScanPoints);
+  for (double minimum : {0.72, 0.95, 1.3}) {
+    std::size_t nearest = 0;
+    for (std::size_t i = 1; i < grid.size(); ++i)
+      if (std::fabs(std::log(grid[i] / minimum)) < std::fabs(std::log(grid[nearest] / minimum))) nearest = i;
+    const std::vector<double> x0 = nuisance_start(stiffness_only(), 1e9, basin_at(minimum), 1);
+    ASSERT_EQ(x0.size(), 1u);
+    EXPECT_DOUBLE_EQ(x0[0], grid[nearest]) << "basin at " << minimum;
+  }
+}
+
+TEST(NuisanceStart, TheNominalModelStartsEveryParameterAbsentWhenItFitsBetter) {
+  std::vector<ParameterSpec> s = stiffness_only();
+  s.push_back(spec(0.01, 0.3, 0.05, 0.02));  // a damping ratio: start 0.05, 'absent' 0.02
+  const std::vector<double> x0 = nuisance_start(s, 5.0, basin_at(1.3), 1);  // every scan point >= 10
+  ASSERT_EQ(x0.size(), 2u);
+  EXPECT_EQ(x0[0], 1.0);
+  EXPECT_EQ(x0[1], 0.02);
+}
+
+TEST(NuisanceStart, ARigElementStartsAbsentWhenTheRecordingIsBetterWithoutIt) {
+  std::vector<ParameterSpec> s = stiffness_only();
+  s.push_back(spec(1e3, 1e6, 2e4, 0.0));  // e.g. a shaft stiffness: present at 2e4, absent at 0
+  const auto chi2 = [](const std::vector<double>& x) {
+    return 10.0 + 1000.0 * std::pow(std::log(x[0] / 1.3), 2) + (x[1] == 0.0 ? 0.0 : 50.0);
+  };
+  const std::vector<double> absent = nuisance_start(s, 1e9, chi2, 1);
+  EXPECT_EQ(absent[1], 0.0);
+  const auto present_better = [](const std::vector<double>& x) {
+    return 10.0 + 1000.0 * std::pow(std::log(x[0] / 1.3), 2) + (x[1] == 0.0 ? 50.0 : 0.0);
+  };
+  EXPECT_EQ(nuisance_start(s, 1e9, present_better, 1)[1], 2e4);
+}
+
+TEST(NuisanceStart, TwoThreadsGiveTheSameStartAsOne) {
+  EXPECT_EQ(nuisance_start(stiffness_only(), 1e9, basin_at(0.9), 1), nuisance_start(stiffness_only(), 1e9, basin_at(0.9), 2));
+}
+
+TEST(NuisanceStart, NoNuisanceParametersNoStart) {
+  EXPECT_TRUE(nuisance_start({}, 1.0, basin_at(1.0), 1).empty());
+}
+
+/// A saturating parameter's chi2 along x(s): flat (the fit's 100) above s_c, rising below as
+/// 100 + A ln(s_c / s)^2; the limit fit + 6.6 is crossed at s* = s_c exp(-sqrt(6.6 / A)).
+double saturating_chi2(double s, double s_c, double a) { return s >= s_c ? 100.0 : 100.0 + a * std::pow(std::log(s_c / s), 2); }
+
+TEST(LowerLimitScale, BracketsTheCrossingWithinOneRefinedGridStep) {
+  const double limit = 106.6, refined_step = std::pow(10.0, 6.0 / 12 / 5);  // 10^(1/10) = 1.259
+  for (const auto& [s_c, a] : {std::pair{0.3, 50.0}, {0.01, 2.0}, {0.9, 1000.0}}) {
+    const double crossing = s_c * std::exp(-std::sqrt(6.6 / a));
+    const double s = lower_limit_scale([&](double x) { return saturating_chi2(x, s_c, a); }, limit, 1);
+    EXPECT_GE(s, crossing * (1 - 1e-12)) << "s_c " << s_c;
+    EXPECT_LT(s, crossing * refined_step * (1 + 1e-12)) << "s_c " << s_c;
+  }
+}
+
+TEST(LowerLimitScale, EveryScaleWithinTheLimitGivesTheLowestGridPoint) {
+  EXPECT_DOUBLE_EQ(lower_limit_scale([](double) { return 100.0; }, 106.6, 1), 1e-6);
+}
+
+TEST(LowerLimitScale, TheFitItselfOutsideTheLimitGivesOne) {
+  EXPECT_EQ(lower_limit_scale([](double s) { return s >= 1.0 ? 200.0 : 100.0; }, 106.6, 1), 1.0);
+}
+
+TEST(LowerLimitScale, ABumpAboveTheLimitEndsTheTailEvenWithLowerValuesBelowIt) {
+  // Within below 2e-4 and from 2e-2 on, over the limit in between: the limit is above the bump.
+  const auto chi2 = [](double s) { return s > 2e-4 && s < 2e-2 ? 200.0 : 100.0; };
+  const double s = lower_limit_scale(chi2, 106.6, 2);
+  EXPECT_GE(s, 2e-2);
+  EXPECT_LT(s, 2e-2 * std::pow(10.0, 0.1));
+  EXPECT_EQ(s, lower_limit_scale(chi2, 106.6, 1)) << "threads must not change the result";
+}
+
+} // namespace
+} // namespace pw::diagnose
