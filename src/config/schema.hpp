@@ -37,22 +37,28 @@ inline constexpr double kMaxWearCoefficient_m2_N = 1e-10;
 /// overlaps itself around the ring and a Gaussian no longer localizes [rad].
 inline constexpr double kMaxSensorWindowWidth_rad = 1.25;
 
-/// The keys of one gear, under `section` ("stage.sun", ...).
+/// Largest reference pressure angle [rad], pi/4: beyond it the tooth of a standard gear
+/// becomes pointed before its addendum (geometry/gear.cpp checks the tip of each gear).
+inline constexpr double kMaxPressureAngle_rad = 0.78539816339744830962;
+
+/// The keys of one gear, under `section` ("stage.sun", ...). Its single-key ranges are stated
+/// here; what depends on the whole gear (a pointed tip, a dedendum below the addendum, the root
+/// circle) is checked when geometry::make_gear builds it.
 template <class V, class Gear>
 void visit_gear(V& v, std::string_view section, Gear& g) {
   v.section(section);
-  v.field("teeth", g.teeth, "number of teeth z [-]", rule("as docs/config.md states, checked with the whole gear"));
-  v.field("module_m", g.module_m, "module m [m]", rule("as docs/config.md states, checked with the whole gear"));
-  v.angle("pressure_angle_rad", "pressure_angle_deg", g.pressure_angle_rad, "reference pressure angle alpha0 [rad]", rule("as docs/config.md states, checked with the whole gear"));
-  v.field("profile_shift", g.profile_shift, "profile shift coefficient x, ISO 21771 [-]", rule("as docs/config.md states, checked with the whole gear"));
-  v.field("addendum_coef", g.addendum_coef, "addendum coefficient h_a* [-]", rule("as docs/config.md states, checked with the whole gear"));
-  v.field("dedendum_coef", g.dedendum_coef, "dedendum coefficient h_f* [-]", rule("as docs/config.md states, checked with the whole gear"));
-  v.field("root_fillet_coef", g.root_fillet_coef, "root fillet radius coefficient rho_f* [-]", rule("as docs/config.md states, checked with the whole gear"));
-  v.field("face_width_m", g.face_width_m, "face width b [m]", rule("as docs/config.md states, checked with the whole gear"));
-  v.field("youngs_modulus_Pa", g.material.youngs_modulus_Pa, "Young's modulus E [Pa]", rule("as docs/config.md states, checked with the whole gear"));
-  v.field("shear_modulus_Pa", g.material.shear_modulus_Pa, "shear modulus G [Pa]", rule("as docs/config.md states, checked with the whole gear"));
-  v.field("poisson_ratio", g.material.poisson_ratio, "Poisson's ratio nu [-]", rule("as docs/config.md states, checked with the whole gear"));
-  v.field("density_kg_m3", g.material.density_kg_m3, "density rho [kg/m^3]", rule("as docs/config.md states, checked with the whole gear"));
+  v.field("teeth", g.teeth, "number of teeth z [-]", at_least(3, "-"));
+  v.field("module_m", g.module_m, "module m [m]", above(0, "m"));
+  v.angle("pressure_angle_rad", "pressure_angle_deg", g.pressure_angle_rad, "reference pressure angle alpha0 [rad]", interval(0, kMaxPressureAngle_rad, Ends::OpenLow, "rad"));
+  v.field("profile_shift", g.profile_shift, "profile shift coefficient x, ISO 21771 [-]", interval(-1.5, 1.5, Ends::Closed, "-"));
+  v.field("addendum_coef", g.addendum_coef, "addendum coefficient h_a* [-]", interval(0, 2, Ends::OpenLow, "-"));
+  v.field("dedendum_coef", g.dedendum_coef, "dedendum coefficient h_f* [-]", rule("in (addendum_coef, 2.5], checked with the whole gear"));
+  v.field("root_fillet_coef", g.root_fillet_coef, "root fillet radius coefficient rho_f* [-]", interval(0, 0.5, Ends::Closed, "-"));
+  v.field("face_width_m", g.face_width_m, "face width b [m]", above(0, "m"));
+  v.field("youngs_modulus_Pa", g.material.youngs_modulus_Pa, "Young's modulus E [Pa]", above(0, "Pa"));
+  v.field("shear_modulus_Pa", g.material.shear_modulus_Pa, "shear modulus G [Pa]", above(0, "Pa"));
+  v.field("poisson_ratio", g.material.poisson_ratio, "Poisson's ratio nu [-]", interval(-1, 0.5, Ends::Open, "-"));
+  v.field("density_kg_m3", g.material.density_kg_m3, "density rho [kg/m^3]", above(0, "kg/m^3"));
 }
 
 /// The keys of one tooth modifier (an element of imperfections.teeth).
