@@ -189,31 +189,31 @@ void Screening::joint_step(Screen& sc, const std::vector<std::size_t>& nuse, con
   }
 }
 
-std::vector<std::size_t> Screening::best_per_candidate() const {
+std::vector<std::size_t> best_per_candidate(const std::vector<Screen>& screens) {
   std::vector<std::size_t> best_of;
-  for (std::size_t i = 0; i < screens_.size(); ++i) {
+  for (std::size_t i = 0; i < screens.size(); ++i) {
     bool replaced = false;
     for (std::size_t& b : best_of)
-      if (screens_[b].c == screens_[i].c) {
-        if (screens_[i].S > screens_[b].S) b = i;
+      if (screens[b].c == screens[i].c) {
+        if (screens[i].S > screens[b].S) b = i;
         replaced = true;
       }
     if (!replaced) best_of.push_back(i);
   }
-  std::stable_sort(best_of.begin(), best_of.end(),
-                   [&](std::size_t a, std::size_t b) { return screens_[a].S > screens_[b].S; });
+  std::stable_sort(best_of.begin(), best_of.end(), [&](std::size_t a, std::size_t b) { return screens[a].S > screens[b].S; });
   return best_of;
 }
 
-std::vector<std::size_t> Screening::shortlist(const std::vector<std::size_t>& best, int max_candidates) const {
+std::vector<std::size_t> shortlist(const std::vector<Screen>& screens, const std::vector<std::size_t>& best,
+                                   int max_candidates) {
   std::vector<std::size_t> out;
   int heavy = 0;
   for (std::size_t i : best) {
-    if (screens_[i].c->sensor_only() || screens_[i].visible) {
+    if (screens[i].c->sensor_only() || screens[i].visible) {
       out.push_back(i);
       continue;
     }
-    if (heavy < max_candidates && screens_[i].S > 0) {
+    if (heavy < max_candidates && screens[i].S > 0) {
       out.push_back(i);
       ++heavy;
     }

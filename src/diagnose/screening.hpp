@@ -30,6 +30,15 @@ struct Screen {
   bool visible = false;
 };
 
+/// Indices of the best variant (largest S; the first on ties) of each candidate, largest S first
+/// (stable: candidates of equal S keep the library's order).
+std::vector<std::size_t> best_per_candidate(const std::vector<Screen>& screens);
+/// Of `best`, those fitted: sensor-only and visible saturating variants always (a sensor-only
+/// fit costs no simulation; a saturating one's S is not a linear prediction), the others with
+/// S > 0, largest first, up to `max_candidates`.
+std::vector<std::size_t> shortlist(const std::vector<Screen>& screens, const std::vector<std::size_t>& best,
+                                   int max_candidates);
+
 class Screening {
 public:
   Screening(FitContext& ctx, double alpha);
@@ -46,11 +55,12 @@ public:
   /// Each variant's S and its start (joint Gauss-Newton step with an active set; saturating
   /// candidates: the chi2 change actually simulated, with the nuisance refitted linearly).
   void linearize();
-  /// The best variant of each candidate, largest S first.
-  std::vector<std::size_t> best_per_candidate() const;
-  /// Those fitted: sensor-only and visible saturating variants always, the others with S > 0
-  /// up to max_candidates.
-  std::vector<std::size_t> shortlist(const std::vector<std::size_t>& best, int max_candidates) const;
+  /// The best variant of each candidate, largest S first (the free function below).
+  std::vector<std::size_t> best_per_candidate() const { return diagnose::best_per_candidate(screens_); }
+  /// Those fitted (the free function below).
+  std::vector<std::size_t> shortlist(const std::vector<std::size_t>& best, int max_candidates) const {
+    return diagnose::shortlist(screens_, best, max_candidates);
+  }
   /// One-parameter candidates respond far from linearly over their box (a 10 % torque ripple
   /// swings the seed's sun speed by +-16 % through resonances; a softened tooth changes the
   /// contact pattern): the linearized step can start LM in the wrong basin near "absent".
