@@ -7,7 +7,9 @@
 #include "config/schema.hpp"
 #include "diagnose/candidates/candidate.hpp"
 #include "diagnose/kinematics.hpp"
+#include "geometry/mesh.hpp"
 #include "io/config_toml.hpp"
+#include "model/simulation.hpp"
 #include "model/validate.hpp"
 
 #include <gtest/gtest.h>
@@ -15,6 +17,7 @@
 #include <cmath>
 #include <numbers>
 #include <regex>
+#include <tuple>
 
 namespace pw::diagnose {
 namespace {
@@ -198,6 +201,45 @@ TEST(Candidates, EncoderBandwidthIsObservableOnlyInSpeedChannels) {
   EXPECT_TRUE(find_candidate("friction")->observable_in(r));
   r.channels.push_back({"w_carrier", Quantity::CarrierSpeed, "rad/s", 0, 0.0, {}});
   EXPECT_TRUE(c->observable_in(r));
+}
+
+TEST(Candidates, RigInertiasAreScaledByTheBodysOwnInertiaAndAbsentAtTheBottomOfTheirBox) {
+  // 'Absent' = 1e-4 of the body's own inertia (the sun's disc; the carrier with its planets at
+  // the carrier radius, as model::mass_properties derives them), the top 1e4 of it, the screen
+  // value the body's own inertia (doubling it); saturating; a configured inertia is both the
+  // start and 'absent'; applying writes the key and a --set override the validator accepts.
+  model::SimulationConfig b;
+  const geometry::StageGeometry g = geometry::make_stage_geometry(b.stage);
+  const model::MassProperties m = model::mass_properties(b, g);
+  const double sun = m.sun_inertia_kgm2;
+  const double carrier = m.carrier_inertia_kgm2 + 3 * m.planet_mass_kg * g.carrier_radius_m * g.carrier_radius_m;
+  for (const auto& [name, own, key] : {std::tuple{"motor_inertia", sun, "stage.input_inertia_kgm2"},
+                                       std::tuple{"load_inertia", carrier, "stage.output_inertia_kgm2"}}) {
+    SCOPED_TRACE(name);
+    const Candidate* c = find_candidate(name);
+    ASSERT_NE(c, nullptr);
+    const auto p = c->parameters(b);
+    ASSERT_EQ(p.size(), 1u);
+    EXPECT_EQ(p[0].name, key);
+    EXPECT_TRUE(p[0].saturates && p[0].log_scale);
+    EXPECT_NEAR(p[0].null_value, 1e-4 * own, 1e-12 * own);
+    EXPECT_NEAR(p[0].lower, p[0].null_value, 1e-12 * own);
+    EXPECT_NEAR(p[0].upper, 1e4 * own, 1e-6 * own);
+    EXPECT_NEAR(p[0].screen_value, own, 1e-12 * own);
+    model::SimulationConfig applied = b;
+    std::vector<std::string> o;
+    const double x[] = {0.25};
+    c->apply(applied, Variant{}, x, &o);
+    ASSERT_EQ(o.size(), 1u);
+    EXPECT_EQ(o[0], std::string(key) + "=0.25");
+    EXPECT_NO_THROW(model::validate(applied));
+    const auto q = c->parameters(applied);
+    EXPECT_EQ(q[0].null_value, 0.25);
+    EXPECT_EQ(q[0].initial, 0.25);
+  }
+  EXPECT_GT(sun, 1e-4);   // seed sun: 21 teeth, m 3 mm, b 50 mm: ~6e-4 kg m^2
+  EXPECT_LT(sun, 1e-3);
+  EXPECT_GT(carrier, sun);
 }
 
 TEST(Candidates, DampingScreenStepStaysInsideTheKeysRangeAtItsTop) {
