@@ -24,6 +24,15 @@ double smooth_sign(double x) {
   return (e - 1) / (e + 1);
 }
 
+/// n mod z in [0, z) (geometry::pairs_in_contact's tooth numbering).
+int wrap_tooth(long long n, int z) {
+  const long long r = n % z;
+  return static_cast<int>(r < 0 ? r + z : r);
+}
+
+/// n_first <= n_last, false for NaN (a non-finite roll): no pairs then, as in pairs_in_contact.
+bool n_first_le(double n_first, double n_last) { return n_first <= n_last; }
+
 /// Indices of the non-zero entries of `row`, ascending.
 std::vector<int> nonzeros(const Eigen::RowVectorXd& row) {
   std::vector<int> nz;
@@ -45,7 +54,7 @@ PlanetaryDynamics::PlanetaryDynamics(const SimulationConfig& cfg, dynamics::Lump
       surfaces_(std::move(surfaces)) {
   const int nm = static_cast<int>(structure_.meshes.size());
   states_.assign(nm, MeshState{});
-  pairs_.reserve(8);
+  cursor_.assign(static_cast<std::size_t>(nm), ToothCursor{});
   power_ = cfg.operating.input_power_W;
   sun_speed_ = sun_speed_abs_rad_s;
   carrier_speed_ = carrier_speed_abs_rad_s;
@@ -144,15 +153,49 @@ double PlanetaryDynamics::imposed_deflection(int m, double t) const {
   return d;
 }
 
+PlanetaryDynamics::PairWindow PlanetaryDynamics::pair_window(int m, double s_m) {
+  // geometry::pairs_in_contact's arithmetic (the same n_first, n_last and xi_n = u - n p_b, so the
+  // same pairs bit for bit) without its output vector and its two 64-bit modulos per call: the
+  // window's first pair index moves by 0 or 1 per step, so its tooth indices are advanced by
+  // counting from the previous step's, and the modulo is taken only after a jump.
+  const MeshFamily& fam = family(m);
+  const geometry::MeshGeometry& mg = fam.geometry;
+  const dynamics::MeshId id = dynamics::MeshId::of(m);
+  const auto& planet_phases = phases_[static_cast<std::size_t>(id.planet)];
+  const geometry::MeshPhase& phase = id.sun_planet() ? planet_phases.sun_planet : planet_phases.planet_ring;
+  const double pb = mg.base_pitch_m, margin = engage_half_width_m_[m];
+  PairWindow w;
+  w.u_m = phase.xi0_m + s_m;  // xi_n = u - n p_b
+  w.n_first = std::ceil((w.u_m - mg.end_active_m - margin) / pb);
+  const double n_last = std::floor((w.u_m - mg.start_active_m + margin) / pb);
+  w.count = n_first_le(w.n_first, n_last) ? static_cast<int>(n_last - w.n_first) + 1 : 0;
+  if (w.count == 0) return w;
+  ToothCursor& cur = cursor_[m];
+  const long long k0 = static_cast<long long>(w.n_first);
+  const long long step = k0 - cur.k0;
+  if (cur.valid && step >= 0 && step <= kCursorMaxAdvance) {
+    for (long long i = 0; i < step; ++i) {
+      if (++cur.tooth_a == fam.teeth_a) cur.tooth_a = 0;
+      if (++cur.tooth_b == fam.teeth_b) cur.tooth_b = 0;
+    }
+  } else {
+    cur.tooth_a = wrap_tooth(phase.tooth_a0 + k0, fam.teeth_a);
+    cur.tooth_b = wrap_tooth(phase.tooth_b0 + k0, fam.teeth_b);
+  }
+  cur.k0 = k0;
+  cur.valid = true;
+  w.tooth_a = cur.tooth_a;
+  w.tooth_b = cur.tooth_b;
+  return w;
+}
+
 void PlanetaryDynamics::update_contact_geometry(double t) {
   const int nm = static_cast<int>(structure_.meshes.size());
   for (int m = 0; m < nm; ++m) {
     const dynamics::MeshCoupling& mc = structure_.meshes[m];
     const dynamics::SparseCoupling& sc = sparse_[m];
     const MeshFamily& fam = family(m);
-    const dynamics::MeshId id = dynamics::MeshId::of(m);
-    const auto& planet_phases = phases_[static_cast<std::size_t>(id.planet)];
-    const geometry::MeshPhase& phase = id.sun_planet() ? planet_phases.sun_planet : planet_phases.planet_ring;
+    const geometry::MeshGeometry& mg = fam.geometry;
     const FlankSet& fa = flank_a(m);
     const FlankSet& fb = flank_b(m);
     MeshState& st = states_[m];
@@ -162,7 +205,8 @@ void PlanetaryDynamics::update_contact_geometry(double t) {
     st.roll_m = mc.nominal_roll_rate_m_s * t + roll_q;
     imposed_[m] = imposed_deflection(m, t);
     const double h = engage_half_width_m_[m];
-    const int np = geometry::pairs_in_contact(fam.geometry, phase, fam.teeth_a, fam.teeth_b, st.roll_m, pairs_, h);
+    const PairWindow win = pair_window(m, st.roll_m);
+    const int np = win.count;
     if (np > MeshState::kMaxPairs)
       throw SolverError("more than " + std::to_string(MeshState::kMaxPairs) +
                         " tooth pairs in one mesh (contact ratio too high for MeshState)");
@@ -170,14 +214,18 @@ void PlanetaryDynamics::update_contact_geometry(double t) {
 
     // A pair entering or leaving contact within the step counts with the
     // share of the step it spends in contact (engagement_weight).
-    const double xi_lo = fam.geometry.start_active_m, xi_hi = fam.geometry.end_active_m;
+    const double xi_lo = mg.start_active_m, xi_hi = mg.end_active_m;
     st.pairs_engaged = 0;
     double k_sum = 0;
-    for (int j = 0; j < np; ++j) {
-      const geometry::ContactPair& p = pairs_[j];
-      st.pair[j] = p;
+    int ta = win.tooth_a, tb = win.tooth_b;
+    double n = win.n_first;
+    for (int j = 0; j < np; ++j, n += 1.0) {
+      geometry::ContactPair& p = st.pair[j];
+      p = {win.u_m - n * mg.base_pitch_m, ta, tb};
+      if (++ta == fam.teeth_a) ta = 0;
+      if (++tb == fam.teeth_b) tb = 0;
       PairGeometry& pg = pair_geometry_[m][j];
-      const double w = geometry::engagement_weight(fam.geometry, p.xi_m, h);
+      const double w = geometry::engagement_weight(mg, p.xi_m, h);
       st.pairs_engaged += w >= 0.5 ? 1 : 0;
       pg.k_N_m = w * fam.stiffness(std::clamp(p.xi_m, xi_lo, xi_hi)) * fa.stiffness_factor(p.tooth_a) *
                  fb.stiffness_factor(p.tooth_b);

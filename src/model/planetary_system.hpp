@@ -136,6 +136,21 @@ private:
     double slide_nominal_m_s = 0;  ///< sliding speed of the nominal motion at xi [m/s]
     std::array<double, dynamics::SparseCoupling::kMaxEntries> h{};  ///< h0 + xi h1 on the mesh's entries
   };
+  /// First pair of mesh m's contact window at roll s (geometry::pairs_in_contact):
+  /// xi_j = u - (n_first + j) p_b with teeth tooth_a + j, tooth_b + j (mod z), j < count.
+  struct PairWindow {
+    double u_m = 0, n_first = 0;
+    int count = 0, tooth_a = 0, tooth_b = 0;
+  };
+  /// The window's first pair index and its teeth at the previous call (per mesh).
+  struct ToothCursor {
+    long long k0 = 0;
+    int tooth_a = 0, tooth_b = 0;
+    bool valid = false;
+  };
+  /// Beyond this many pairs' advance since the last call the teeth are found by modulo.
+  static constexpr long long kCursorMaxAdvance = 4;
+  PairWindow pair_window(int m, double s_m);
   /// Evaluates the contact geometry of every mesh at time t (once per step).
   void update_contact_geometry(double t);
   /// Adds mesh m's normal, damping and friction forces at (q, v) to g (and tangents).
@@ -150,7 +165,7 @@ private:
   std::vector<geometry::PlanetPhases> phases_;
   ToothSurfaces surfaces_;
   std::vector<MeshState> states_;
-  std::vector<geometry::ContactPair> pairs_;  // work array, capacity reserved
+  std::vector<ToothCursor> cursor_;  // per mesh: pair_window's tooth indices of the last call
   std::vector<double> damping_, backlash_, mesh_error_, static_offset_;
   std::vector<Eigen::Vector2d> normals_;
   Eigen::RowVectorXd sun_row_, carrier_row_, input_row_, output_row_;

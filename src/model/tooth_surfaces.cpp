@@ -22,16 +22,6 @@ int FlankSet::element_at(double xi) const {
   return std::clamp(e, 0, elements_ - 1);
 }
 
-double FlankSet::deviation_m(int tooth, double xi) const {
-  const double* d = tooth_deviation(tooth);
-  const double u = (xi - xi_min_) / dxi_ - 0.5;  // position in element-centre units
-  if (u <= 0) return d[0];
-  if (u >= elements_ - 1) return d[elements_ - 1];
-  const int i = static_cast<int>(u);
-  const double f = u - i;
-  return (1 - f) * d[i] + f * d[i + 1];
-}
-
 void FlankSet::add_uniform(int tooth, double deviation_m) {
   double* d = tooth_deviation(tooth);
   for (int e = 0; e < elements_; ++e) d[e] += deviation_m;
