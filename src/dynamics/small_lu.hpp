@@ -29,6 +29,8 @@ public:
   bool factorize(const Eigen::MatrixXd& a);
   /// x = A^-1 b with the last factorization (x may alias b).
   void solve(const Eigen::VectorXd& b, Eigen::VectorXd& x) const;
+  /// The same with the loops of any size (solve() unrolls common sizes; tests compare the two).
+  void solve_generic(const Eigen::VectorXd& b, Eigen::VectorXd& x) const;
 
 private:
   int n_ = 0;
