@@ -94,6 +94,7 @@ void NewmarkSolver::factor_jacobian() {
   J_.noalias() += (scheme_.beta * dt * dt) * K_;
   if (!lu_.factorize(J_))
     throw SolverError(detail::concat("the Newmark iteration matrix is singular (time step ", dt, " s)"));
+  lu_.compute_inverse();  // the iterations multiply by J^-1 (SmallLU::apply_inverse)
   ++stats_.factorizations;
   have_lu_ = true;
 }
@@ -184,13 +185,13 @@ int NewmarkSolver::attempt(NewmarkState& s, bool extrapolate) {
     if (res <= newton_.relative_tolerance * scale) return accept();
     a_prev_ = a_;
     if (!fresh) {
-      lu_.solve(r_, da_);
+      lu_.apply_inverse(r_, da_);
       a_ = a_prev_ - da_;
       const double trial = evaluate(false);
       if (trial < kChordContraction * res) {
         const double tolerance = newton_.relative_tolerance * scale;
         if (newton_.predicted_stop && trial > tolerance && trial * (trial / res) <= tolerance) {
-          lu_.solve(r_, da_);  // r_ is the residual at a_: one more chord update, not evaluated
+          lu_.apply_inverse(r_, da_);  // r_ is the residual at a_: one more chord update, not evaluated
           a_ -= da_;
           set_iterate(b * dt * dt, gm * dt);
           return accept();
@@ -204,7 +205,7 @@ int NewmarkSolver::attempt(NewmarkState& s, bool extrapolate) {
       fresh = true;
       if (res <= newton_.relative_tolerance * scale) continue;
     }
-    lu_.solve(r_, da_);
+    lu_.apply_inverse(r_, da_);
     // Backtracking on the residual norm: the smoothed Coulomb friction
     // (tanh of the sliding speed) makes the full Newton step overshoot near
     // the pitch point, where the sliding speed changes sign.

@@ -72,6 +72,39 @@ void solve_fixed(const double* lu, const int* perm, const double* b, double* x) 
 
 using FixedSolve = void (*)(const double*, const int*, const double*, double*);
 
+/// x = A^-1 b, A^-1 column-major N x N: x = sum_j col_j b_j (the columns in order).
+template <int N>
+void multiply_fixed(const double* inv, const double* b, double* x) {
+  double y[N];
+  for (int i = 0; i < N; ++i) y[i] = inv[i] * b[0];
+  for (int j = 1; j < N; ++j)
+    for (int i = 0; i < N; ++i) y[i] += inv[i + j * N] * b[j];
+  for (int i = 0; i < N; ++i) x[i] = y[i];
+}
+
+using FixedMultiply = void (*)(const double*, const double*, double*);
+
+/// The unrolled product for the sizes fixed_solve_for() unrolls, or nullptr.
+FixedMultiply fixed_multiply_for(int n) {
+  switch (n) {
+  case 3: return multiply_fixed<3>;
+  case 4: return multiply_fixed<4>;
+  case 5: return multiply_fixed<5>;
+  case 6: return multiply_fixed<6>;
+  case 7: return multiply_fixed<7>;
+  case 8: return multiply_fixed<8>;
+  case 9: return multiply_fixed<9>;
+  case 10: return multiply_fixed<10>;
+  case 18: return multiply_fixed<18>;
+  case 19: return multiply_fixed<19>;
+  case 20: return multiply_fixed<20>;
+  case 21: return multiply_fixed<21>;
+  case 22: return multiply_fixed<22>;
+  case 23: return multiply_fixed<23>;
+  default: return nullptr;
+  }
+}
+
 /// The unrolled kernel for size n, or nullptr: the torsional stage with 1-6 planets and up to two
 /// rig machines (3-10 coordinates), the lateral-torsional one with 3-4 planets (18-23).
 FixedSolve fixed_solve_for(int n) {
@@ -104,6 +137,31 @@ void SmallLU::solve(const Eigen::VectorXd& b, Eigen::VectorXd& x) const {
     return;
   }
   solve_generic(b, x);
+}
+
+void SmallLU::compute_inverse() {
+  const int n = n_;
+  inverse_.assign(static_cast<std::size_t>(n) * n, 0.0);
+  Eigen::VectorXd e = Eigen::VectorXd::Zero(n), col(n);
+  for (int j = 0; j < n; ++j) {
+    e(j) = 1.0;
+    solve(e, col);
+    e(j) = 0.0;
+    for (int i = 0; i < n; ++i) inverse_[static_cast<std::size_t>(i + j * n)] = col(i);
+  }
+}
+
+void SmallLU::apply_inverse(const Eigen::VectorXd& b, Eigen::VectorXd& x) const {
+  const int n = n_;
+  if (x.size() != n) x.resize(n);
+  if (const FixedMultiply fixed = fixed_multiply_for(n)) {
+    fixed(inverse_.data(), b.data(), x.data());
+    return;
+  }
+  const double* inv = inverse_.data();
+  for (int i = 0; i < n; ++i) x(i) = inv[i] * b(0);
+  for (int j = 1; j < n; ++j)
+    for (int i = 0; i < n; ++i) x(i) += inv[i + j * n] * b(j);
 }
 
 void SmallLU::solve_generic(const Eigen::VectorXd& b, Eigen::VectorXd& x) const {
