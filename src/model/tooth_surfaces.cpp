@@ -13,6 +13,7 @@ FlankSet::FlankSet(int teeth, int elements, double xi_min_m, double xi_max_m)
   require(elements >= 2, "wear.elements_per_flank", "must be >= 2, got ", elements);
   require(xi_max_m > xi_min_m, "flank range", "empty active roll range [", xi_min_m, ", ", xi_max_m, "] m");
   dxi_ = (xi_max_ - xi_min_) / elements_;
+  inv_dxi_ = 1.0 / dxi_;
   deviation_.assign(static_cast<std::size_t>(teeth_) * elements_, 0.0);
   factor_.assign(teeth_, 1.0);
 }
