@@ -285,9 +285,10 @@ void PlanetaryDynamics::update_contact_geometry(double t) {
 
 void PlanetaryDynamics::add_mesh_force(int m, const Eigen::VectorXd& q, const Eigen::VectorXd& v, Eigen::VectorXd& g,
                                        Eigen::MatrixXd* K, Eigen::MatrixXd* C) {
-  // The entry loops unrolled for the torsional (3) and lateral-torsional (7) meshes.
+  // The entry loops unrolled for the torsional (2, 3) and lateral-torsional (7) meshes.
   switch (sparse_[m].entries) {
-  case 3: add_mesh_force_n<3>(m, q, v, g, K, C); break;
+  case 2: add_mesh_force_n<2>(m, q, v, g, K, C); break;  // torsional planet-ring (ring fixed)
+  case 3: add_mesh_force_n<3>(m, q, v, g, K, C); break;  // torsional sun-planet
   case 7: add_mesh_force_n<7>(m, q, v, g, K, C); break;
   default: add_mesh_force_n<0>(m, q, v, g, K, C); break;
   }
