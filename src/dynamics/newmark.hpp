@@ -108,6 +108,10 @@ private:
   /// Evaluates R(a_) into r_ (and K_, C_ when `tangents`); returns |R|_inf,
   /// sets the force scale.
   double residual(double t1, double& scale, bool tangents);
+  /// Predictors q*, v* and Newton's start a_ for a step from s (extrapolated or a_n).
+  void predict(const NewmarkState& s, bool extrapolate);
+  /// q_ = q* + cq a_, v_ = v* + cv a_ (cq = beta dt^2, cv = gamma dt).
+  void set_iterate(double cq, double cv);
   /// Factorizes J = M + gamma dt C + beta dt^2 K from the current K_, C_.
   void factor_jacobian();
 

@@ -45,7 +45,126 @@ bool SmallLU::factorize(const Eigen::MatrixXd& a) {
   return true;
 }
 
+namespace {
+
+/// x = (P A)^-1 P b from the packed factors: SmallLU::solve's arithmetic in the same order, for
+/// a size known at compile time. *Why:* for n = 5 the generic loops' trip-count tests and the
+/// work buffer cost more than the 25 multiply-adds (12 % of a time step, docs/benchmark.md
+/// session 17); unrolled, the solve is a straight dependency chain. The zero-skip of the
+/// generic forward substitution is dropped: subtracting l_ij * 0 changes at most a zero's sign.
+template <int N>
+void solve_fixed(const double* lu, const int* perm, const double* b, double* x) {
+  double y[N];
+  for (int i = 0; i < N; ++i) y[i] = b[perm[i]];
+  for (int j = 0; j < N; ++j) {  // forward substitution, unit-diagonal L (column-oriented)
+    const double yj = y[j];
+    const double* colj = lu + j * N;
+    for (int i = j + 1; i < N; ++i) y[i] -= colj[i] * yj;
+  }
+  for (int j = N - 1; j >= 0; --j) {  // back substitution with U
+    const double* colj = lu + j * N;
+    y[j] /= colj[j];
+    const double yj = y[j];
+    for (int i = 0; i < j; ++i) y[i] -= colj[i] * yj;
+  }
+  for (int i = 0; i < N; ++i) x[i] = y[i];
+}
+
+using FixedSolve = void (*)(const double*, const int*, const double*, double*);
+
+/// x = A^-1 b, A^-1 column-major N x N: x = sum_j col_j b_j (the columns in order).
+template <int N>
+void multiply_fixed(const double* inv, const double* b, double* x) {
+  double y[N];
+  for (int i = 0; i < N; ++i) y[i] = inv[i] * b[0];
+  for (int j = 1; j < N; ++j)
+    for (int i = 0; i < N; ++i) y[i] += inv[i + j * N] * b[j];
+  for (int i = 0; i < N; ++i) x[i] = y[i];
+}
+
+using FixedMultiply = void (*)(const double*, const double*, double*);
+
+/// The unrolled product for the sizes fixed_solve_for() unrolls, or nullptr.
+FixedMultiply fixed_multiply_for(int n) {
+  switch (n) {
+  case 3: return multiply_fixed<3>;
+  case 4: return multiply_fixed<4>;
+  case 5: return multiply_fixed<5>;
+  case 6: return multiply_fixed<6>;
+  case 7: return multiply_fixed<7>;
+  case 8: return multiply_fixed<8>;
+  case 9: return multiply_fixed<9>;
+  case 10: return multiply_fixed<10>;
+  case 18: return multiply_fixed<18>;
+  case 19: return multiply_fixed<19>;
+  case 20: return multiply_fixed<20>;
+  case 21: return multiply_fixed<21>;
+  case 22: return multiply_fixed<22>;
+  case 23: return multiply_fixed<23>;
+  default: return nullptr;
+  }
+}
+
+/// The unrolled kernel for size n, or nullptr: the torsional stage with 1-6 planets and up to two
+/// rig machines (3-10 coordinates), the lateral-torsional one with 3-4 planets (18-23).
+FixedSolve fixed_solve_for(int n) {
+  switch (n) {
+  case 3: return solve_fixed<3>;
+  case 4: return solve_fixed<4>;
+  case 5: return solve_fixed<5>;
+  case 6: return solve_fixed<6>;
+  case 7: return solve_fixed<7>;
+  case 8: return solve_fixed<8>;
+  case 9: return solve_fixed<9>;
+  case 10: return solve_fixed<10>;
+  case 18: return solve_fixed<18>;
+  case 19: return solve_fixed<19>;
+  case 20: return solve_fixed<20>;
+  case 21: return solve_fixed<21>;
+  case 22: return solve_fixed<22>;
+  case 23: return solve_fixed<23>;
+  default: return nullptr;
+  }
+}
+
+} // namespace
+
 void SmallLU::solve(const Eigen::VectorXd& b, Eigen::VectorXd& x) const {
+  const int n = n_;
+  if (const FixedSolve fixed = fixed_solve_for(n)) {
+    if (x.size() != n) x.resize(n);
+    fixed(lu_.data(), perm_.data(), b.data(), x.data());  // x may alias b: the kernel reads b first
+    return;
+  }
+  solve_generic(b, x);
+}
+
+void SmallLU::compute_inverse() {
+  const int n = n_;
+  inverse_.assign(static_cast<std::size_t>(n) * n, 0.0);
+  Eigen::VectorXd e = Eigen::VectorXd::Zero(n), col(n);
+  for (int j = 0; j < n; ++j) {
+    e(j) = 1.0;
+    solve(e, col);
+    e(j) = 0.0;
+    for (int i = 0; i < n; ++i) inverse_[static_cast<std::size_t>(i + j * n)] = col(i);
+  }
+}
+
+void SmallLU::apply_inverse(const Eigen::VectorXd& b, Eigen::VectorXd& x) const {
+  const int n = n_;
+  if (x.size() != n) x.resize(n);
+  if (const FixedMultiply fixed = fixed_multiply_for(n)) {
+    fixed(inverse_.data(), b.data(), x.data());
+    return;
+  }
+  const double* inv = inverse_.data();
+  for (int i = 0; i < n; ++i) x(i) = inv[i] * b(0);
+  for (int j = 1; j < n; ++j)
+    for (int i = 0; i < n; ++i) x(i) += inv[i + j * n] * b(j);
+}
+
+void SmallLU::solve_generic(const Eigen::VectorXd& b, Eigen::VectorXd& x) const {
   const int n = n_;
   const double* lu = lu_.data();
   double* y = work_.data();

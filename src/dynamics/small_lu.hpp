@@ -29,12 +29,24 @@ public:
   bool factorize(const Eigen::MatrixXd& a);
   /// x = A^-1 b with the last factorization (x may alias b).
   void solve(const Eigen::VectorXd& b, Eigen::VectorXd& x) const;
+  /// The same with the loops of any size (solve() unrolls common sizes; tests compare the two).
+  void solve_generic(const Eigen::VectorXd& b, Eigen::VectorXd& x) const;
+
+  /// Forms A^-1 from the last factorization (n solves), for apply_inverse().
+  void compute_inverse();
+  /// x = A^-1 b as the product with the inverse formed by compute_inverse() (x must not alias
+  /// b). *Why:* the back substitution is a chain of n dependent divisions (~150 cycles for
+  /// n = 5, 12 % of a time step); a matrix-vector product has no such chain, and the chord
+  /// iterations reuse one factorization for hundreds of steps. Same solution to round-off
+  /// (forming the inverse from a backward-stable LU: error ~ cond(A) eps |x|).
+  void apply_inverse(const Eigen::VectorXd& b, Eigen::VectorXd& x) const;
 
 private:
   int n_ = 0;
   std::vector<double> lu_;   // column-major n x n: L below the diagonal (unit diagonal implied), U on and above
   std::vector<int> perm_;    // row perm_[i] of A is row i of P A
   mutable std::vector<double> work_;
+  std::vector<double> inverse_;  // column-major n x n, from compute_inverse()
 };
 
 } // namespace pw::dynamics

@@ -24,6 +24,41 @@ double smooth_sign(double x) {
   return (e - 1) / (e + 1);
 }
 
+/// n mod z in [0, z) (geometry::pairs_in_contact's tooth numbering).
+int wrap_tooth(long long n, int z) {
+  const long long r = n % z;
+  return static_cast<int>(r < 0 ? r + z : r);
+}
+
+/// n_first <= n_last, false for NaN (a non-finite roll): no pairs then, as in pairs_in_contact.
+bool n_first_le(double n_first, double n_last) { return n_first <= n_last; }
+
+/// geometry::engagement_weight with the reciprocal of the ramp width 2h precomputed (a
+/// multiplication instead of two divisions; round-off only): the share of the step a pair at xi
+/// spends inside [start, end] when the window is widened by h on both sides
+/// (docs/derivation.md §3.4). h = 0: sharp switching.
+double engagement_weight(const geometry::MeshGeometry& mesh, double xi_m, double half_width_m, double inv_width_1_m) {
+  if (!(half_width_m > 0)) return (xi_m >= mesh.start_active_m && xi_m <= mesh.end_active_m) ? 1.0 : 0.0;
+  const double in = std::clamp((xi_m - (mesh.start_active_m - half_width_m)) * inv_width_1_m, 0.0, 1.0);
+  const double out = std::clamp(((mesh.end_active_m + half_width_m) - xi_m) * inv_width_1_m, 0.0, 1.0);
+  return std::min(in, out);
+}
+
+/// stiffness::PairStiffnessCurve::operator() (linear interpolation in the uniform table, 0
+/// outside it) with its index scale (n - 1) / (xi_n - xi_0) precomputed.
+double pair_stiffness(const stiffness::PairStiffnessCurve& curve, double index_scale_1_m, double xi_m) {
+  const std::size_t n = curve.xi_m.size();
+  if (n < 2) return 0.0;
+  const double x0 = curve.xi_m.front();
+  if (!(xi_m >= x0 && xi_m <= curve.xi_m.back())) return 0.0;
+  const double u = (xi_m - x0) * index_scale_1_m;
+  std::size_t i = static_cast<std::size_t>(u);
+  if (i > n - 2) i = n - 2;
+  const double f = u - static_cast<double>(i);
+  const std::vector<double>& k = curve.k_N_m;
+  return k[i] + f * (k[i + 1] - k[i]);
+}
+
 /// Indices of the non-zero entries of `row`, ascending.
 std::vector<int> nonzeros(const Eigen::RowVectorXd& row) {
   std::vector<int> nz;
@@ -45,13 +80,14 @@ PlanetaryDynamics::PlanetaryDynamics(const SimulationConfig& cfg, dynamics::Lump
       surfaces_(std::move(surfaces)) {
   const int nm = static_cast<int>(structure_.meshes.size());
   states_.assign(nm, MeshState{});
-  pairs_.reserve(8);
+  cursor_.assign(static_cast<std::size_t>(nm), ToothCursor{});
   power_ = cfg.operating.input_power_W;
   sun_speed_ = sun_speed_abs_rad_s;
   carrier_speed_ = carrier_speed_abs_rad_s;
   sun_speed_rel_ = sun_speed_abs_rad_s - carrier_speed_abs_rad_s;
   mu_ = cfg.contact.friction_coefficient;
   v_eps_ = cfg.contact.friction_smoothing_m_s;
+  inv_v_eps_ = 1.0 / v_eps_;
   ripple_ = cfg.imperfections.torque_ripple_fraction;
   ripple_order_ = cfg.imperfections.torque_ripple_order;
   sun_ecc_ = cfg.imperfections.sun_eccentricity_m;
@@ -94,6 +130,13 @@ PlanetaryDynamics::PlanetaryDynamics(const SimulationConfig& cfg, dynamics::Lump
     static_offset_.push_back(sp ? -mc.normal.dot(d_planet) : mc.normal.dot(d_planet));
   }
   engage_half_width_m_.assign(static_cast<std::size_t>(nm), 0.0);
+  scales_.assign(static_cast<std::size_t>(nm), MeshScales{});
+  for (int m = 0; m < nm; ++m) {
+    const MeshFamily& fam = family(m);
+    const std::vector<double>& x = fam.stiffness.xi_m;
+    scales_[m].inv_base_pitch_1_m = 1.0 / fam.geometry.base_pitch_m;
+    if (x.size() >= 2) scales_[m].stiffness_index_1_m = static_cast<double>(x.size() - 1) / (x.back() - x.front());
+  }
   for (const dynamics::MeshCoupling& mc : structure_.meshes) sparse_.push_back(dynamics::sparse_coupling(mc));
   pair_geometry_.assign(static_cast<std::size_t>(nm), {});
   imposed_.assign(static_cast<std::size_t>(nm), 0.0);
@@ -111,8 +154,10 @@ PlanetaryDynamics::PlanetaryDynamics(const SimulationConfig& cfg, dynamics::Lump
 
 void PlanetaryDynamics::set_engagement_smoothing(double dt_s) {
   require(dt_s >= 0 && std::isfinite(dt_s), "engagement smoothing", "time step ", dt_s, " s must be >= 0");
-  for (std::size_t m = 0; m < engage_half_width_m_.size(); ++m)
+  for (std::size_t m = 0; m < engage_half_width_m_.size(); ++m) {
     engage_half_width_m_[m] = 0.5 * std::fabs(structure_.meshes[m].nominal_roll_rate_m_s) * dt_s;
+    scales_[m].inv_engage_width_1_m = engage_half_width_m_[m] > 0 ? 1.0 / (2 * engage_half_width_m_[m]) : 0.0;
+  }
   ++contact_epoch_;
 }
 
@@ -133,26 +178,65 @@ double PlanetaryDynamics::input_torque_Nm(double t, const Eigen::VectorXd& q, co
   return mean * (1.0 + ripple_ * std::sin(ripple_order_ * th_in));
 }
 
-double PlanetaryDynamics::imposed_deflection(int m, double t) const {
+Eigen::Vector2d PlanetaryDynamics::sun_runout_m(double t) const {
+  // Sun runout rotates with the sun, i.e. at the sun's speed relative to
+  // the carrier in this frame; it displaces the sun (body A of every sun mesh).
+  if (sun_ecc_ == 0) return Eigen::Vector2d::Zero();
+  const double phi = sun_speed_rel_ * t + sun_ecc_phase_;
+  return sun_ecc_ * Eigen::Vector2d{std::cos(phi), std::sin(phi)};
+}
+
+double PlanetaryDynamics::imposed_deflection(int m, const Eigen::Vector2d& sun_runout_m) const {
   double d = static_offset_[m];
-  if (dynamics::MeshId::of(m).sun_planet() && sun_ecc_ != 0) {
-    // Sun runout rotates with the sun, i.e. at the sun's speed relative to
-    // the carrier in this frame; it displaces the sun (body A).
-    const double phi = sun_speed_rel_ * t + sun_ecc_phase_;
-    d += normals_[m].dot(sun_ecc_ * Eigen::Vector2d{std::cos(phi), std::sin(phi)});
-  }
+  if (dynamics::MeshId::of(m).sun_planet() && sun_ecc_ != 0) d += normals_[m].dot(sun_runout_m);
   return d;
+}
+
+PlanetaryDynamics::PairWindow PlanetaryDynamics::pair_window(int m, double s_m) {
+  // geometry::pairs_in_contact's arithmetic (the same n_first, n_last and xi_n = u - n p_b, so the
+  // same pairs bit for bit) without its output vector and its two 64-bit modulos per call: the
+  // window's first pair index moves by 0 or 1 per step, so its tooth indices are advanced by
+  // counting from the previous step's, and the modulo is taken only after a jump.
+  const MeshFamily& fam = family(m);
+  const geometry::MeshGeometry& mg = fam.geometry;
+  const dynamics::MeshId id = dynamics::MeshId::of(m);
+  const auto& planet_phases = phases_[static_cast<std::size_t>(id.planet)];
+  const geometry::MeshPhase& phase = id.sun_planet() ? planet_phases.sun_planet : planet_phases.planet_ring;
+  const double margin = engage_half_width_m_[m];
+  PairWindow w;
+  w.u_m = phase.xi0_m + s_m;  // xi_n = u - n p_b
+  const double inv_pb = scales_[m].inv_base_pitch_1_m;
+  w.n_first = std::ceil((w.u_m - mg.end_active_m - margin) * inv_pb);
+  const double n_last = std::floor((w.u_m - mg.start_active_m + margin) * inv_pb);
+  w.count = n_first_le(w.n_first, n_last) ? static_cast<int>(n_last - w.n_first) + 1 : 0;
+  if (w.count == 0) return w;
+  ToothCursor& cur = cursor_[m];
+  const long long k0 = static_cast<long long>(w.n_first);
+  const long long step = k0 - cur.k0;
+  if (cur.valid && step >= 0 && step <= kCursorMaxAdvance) {
+    for (long long i = 0; i < step; ++i) {
+      if (++cur.tooth_a == fam.teeth_a) cur.tooth_a = 0;
+      if (++cur.tooth_b == fam.teeth_b) cur.tooth_b = 0;
+    }
+  } else {
+    cur.tooth_a = wrap_tooth(phase.tooth_a0 + k0, fam.teeth_a);
+    cur.tooth_b = wrap_tooth(phase.tooth_b0 + k0, fam.teeth_b);
+  }
+  cur.k0 = k0;
+  cur.valid = true;
+  w.tooth_a = cur.tooth_a;
+  w.tooth_b = cur.tooth_b;
+  return w;
 }
 
 void PlanetaryDynamics::update_contact_geometry(double t) {
   const int nm = static_cast<int>(structure_.meshes.size());
+  const Eigen::Vector2d runout = sun_runout_m(t);  // one sin/cos per step, not per sun mesh
   for (int m = 0; m < nm; ++m) {
     const dynamics::MeshCoupling& mc = structure_.meshes[m];
     const dynamics::SparseCoupling& sc = sparse_[m];
     const MeshFamily& fam = family(m);
-    const dynamics::MeshId id = dynamics::MeshId::of(m);
-    const auto& planet_phases = phases_[static_cast<std::size_t>(id.planet)];
-    const geometry::MeshPhase& phase = id.sun_planet() ? planet_phases.sun_planet : planet_phases.planet_ring;
+    const geometry::MeshGeometry& mg = fam.geometry;
     const FlankSet& fa = flank_a(m);
     const FlankSet& fb = flank_b(m);
     MeshState& st = states_[m];
@@ -160,9 +244,10 @@ void PlanetaryDynamics::update_contact_geometry(double t) {
     double roll_q = 0;
     for (int k = 0; k < sc.entries; ++k) roll_q += sc.roll[k] * q_roll_(sc.dof[k]);
     st.roll_m = mc.nominal_roll_rate_m_s * t + roll_q;
-    imposed_[m] = imposed_deflection(m, t);
+    imposed_[m] = imposed_deflection(m, runout);
     const double h = engage_half_width_m_[m];
-    const int np = geometry::pairs_in_contact(fam.geometry, phase, fam.teeth_a, fam.teeth_b, st.roll_m, pairs_, h);
+    const PairWindow win = pair_window(m, st.roll_m);
+    const int np = win.count;
     if (np > MeshState::kMaxPairs)
       throw SolverError("more than " + std::to_string(MeshState::kMaxPairs) +
                         " tooth pairs in one mesh (contact ratio too high for MeshState)");
@@ -170,23 +255,29 @@ void PlanetaryDynamics::update_contact_geometry(double t) {
 
     // A pair entering or leaving contact within the step counts with the
     // share of the step it spends in contact (engagement_weight).
-    const double xi_lo = fam.geometry.start_active_m, xi_hi = fam.geometry.end_active_m;
+    const double xi_lo = mg.start_active_m, xi_hi = mg.end_active_m;
     st.pairs_engaged = 0;
     double k_sum = 0;
-    for (int j = 0; j < np; ++j) {
-      const geometry::ContactPair& p = pairs_[j];
-      st.pair[j] = p;
+    int ta = win.tooth_a, tb = win.tooth_b;
+    double n = win.n_first;
+    for (int j = 0; j < np; ++j, n += 1.0) {
+      geometry::ContactPair& p = st.pair[j];
+      p = {win.u_m - n * mg.base_pitch_m, ta, tb};
+      if (++ta == fam.teeth_a) ta = 0;
+      if (++tb == fam.teeth_b) tb = 0;
       PairGeometry& pg = pair_geometry_[m][j];
-      const double w = geometry::engagement_weight(fam.geometry, p.xi_m, h);
+      const double w = engagement_weight(mg, p.xi_m, h, scales_[m].inv_engage_width_1_m);
       st.pairs_engaged += w >= 0.5 ? 1 : 0;
-      pg.k_N_m = w * fam.stiffness(std::clamp(p.xi_m, xi_lo, xi_hi)) * fa.stiffness_factor(p.tooth_a) *
-                 fb.stiffness_factor(p.tooth_b);
+      pg.k_N_m = w * pair_stiffness(fam.stiffness, scales_[m].stiffness_index_1_m, std::clamp(p.xi_m, xi_lo, xi_hi)) *
+                 fa.stiffness_factor(p.tooth_a) * fb.stiffness_factor(p.tooth_b);
       pg.deviation_m = fa.deviation_m(p.tooth_a, p.xi_m) + fb.deviation_m(p.tooth_b, p.xi_m) + mesh_error_[m];
       pg.slide_nominal_m_s = mc.nominal_slide0_m_s + p.xi_m * mc.nominal_slide1_1_s;
       for (int k = 0; k < sc.entries; ++k) pg.h[k] = sc.h0[k] + p.xi_m * sc.h1[k];
       k_sum += pg.k_N_m;
     }
     st.stiffness_N_m = k_sum;
+    const double inv_k_sum = k_sum > 0 ? 1.0 / k_sum : 0.0;
+    for (int j = 0; j < np; ++j) pair_geometry_[m][j].share = pair_geometry_[m][j].k_N_m * inv_k_sum;
   }
   geometry_t_ = t;
   geometry_epoch_ = contact_epoch_;
@@ -194,10 +285,22 @@ void PlanetaryDynamics::update_contact_geometry(double t) {
 
 void PlanetaryDynamics::add_mesh_force(int m, const Eigen::VectorXd& q, const Eigen::VectorXd& v, Eigen::VectorXd& g,
                                        Eigen::MatrixXd* K, Eigen::MatrixXd* C) {
+  // The entry loops unrolled for the torsional (2, 3) and lateral-torsional (7) meshes.
+  switch (sparse_[m].entries) {
+  case 2: add_mesh_force_n<2>(m, q, v, g, K, C); break;  // torsional planet-ring (ring fixed)
+  case 3: add_mesh_force_n<3>(m, q, v, g, K, C); break;  // torsional sun-planet
+  case 7: add_mesh_force_n<7>(m, q, v, g, K, C); break;
+  default: add_mesh_force_n<0>(m, q, v, g, K, C); break;
+  }
+}
+
+template <int NE>
+void PlanetaryDynamics::add_mesh_force_n(int m, const Eigen::VectorXd& q, const Eigen::VectorXd& v, Eigen::VectorXd& g,
+                                         Eigen::MatrixXd* K, Eigen::MatrixXd* C) {
   const bool tangents = (K != nullptr && C != nullptr);
   const dynamics::SparseCoupling& sc = sparse_[m];
   const auto& pgs = pair_geometry_[m];
-  const int ne = sc.entries;
+  const int ne = NE > 0 ? NE : sc.entries;
   MeshState& st = states_[m];
 
   double gq = 0, gv = 0;
@@ -255,17 +358,17 @@ void PlanetaryDynamics::add_mesh_force(int m, const Eigen::VectorXd& q, const Ei
     st.sliding_m_s[j] = vs;
     if (st.pair_force_N[j] <= 0) continue;
     const double kj = k_loaded[j];
-    const double share = (k_sum > 0) ? kj / k_sum : 0.0;
+    const double share = pgs[j].share;  // k_j / k_sum: pair j is loaded, so k_loaded[j] = k_j
     const double Fn = std::max(0.0, st.pair_force_N[j] + share * st.damping_force_N);
     st.pair_force_N[j] = Fn;
     if (mu_ == 0) continue;
-    const double th = smooth_sign(vs / v_eps_);
+    const double th = smooth_sign(vs * inv_v_eps_);
     const double Ff = mu_ * Fn * th;
     st.friction_N += Ff;
     for (int k = 0; k < ne; ++k) g(sc.dof[k]) -= Ff * h[k];
     if (tangents) {
       const double kk = mu_ * th * kj;
-      const double cc = mu_ * Fn * (1 - th * th) / v_eps_;
+      const double cc = mu_ * Fn * (1 - th * th) * inv_v_eps_;
       const double cd = mu_ * th * share * c;
       for (int b = 0; b < ne; ++b)
         for (int a = 0; a < ne; ++a) {

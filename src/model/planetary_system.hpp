@@ -134,23 +134,54 @@ private:
     double k_N_m = 0;          ///< engagement-weighted, damage-scaled pair stiffness [N/m]
     double deviation_m = 0;    ///< e_j: profile deviations of both flanks + mesh error [m]
     double slide_nominal_m_s = 0;  ///< sliding speed of the nominal motion at xi [m/s]
+    double share = 0;          ///< k_j / sum of the mesh's k: the pair's share of the damping force
     std::array<double, dynamics::SparseCoupling::kMaxEntries> h{};  ///< h0 + xi h1 on the mesh's entries
+  };
+  /// First pair of mesh m's contact window at roll s (geometry::pairs_in_contact):
+  /// xi_j = u - (n_first + j) p_b with teeth tooth_a + j, tooth_b + j (mod z), j < count.
+  struct PairWindow {
+    double u_m = 0, n_first = 0;
+    int count = 0, tooth_a = 0, tooth_b = 0;
+  };
+  /// The window's first pair index and its teeth at the previous call (per mesh).
+  struct ToothCursor {
+    long long k0 = 0;
+    int tooth_a = 0, tooth_b = 0;
+    bool valid = false;
+  };
+  /// Beyond this many pairs' advance since the last call the teeth are found by modulo.
+  static constexpr long long kCursorMaxAdvance = 4;
+  PairWindow pair_window(int m, double s_m);
+  /// Per-mesh reciprocals of the contact geometry's divisors, fixed at construction (and by
+  /// set_engagement_smoothing): the per-step geometry multiplies instead of dividing.
+  struct MeshScales {
+    double inv_base_pitch_1_m = 0;     ///< 1 / p_b [1/m]
+    double inv_engage_width_1_m = 0;   ///< 1 / (2 h), h the engagement half width (0: sharp) [1/m]
+    double stiffness_index_1_m = 0;    ///< (n - 1) / (xi_n - xi_0) of the pair stiffness table [1/m]
   };
   /// Evaluates the contact geometry of every mesh at time t (once per step).
   void update_contact_geometry(double t);
   /// Adds mesh m's normal, damping and friction forces at (q, v) to g (and tangents).
   void add_mesh_force(int m, const Eigen::VectorXd& q, const Eigen::VectorXd& v, Eigen::VectorXd& g,
                       Eigen::MatrixXd* K, Eigen::MatrixXd* C);
+  /// add_mesh_force for meshes of NE coupled coordinates (0: any, SparseCoupling::entries).
+  template <int NE>
+  void add_mesh_force_n(int m, const Eigen::VectorXd& q, const Eigen::VectorXd& v, Eigen::VectorXd& g,
+                        Eigen::MatrixXd* K, Eigen::MatrixXd* C);
   const FlankSet& flank_a(int mesh) const;
   const FlankSet& flank_b(int mesh) const;
-  double imposed_deflection(int mesh, double t) const;
+  /// Displacement of the sun by its runout at time t (carrier frame) [m]; zero without one.
+  Eigen::Vector2d sun_runout_m(double t) const;
+  double imposed_deflection(int mesh, const Eigen::Vector2d& sun_runout_m) const;
 
   dynamics::LumpedStructure structure_;
   MeshFamily sun_planet_, planet_ring_;
   std::vector<geometry::PlanetPhases> phases_;
   ToothSurfaces surfaces_;
   std::vector<MeshState> states_;
-  std::vector<geometry::ContactPair> pairs_;  // work array, capacity reserved
+  std::vector<MeshScales> scales_;  // per mesh
+  double inv_v_eps_ = 1;            // 1 / friction smoothing speed [s/m]
+  std::vector<ToothCursor> cursor_;  // per mesh: pair_window's tooth indices of the last call
   std::vector<double> damping_, backlash_, mesh_error_, static_offset_;
   std::vector<Eigen::Vector2d> normals_;
   Eigen::RowVectorXd sun_row_, carrier_row_, input_row_, output_row_;

@@ -13,6 +13,7 @@ FlankSet::FlankSet(int teeth, int elements, double xi_min_m, double xi_max_m)
   require(elements >= 2, "wear.elements_per_flank", "must be >= 2, got ", elements);
   require(xi_max_m > xi_min_m, "flank range", "empty active roll range [", xi_min_m, ", ", xi_max_m, "] m");
   dxi_ = (xi_max_ - xi_min_) / elements_;
+  inv_dxi_ = 1.0 / dxi_;
   deviation_.assign(static_cast<std::size_t>(teeth_) * elements_, 0.0);
   factor_.assign(teeth_, 1.0);
 }
@@ -20,16 +21,6 @@ FlankSet::FlankSet(int teeth, int elements, double xi_min_m, double xi_max_m)
 int FlankSet::element_at(double xi) const {
   const int e = static_cast<int>(std::floor((xi - xi_min_) / dxi_));
   return std::clamp(e, 0, elements_ - 1);
-}
-
-double FlankSet::deviation_m(int tooth, double xi) const {
-  const double* d = tooth_deviation(tooth);
-  const double u = (xi - xi_min_) / dxi_ - 0.5;  // position in element-centre units
-  if (u <= 0) return d[0];
-  if (u >= elements_ - 1) return d[elements_ - 1];
-  const int i = static_cast<int>(u);
-  const double f = u - i;
-  return (1 - f) * d[i] + f * d[i + 1];
 }
 
 void FlankSet::add_uniform(int tooth, double deviation_m) {

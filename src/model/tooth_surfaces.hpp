@@ -31,8 +31,17 @@ public:
   double element_width_m() const { return dxi_; }
 
   /// Deviation of `tooth` at roll coordinate xi [m], linear between element
-  /// centres, constant beyond the end centres. O(1), no allocation.
-  double deviation_m(int tooth, double xi_m) const;
+  /// centres, constant beyond the end centres. O(1), no allocation; inline
+  /// because the time step calls it for both flanks of every pair.
+  double deviation_m(int tooth, double xi_m) const {
+    const double* d = tooth_deviation(tooth);
+    const double u = (xi_m - xi_min_) * inv_dxi_ - 0.5;  // position in element-centre units
+    if (u <= 0) return d[0];
+    if (u >= elements_ - 1) return d[elements_ - 1];
+    const int i = static_cast<int>(u);
+    const double f = u - i;
+    return (1 - f) * d[i] + f * d[i + 1];
+  }
   /// Element index containing xi (clamped to [0, elements - 1]).
   int element_at(double xi_m) const;
 
@@ -51,6 +60,7 @@ public:
 private:
   int teeth_ = 0, elements_ = 0;
   double xi_min_ = 0, xi_max_ = 0, dxi_ = 0;
+  double inv_dxi_ = 0;  // 1 / dxi_: deviation_m multiplies (it runs for every pair at every step)
   std::vector<double> deviation_;
   std::vector<double> factor_;
 };
