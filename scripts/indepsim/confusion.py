@@ -2,7 +2,7 @@
 """Runs `planetwear diagnose` on an indepsim corpus and scores it against truth.json.
 
     /usr/bin/python3 scripts/indepsim/confusion.py DIR --planetwear PATH/planetwear
-        [--jobs N] [--threads 1] [--include-held-out] [--calibration-per-rig | --calibrate | --differential]
+        [--jobs N] [--threads 1] [--include-held-out] [--calibration-per-rig | --calibrate [--rig-elements E,...] | --differential]
         [--timeout S]
         [--only NAME,...] [--gearset G] [--dry-run] [--check-reader]
 
@@ -170,6 +170,10 @@ def main(argv=None):
     ap.add_argument("--calibrate", action="store_true",
                     help="planetwear calibrate on each gear set's (non-held-out) baselines, then diagnose the other "
                          "recordings with --calibration (outputs under DIR/diagnosis_calibrated/)")
+    ap.add_argument("--rig-elements", default="",
+                    help="with --calibrate: passed to planetwear calibrate --rig-elements (e.g. "
+                         "encoder_bandwidth,motor_inertia,load_inertia); outputs under "
+                         "DIR/diagnosis_calibrated_<elements>/ so that runs with other rig elements are kept apart")
     ap.add_argument("--differential", action="store_true",
                     help="diagnose each recording against its operating point's healthy baseline (--baseline); "
                          "outputs under DIR/diagnosis_diff/")
@@ -202,8 +206,12 @@ def main(argv=None):
         return 1 if bad else 0
     if sum([a.calibrate, a.calibration_per_rig, a.differential]) > 1:
         ap.error("--calibrate, --calibration-per-rig and --differential are alternatives")
+    if a.rig_elements and not a.calibrate:
+        ap.error("--rig-elements needs --calibrate")
     outroot = ("diagnosis_calibrated" if a.calibrate else "diagnosis_cal" if a.calibration_per_rig
                else "diagnosis_diff" if a.differential else "diagnosis")
+    if a.rig_elements:
+        outroot += "_" + a.rig_elements.replace(",", "+")
     results = {}
     t_start = time.time()
     done_times = []
@@ -261,6 +269,8 @@ def main(argv=None):
             if not os.path.exists(cf_path) and not a.dry_run:
                 cmd = [a.planetwear, "calibrate", "-c", os.path.join(a.corpus, g, "gearset.toml"), "-o", cf_path,
                        "--threads", str(a.threads)]
+                if a.rig_elements:
+                    cmd += ["--rig-elements", a.rig_elements]
                 for b in bases:
                     csvp = os.path.join(a.corpus, recs[b]["csv"])
                     cmd += ["-r", csvp, "--meta", os.path.splitext(csvp)[0] + ".json"]
