@@ -245,5 +245,26 @@ TEST(BoxedLeastSquares, MismatchedShapesAreRefused) {
                std::invalid_argument);
 }
 
+// The damping ratio's box [z/5, min(1, 5 z)] on a log scale: l exp(log(u/l)) rounds above u = 1
+// for about a fifth of the z in (0.2, 1), which validate() refused (contact.mesh_damping_ratio
+// <= 1). Every value from_unit gives lies in the box.
+TEST(Fit, UnitToPhysicalMappingNeverLeavesTheBoxByRoundOff) {
+  std::mt19937 rng(17);
+  std::uniform_real_distribution<double> z_of(0.2, 1.0);
+  int above_before_clamp = 0;
+  for (int i = 0; i < 20000; ++i) {
+    const double z = z_of(rng);
+    const Bound b{z / 5, std::min(1.0, 5 * z), true};
+    if (b.lower * std::exp(std::log(b.upper / b.lower)) > b.upper) ++above_before_clamp;
+    EXPECT_LE(from_unit(b, 1.0), b.upper);
+    EXPECT_GE(from_unit(b, 0.0), b.lower);
+    EXPECT_LE(from_unit(b, 1.0 - 1e-17), b.upper);
+    const Bound lin{0.1 * z, 0.3 + z, false};
+    EXPECT_LE(from_unit(lin, 1.0), lin.upper);
+    EXPECT_GE(from_unit(lin, 0.0), lin.lower);
+  }
+  EXPECT_GT(above_before_clamp, 1000) << "the round-off this guards against no longer occurs here";
+}
+
 } // namespace
 } // namespace pw::diagnose
