@@ -5,7 +5,6 @@
 #include "calibrate_command.hpp"
 
 #include "core/error.hpp"
-#include "core/statistics.hpp"
 #include "diagnose/calibration.hpp"
 #include "diagnose/candidates/candidate.hpp"
 #include "diagnose/locate.hpp"
@@ -56,16 +55,19 @@ CLI::App* add_calibrate_command(CLI::App& app, CalibrateCommandOptions& o) {
 namespace {
 
 void print_table(const diagnose::Calibration& cal) {
-  const double z = normal_quantile(cal.alpha);
   std::printf("%-30s %-12s %12s %12s %6s %14s %6s\n", "channel kind", "family", "sigma_rel", "budget", "cells",
               "sigma_abs^2", "cells");
-  for (const diagnose::DiscrepancyEstimate& d : cal.discrepancy) {
-    const diagnose::DiscrepancyEntry b = d.budget(z);
+  const std::vector<diagnose::DiscrepancyEntry> budgets = cal.budgets();
+  for (std::size_t k = 0; k < cal.discrepancy.size(); ++k) {
+    const diagnose::DiscrepancyEstimate& d = cal.discrepancy[k];
     const double s = d.relative_variance > 0 ? std::sqrt(d.relative_variance) : 0.0;
-    std::printf("%-30s %-12s %12.4g %12.4g %6d %14.4g %6d\n", diagnose::to_string(d.quantity),
-                diagnose::to_string(d.family), s, b.relative_std, d.relative_cells, d.absolute_variance,
-                d.absolute_cells);
+    std::printf("%-30s %-12s %12.4g %12.4g %6d %14.4g %6d%s\n", diagnose::to_string(d.quantity),
+                diagnose::to_string(d.family), s, budgets[k].relative_std, d.relative_cells, d.absolute_variance,
+                d.absolute_cells, budgets[k].relative_inherited ? "  (relative budget inherited)" : "");
   }
+  if (std::any_of(budgets.begin(), budgets.end(), [](const diagnose::DiscrepancyEntry& b) { return b.relative_inherited; }))
+    std::printf("relative budget inherited: the healthy model had no line of that family above the noise; a model "
+              "that adds lines there gets the largest relative budget measured on the same kind of channel\n");
   std::printf("calibrated model:");
   for (const std::string& s : cal.overrides) std::printf(" --set %s", s.c_str());
   std::printf("\n");

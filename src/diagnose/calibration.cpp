@@ -157,6 +157,22 @@ std::vector<DiscrepancyEntry> Calibration::budgets() const {
   const double z = normal_quantile(alpha);
   std::vector<DiscrepancyEntry> out;
   for (const DiscrepancyEstimate& d : discrepancy) out.push_back(d.budget(z));
+  // A family whose lines the healthy model never had above the noise has no relative estimate
+  // (its budget would be 0): a model that adds lines there (a fault's sidebands) would have them
+  // judged against the noise alone, though they reach the sensor through the same model-form
+  // error (stiffness law, damping, rig) as the lines that were measured. Such a family takes
+  // the largest relative budget measured on the same kind of channel: each budget is already
+  // an upper confidence limit, and the largest is the upper end of what the calibration saw
+  // there, not a value chosen for any corpus. Absolute budgets stay per family.
+  std::map<Quantity, double> largest;
+  for (std::size_t k = 0; k < out.size(); ++k)
+    if (discrepancy[k].relative_cells > 0)
+      largest[out[k].quantity] = std::max(largest[out[k].quantity], out[k].relative_std);
+  for (std::size_t k = 0; k < out.size(); ++k)
+    if (discrepancy[k].relative_cells == 0 && largest.count(out[k].quantity)) {
+      out[k].relative_std = largest[out[k].quantity];
+      out[k].relative_inherited = true;
+    }
   return out;
 }
 

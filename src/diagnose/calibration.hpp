@@ -82,7 +82,9 @@ struct Calibration {
   std::vector<std::string> at_bound;     ///< parameters_at_bound(): calibrated values that are limits
   double alpha = 0.01;                   ///< of the upper confidence limits
   std::vector<DiscrepancyEstimate> discrepancy;
-  /// The budgets at z_{1-alpha}, for CompareOptions::discrepancy.
+  /// The budgets at z_{1-alpha}, for CompareOptions::discrepancy. A family without a relative
+  /// estimate (relative_cells == 0) inherits the largest relative budget measured on its kind
+  /// of channel (relative_inherited).
   std::vector<DiscrepancyEntry> budgets() const;
 };
 

@@ -191,13 +191,27 @@ void ModelComparison::set_reference(const std::vector<std::vector<double>>& m, c
   const int nc = channels(), ncell = cells();
   std::vector<double> gains = gains_in;
   if (gains.empty()) gains.assign(static_cast<std::size_t>(nc), 1.0);
+  rice_ref_.assign(static_cast<std::size_t>(features()), 0.0);
   for (int c = 0; c < nc; ++c)
     for (int i = 0; i < ncell; ++i) {
       const std::size_t f = static_cast<std::size_t>(c * ncell + i);
       const double g = is_housing(c) ? gains[static_cast<std::size_t>(c)] : 1.0;
-      const double a = model_amplitude(m, c, i, g);
-      disc_sd_[f] = disc_[f] * a;
-      const double v = rice_variance(a, s2_[f]) + disc_sd_[f] * disc_sd_[f] + disc_abs_[f] + offset_var_[f];
+      rice_ref_[f] = rice_variance(model_amplitude(m, c, i, g), s2_[f]);
+    }
+  set_discrepancy_reference(m, gains);
+}
+
+void ModelComparison::set_discrepancy_reference(const std::vector<std::vector<double>>& m,
+                                                const std::vector<double>& gains_in) {
+  const int nc = channels(), ncell = cells();
+  std::vector<double> gains = gains_in;
+  if (gains.empty()) gains.assign(static_cast<std::size_t>(nc), 1.0);
+  for (int c = 0; c < nc; ++c)
+    for (int i = 0; i < ncell; ++i) {
+      const std::size_t f = static_cast<std::size_t>(c * ncell + i);
+      const double g = is_housing(c) ? gains[static_cast<std::size_t>(c)] : 1.0;
+      disc_sd_[f] = disc_[f] * model_amplitude(m, c, i, g);
+      const double v = rice_ref_[f] + disc_sd_[f] * disc_sd_[f] + disc_abs_[f] + offset_var_[f];
       for (int w = 0; w < 2; ++w) d_[static_cast<std::size_t>(w)][f] = v + vns_[f];
     }
 }

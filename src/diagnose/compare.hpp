@@ -80,6 +80,10 @@ struct DiscrepancyEntry {
   Component family = Component::Mesh;
   double relative_std = 0;       ///< [-]
   double absolute_variance = 0;  ///< [channel unit^2]
+  /// relative_std not measured for this family (the healthy model had no line in it above the
+  /// noise) but inherited from the measured families of the same kind of channel
+  /// (Calibration::budgets): it matters only for a model that adds lines here.
+  bool relative_inherited = false;
 };
 
 /// One feature cell of a healthy baseline recording (differential diagnosis, baseline.hpp): what
@@ -171,6 +175,13 @@ public:
   /// same for every model scored afterwards, so their chi2 compare): the
   /// nominal model first, the nuisance-fitted one after the nuisance fit.
   void set_reference(const std::vector<std::vector<double>>& model_amplitude, const std::vector<double>& gains);
+  /// Only the calibrated relative discrepancy's term of V (and of the null's draws) taken at
+  /// `model_amplitude`; the Rician variances stay at set_reference's model. A verdict tests
+  /// "the recording is this candidate's model plus the calibrated discrepancy": the relative
+  /// model-form error scales with the lines of the model under test, in V and in the draws
+  /// alike (one allowance, charged and drawn consistently). set_reference restores it.
+  void set_discrepancy_reference(const std::vector<std::vector<double>>& model_amplitude,
+                                 const std::vector<double>& gains);
 
   /// Fidelity columns (per feature, at gain 1) and their names.
   void set_fidelity(std::vector<std::vector<double>> columns, std::vector<std::string> names);
@@ -242,6 +253,7 @@ private:
   std::vector<double> disc_;                 // [feature]: relative discrepancy (CompareOptions::discrepancy)
   std::vector<double> disc_abs_;             // [feature]: absolute discrepancy variance
   std::vector<double> disc_sd_;              // [feature]: relative discrepancy x the reference amplitude (set_reference)
+  std::vector<double> rice_ref_;             // [feature]: Rician variance at the reference amplitude
   std::vector<double> offset_, offset_var_;  // [feature]: baseline offset and its variance
   std::vector<double> dispersion_;           // [channel]
   int ns_cells_ = 0;

@@ -671,8 +671,16 @@ private:
       const std::vector<std::string> saved_names = cmp().fidelity_names();
       set_fidelity(ctx(), l.config, nullptr);
       const auto amp = lc && lc->sensor_only() ? ctx().amplitudes(l.config, true) : cmp().simulate(l.config)->amplitude;
+      // Calibrated: the hypothesis is "the recording is the lead's model plus the calibrated
+      // discrepancy", whose relative part scales with the lead's own lines (a fault's sidebands
+      // reach the sensors through the same model-form error as the healthy lines). Taken at
+      // the nuisance-fitted model instead, the lines the lead adds would be judged against the
+      // noise alone (docs/diagnose.md section 6a, item 4).
+      const bool calibrated = !co_.discrepancy.empty();
+      if (calibrated) cmp().set_discrepancy_reference(amp, l.gains);
       vin.lead_held_out_chi2 = cmp().score(amp, Half::HeldOut, l.gains, HousingGains::Given).chi2;
       vin.lead_bound_held_out = cmp().null_quantile(amp, l.gains, Half::HeldOut, o_.alpha / 2, static_cast<int>(l.parameters.size()));
+      if (calibrated) cmp().set_discrepancy_reference(ctx().nuisance_sim->amplitude, ctx().nuisance_gains);
       cmp().set_fidelity(saved_u, saved_names);
     }
     vin.replicate_chi2 = cmp().replicate_chi2(ctx().nuisance_gains);

@@ -259,7 +259,7 @@ std::string budget_sensitivity_text(const std::vector<DiscrepancyEntry>& budgets
   constexpr double kReportedBudget = 0.1;
   std::vector<DiscrepancyEntry> large;
   for (const DiscrepancyEntry& b : budgets)
-    if (b.relative_std >= kReportedBudget) large.push_back(b);
+    if (b.relative_std >= kReportedBudget && !b.relative_inherited) large.push_back(b);
   if (large.empty()) return "";
   std::sort(large.begin(), large.end(),
             [](const DiscrepancyEntry& a, const DiscrepancyEntry& b) { return a.relative_std > b.relative_std; });

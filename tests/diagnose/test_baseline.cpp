@@ -145,5 +145,39 @@ TEST(CalibratedDiscrepancy, AModelWithStrongerLinesThanTheReferenceIsNotGivenAWi
   EXPECT_GT(chi_plain, p_ref) << "30 % is far outside the noise";
 }
 
+TEST(CalibratedDiscrepancy, ALineTheLeadAddsIsJudgedAgainstTheDiscrepancyAtTheLeadsOwnAmplitude) {
+  // A candidate ("lead") adds the carrier-family line the reference (healthy) model lacks, 30 %
+  // stronger than the recording's: a model-form error of the size the calibration allows
+  // (relative 50 %). With the discrepancy taken at the reference, the cell's V holds the noise
+  // only and the lead fails its own null; taken at the lead's amplitudes
+  // (set_discrepancy_reference, the verdict's hypothesis "recording = lead + discrepancy") it
+  // passes; and restoring the reference gives the reference's chi2 back exactly.
+  CompareOptions co;
+  co.discrepancy.push_back({Quantity::MeshAccelerationSunPlanet, Component::Mesh, 0.5, 0.0});
+  co.discrepancy.push_back({Quantity::MeshAccelerationSunPlanet, Component::Carrier, 0.5, 0.0, true});
+  const double line = 5.0;  // [m/s^2], against 0.5 m/s^2 of white noise per sample
+  const Recording rec = synthetic(line, 6);
+  ModelComparison cmp(rec, test::stage_1200rpm(), co);
+  const auto model = perfect_model();
+  const Recording clean_with_line = synthetic(line, 1, 1e-6, 1e-9);
+  const auto with_line = ModelComparison(clean_with_line, test::stage_1200rpm()).spectra().amplitude[0];
+  auto lead = model;
+  int line_bins = 0;
+  for (std::size_t b = 0; b < lead[1].size(); ++b)
+    if (with_line[1][b] > 0.5 * line && with_line[1][b] > 2 * model[1][b]) lead[1][b] = 1.3 * with_line[1][b], ++line_bins;
+  ASSERT_GT(line_bins, 0);
+  cmp.set_reference(model, {});
+  const double chi_at_ref = cmp.score(lead, Half::HeldOut, {}, HousingGains::Given).chi2;
+  const double q_at_ref = cmp.null_quantile(lead, {}, Half::HeldOut, kAlphaHalf, 1);
+  EXPECT_GT(chi_at_ref, q_at_ref) << "the added line against the noise alone";
+  cmp.set_discrepancy_reference(lead, {});
+  const double chi_at_lead = cmp.score(lead, Half::HeldOut, {}, HousingGains::Given).chi2;
+  const double q_at_lead = cmp.null_quantile(lead, {}, Half::HeldOut, kAlphaHalf, 1);
+  EXPECT_LT(chi_at_lead, q_at_lead) << "30 % is within the discrepancy at the lead's own line";
+  cmp.set_discrepancy_reference(model, {});
+  EXPECT_EQ(cmp.score(lead, Half::HeldOut, {}, HousingGains::Given).chi2, chi_at_ref);
+  EXPECT_EQ(cmp.null_quantile(lead, {}, Half::HeldOut, kAlphaHalf, 1), q_at_ref);
+}
+
 } // namespace
 } // namespace pw::diagnose

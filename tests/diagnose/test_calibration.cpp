@@ -117,3 +117,33 @@ TEST(Calibration, ParametersFittedAtABoundAreListedWithTheEndAndTheirCount) {
   EXPECT_EQ(notes[1], "contact.mesh_damping_ratio at its lower bound 0.005 on 1 of 3 recordings");
   EXPECT_TRUE(parameters_at_bound({{p("stiffness.scale", 1.2, 0.5, 2.0, false)}}).empty());
 }
+
+// A family the healthy model never had a line in (no relative cells) takes the largest
+// relative budget measured on the same kind of channel, flagged as inherited; a family of
+// another kind of channel, and every absolute budget, keep their own.
+TEST(Calibration, AFamilyWithoutMeasuredLinesInheritsTheLargestRelativeBudgetOfItsChannelKind) {
+  auto est = [](Quantity q, Component f, double rel, double rel_se, int rel_cells, double abs_v) {
+    DiscrepancyEstimate d;
+    d.quantity = q, d.family = f;
+    d.relative_variance = rel, d.relative_variance_se = rel_se, d.relative_cells = rel_cells;
+    d.absolute_variance = abs_v, d.absolute_variance_se = 0, d.absolute_cells = 10;
+    return d;
+  };
+  Calibration cal;
+  cal.alpha = 0.01;
+  cal.discrepancy = {est(Quantity::SunSpeed, Component::Mesh, 0.09, 0.01, 50, 1e-6),
+                     est(Quantity::SunSpeed, Component::Carrier, 0.04, 0.01, 20, 2e-6),
+                     est(Quantity::SunSpeed, Component::Sun, 0.0, 0.0, 0, 3e-6),
+                     est(Quantity::HousingAcceleration, Component::Sun, 0.0, 0.0, 0, 4e-6)};
+  const auto b = cal.budgets();
+  ASSERT_EQ(b.size(), 4u);
+  const double z = 2.3263478740408408;  // z_{0.99}
+  EXPECT_NEAR(b[0].relative_std, std::sqrt(0.09 + z * 0.01), 1e-9);
+  EXPECT_FALSE(b[0].relative_inherited);
+  EXPECT_FALSE(b[1].relative_inherited);
+  EXPECT_DOUBLE_EQ(b[2].relative_std, b[0].relative_std);  // the larger of mesh and carrier
+  EXPECT_TRUE(b[2].relative_inherited);
+  EXPECT_DOUBLE_EQ(b[2].absolute_variance, 3e-6);           // its own absolute budget
+  EXPECT_EQ(b[3].relative_std, 0.0);                        // nothing measured on its kind
+  EXPECT_FALSE(b[3].relative_inherited);
+}
