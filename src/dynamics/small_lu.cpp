@@ -5,12 +5,6 @@
 
 namespace pw::dynamics {
 
-void SmallLU::resize(int n) {
-  n_ = n;
-  lu_.assign(static_cast<std::size_t>(n) * n, 0.0);
-  perm_.assign(static_cast<std::size_t>(n), 0);
-  work_.assign(static_cast<std::size_t>(n), 0.0);
-}
 
 bool SmallLU::factorize(const Eigen::MatrixXd& a) {
   if (a.rows() != n_ || a.cols() != n_) resize(static_cast<int>(a.rows()));
@@ -84,56 +78,44 @@ void multiply_fixed(const double* inv, const double* b, double* x) {
 
 using FixedMultiply = void (*)(const double*, const double*, double*);
 
-/// The unrolled product for the sizes fixed_solve_for() unrolls, or nullptr.
-FixedMultiply fixed_multiply_for(int n) {
-  switch (n) {
-  case 3: return multiply_fixed<3>;
-  case 4: return multiply_fixed<4>;
-  case 5: return multiply_fixed<5>;
-  case 6: return multiply_fixed<6>;
-  case 7: return multiply_fixed<7>;
-  case 8: return multiply_fixed<8>;
-  case 9: return multiply_fixed<9>;
-  case 10: return multiply_fixed<10>;
-  case 18: return multiply_fixed<18>;
-  case 19: return multiply_fixed<19>;
-  case 20: return multiply_fixed<20>;
-  case 21: return multiply_fixed<21>;
-  case 22: return multiply_fixed<22>;
-  case 23: return multiply_fixed<23>;
-  default: return nullptr;
+/// The sizes with unrolled kernels: the torsional stage with 1-6 planets and up to two rig
+/// machines (3-10 coordinates), the lateral-torsional one with 3-4 planets (18-23). One list
+/// for both kernels, so that they cannot disagree.
+template <int... N>
+struct FixedSizes {
+  static FixedSolve solve(int n) {
+    FixedSolve f = nullptr;
+    ((n == N ? (f = solve_fixed<N>, 0) : 0), ...);
+    return f;
   }
-}
+  static FixedMultiply multiply(int n) {
+    FixedMultiply f = nullptr;
+    ((n == N ? (f = multiply_fixed<N>, 0) : 0), ...);
+    return f;
+  }
+};
+using UnrolledSizes = FixedSizes<3, 4, 5, 6, 7, 8, 9, 10, 18, 19, 20, 21, 22, 23>;
 
-/// The unrolled kernel for size n, or nullptr: the torsional stage with 1-6 planets and up to two
-/// rig machines (3-10 coordinates), the lateral-torsional one with 3-4 planets (18-23).
-FixedSolve fixed_solve_for(int n) {
-  switch (n) {
-  case 3: return solve_fixed<3>;
-  case 4: return solve_fixed<4>;
-  case 5: return solve_fixed<5>;
-  case 6: return solve_fixed<6>;
-  case 7: return solve_fixed<7>;
-  case 8: return solve_fixed<8>;
-  case 9: return solve_fixed<9>;
-  case 10: return solve_fixed<10>;
-  case 18: return solve_fixed<18>;
-  case 19: return solve_fixed<19>;
-  case 20: return solve_fixed<20>;
-  case 21: return solve_fixed<21>;
-  case 22: return solve_fixed<22>;
-  case 23: return solve_fixed<23>;
-  default: return nullptr;
-  }
-}
+/// The unrolled kernels for size n, or nullptr.
+FixedSolve fixed_solve_for(int n) { return UnrolledSizes::solve(n); }
+FixedMultiply fixed_multiply_for(int n) { return UnrolledSizes::multiply(n); }
 
 } // namespace
 
+void SmallLU::resize(int n) {
+  n_ = n;
+  lu_.assign(static_cast<std::size_t>(n) * n, 0.0);
+  perm_.assign(static_cast<std::size_t>(n), 0);
+  work_.assign(static_cast<std::size_t>(n), 0.0);
+  solve_kernel_ = fixed_solve_for(n);
+  multiply_kernel_ = fixed_multiply_for(n);
+}
+
 void SmallLU::solve(const Eigen::VectorXd& b, Eigen::VectorXd& x) const {
   const int n = n_;
-  if (const FixedSolve fixed = fixed_solve_for(n)) {
+  if (solve_kernel_) {
     if (x.size() != n) x.resize(n);
-    fixed(lu_.data(), perm_.data(), b.data(), x.data());  // x may alias b: the kernel reads b first
+    solve_kernel_(lu_.data(), perm_.data(), b.data(), x.data());  // x may alias b: the kernel reads b first
     return;
   }
   solve_generic(b, x);
@@ -154,8 +136,8 @@ void SmallLU::compute_inverse() {
 void SmallLU::apply_inverse(const Eigen::VectorXd& b, Eigen::VectorXd& x) const {
   const int n = n_;
   if (x.size() != n) x.resize(n);
-  if (const FixedMultiply fixed = fixed_multiply_for(n)) {
-    fixed(inverse_.data(), b.data(), x.data());
+  if (multiply_kernel_) {
+    multiply_kernel_(inverse_.data(), b.data(), x.data());
     return;
   }
   const double* inv = inverse_.data();

@@ -47,6 +47,9 @@ private:
   std::vector<int> perm_;    // row perm_[i] of A is row i of P A
   mutable std::vector<double> work_;
   std::vector<double> inverse_;  // column-major n x n, from compute_inverse()
+  // The unrolled kernels for n_ (small_lu.cpp), chosen once in resize(); null: the generic loops.
+  void (*solve_kernel_)(const double* lu, const int* perm, const double* b, double* x) = nullptr;
+  void (*multiply_kernel_)(const double* inverse, const double* b, double* x) = nullptr;
 };
 
 } // namespace pw::dynamics
