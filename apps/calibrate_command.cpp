@@ -68,6 +68,19 @@ void print_table(const diagnose::Calibration& cal) {
   if (std::any_of(budgets.begin(), budgets.end(), [](const diagnose::DiscrepancyEntry& b) { return b.relative_inherited; }))
     std::printf("relative budget inherited: the healthy model had no line of that family above the noise; a model "
               "that adds lines there gets the largest relative budget measured on the same kind of channel\n");
+  // Each recording's fit: the spread is what the median hides.
+  for (std::size_t r = 0; r < cal.fits.size() && r < cal.recordings.size(); ++r) {
+    const diagnose::CalibrationFit& f = cal.fits[r];
+    std::printf("recording %zu (%.6g rpm): held-out chi2 %.4g against a noise bound of %.4g (%.3g times);", r + 1,
+                r < cal.speeds_rpm.size() ? cal.speeds_rpm[r] : 0.0, f.nuisance_chi2_held_out,
+                f.noise_bound_held_out, f.nuisance_chi2_held_out / f.noise_bound_held_out);
+    for (const std::string& v : f.values) {
+      const std::string key = v.substr(0, v.find('='));
+      const bool edge = std::find(f.at_bound.begin(), f.at_bound.end(), key) != f.at_bound.end();
+      std::printf(" %s%s", v.c_str(), edge ? " (at a bound)" : "");
+    }
+    std::printf("\n");
+  }
   std::printf("calibrated model:");
   for (const std::string& s : cal.overrides) std::printf(" --set %s", s.c_str());
   std::printf("\n");
@@ -127,6 +140,7 @@ int run_calibrate(const CalibrateCommandOptions& o) {
     cal.verdicts.push_back(diagnose::to_string(r.verdict));
     cells.push_back(r.calibration_cells);
     params.push_back(r.nuisance.parameters);
+    cal.fits.push_back(diagnose::calibration_fit(r.nuisance.parameters, r.nuisance.held_out.chi2, r.bound_held_out));
   }
   // 2. The calibration.
   cal.discrepancy = diagnose::estimate_discrepancy(cells);

@@ -83,9 +83,19 @@ void write_calibration(const diagnose::Calibration& c, const std::filesystem::pa
     t.insert("relative_variance_per_recording", to_array(d.relative_variance_per_recording));
     disc.push_back(std::move(t));
   }
+  toml::array fits;
+  for (const diagnose::CalibrationFit& f : c.fits) {
+    toml::table t;
+    t.insert("nuisance_chi2_held_out", f.nuisance_chi2_held_out);
+    t.insert("noise_bound_held_out", f.noise_bound_held_out);
+    t.insert("values", to_array(f.values));
+    t.insert("at_bound", to_array(f.at_bound));
+    fits.push_back(std::move(t));
+  }
   toml::table root;
   root.insert("calibration", std::move(cal));
   root.insert("discrepancy", std::move(disc));
+  if (!fits.empty()) root.insert("fit", std::move(fits));
   std::ostringstream text;
   text << "# planetwear calibration (docs/diagnose.md section 6a): the calibrated model and its discrepancy budget\n"
        << root << "\n";
@@ -143,6 +153,19 @@ diagnose::Calibration read_calibration(const std::filesystem::path& path) {
       d.relative_variance_per_recording =
           read_array<double>((*t)["relative_variance_per_recording"].as_array(), path, ctx + ".relative_variance_per_recording");
     c.discrepancy.push_back(std::move(d));
+  }
+  if (const toml::array* fits = root["fit"].as_array()) {  // optional: written since session 18
+    for (std::size_t i = 0; i < fits->size(); ++i) {
+      const std::string ctx = "fit[" + std::to_string(i) + "]";
+      const toml::table* t = (*fits)[i].as_table();
+      if (!t) throw InputError(where(path, ctx), "must be a table");
+      diagnose::CalibrationFit f;
+      f.nuisance_chi2_held_out = read_number(*t, "nuisance_chi2_held_out", path, ctx);
+      f.noise_bound_held_out = read_number(*t, "noise_bound_held_out", path, ctx);
+      f.values = read_array<std::string>((*t)["values"].as_array(), path, ctx + ".values");
+      f.at_bound = read_array<std::string>((*t)["at_bound"].as_array(), path, ctx + ".at_bound");
+      c.fits.push_back(std::move(f));
+    }
   }
   return c;
 }

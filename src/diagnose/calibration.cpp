@@ -102,6 +102,19 @@ std::vector<DiscrepancyEstimate> estimate_discrepancy(const std::vector<std::vec
   return out;
 }
 
+CalibrationFit calibration_fit(const std::vector<FittedParameter>& nuisance, double chi2_held_out,
+                               double bound_held_out) {
+  CalibrationFit f;
+  f.nuisance_chi2_held_out = chi2_held_out;
+  f.noise_bound_held_out = bound_held_out;
+  for (const FittedParameter& p : nuisance) {
+    if (p.sensor_gain) continue;
+    f.values.push_back(p.name + "=" + format_value(p.value));
+    if (p.at_bound) f.at_bound.push_back(p.name);
+  }
+  return f;
+}
+
 std::vector<std::string> median_overrides(const std::vector<std::vector<FittedParameter>>& per_recording) {
   std::map<std::string, std::vector<double>> values;
   std::vector<std::string> order;

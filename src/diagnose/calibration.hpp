@@ -72,6 +72,20 @@ std::vector<std::string> median_overrides(const std::vector<std::vector<FittedPa
 /// more than that parameter's range, and the discrepancy budget carries the rest.
 std::vector<std::string> parameters_at_bound(const std::vector<std::vector<FittedParameter>>& per_recording);
 
+/// One healthy recording's nuisance fit within a calibration: what the median was taken over.
+/// Their spread across the recordings shows how well the operating points agree on each value
+/// (a parameter that scatters by a factor of two is not identified by these recordings).
+struct CalibrationFit {
+  double nuisance_chi2_held_out = 0;  ///< held-out chi2 of the nuisance-fitted model [-]
+  double noise_bound_held_out = 0;    ///< its noise bound (Monte-Carlo 1 - alpha/2 quantile) [-]
+  std::vector<std::string> values;    ///< "key=value" per nuisance parameter (sensor gains excepted)
+  std::vector<std::string> at_bound;  ///< keys of those fitted at a bound of their box
+};
+
+/// The per-recording fits of calibrate's nuisance parameters (sensor gains excepted).
+CalibrationFit calibration_fit(const std::vector<FittedParameter>& nuisance, double chi2_held_out,
+                               double bound_held_out);
+
 /// A calibration as written by `planetwear calibrate` and read by `diagnose --calibration`.
 struct Calibration {
   std::vector<std::string> recordings;   ///< file names, for the record
@@ -80,6 +94,7 @@ struct Calibration {
   std::vector<std::string> overrides;    ///< calibrated model: "key=value"
   std::vector<std::string> rig_elements; ///< candidates fitted as nuisance (e.g. encoder_bandwidth)
   std::vector<std::string> at_bound;     ///< parameters_at_bound(): calibrated values that are limits
+  std::vector<CalibrationFit> fits;      ///< per recording (same order); empty in files written before session 18
   double alpha = 0.01;                   ///< of the upper confidence limits
   std::vector<DiscrepancyEstimate> discrepancy;
   /// The budgets at z_{1-alpha}, for CompareOptions::discrepancy. A family without a relative

@@ -147,3 +147,21 @@ TEST(Calibration, AFamilyWithoutMeasuredLinesInheritsTheLargestRelativeBudgetOfI
   EXPECT_EQ(b[3].relative_std, 0.0);                        // nothing measured on its kind
   EXPECT_FALSE(b[3].relative_inherited);
 }
+
+// Each recording's fit is kept as "key=value" with the keys at a bound, sensor gains left out
+// (they are profiled on every recording, not calibrated).
+TEST(Calibration, EachRecordingsFitKeepsItsNuisanceValuesAndTheirBoundsWithoutTheSensorGains) {
+  auto p = [](const std::string& n, double v, bool at_bound, bool gain) {
+    FittedParameter f;
+    f.name = n, f.value = v, f.at_bound = at_bound, f.sensor_gain = gain;
+    return f;
+  };
+  const CalibrationFit f = calibration_fit(
+      {p("stiffness.scale", 2.0, true, false), p("contact.mesh_damping_ratio", 0.125, false, false),
+       p("sensor.gain_m_s2_per_N", 3e-3, false, true)},
+      5000.0, 3400.0);
+  EXPECT_EQ(f.values, (std::vector<std::string>{"stiffness.scale=2", "contact.mesh_damping_ratio=0.125"}));
+  EXPECT_EQ(f.at_bound, (std::vector<std::string>{"stiffness.scale"}));
+  EXPECT_EQ(f.nuisance_chi2_held_out, 5000.0);
+  EXPECT_EQ(f.noise_bound_held_out, 3400.0);
+}

@@ -31,6 +31,12 @@ TEST(CalibrationFile, WrittenCalibrationReadsBackExactly) {
   d.absolute_cells = 106;
   d.relative_variance_per_recording = {0.03, 0.1 / 3};
   c.discrepancy = {d};
+  diagnose::CalibrationFit f;
+  f.nuisance_chi2_held_out = 12345.6789 / 7;
+  f.noise_bound_held_out = 3401.25;
+  f.values = {"stiffness.scale=2", "contact.mesh_damping_ratio=0.1234567890123"};
+  f.at_bound = {"stiffness.scale"};
+  c.fits = {f, diagnose::CalibrationFit{}};
   io::write_calibration(c, dir / "cal.toml");
   const diagnose::Calibration r = io::read_calibration(dir / "cal.toml");
   EXPECT_EQ(r.alpha, c.alpha);
@@ -51,6 +57,12 @@ TEST(CalibrationFile, WrittenCalibrationReadsBackExactly) {
   EXPECT_EQ(e.absolute_variance_se, d.absolute_variance_se);
   EXPECT_EQ(e.absolute_cells, d.absolute_cells);
   EXPECT_EQ(e.relative_variance_per_recording, d.relative_variance_per_recording);
+  ASSERT_EQ(r.fits.size(), 2u);
+  EXPECT_EQ(r.fits[0].nuisance_chi2_held_out, f.nuisance_chi2_held_out);
+  EXPECT_EQ(r.fits[0].noise_bound_held_out, f.noise_bound_held_out);
+  EXPECT_EQ(r.fits[0].values, f.values);
+  EXPECT_EQ(r.fits[0].at_bound, f.at_bound);
+  EXPECT_TRUE(r.fits[1].values.empty());
 }
 
 TEST(CalibrationFile, UnknownFamilyIsAnInputErrorNamingFileAndKey) {
