@@ -5,7 +5,6 @@
 
 namespace pw::dynamics {
 
-
 bool SmallLU::factorize(const Eigen::MatrixXd& a) {
   if (a.rows() != n_ || a.cols() != n_) resize(static_cast<int>(a.rows()));
   const int n = n_;
