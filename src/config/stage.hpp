@@ -148,6 +148,12 @@ struct SolverSettings {
   double time_step_s = 0.0;
   int min_steps_per_mesh = 64;
   int steps_per_mode_period = 32;  ///< average-acceleration period error ~ (2pi/n)^2/12 = 0.3 % at 32
+  /// Automatic step: the band [Hz] whose response must be accurate. 0: every mode gets
+  /// steps_per_mode_period steps per period (today's rule). > 0: the forced response and the
+  /// modes below it do; a mode above it needs only the 8 steps per period of the validity check
+  /// (the average-acceleration rule is unconditionally stable, and a mode far above a line
+  /// acts on it quasi-statically). `diagnose` sets it to the analysed band (0.3 f_s).
+  double accuracy_band_Hz = 0.0;
   double newmark_beta = 0.25;      ///< average acceleration, unconditionally stable
   double newmark_gamma = 0.5;
   double newton_tolerance = 1e-10; ///< relative residual [-]

@@ -180,7 +180,7 @@ std::string nuisance_text(const Diagnosis& d) {
   return s;
 }
 
-std::string named_summary(const Diagnosis& d) {
+std::string named_summary(const Diagnosis& d, bool calibrated) {
   const CandidateResult& w = d.candidates.front();
   std::string ps;
   for (const auto& p : w.parameters)
@@ -193,8 +193,11 @@ std::string named_summary(const Diagnosis& d) {
   return "Missing physics: " + w.name + (w.variant.empty() ? "" : " (" + w.variant + ")") + " — " + w.physics +
          "; fitted " + ps + "; chi2 " + fmt("%.0f", d.nuisance.fit.chi2) + " -> " + fmt("%.0f", w.fit.chi2) +
          " on the fit half and " + fmt("%.0f", d.nuisance.held_out.chi2) + " -> " + fmt("%.0f", w.held_out.chi2) +
-         " held out (noise bound " + fmt("%.0f", d.bound_held_out) + "; its own bound " +
-         fmt("%.0f", d.lead.bound_held_out) + ")." + where;
+         " held out (noise bound " + fmt("%.0f", d.bound_held_out) + "; against its own null " +
+         fmt("%.0f", d.lead.held_out_chi2) + " <= " + fmt("%.0f", d.lead.bound_held_out) +
+         (calibrated ? " with the fidelity directions and the calibrated discrepancy at its own model"
+                     : " with the fidelity directions at its own model") +
+         ")." + where;
 }
 
 std::string unexplained_summary(const Diagnosis& d) {
@@ -281,7 +284,7 @@ void decide_verdict(Diagnosis& d, const VerdictInputs& in) {
   if (d.lead.counts && !named) d.candidates.front().reason += "; not named, a lead only: " + d.lead.failed;
   if (named) {
     d.verdict = Verdict::MissingPhysicsFound;
-    d.summary = named_summary(d);
+    d.summary = named_summary(d, !in.discrepancy.empty());
   } else if (in.noise_consistent) {  // the nuisance-fitted model already explains the recording
     d.verdict = Verdict::NoMissingPhysics;
     const bool fit_excess = d.nuisance.fit.chi2 > d.bound_fit;

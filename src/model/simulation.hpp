@@ -51,6 +51,13 @@ struct PreparedStage {
   int steps_per_mesh = 0;
 };
 
+/// The automatic time step [s] (solver.time_step_s = 0) for a mesh period T_mesh [s] and a
+/// highest natural frequency f_max [Hz]: the smaller of T_mesh / min_steps_per_mesh and one
+/// steps_per_mode_period-th of the period of min(f_max, accuracy_band_Hz) (f_max when the band
+/// is 0), and never above one max(8, steps_per_mode_period / 4)-th of the highest mode's period
+/// (8: the validity check of prepare()).
+double automatic_time_step(double T_mesh, double f_max, const SolverSettings& solver);
+
 /// Steps 1-4; throws pw::InputError for impossible geometry or an unusable
 /// time step (naming solver.time_step_s and the limit).
 PreparedStage prepare(const SimulationConfig& config);
