@@ -140,7 +140,7 @@ void visit_config(V& v, Config& c) {
   v.field("min_steps_per_mesh", c.solver.min_steps_per_mesh, "automatic step: steps per mesh period [-]", integers(8, 1000000));
   v.field("steps_per_mode_period", c.solver.steps_per_mode_period, "automatic step: steps per shortest mode period [-]", integers(8, 1000000));
   v.field("accuracy_band_Hz", c.solver.accuracy_band_Hz,
-          "automatic step: band that gets steps_per_mode_period steps per period; modes above it get 8 [Hz]; 0 = every mode",
+          "automatic step: band that gets steps_per_mode_period steps per period; modes above it get max(8, steps_per_mode_period/4) [Hz]; 0 = every mode",
           at_least(0, "Hz; 0 = every mode"));
   v.field("newmark_beta", c.solver.newmark_beta, "Newmark beta [-]", interval(0, 0.5, Ends::OpenLow, "-"));
   v.field("newmark_gamma", c.solver.newmark_gamma, "Newmark gamma [-]", interval(0.5, 1, Ends::Closed, "-"));

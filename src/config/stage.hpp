@@ -150,9 +150,10 @@ struct SolverSettings {
   int steps_per_mode_period = 32;  ///< average-acceleration period error ~ (2pi/n)^2/12 = 0.3 % at 32
   /// Automatic step: the band [Hz] whose response must be accurate. 0: every mode gets
   /// steps_per_mode_period steps per period (today's rule). > 0: the forced response and the
-  /// modes below it do; a mode above it needs only the 8 steps per period of the validity check
-  /// (the average-acceleration rule is unconditionally stable, and a mode far above a line
-  /// acts on it quasi-statically). `diagnose` sets it to the analysed band (0.3 f_s).
+  /// modes below it do; a mode above it gets max(8, steps_per_mode_period / 4) steps per period,
+  /// 8 being the validity check's floor (the average-acceleration rule is unconditionally
+  /// stable, and a mode far above a line acts on it quasi-statically; model::automatic_time_step).
+  /// `diagnose` sets it to the analysed band (0.3 f_s).
   double accuracy_band_Hz = 0.0;
   double newmark_beta = 0.25;      ///< average acceleration, unconditionally stable
   double newmark_gamma = 0.5;
