@@ -19,6 +19,10 @@
 namespace pw::model {
 namespace {
 
+/// Fewest steps per period of the highest natural frequency: below it the average-acceleration
+/// rule's period error, (2 pi / n)^2 / 12, exceeds 5 % and prepare() refuses the step.
+constexpr double kMinStepsPerModePeriod = 8;
+
 double annulus_mass(double rho, double r_out, double r_in, double width) {
   return rho * kPi * (r_out * r_out - r_in * r_in) * width;
 }
@@ -155,7 +159,7 @@ double automatic_time_step(double T_mesh, double f_max, const SolverSettings& sv
   // error (2 pi / 8)^2 / 12 = 5 %), never fewer than the 8 prepare() requires. A quarter, not a
   // constant 8, so that a finer steps_per_mode_period (the diagnosis's second discretization)
   // refines every term.
-  const double steps_above_band = std::max(8.0, 0.25 * sv.steps_per_mode_period);
+  const double steps_above_band = std::max(kMinStepsPerModePeriod, 0.25 * sv.steps_per_mode_period);
   return std::min({T_mesh / sv.min_steps_per_mesh, 1.0 / (f_accurate * sv.steps_per_mode_period),
                    1.0 / (steps_above_band * f_max)});
 }
@@ -242,9 +246,10 @@ PreparedStage prepare(const SimulationConfig& c) {
     require(dt <= limit, "solver.time_step_s", dt, " s exceeds the stability limit ", limit,
             " s of this Newmark scheme for the highest natural frequency ", f_max, " Hz");
   }
-  require(dt <= 1.0 / (8 * f_max), "solver.time_step_s", dt,
-          " s gives fewer than 8 steps per period of the highest natural frequency (", f_max,
-          " Hz); the response would be wrong. Use <= ", 1.0 / (8 * f_max), " s or 0 for automatic");
+  const double dt_limit = 1.0 / (kMinStepsPerModePeriod * f_max);
+  require(dt <= dt_limit, "solver.time_step_s", dt, " s gives fewer than ", kMinStepsPerModePeriod,
+          " steps per period of the highest natural frequency (", f_max,
+          " Hz); the response would be wrong. Use <= ", dt_limit, " s or 0 for automatic");
   p.steps_per_mesh = checked_steps_per_mesh(c, T_mesh, dt);
   p.time_step_s = T_mesh / p.steps_per_mesh;
 

@@ -27,6 +27,20 @@ using test::stage_1200rpm;
 
 using test::synthetic;
 
+// The model a diagnosis simulates resolves the analysed band (0.3 f_s), not every mode; a
+// configuration that states a step or a band keeps its own.
+TEST(Compare, TheModelsAutomaticStepResolvesTheAnalysedBandUnlessTheConfigurationStatesOne) {
+  const Recording rec = synthetic(0.0, 0.0, 3);
+  const double band = 0.3 / rec.sample_interval_s();  // LayoutOptions::band_fraction of f_s
+  EXPECT_DOUBLE_EQ(ModelComparison(rec, stage_1200rpm()).base().solver.accuracy_band_Hz, band);
+  model::SimulationConfig stated = stage_1200rpm();
+  stated.solver.accuracy_band_Hz = 1234.5;
+  EXPECT_EQ(ModelComparison(rec, stated).base().solver.accuracy_band_Hz, 1234.5);
+  model::SimulationConfig fixed = stage_1200rpm();
+  fixed.solver.time_step_s = 2e-6;
+  EXPECT_EQ(ModelComparison(rec, fixed).base().solver.accuracy_band_Hz, 0.0);
+}
+
 TEST(Compare, DispersionStaysOneWhenTheHalvesAgreeEvenWithAStationaryFaultLine) {
   // A stationary line 10x the noise at a carrier sideband is the same in both halves: it
   // cancels in A_1 - A_2 and must not be read as extra noise.
