@@ -397,6 +397,20 @@ WarmupStats warm_up(Integration& r, const ProgressFn& report, double f0, double 
   const bool speed_held_by_rig = !sys.structure().has_rigid_mode;
   const Eigen::VectorXd& rig = p.rigid_mode;
   const double I_eq = speed_held_by_rig ? 0.0 : rig.dot(sys.mass() * rig);
+  // The speed the controller holds is the rigid mode's. Without flexible rig shafts the sun's
+  // speed averaged over the window is that speed (the gear train's elastic motion repeats every
+  // mesh period). A machine behind a flexible shaft moves against the gear train at the shaft's
+  // mode, which can be far slower than the window: the sun's window mean then carries that mode,
+  // and a controller acting on it with the whole train's inertia (machine included) injects
+  // energy and diverges (measured: a 6 kg m^2 motor on a 2000 N m/rad shaft, seed stage at
+  // 400 rpm). The rigid mode's own speed, the mass-weighted projection (r'M v) / (r'M r), leaves
+  // every elastic mode out exactly (they are M-orthogonal to r).
+  const bool flexible_rig_shaft =
+      !speed_held_by_rig && (c.rig.input_shaft_stiffness_N_m_rad > 0 || c.rig.output_shaft_stiffness_N_m_rad > 0);
+  const Eigen::VectorXd Mr_per_I = flexible_rig_shaft ? Eigen::VectorXd(sys.mass() * rig / I_eq) : Eigen::VectorXd();
+  const auto rigid_speed = [&](const Eigen::VectorXd& v) {
+    return flexible_rig_shaft ? Mr_per_I.dot(v) : sys.sun_theta_row().dot(v);
+  };
   const double k_r = speed_held_by_rig ? 1.0 : sys.output_theta_row().dot(rig);
   const int window = periodic_per_mesh ? 1 : std::max(c.stage.sun.teeth, c.stage.planet.teeth);
   // Torque ripple modulates the speed at k f_s, not a multiple of the mesh
@@ -420,9 +434,9 @@ WarmupStats warm_up(Integration& r, const ProgressFn& report, double f0, double 
     const long tail = ripple ? ripple_steps : spm;  // speed at the end: last mesh (or ripple) period
     for (long k = 0; k < n; ++k) {
       r.step();
-      const double ws = Omega + sys.sun_theta_row().dot(r.st.v);
+      const double ws = Omega + rigid_speed(r.st.v);
       mean_ws += ws;
-      mean_as += sys.sun_theta_row().dot(r.st.a);
+      mean_as += rigid_speed(r.st.a);
       mean_Ts += sys.input_torque_Nm(r.st.t, r.st.q, r.st.v);
       if (k >= n - tail) last_ws += ws;
       if (k < tail) first_ws += ws;
