@@ -38,7 +38,8 @@ CLI::App* add_calibrate_command(CLI::App& app, CalibrateCommandOptions& o) {
   c->add_option("-o,--output", o.output, "calibration file to write (TOML)")->required();
   c->add_option("--rig-elements", o.rig_elements,
                 "candidates fitted as nuisance parameters when the recording can see them (default: "
-                "encoder_bandwidth; motor_inertia, load_inertia and tip_relief may be added, docs/diagnose.md "
+                "encoder_bandwidth; motor_inertia, load_inertia (rigidly coupled machines) or input_shaft, "
+                "output_shaft (machines behind flexible shafts), and tip_relief may be added, docs/diagnose.md "
                 "section 6a; 'none' for none)")
       ->delimiter(',');
   c->add_option("--threads", o.threads, "OpenMP threads (default: OMP_NUM_THREADS or all cores)")
@@ -112,6 +113,7 @@ int run_calibrate(const CalibrateCommandOptions& o) {
   cal.rig_elements = rig;
   std::vector<std::vector<diagnose::CalibrationCell>> cells;
   std::vector<std::vector<diagnose::FittedParameter>> params;
+  model::SimulationConfig base_config;  // the gear set's, for the rig elements' settings
   for (std::size_t i = 0; i < o.recordings.size(); ++i) {
     // 1. Inputs and the nuisance-only diagnosis, as `diagnose` would start.
     DiagnoseCommandOptions d;
@@ -121,6 +123,7 @@ int run_calibrate(const CalibrateCommandOptions& o) {
     d.threads = o.threads;
     d.alpha = o.alpha;
     const DiagnoseInputs in = read_diagnose_inputs(d);
+    if (i == 0) base_config = in.config;
     diagnose::DiagnoseOptions opt;
     opt.alpha = o.alpha;
     opt.threads = o.threads;
@@ -145,6 +148,8 @@ int run_calibrate(const CalibrateCommandOptions& o) {
   // 2. The calibration.
   cal.discrepancy = diagnose::estimate_discrepancy(cells);
   cal.overrides = diagnose::median_overrides(params);
+  for (std::string& line : diagnose::rig_element_settings(rig, base_config, cal.overrides))
+    cal.overrides.push_back(std::move(line));
   cal.at_bound = diagnose::parameters_at_bound(params);
   // 3. The file and the table.
   io::write_calibration(cal, o.output);

@@ -135,6 +135,32 @@ std::vector<std::string> median_overrides(const std::vector<std::vector<FittedPa
   return out;
 }
 
+std::vector<std::string> rig_element_settings(const std::vector<std::string>& rig_elements,
+                                              const model::SimulationConfig& config,
+                                              const std::vector<std::string>& overrides) {
+  auto key_of = [](const std::string& line) { return line.substr(0, line.find('=')); };
+  std::map<std::string, double> value;
+  for (const std::string& line : overrides) value[key_of(line)] = std::stod(line.substr(line.find('=') + 1));
+  std::vector<std::string> out;
+  for (const std::string& name : rig_elements) {
+    const Candidate* c = find_candidate(name);
+    if (!c) continue;
+    std::vector<double> x;
+    for (const ParameterSpec& p : c->parameters(config))
+      if (value.count(p.name)) x.push_back(value[p.name]);
+    if (x.size() != c->parameters(config).size()) continue;
+    model::SimulationConfig applied = config;
+    std::vector<std::string> lines;
+    c->apply(applied, Variant{}, x, &lines);
+    for (const std::string& line : lines)
+      if (!value.count(key_of(line))) {
+        value[key_of(line)] = 0;  // once
+        out.push_back(line);
+      }
+  }
+  return out;
+}
+
 std::vector<std::string> parameters_at_bound(const std::vector<std::vector<FittedParameter>>& per_recording) {
   struct Count {
     int lower = 0, upper = 0;

@@ -66,6 +66,15 @@ std::vector<DiscrepancyEstimate> estimate_discrepancy(const std::vector<std::vec
 /// "key=value" overrides (key = the parameter's configuration key).
 std::vector<std::string> median_overrides(const std::vector<std::vector<FittedParameter>>& per_recording);
 
+/// The "key=value" lines the rig elements' apply() writes besides their parameters (the machine
+/// inertia a shaft element assumes when the configuration states none, rig_shaft.cpp), at their
+/// values in `overrides`, for keys `overrides` lacks: appended to the medians, they make the
+/// calibrated model the one that was fitted. An element whose parameters are not all in
+/// `overrides` (its recordings could not see it) adds nothing.
+std::vector<std::string> rig_element_settings(const std::vector<std::string>& rig_elements,
+                                              const model::SimulationConfig& config,
+                                              const std::vector<std::string>& overrides);
+
 /// One line per nuisance parameter (sensor gains excepted) whose fit sat at a bound of its
 /// box on at least one recording: "stiffness.scale at its upper bound 2 on 8 of 8 recordings".
 /// A calibrated value at a bound is not a fit but a limit: the rig differs from the model by

@@ -38,6 +38,21 @@ std::vector<double> nuisance_start(const std::vector<ParameterSpec>& specs, doub
     const double c = chi2(x);
     if (c < best) x0 = x, best = c;
   }
+  // Each later parameter that moves a resonance: a scan of its own over its box, the others
+  // where they are now, kept if a grid point beats the start so far.
+  for (std::size_t k = 1; k < specs.size(); ++k) {
+    if (!specs[k].scan_at_start) continue;
+    const std::vector<double> g =
+        geometric_grid(specs[k].lower * kNuisanceScanInset, specs[k].upper / kNuisanceScanInset, kNuisanceScanPoints);
+    std::vector<double> c(g.size(), std::numeric_limits<double>::infinity());
+    parallel_for(static_cast<int>(g.size()), threads, [&](int i) {
+      std::vector<double> x = x0;
+      x[k] = g[static_cast<std::size_t>(i)];
+      c[static_cast<std::size_t>(i)] = chi2(x);
+    });
+    const std::size_t j = static_cast<std::size_t>(std::min_element(c.begin(), c.end()) - c.begin());
+    if (c[j] < best) x0[k] = g[j], best = c[j];
+  }
   return x0;
 }
 

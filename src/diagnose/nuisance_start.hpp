@@ -4,6 +4,8 @@
 // (the others at their start values) picks it, unless the nominal model (every parameter
 // 'absent') fits better. A rig element fitted as nuisance (calibration) then starts present or
 // absent, whichever fits better: LM only accepts improvements, so it ends no worse than that.
+// A later parameter flagged ParameterSpec::scan_at_start (a rig shaft's stiffness, which moves
+// the shaft's mode through the lines) gets a scan of its own, the others held where they are.
 // Pure over a chi2 function, so the choice is tested without simulating. Internal to src/diagnose.
 #pragma once
 

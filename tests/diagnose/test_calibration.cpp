@@ -4,6 +4,7 @@
 // of about zero, and the calibrated model is the median of the fits.
 #include "diagnose/calibration.hpp"
 #include "diagnose/order_analysis.hpp"
+#include "model/simulation.hpp"
 
 #include <gtest/gtest.h>
 
@@ -94,6 +95,23 @@ TEST(Calibration, CalibratedModelIsTheMedianOfTheFitsWithoutTheSensorGains) {
 // A calibrated value at the edge of its box is a limit, not a fit: the calibration says
 // which parameter, which end and on how many recordings; parameters inside their boxes
 // and the sensor gains are not listed.
+TEST(Calibration, ARigElementsDerivedSettingsFollowItsCalibratedValuesAndOnlyForKeysTheMediansLack) {
+  // A shaft element writes its machine's inertia besides its two parameters when the gear set
+  // states none (rig_shaft.cpp): the calibrated model must carry that line, or the shaft would
+  // hang on a massless machine (an input error). An element whose parameters the medians lack
+  // (not visible in the recordings) adds nothing; a key already among the medians is not repeated.
+  pw::model::SimulationConfig base;
+  const std::vector<std::string> medians = {"stiffness.scale=1.2", "rig.output_shaft_stiffness_N_m_rad=1000000",
+                                            "rig.output_shaft_damping_N_m_s_rad=60"};
+  const std::vector<std::string> lines =
+      rig_element_settings({"encoder_bandwidth", "input_shaft", "output_shaft"}, base, medians);
+  ASSERT_EQ(lines.size(), 1u);
+  EXPECT_EQ(lines[0].substr(0, lines[0].find('=')), "stage.output_inertia_kgm2");
+  EXPECT_GT(std::stod(lines[0].substr(lines[0].find('=') + 1)), 1.0);  // a speed source, 1e4 x the carrier
+  base.stage.output_inertia_kgm2 = 0.8;  // stated by the gear set: nothing to add
+  EXPECT_TRUE(rig_element_settings({"output_shaft"}, base, medians).empty());
+}
+
 TEST(Calibration, ParametersFittedAtABoundAreListedWithTheEndAndTheirCount) {
   auto p = [](const std::string& n, double v, double lo, double hi, bool at_bound) {
     FittedParameter f;

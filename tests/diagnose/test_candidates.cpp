@@ -242,6 +242,60 @@ TEST(Candidates, RigInertiasAreScaledByTheBodysOwnInertiaAndAbsentAtTheBottomOfT
   EXPECT_GT(carrier, sun);
 }
 
+TEST(Candidates, RigShaftsAreBoundedByTheBodysModeOnThemAndPutASpeedSourceBehindThem) {
+  // Stiffness k over J_b (2 pi f)^2 for f from f_m / 100 ('absent', the bottom) to 30 f_m,
+  // screened at f_m, scanned at the nuisance start; damping c over 2 zeta sqrt(k J_b) from 1 %
+  // at the softest to 100 % at the stiffest, screened at 5 % of the screening stiffness; J_b the
+  // body's own inertia (sun disc; carrier with its planets). Without a configured machine,
+  // applying writes a speed source (1e4 J_b) with the shaft; with one, only the shaft. The
+  // result is a configuration the validator accepts (a flexible shaft needs a machine inertia).
+  model::SimulationConfig b;
+  b.operating.input_speed_rpm = 400;
+  const geometry::StageGeometry g = geometry::make_stage_geometry(b.stage);
+  const model::MassProperties m = model::mass_properties(b, g);
+  const double sun = m.sun_inertia_kgm2;
+  const double carrier = m.carrier_inertia_kgm2 + 3 * m.planet_mass_kg * g.carrier_radius_m * g.carrier_radius_m;
+  const double wm = 2 * std::numbers::pi * model::mesh_frequency_Hz(b.stage, 400.0);
+  for (const auto& [name, J, prefix, machine] :
+       {std::tuple{"input_shaft", sun, "rig.input_shaft_", "stage.input_inertia_kgm2"},
+        std::tuple{"output_shaft", carrier, "rig.output_shaft_", "stage.output_inertia_kgm2"}}) {
+    SCOPED_TRACE(name);
+    const Candidate* c = find_candidate(name);
+    ASSERT_NE(c, nullptr);
+    const auto p = c->parameters(b);
+    ASSERT_EQ(p.size(), 2u);
+    EXPECT_EQ(p[0].name, std::string(prefix) + "stiffness_N_m_rad");
+    EXPECT_EQ(p[1].name, std::string(prefix) + "damping_N_m_s_rad");
+    EXPECT_TRUE(p[0].log_scale && p[1].log_scale && p[0].scan_at_start && !p[1].scan_at_start);
+    EXPECT_NEAR(p[0].lower / (J * std::pow(0.01 * wm, 2)), 1.0, 1e-12);
+    EXPECT_NEAR(p[0].upper / (J * std::pow(30 * wm, 2)), 1.0, 1e-12);
+    EXPECT_NEAR(p[0].screen_value / (J * wm * wm), 1.0, 1e-12);
+    EXPECT_EQ(p[0].null_value, p[0].lower);
+    EXPECT_NEAR(p[1].lower / (2 * 0.01 * std::sqrt(p[0].lower * J)), 1.0, 1e-12);
+    EXPECT_NEAR(p[1].upper / (2 * 1.0 * std::sqrt(p[0].upper * J)), 1.0, 1e-12);
+    EXPECT_NEAR(p[1].screen_value / (2 * 0.05 * std::sqrt(p[0].screen_value * J)), 1.0, 1e-12);
+    EXPECT_EQ(p[1].null_value, p[1].lower);
+    model::SimulationConfig applied = b;
+    std::vector<std::string> o;
+    const double x[] = {2.5e5, 12.0};
+    c->apply(applied, Variant{}, x, &o);
+    ASSERT_EQ(o.size(), 3u);
+    EXPECT_EQ(o[0].substr(0, o[0].find('=')), machine);
+    EXPECT_NEAR(std::stod(o[0].substr(o[0].find('=') + 1)) / (1e4 * J), 1.0, 1e-12);
+    EXPECT_EQ(o[1], std::string(prefix) + "stiffness_N_m_rad=250000");
+    EXPECT_EQ(o[2], std::string(prefix) + "damping_N_m_s_rad=12");
+    EXPECT_NO_THROW(model::validate(applied));
+    // Configured now: the shaft is both the start and 'absent'; the machine is not rewritten.
+    const auto q = c->parameters(applied);
+    EXPECT_EQ(q[0].null_value, 2.5e5);
+    EXPECT_EQ(q[0].initial, 2.5e5);
+    EXPECT_EQ(q[1].null_value, 12.0);
+    std::vector<std::string> again;
+    c->apply(applied, Variant{}, x, &again);
+    EXPECT_EQ(again.size(), 2u);
+  }
+}
+
 TEST(Candidates, DampingScreenStepStaysInsideTheKeysRangeAtItsTop) {
   // contact.mesh_damping_ratio <= 1 (model/validate.cpp): at 1 the screening secant points down.
   const Candidate* c = find_candidate("damping_level");

@@ -72,6 +72,34 @@ TEST(NuisanceStart, ARigElementStartsAbsentWhenTheRecordingIsBetterWithoutIt) {
   EXPECT_EQ(nuisance_start(s, 1e9, present_better, 1)[1], 2e4);
 }
 
+TEST(NuisanceStart, AScannedRigElementStartsAtTheGridPointNearestItsBasinAndOnlyWhenItIsBetter) {
+  // A shaft stiffness over [1, 1e8] (absent at the bottom, screened at 1e4): chi2 has its basin at
+  // 3e6, which neither 'absent' nor the screening value is near. Scanned (7 log-spaced points over
+  // [1.4, 1e8 / 1.4]: ratio 10^(7.7 / 6), points 1.4, 27, ..., 3.7e6, 7.1e7), the start is the grid
+  // point nearest the basin; unflagged, it stays at the better of absent and screened; and a scan
+  // whose every point is worse than the start so far changes nothing.
+  std::vector<ParameterSpec> s = stiffness_only();
+  s.push_back(spec(1.0, 1e8, 1e4, 1.0));
+  const auto shaft_basin = [](const std::vector<double>& x) {
+    return 10.0 + 1000.0 * std::pow(std::log(x[0] / 1.3), 2) + 100.0 * std::pow(std::log(x[1] / 3e6), 2);
+  };
+  const std::vector<double> unflagged = nuisance_start(s, 1e9, shaft_basin, 1);
+  EXPECT_EQ(unflagged[1], 1e4);
+  s[1].scan_at_start = true;
+  const std::vector<double> scanned = nuisance_start(s, 1e9, shaft_basin, 1);
+  const std::vector<double> grid = geometric_grid(1.0 * kNuisanceScanInset, 1e8 / kNuisanceScanInset, kNuisanceScanPoints);
+  double nearest = grid.front();
+  for (double g : grid)
+    if (std::fabs(std::log(g / 3e6)) < std::fabs(std::log(nearest / 3e6))) nearest = g;
+  EXPECT_EQ(scanned[1], nearest);
+  EXPECT_NEAR(scanned[0], unflagged[0], 0.0);  // the first parameter's scan is not redone
+  const auto present_only_at_start = [](const std::vector<double>& x) {
+    return 10.0 + 1000.0 * std::pow(std::log(x[0] / 1.3), 2) + (x[1] == 1e4 ? 0.0 : 50.0);
+  };
+  EXPECT_EQ(nuisance_start(s, 1e9, present_only_at_start, 1)[1], 1e4);
+  EXPECT_EQ(nuisance_start(s, 1e9, shaft_basin, 1), nuisance_start(s, 1e9, shaft_basin, 2));
+}
+
 TEST(NuisanceStart, TwoThreadsGiveTheSameStartAsOne) {
   EXPECT_EQ(nuisance_start(stiffness_only(), 1e9, basin_at(0.9), 1), nuisance_start(stiffness_only(), 1e9, basin_at(0.9), 2));
 }

@@ -41,6 +41,10 @@ struct ParameterSpec {
   /// standard error is meaningless and "absent" is tested by likelihood ratio instead of
   /// Wald; the report gives the smallest value that fits as well (docs/diagnose.md §5).
   bool saturates = false;
+  /// chi2 is far from quadratic in it (it moves a resonance through the lines, as a rig shaft's
+  /// stiffness does): fitted as nuisance, its start is the best of a coarse scan over its box
+  /// (nuisance_start.hpp), not a local step from 'absent' or its screening value.
+  bool scan_at_start = false;
 };
 
 /// What locate() found, as far as candidates need it to propose variants.

@@ -24,5 +24,7 @@ std::unique_ptr<Candidate> encoder_bandwidth();     // encoder_bandwidth.cpp
 std::unique_ptr<Candidate> tip_relief();            // tip_relief.cpp
 std::unique_ptr<Candidate> motor_inertia();         // rig_inertia.cpp
 std::unique_ptr<Candidate> load_inertia();          // rig_inertia.cpp
+std::unique_ptr<Candidate> input_shaft();           // rig_shaft.cpp
+std::unique_ptr<Candidate> output_shaft();          // rig_shaft.cpp
 
 } // namespace pw::diagnose::candidates

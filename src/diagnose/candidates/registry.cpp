@@ -47,6 +47,8 @@ const std::vector<std::unique_ptr<Candidate>>& candidate_library() {
     t.push_back(candidates::tip_relief());
     t.push_back(candidates::motor_inertia());
     t.push_back(candidates::load_inertia());
+    t.push_back(candidates::input_shaft());
+    t.push_back(candidates::output_shaft());
     return t;
   }();
   return table;

@@ -22,9 +22,7 @@
 // A flexible shaft (rig.input_shaft_stiffness_N_m_rad > 0) in the configuration puts the
 // machine behind it; the candidate then fits the inertia at the far end of that shaft.
 #include "diagnose/candidates/factories.hpp"
-
-#include "geometry/mesh.hpp"
-#include "model/simulation.hpp"
+#include "diagnose/candidates/rig_body.hpp"
 
 #include <algorithm>
 
@@ -32,30 +30,14 @@ namespace pw::diagnose::candidates {
 namespace {
 
 constexpr double kAbsentOfOwnInertia = 1e-4;
-constexpr double kLargestOfOwnInertia = 1e4;
 constexpr double kScreenOfOwnInertia = 1.0;
-
-enum class Machine { Motor, Load };
-
-/// The body's own torsional inertia [kg m^2] as the model derives it, without any machine:
-/// the sun, or the carrier with its planets' masses at the carrier radius.
-double own_inertia_kgm2(const model::SimulationConfig& b, Machine m) {
-  model::SimulationConfig bare = b;
-  bare.stage.input_inertia_kgm2 = 0;
-  bare.stage.output_inertia_kgm2 = 0;
-  const geometry::StageGeometry g = geometry::make_stage_geometry(bare.stage);
-  const model::MassProperties p = model::mass_properties(bare, g);
-  if (m == Machine::Motor) return p.sun_inertia_kgm2;
-  const double rc = g.carrier_radius_m;
-  return p.carrier_inertia_kgm2 + b.stage.planet_count * p.planet_mass_kg * rc * rc;
-}
 
 class RigInertia final : public Candidate {
 public:
-  explicit RigInertia(Machine m) : machine_(m) {}
-  std::string name() const override { return machine_ == Machine::Motor ? "motor_inertia" : "load_inertia"; }
+  explicit RigInertia(RigEnd m) : machine_(m) {}
+  std::string name() const override { return machine_ == RigEnd::Input ? "motor_inertia" : "load_inertia"; }
   std::string physics() const override {
-    return machine_ == Machine::Motor
+    return machine_ == RigEnd::Input
                ? "a motor (rotor, coupling) turns with the sun: an inertia on the input shaft that the gear-set "
                  "model lacks, which damps the sun's speed response to the mesh forces"
                : "a load machine (dynamometer, coupling) turns with the carrier: an inertia on the output shaft that "
@@ -67,7 +49,7 @@ public:
     const double configured = configured_kgm2(b);
     const double absent = configured > 0 ? configured : kAbsentOfOwnInertia * own;
     const double lower = std::min(kAbsentOfOwnInertia * own, absent);
-    const double upper = std::max(kLargestOfOwnInertia * own, absent);
+    const double upper = std::max(kSpeedSourceOfOwnInertia * own, absent);
     const double screen = std::clamp(kScreenOfOwnInertia * own, lower, upper);
     ParameterSpec p{.name = key(), .unit = "kg m^2", .lower = lower, .upper = upper, .log_scale = true,
         .initial = configured > 0 ? configured : screen, .null_value = absent, .screen_value = screen};
@@ -80,14 +62,14 @@ public:
   }
 
 private:
-  std::string key() const { return machine_ == Machine::Motor ? "stage.input_inertia_kgm2" : "stage.output_inertia_kgm2"; }
+  std::string key() const { return machine_ == RigEnd::Input ? "stage.input_inertia_kgm2" : "stage.output_inertia_kgm2"; }
   double configured_kgm2(const model::SimulationConfig& b) const {
-    return machine_ == Machine::Motor ? b.stage.input_inertia_kgm2 : b.stage.output_inertia_kgm2;
+    return machine_ == RigEnd::Input ? b.stage.input_inertia_kgm2 : b.stage.output_inertia_kgm2;
   }
-  Machine machine_;
+  RigEnd machine_;
 };
 
 } // namespace
-std::unique_ptr<Candidate> motor_inertia() { return std::make_unique<RigInertia>(Machine::Motor); }
-std::unique_ptr<Candidate> load_inertia() { return std::make_unique<RigInertia>(Machine::Load); }
+std::unique_ptr<Candidate> motor_inertia() { return std::make_unique<RigInertia>(RigEnd::Input); }
+std::unique_ptr<Candidate> load_inertia() { return std::make_unique<RigInertia>(RigEnd::Output); }
 } // namespace pw::diagnose::candidates

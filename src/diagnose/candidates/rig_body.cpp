@@ -1,0 +1,18 @@
+#include "diagnose/candidates/rig_body.hpp"
+
+#include "geometry/mesh.hpp"
+
+namespace pw::diagnose::candidates {
+
+double own_inertia_kgm2(const model::SimulationConfig& b, RigEnd end) {
+  model::SimulationConfig bare = b;
+  bare.stage.input_inertia_kgm2 = 0;
+  bare.stage.output_inertia_kgm2 = 0;
+  const geometry::StageGeometry g = geometry::make_stage_geometry(bare.stage);
+  const model::MassProperties p = model::mass_properties(bare, g);
+  if (end == RigEnd::Input) return p.sun_inertia_kgm2;
+  const double rc = g.carrier_radius_m;
+  return p.carrier_inertia_kgm2 + b.stage.planet_count * p.planet_mass_kg * rc * rc;
+}
+
+} // namespace pw::diagnose::candidates

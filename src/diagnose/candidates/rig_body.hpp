@@ -1,0 +1,20 @@
+// The two ends of the stage where a test rig attaches its machines (rig elements
+// rig_inertia.cpp, rig_shaft.cpp): the input shaft turns with the sun, the output shaft with
+// the carrier.
+#pragma once
+
+#include "model/simulation.hpp"
+
+namespace pw::diagnose::candidates {
+
+enum class RigEnd { Input, Output };
+
+/// A machine this many times the body's own inertia is a speed source at every analysed
+/// frequency: its speed does not follow the mesh forces (the largest rig inertia fitted).
+constexpr double kSpeedSourceOfOwnInertia = 1e4;
+
+/// The body's own torsional inertia [kg m^2] as the model derives it, without any machine:
+/// the sun's disc (input), or the carrier with its planets' masses at the carrier radius (output).
+double own_inertia_kgm2(const model::SimulationConfig& b, RigEnd end);
+
+} // namespace pw::diagnose::candidates
