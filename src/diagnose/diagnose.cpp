@@ -176,7 +176,7 @@ private:
                   kFidelitySimulations);
     long params = 0, candidates = 0, one_parameter = 0;
     for (const auto& c : candidate_library()) {
-      if (c->nuisance() || extra_nuisance(*c) || !allowed(*c)) continue;
+      if (!screened(*c)) continue;
       const std::size_t k = c->parameters(ctx().base).size();
       params += static_cast<long>(k);
       ++candidates;
@@ -212,6 +212,10 @@ private:
   }
   bool extra_nuisance(const Candidate& c) const {
     return std::find(o_.extra_nuisance.begin(), o_.extra_nuisance.end(), c.name()) != o_.extra_nuisance.end();
+  }
+  /// A candidate the screening considers as a finding.
+  bool screened(const Candidate& c) const {
+    return !c.nuisance() && !extra_nuisance(c) && allowed(c) && !c.calibration_only();
   }
   ModelComparison& cmp() { return *cmp_; }
   FitContext& ctx() { return *ctx_; }
@@ -416,7 +420,7 @@ private:
     const FeatureLayout& layout = cmp().spectra().layout;
     screening_->add_variants(
         [&](const Candidate& c) {
-          return !c.nuisance() && !extra_nuisance(c) && allowed(c) && !(c.sensor_only() && !housing) &&
+          return screened(c) && !(c.sensor_only() && !housing) &&
                  resolvable(c, layout);
         },
         d_.location.evidence, *teeth_);

@@ -79,6 +79,11 @@ public:
   virtual std::vector<Component> families() const = 0;
   /// Nuisance: fitted first, before any candidate, and kept in every fit.
   virtual bool nuisance() const { return false; }
+  /// Fitted only as a rig element a calibration asks for (`calibrate --rig-elements`, then
+  /// recalibrated by the diagnoses that use it), never screened as a finding: its box does not
+  /// reach a value without effect ('absent' is only its softest end), so "it improves on the
+  /// model without it" cannot be tested.
+  virtual bool calibration_only() const { return false; }
   virtual std::vector<ParameterSpec> parameters(const model::SimulationConfig& base) const = 0;
   /// Discrete variants to screen, most likely first (default: one).
   virtual std::vector<Variant> variants(const LocatedEvidence& evidence, const model::SimulationConfig& base,
