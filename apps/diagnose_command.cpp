@@ -112,8 +112,13 @@ CLI::App* add_diagnose_command(CLI::App& app, DiagnoseCommandOptions& o) {
 }
 
 DiagnoseInputs read_diagnose_inputs(const DiagnoseCommandOptions& o) {
-  for (const auto& name : o.candidates)
-    require(diagnose::find_candidate(name) != nullptr, "--candidates", "unknown candidate '", name, "'");
+  for (const auto& name : o.candidates) {
+    const diagnose::Candidate* c = diagnose::find_candidate(name);
+    require(c != nullptr, "--candidates", "unknown candidate '", name, "'");
+    require(!c->calibration_only(), "--candidates", "'", name,
+            "' is a calibration-only rig element, never screened as a finding: fit it with "
+            "`planetwear calibrate --rig-elements ", name, "` and diagnose with --calibration");
+  }
   require(o.baseline.empty() || o.calibration.empty(), "--baseline",
           "give either --baseline (differential) or --calibration (absolute with a discrepancy budget), not both");
   require(o.baseline_meta.empty() || !o.baseline.empty(), "--baseline-meta", "given without --baseline");

@@ -36,6 +36,8 @@ printf 'time [s],w [rpm]\n0,800\n0.001,800\n0.002,800\n' > cl.csv
 check column-bad-quantity 1 "--column" cl_rep -- "$PW" diagnose -r cl.csv -o cl_rep --column w=sun_sped,unit=rpm --speed-rpm 800 --power-w 2e4
 check column-described-here 1 "sample rate 1000 Hz is too low" cl_rep -- "$PW" diagnose -r cl.csv -o cl_rep --column w=sun_speed,unit=rpm --speed-rpm 800 --power-w 2e4
 check column-no-sidecar 1 "--meta" cl_rep -- "$PW" diagnose -r cl.csv -o cl_rep
+# a calibration-only rig element is not a finding to restrict the library to: the error says where it belongs.
+check calibration-only-candidate 1 "calibrate --rig-elements output_shaft" cl_rep -- "$PW" diagnose -r cl.csv -o cl_rep --candidates output_shaft --column w=sun_speed,unit=rpm --speed-rpm 800 --power-w 2e4
 # calibrate: sidecars must pair with recordings; an unknown rig element and a malformed
 # calibration file are input errors naming the option or key; nothing is written.
 check calibrate-meta-count 1 "--meta" cal.toml -- "$PW" calibrate -r cl.csv --meta a.json --meta b.json -o cal.toml
