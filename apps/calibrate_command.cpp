@@ -98,6 +98,44 @@ std::vector<std::string> visible_rig_elements(const std::vector<std::string>& ri
   return out;
 }
 
+/// One recording's nuisance-only diagnosis with the rig elements `rig`, and its gear-set configuration.
+struct RecordingFit {
+  model::SimulationConfig config;
+  diagnose::Diagnosis diagnosis;
+};
+
+std::vector<RecordingFit> fit_recordings(const CalibrateCommandOptions& o, const std::vector<std::string>& rig) {
+  std::vector<RecordingFit> out;
+  for (std::size_t i = 0; i < o.recordings.size(); ++i) {
+    // Inputs and the nuisance-only diagnosis, as `diagnose` would start.
+    DiagnoseCommandOptions d;
+    d.common = o.common;
+    d.recording = o.recordings[i];
+    if (!o.metas.empty()) d.meta = o.metas[i];
+    d.threads = o.threads;
+    d.alpha = o.alpha;
+    const DiagnoseInputs in = read_diagnose_inputs(d);
+    diagnose::DiagnoseOptions opt;
+    opt.alpha = o.alpha;
+    opt.threads = o.threads;
+    opt.nuisance_only = true;
+    opt.extra_nuisance = visible_rig_elements(rig, in.recording);
+    opt.compare.alpha = o.alpha;
+    if (!o.common.quiet) {
+      std::fprintf(stderr, "[calibrate] recording %zu of %zu: %s (rig elements: %zu)\n", i + 1, o.recordings.size(),
+                   d.recording.c_str(), opt.extra_nuisance.size());
+      opt.progress = [](const std::string& s) { std::fprintf(stderr, "[calibrate]   %s\n", s.c_str()); };
+    }
+    RecordingFit f{in.config, diagnose::diagnose(in.recording, in.config, opt)};
+    if (!o.common.quiet)
+      std::fprintf(stderr, "[calibrate]   nuisance-fitted chi2 %.4g (fit) / %.4g (held out), noise bounds %.4g / %.4g\n",
+                   f.diagnosis.nuisance.fit.chi2, f.diagnosis.nuisance.held_out.chi2, f.diagnosis.bound_fit,
+                   f.diagnosis.bound_held_out);
+    out.push_back(std::move(f));
+  }
+  return out;
+}
+
 } // namespace
 
 int run_calibrate(const CalibrateCommandOptions& o) {
@@ -110,35 +148,33 @@ int run_calibrate(const CalibrateCommandOptions& o) {
 
   diagnose::Calibration cal;
   cal.alpha = o.alpha;
+  std::vector<RecordingFit> fits = fit_recordings(o, rig);
+  // Calibration-only rig elements (a shaft behind a speed source) have no value without effect,
+  // so LM cannot fall back to the model without them: they are kept only if the fit with them
+  // beats the fit without on every recording's held-out half.
+  std::vector<std::string> plain;
+  for (const std::string& r : rig)
+    if (!diagnose::find_candidate(r)->calibration_only()) plain.push_back(r);
+  if (plain.size() != rig.size()) {
+    std::vector<RecordingFit> without = fit_recordings(o, plain);
+    for (std::size_t i = 0; i < fits.size(); ++i)
+      if (!(fits[i].diagnosis.nuisance.held_out.chi2 < without[i].diagnosis.nuisance.held_out.chi2)) {
+        std::fprintf(stderr,
+                     "[calibrate] the calibration-only rig elements are left out: on recording %zu the fit with them "
+                     "leaves held-out chi2 %.4g, without them %.4g\n",
+                     i + 1, fits[i].diagnosis.nuisance.held_out.chi2, without[i].diagnosis.nuisance.held_out.chi2);
+        fits = std::move(without);
+        rig = plain;
+        break;
+      }
+  }
   cal.rig_elements = rig;
   std::vector<std::vector<diagnose::CalibrationCell>> cells;
   std::vector<std::vector<diagnose::FittedParameter>> params;
-  model::SimulationConfig base_config;  // the gear set's, for the rig elements' settings
-  for (std::size_t i = 0; i < o.recordings.size(); ++i) {
-    // 1. Inputs and the nuisance-only diagnosis, as `diagnose` would start.
-    DiagnoseCommandOptions d;
-    d.common = o.common;
-    d.recording = o.recordings[i];
-    if (!o.metas.empty()) d.meta = o.metas[i];
-    d.threads = o.threads;
-    d.alpha = o.alpha;
-    const DiagnoseInputs in = read_diagnose_inputs(d);
-    if (i == 0) base_config = in.config;
-    diagnose::DiagnoseOptions opt;
-    opt.alpha = o.alpha;
-    opt.threads = o.threads;
-    opt.nuisance_only = true;
-    opt.extra_nuisance = visible_rig_elements(rig, in.recording);
-    opt.compare.alpha = o.alpha;
-    if (!o.common.quiet) {
-      std::fprintf(stderr, "[calibrate] recording %zu of %zu: %s\n", i + 1, o.recordings.size(), d.recording.c_str());
-      opt.progress = [](const std::string& s) { std::fprintf(stderr, "[calibrate]   %s\n", s.c_str()); };
-    }
-    const diagnose::Diagnosis r = diagnose::diagnose(in.recording, in.config, opt);
-    if (!o.common.quiet)
-      std::fprintf(stderr, "[calibrate]   nuisance-fitted chi2 %.4g (fit) / %.4g (held out), noise bounds %.4g / %.4g\n",
-                   r.nuisance.fit.chi2, r.nuisance.held_out.chi2, r.bound_fit, r.bound_held_out);
-    cal.recordings.push_back(d.recording);
+  const model::SimulationConfig& base_config = fits.front().config;  // the gear set's, for the rig elements' settings
+  for (std::size_t i = 0; i < fits.size(); ++i) {
+    const diagnose::Diagnosis& r = fits[i].diagnosis;
+    cal.recordings.push_back(o.recordings[i]);
     cal.speeds_rpm.push_back(r.speed.input_rpm);
     cal.verdicts.push_back(diagnose::to_string(r.verdict));
     cells.push_back(r.calibration_cells);
