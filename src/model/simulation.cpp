@@ -434,9 +434,10 @@ WarmupStats warm_up(Integration& r, const ProgressFn& report, double f0, double 
     const long tail = ripple ? ripple_steps : spm;  // speed at the end: last mesh (or ripple) period
     for (long k = 0; k < n; ++k) {
       r.step();
-      const double ws = Omega + rigid_speed(r.st.v);
+      const double ws_sun = Omega + sys.sun_theta_row().dot(r.st.v);
+      const double ws = flexible_rig_shaft ? Omega + Mr_per_I.dot(r.st.v) : ws_sun;
       mean_ws += ws;
-      mean_sun_ws += Omega + sys.sun_theta_row().dot(r.st.v);
+      mean_sun_ws += ws_sun;
       mean_as += rigid_speed(r.st.a);
       mean_Ts += sys.input_torque_Nm(r.st.t, r.st.q, r.st.v);
       if (k >= n - tail) last_ws += ws;
