@@ -145,10 +145,11 @@ std::vector<std::string> rig_element_settings(const std::vector<std::string>& ri
   for (const std::string& name : rig_elements) {
     const Candidate* c = find_candidate(name);
     if (!c) continue;
+    const std::vector<ParameterSpec> specs = c->parameters(config);
     std::vector<double> x;
-    for (const ParameterSpec& p : c->parameters(config))
+    for (const ParameterSpec& p : specs)
       if (value.count(p.name)) x.push_back(value[p.name]);
-    if (x.size() != c->parameters(config).size()) continue;
+    if (x.size() != specs.size()) continue;
     model::SimulationConfig applied = config;
     std::vector<std::string> lines;
     c->apply(applied, Variant{}, x, &lines);
