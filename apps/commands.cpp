@@ -58,14 +58,17 @@ private:
 /// Spectra of every mesh-line acceleration and deflection and of the
 /// transmission error: Hann window, peak-amplitude scaling (docs/spectra.md).
 std::vector<io::SpectrumRecord> spectra_of(const model::SimulationResult& r) {
+  std::vector<const model::Channel*> wanted;
+  for (const auto& ch : r.channels)
+    if (ch.name.ends_with("/acceleration") || ch.name.ends_with("/deflection") || ch.name == "transmission_error")
+      wanted.push_back(&ch);
+  std::vector<std::span<const double>> signals;
+  for (const model::Channel* ch : wanted) signals.emplace_back(ch->values);
+  const std::vector<signal::Spectrum> s =
+      signal::amplitude_spectra(signals, r.time_step_s, signal::Window::Hann);
   std::vector<io::SpectrumRecord> out;
-  for (const auto& ch : r.channels) {
-    const bool wanted = ch.name.ends_with("/acceleration") || ch.name.ends_with("/deflection") ||
-                        ch.name == "transmission_error";
-    if (!wanted) continue;
-    const signal::Spectrum s = signal::amplitude_spectrum(ch.values, r.time_step_s, signal::Window::Hann);
-    out.push_back({ch.name, ch.unit, s.window, s.scaling, s.frequency_Hz, s.amplitude});
-  }
+  for (std::size_t i = 0; i < wanted.size(); ++i)
+    out.push_back({wanted[i]->name, wanted[i]->unit, s[i].window, s[i].scaling, s[i].frequency_Hz, s[i].amplitude});
   return out;
 }
 
@@ -113,7 +116,7 @@ int run_simulate(const SimulateOptions& o) {
   const auto t2 = clock::now();
   {
     io::H5File f = io::H5File::create(h5.temp_path());
-    io::write_simulation(f, config, result, spectra);
+    io::write_simulation(f, config, result, spectra, {.compression_level = o.compression_level});
     f.close();
   }
   if (!o.csv.empty()) io::write_csv(o.csv, result);

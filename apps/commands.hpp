@@ -24,6 +24,7 @@ struct SimulateOptions {
   std::optional<double> kappa_m2_N;   ///< wear.coefficient_m2_N
   std::string output, csv;
   model::OutputSelection output_selection;  ///< --time-history-decimation, --channels
+  int compression_level = 0;                ///< --compression: 0 none, 1..9 shuffle + deflate
   std::string report;                       ///< --report: the engineering summary as Markdown
   double allowable_contact_stress_Pa = 0;   ///< --allowable-contact-stress-pa [Pa]
 };

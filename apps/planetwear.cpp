@@ -74,6 +74,10 @@ int main(int argc, char** argv) {
                 "store every k-th time step of the recorded mesh periods (as a campaign's "
                 "output.time_history_decimation; default 1 = every step)")
       ->check(CLI::Range(1, 1000000));
+  s->add_option("--compression", sim.compression_level,
+                "deflate level of the large datasets: 0 = none (default; fastest, about twice the file size), "
+                "1..9 = chunked, shuffle + deflate (9 smallest; level 4 costs ~2 s per 100 MB of time histories)")
+      ->check(CLI::Range(0, 9));
   s->add_option("--channels", sim.output_selection.channels,
                 "store only these time-history channels (comma-separated names as in docs/output-format.md; a "
                 "name ending in '/' selects everything below it, e.g. --channels sun_planet/0/,housing/acceleration)")

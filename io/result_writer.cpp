@@ -224,8 +224,11 @@ std::string_view software_version() { return PLANETWEAR_VERSION; }
 std::string_view build_flags() { return PLANETWEAR_BUILD_FLAGS; }
 
 void write_simulation(H5File& file, const model::SimulationConfig& config, const model::SimulationResult& result,
-                      const std::vector<SpectrumRecord>& spectra) {
+                      const std::vector<SpectrumRecord>& spectra, const WriteOptions& options) {
   // Check the whole result before writing anything.
+  if (options.compression_level < 0 || options.compression_level > 9)
+    throw std::invalid_argument("compression level must be in [0, 9] (0 = none), got " +
+                                std::to_string(options.compression_level));
   check_channels(result.channels, result.time_s.size(), "");
   check_wear(result.wear);
   for (const auto& s : result.scalars) check_name(s.name, "scalar");
@@ -256,7 +259,8 @@ void write_simulation(H5File& file, const model::SimulationConfig& config, const
 
   // Time histories.
   DatasetOptions large;
-  large.compress = true;
+  large.compress = options.compression_level > 0;
+  large.deflate_level = std::max(options.compression_level, 1);
   file.create_group("/time_history");
   file.set_attribute("/time_history", "time_step_s", result.time_step_s);
   file.set_attribute("/time_history", "description", "sampled channels, all on the time base ./time");

@@ -48,9 +48,18 @@ struct SpectrumRecord {
 inline constexpr std::string_view kOutputFormat = "planetwear.simulation";
 inline constexpr std::int64_t kOutputFormatVersion = 1;
 
+/// How the large datasets (time histories, curves, spectra, wear depths with
+/// 4096 or more values) are stored: level 0 contiguous and uncompressed (the
+/// default: deflate costs ~4x the physics of a 1 s run and halves the file,
+/// docs/benchmark.md session 20), 1..9 chunked with shuffle + deflate at that
+/// level.
+struct WriteOptions {
+  int compression_level = 0;  ///< 0 (none) .. 9 (smallest, slowest)
+};
+
 /// Writes the whole layout above into an empty (newly created) file. Time
-/// histories and wear depths with 4096 or more values are stored chunked with
-/// shuffle + deflate. Throws std::invalid_argument, before writing anything,
+/// histories and wear depths with 4096 or more values are stored as
+/// `options` says. Throws std::invalid_argument, before writing anything,
 /// for an inconsistent result (a channel not as long as its time base, x/y or
 /// frequency/amplitude of different lengths, names that are empty, absolute,
 /// contain "." or ".." components, a channel named "time"; wear: backlash not
@@ -61,7 +70,7 @@ inline constexpr std::int64_t kOutputFormatVersion = 1;
 /// lengths) and pw::io::IoError for HDF5 failures (including two objects of
 /// the same name).
 void write_simulation(H5File& file, const model::SimulationConfig& config, const model::SimulationResult& result,
-                      const std::vector<SpectrumRecord>& spectra);
+                      const std::vector<SpectrumRecord>& spectra, const WriteOptions& options = {});
 
 /// PLANETWEAR_VERSION and PLANETWEAR_BUILD_FLAGS as compiled into pw::io.
 std::string_view software_version();

@@ -4,10 +4,12 @@
 
 #include "core/error.hpp"
 #include "signal/fft.hpp"
+#include <omp.h>
 
 #include <algorithm>
 #include <cmath>
 #include <complex>
+#include <exception>
 #include <limits>
 #include <numbers>
 
@@ -104,6 +106,27 @@ Spectrum amplitude_spectrum(std::span<const double> x, double sample_interval_s,
   for (std::size_t k = 0; k < X.size(); ++k)
     s.amplitude[k] = one_sided_factor(k, n) * std::abs(X[k]) / coherent_sum;
   return s;
+}
+
+std::vector<Spectrum> amplitude_spectra(std::span<const std::span<const double>> xs, double sample_interval_s,
+                                        Window w, int threads, bool remove_mean) {
+  std::vector<Spectrum> out(xs.size());
+  std::vector<std::exception_ptr> errors(xs.size());
+  const int n = static_cast<int>(xs.size());
+  // One signal per iteration: each owns its FFT plan and buffers (RealFft's
+  // planner is serialized inside), so the threads share nothing.
+#pragma omp parallel for schedule(dynamic, 1) num_threads(threads > 0 ? threads : omp_get_max_threads()) if (n > 1)
+  for (int i = 0; i < n; ++i) {
+    const auto k = static_cast<std::size_t>(i);
+    try {
+      out[k] = amplitude_spectrum(xs[k], sample_interval_s, w, remove_mean);
+    } catch (...) {
+      errors[k] = std::current_exception();  // rethrown below, outside the parallel region
+    }
+  }
+  for (const auto& e : errors)
+    if (e) std::rethrow_exception(e);
+  return out;
 }
 
 std::vector<double> power_spectral_density(std::span<const double> x, double sample_interval_s,

@@ -68,6 +68,13 @@ inline constexpr std::string_view kPeakAmplitudeScaling =
 Spectrum amplitude_spectrum(std::span<const double> x, double sample_interval_s,
                             Window w = Window::Hann, bool remove_mean = true);
 
+/// amplitude_spectrum() of each signal in `xs`, computed `threads` at a time
+/// (0 = OpenMP's default; results do not depend on it: each is exactly what
+/// amplitude_spectrum() returns for that signal). The first error, in the
+/// order of `xs`, is rethrown.
+std::vector<Spectrum> amplitude_spectra(std::span<const std::span<const double>> xs, double sample_interval_s,
+                                        Window w = Window::Hann, int threads = 0, bool remove_mean = true);
+
 /// Welch estimate of the one-sided power spectral density [unit^2/Hz] on the
 /// bins f_k = k / (L dt), k = 0 .. L/2 (see rfft_frequencies_Hz(L, dt)).
 /// Segments of `segment_length` L samples, periodic Hann window, 50% overlap

@@ -303,7 +303,7 @@ TEST(ResultWriter, WearGroupExistsOnlyWithWearUpdates) {
   EXPECT_FALSE(f.exists("/wear"));
 }
 
-TEST(ResultWriter, WearDepthsLargeEnoughAreCompressedAndExact) {
+TEST(ResultWriter, LargeDatasetsAreCompressedOnlyWhenAskedAndExactEitherWay) {
   test::TempDir dir;
   auto r = small_result();
   r.wear.mesh_cycles = {0.0, 1.0, 2.0, 3.0};
@@ -311,13 +311,34 @@ TEST(ResultWriter, WearDepthsLargeEnoughAreCompressedAndExact) {
   model::FlankWearHistory ring{"ring", 81, 64, std::vector<double>(64, 0.0), std::vector<double>(4 * 81 * 64)};
   for (std::size_t n = 0; n < ring.depth_m.size(); ++n) ring.depth_m[n] = 1e-9 * static_cast<double>(n % 640);
   r.wear.flanks = {ring};
-  {
-    auto f = H5File::create(dir / "ring.h5");
-    write_simulation(f, {}, r, {});
-    f.close();
+  const std::size_t raw_bytes = 4 * 81 * 64 * sizeof(double);
+  for (const int level : {0, 4}) {
+    const auto path = dir / ("ring" + std::to_string(level) + ".h5");
+    {
+      auto f = H5File::create(path);
+      write_simulation(f, {}, r, {}, {.compression_level = level});
+      f.close();
+    }
+    EXPECT_EQ(H5File::open(path).read_doubles("/wear/ring/depth"), ring.depth_m) << "level " << level;
+    if (level == 0)
+      EXPECT_GT(std::filesystem::file_size(path), raw_bytes) << "level 0 stores the depths as they are";
+    else
+      EXPECT_LT(std::filesystem::file_size(path), raw_bytes) << "depth not compressed at level " << level;
   }
-  EXPECT_EQ(H5File::open(dir / "ring.h5").read_doubles("/wear/ring/depth"), ring.depth_m);
-  EXPECT_LT(std::filesystem::file_size(dir / "ring.h5"), 4 * 81 * 64 * sizeof(double)) << "depth not compressed";
+}
+
+TEST(ResultWriter, CompressionLevelOutsideZeroToNineIsRejectedBeforeAnythingIsWritten) {
+  test::TempDir dir;
+  for (const int level : {-1, 10}) {
+    auto f = H5File::create(dir / "level.h5");
+    const auto e = thrown<std::invalid_argument>(
+        [&] { write_simulation(f, {}, small_result(), {}, {.compression_level = level}); });
+    ASSERT_TRUE(e) << "level " << level;
+    EXPECT_TRUE(contains(e->what(), "compression level must be in [0, 9]"));
+    EXPECT_FALSE(f.exists("/time_history"));
+    f.close();
+    std::filesystem::remove(dir / "level.h5");
+  }
 }
 
 TEST(ResultWriter, InconsistentWearHistoryIsRejectedBeforeAnythingIsWritten) {

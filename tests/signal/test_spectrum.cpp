@@ -10,6 +10,7 @@
 #include <cmath>
 #include <cstdint>
 #include <numbers>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -113,6 +114,28 @@ TEST(AmplitudeSpectrum, OffBinSineFlatTopWithinPointOnePercentAnywhereBetweenBin
     EXPECT_NEAR(peak, A, 1e-3 * A) << "offset " << offset << " bin";
   }
   RecordProperty("flattop_worst_relative_error", std::to_string(worst));
+}
+
+TEST(AmplitudeSpectra, EachIsBitIdenticalToTheSingleSpectrumForOneAndTwoThreads) {
+  const double dt = 1e-3;
+  std::vector<std::vector<double>> x;
+  for (int c = 0; c < 5; ++c) x.push_back(sine(1000 + 37 * static_cast<std::size_t>(c), dt, 1.0 + c, 50.0 + 7 * c, 0.3 * c));
+  const std::vector<std::span<const double>> signals(x.begin(), x.end());
+  for (const int threads : {1, 2}) {
+    const auto all = pw::signal::amplitude_spectra(signals, dt, Window::Hann, threads);
+    ASSERT_EQ(all.size(), x.size());
+    for (std::size_t c = 0; c < x.size(); ++c) {
+      const auto one = pw::signal::amplitude_spectrum(x[c], dt, Window::Hann);
+      EXPECT_EQ(all[c].amplitude, one.amplitude) << "signal " << c << ", " << threads << " threads";
+      EXPECT_EQ(all[c].frequency_Hz, one.frequency_Hz);
+    }
+  }
+}
+
+TEST(AmplitudeSpectra, TheFirstBadSignalsErrorIsRethrownOutsideTheThreads) {
+  const std::vector<double> good = sine(64, 1e-3, 1.0, 100.0), one_sample = {1.0};
+  const std::vector<std::span<const double>> signals{good, one_sample, good};
+  EXPECT_THROW(pw::signal::amplitude_spectra(signals, 1e-3, Window::Hann, 2), pw::InputError);
 }
 
 TEST(AmplitudeSpectrum, TwoTonesAreResolvedWithTheirAmplitudes) {
