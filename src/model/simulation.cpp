@@ -424,6 +424,7 @@ WarmupStats warm_up(Integration& r, const ProgressFn& report, double f0, double 
   long n_window = static_cast<long>(window) * spm;
   if (ripple) n_window = std::max(2L, (n_window + ripple_steps - 1) / ripple_steps) * ripple_steps;
   const double Omega = p.sun_speed_rad_s;
+  const bool constant_power = c.rig.input_control == InputControl::Power;
   std::vector<double> prev(nm, 0.0);
   WarmupStats w;
   double progress = 0;
@@ -459,9 +460,14 @@ WarmupStats warm_up(Integration& r, const ProgressFn& report, double f0, double 
     // mean input torque P <1/w> by mean(w)/Omega (the vibration's Jensen
     // excess <1/w> - 1/<w> stays), and the load torque that cancels the net
     // torque there follows in one step:
-    //   T_L' = T_L + (T_s (mean(w)/Omega - 1) + I_eq a) / k_r.
+    //   T_L' = T_L + (T_s(Omega) - T_s(mean w) + I_eq a) / k_r,
+    // T_s(Omega) - T_s(mean w) = T_s (mean(w)/Omega - 1) at constant power and 0 under torque
+    // control (rig.input_control = torque: T_s = P / Omega_s at any speed). Applying the
+    // constant-power term there over-corrected the load by T_s (mean(w)/Omega - 1) / k_r each
+    // window and the warm-up diverged (the seed case with rig.input_control = "torque").
+    const double input_torque_change = constant_power ? mean_Ts * (mean_ws / Omega - 1.0) : 0.0;
     if (!speed_held_by_rig) {
-      sys.set_load_torque_Nm(sys.load_torque_Nm() + (mean_Ts * (mean_ws / Omega - 1.0) + I_eq * mean_as) / k_r);
+      sys.set_load_torque_Nm(sys.load_torque_Nm() + (input_torque_change + I_eq * mean_as) / k_r);
       r.st.v += (Omega - last_ws) * rig;
     }
     double dmax = 0, dchange = 0;

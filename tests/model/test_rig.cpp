@@ -201,6 +201,27 @@ TEST(Rig, AHeavyMotorOnASoftInputShaftReachesTheNominalMeanSpeed) {
   EXPECT_LT(scalar(r, "periodicity_residual"), c.solver.periodicity_tolerance);
 }
 
+TEST(Rig, ATorqueControlledMotorReachesTheNominalMeanSpeedWithAndWithoutAShaft) {
+  // rig.input_control = "torque": T_s = P / Omega_s at any speed, so the rigid mode has no speed
+  // feedback of its own and the warm-up's load-torque update alone holds the speed. The update
+  // once carried the constant-power term T_s (mean w / Omega - 1) for this motor too and
+  // diverged (the seed case: sun speed -8e16 rad/s after 10 mesh periods, then Newton failed).
+  // Steady state: mean sun speed nominal to the periodicity tolerance, and the input torque the
+  // constant P / Omega_s.
+  for (const double shaft : {0.0, 2000.0}) {
+    SimulationConfig c = fast_seed(24);
+    c.rig.input_control = InputControl::Torque;
+    if (shaft > 0) {
+      c.stage.input_inertia_kgm2 = 6.0;
+      c.rig.input_shaft_stiffness_N_m_rad = shaft;
+      c.rig.input_shaft_damping_N_m_s_rad = 0.5;
+    }
+    const SimulationResult r = simulate(c);
+    EXPECT_NEAR(mean(channel(r, "sun/speed")) / scalar(r, "sun_speed"), 1.0, 1e-6) << "shaft " << shaft;
+    EXPECT_LT(scalar(r, "periodicity_residual"), c.solver.periodicity_tolerance) << "shaft " << shaft;
+  }
+}
+
 TEST(Rig, VeryStiffShaftsApproachTheRigidlyCoupledMachines) {
   // The rigid coupling (stage.input/output_inertia_kgm2 added to sun and carrier) is the
   // limit of stiff shafts: every natural frequency of the rigid model reappears, shifted by
