@@ -6,6 +6,7 @@
 #include <numbers>
 #include <stdexcept>
 #include <string>
+#include <utility>
 
 namespace pw::model {
 namespace {
@@ -95,6 +96,26 @@ EncoderFilter::EncoderFilter(double bandwidth_Hz, int order, double dt_s) {
 void EncoderFilter::reset(double x) {
   z2_ = (b2_ - a2_) * x;
   z1_ = (b1_ - a1_) * x + z2_;
+}
+
+void EncoderFilter::set_periodic_state(std::span<const double> period) {
+  if (identity_ || period.empty()) return;
+  // The state after one period is affine in the state before it: z_N = Phi z_0 + z_f. Three
+  // runs over the period give z_f (from rest, with the input) and Phi's columns (from unit
+  // states, without it); the 2x2 system (I - Phi) z = z_f is then solved by Cramer's rule.
+  const auto run = [&](double z1, double z2, bool with_input) {
+    z1_ = z1;
+    z2_ = z2;
+    for (const double x : period) step(with_input ? x : 0.0);
+    return std::pair{z1_, z2_};
+  };
+  const auto [f1, f2] = run(0.0, 0.0, true);
+  const auto [a1, a2] = run(1.0, 0.0, false);
+  const auto [b1, b2] = run(0.0, 1.0, false);
+  const double m11 = 1.0 - a1, m12 = -b1, m21 = -a2, m22 = 1.0 - b2;
+  const double det = m11 * m22 - m12 * m21;
+  z1_ = (f1 * m22 - m12 * f2) / det;
+  z2_ = (m11 * f2 - m21 * f1) / det;
 }
 
 double EncoderFilter::settling_time_s(double fraction) const {

@@ -73,6 +73,13 @@ public:
   bool passes() const { return identity_; }
   /// Sets the state to the steady state of a constant input x (the output is x).
   void reset(double x);
+  /// Sets the state to the periodic steady state of an input that repeats `period` (one whole
+  /// period, at least one sample): the state z with z = Phi z + z_f after the period, Phi the
+  /// state transition over it and z_f the response from rest, solved exactly ((I - Phi) is
+  /// invertible: both poles lie inside the unit circle). Filtering `period` from there returns
+  /// to the same state, so the output has no start transient, however slow the filter: what a
+  /// settling run of many 1/(2 pi f_c) would reach.
+  void set_periodic_state(std::span<const double> period);
   /// Filters one sample.
   double step(double x) {
     if (identity_) return x;

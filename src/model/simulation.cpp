@@ -625,27 +625,64 @@ RecordStats record(Integration& r, int cycles, SimulationResult& out, const Outp
   const SensorSettings& sn = r.c.sensor;
   EncoderFilter sun_encoder(sn.encoder_bandwidth_Hz, sn.encoder_filter_order, p.time_step_s);
   EncoderFilter carrier_encoder(sn.encoder_bandwidth_Hz, sn.encoder_filter_order, p.time_step_s);
-  auto sun_speed = [&] { return p.sun_speed_rad_s + sys.sun_theta_row().dot(r.st.v); };
-  auto carrier_speed = [&] { return p.carrier_speed_rad_s + sys.carrier_theta_row().dot(r.st.v); };
-  sun_encoder.reset(sun_speed());
-  carrier_encoder.reset(carrier_speed());
+  // The encoders filter the speeds' deviations from nominal and add the nominal speed back
+  // (the filter is linear, so the output is the same): a filter far below the sampling rate
+  // (K = tan(pi f_c dt) ~ 1e-5 for 1 Hz) has a DC gain 1 only to ~1e-16 / K^2 in its
+  // direct-form coefficients, 1e-6 at 1 Hz, which on the absolute speed shifted the encoder
+  // channel by 4e-6 rad/s at 100 rpm, 1.6 % of its filtered mesh ripple.
+  auto sun_speed_change = [&] { return sys.sun_theta_row().dot(r.st.v); };
+  auto carrier_speed_change = [&] { return sys.carrier_theta_row().dot(r.st.v); };
+  sun_encoder.reset(sun_speed_change());
+  carrier_encoder.reset(carrier_speed_change());
   if (!sun_encoder.passes()) {
     // Whole mesh periods before the record, so that the filters' start transient has
     // decayed below 1e-12 of its size (and the record still starts on a mesh period).
+    // A slow encoder would need more periods than the warm-up may take (1 mHz: 6300 s of
+    // simulated time, half an hour of computing, seemingly hung): then the filters start the
+    // record in the periodic steady state of the last pre-roll period's speeds
+    // (EncoderFilter::set_periodic_state). That is exact for a steady state that repeats every
+    // mesh period, so one period of pre-roll suffices; with tooth-level features or a ripple
+    // the pre-roll runs solver.warmup_max_mesh_cycles periods, and the part of the speed that
+    // does not repeat per mesh period leaves a transient of at most exp(-sigma T_pre) of its
+    // size.
     constexpr double kSettled = 1e-12;
     const double settle = sun_encoder.settling_time_s(kSettled);
-    const long pre = spm * static_cast<long>(std::ceil(settle / (spm * p.time_step_s)));
+    const double settle_periods = std::ceil(settle / (spm * p.time_step_s));
+    const long max_periods = r.c.solver.warmup_max_mesh_cycles;
+    const bool periodic_start = settle_periods > static_cast<double>(max_periods);
+    const long pre_periods = !periodic_start             ? static_cast<long>(settle_periods)
+                             : has_tooth_level_features(r.c) ? max_periods
+                                                             : 1;
+    const long pre = spm * pre_periods;
+    std::vector<double> last_sun, last_carrier;
+    if (periodic_start) {
+      last_sun.resize(static_cast<std::size_t>(spm));
+      last_carrier.resize(static_cast<std::size_t>(spm));
+    }
     for (long k = 0; k < pre; ++k) {
       r.step();
-      sun_encoder.step(sun_speed());
-      carrier_encoder.step(carrier_speed());
+      const double ws = sun_speed_change(), wc = carrier_speed_change();
+      if (periodic_start) {
+        if (const long j = k - (pre - spm); j >= 0) {
+          last_sun[static_cast<std::size_t>(j)] = ws;
+          last_carrier[static_cast<std::size_t>(j)] = wc;
+        }
+      } else {
+        sun_encoder.step(ws);
+        carrier_encoder.step(wc);
+      }
+    }
+    if (periodic_start) {
+      sun_encoder.set_periodic_state(last_sun);
+      carrier_encoder.set_periodic_state(last_carrier);
     }
   }
   const double t0 = r.st.t;
   MeshLoadRecorder loads(p.geometry, r.c.stage, sys.nominal_input_torque_Nm());
   for (std::int64_t k = 0; k < nrec; ++k) {
     r.step();
-    const double w_sun = sun_encoder.step(sun_speed()), w_carrier = carrier_encoder.step(carrier_speed());
+    const double w_sun = p.sun_speed_rad_s + sun_encoder.step(sun_speed_change());
+    const double w_carrier = p.carrier_speed_rad_s + carrier_encoder.step(carrier_speed_change());
     const auto& ms = sys.mesh_states();
     loads.add(ms);
     if (!sys.structure().has_rigid_mode) {  // only the speed-controlled load's shaft torque needs them
