@@ -79,13 +79,13 @@ std::vector<double> window_coefficients(Window w, std::size_t n) {
   return c;
 }
 
-Spectrum amplitude_spectrum(std::span<const double> x, double sample_interval_s, Window w,
-                            bool remove_mean) {
-  require_samples(x, 2);
-  require_interval(sample_interval_s);
-  const std::size_t n = x.size();
+namespace {
 
-  const std::vector<double> win = window_coefficients(w, n);
+/// amplitude_spectrum() with its window's coefficients given (`win.size() == x.size()`), so
+/// that spectra of equally long signals share one window.
+Spectrum windowed_amplitude_spectrum(std::span<const double> x, double sample_interval_s, Window w,
+                                     std::span<const double> win, bool remove_mean) {
+  const std::size_t n = x.size();
   double coherent_sum = 0;  // sum w_j = n x coherent gain
   for (double v : win) coherent_sum += v;
 
@@ -108,18 +108,37 @@ Spectrum amplitude_spectrum(std::span<const double> x, double sample_interval_s,
   return s;
 }
 
+} // namespace
+
+Spectrum amplitude_spectrum(std::span<const double> x, double sample_interval_s, Window w,
+                            bool remove_mean) {
+  require_samples(x, 2);
+  require_interval(sample_interval_s);
+  return windowed_amplitude_spectrum(x, sample_interval_s, w, window_coefficients(w, x.size()), remove_mean);
+}
+
 std::vector<Spectrum> amplitude_spectra(std::span<const std::span<const double>> xs, double sample_interval_s,
                                         Window w, int threads, bool remove_mean) {
   std::vector<Spectrum> out(xs.size());
   std::vector<std::exception_ptr> errors(xs.size());
   const int n = static_cast<int>(xs.size());
+  // The window of the first signal's length, computed once and shared (the channels of one
+  // simulation are equally long); other lengths get their own, as amplitude_spectrum does.
+  std::vector<double> shared_window;
+  if (!xs.empty() && xs.front().size() >= 2) shared_window = window_coefficients(w, xs.front().size());
   // One signal per iteration: each owns its FFT plan and buffers (RealFft's
-  // planner is serialized inside), so the threads share nothing.
+  // planner is serialized inside); the threads share only the read-only window.
 #pragma omp parallel for schedule(dynamic, 1) num_threads(threads > 0 ? threads : omp_get_max_threads()) if (n > 1)
   for (int i = 0; i < n; ++i) {
     const auto k = static_cast<std::size_t>(i);
     try {
-      out[k] = amplitude_spectrum(xs[k], sample_interval_s, w, remove_mean);
+      if (xs[k].size() == shared_window.size()) {
+        require_samples(xs[k], 2);
+        require_interval(sample_interval_s);
+        out[k] = windowed_amplitude_spectrum(xs[k], sample_interval_s, w, shared_window, remove_mean);
+      } else {
+        out[k] = amplitude_spectrum(xs[k], sample_interval_s, w, remove_mean);
+      }
     } catch (...) {
       errors[k] = std::current_exception();  // rethrown below, outside the parallel region
     }
