@@ -249,8 +249,9 @@ void PlanetaryDynamics::update_contact_geometry(double t) {
     const PairWindow win = pair_window(m, st.roll_m);
     const int np = win.count;
     if (np > MeshState::kMaxPairs)
-      throw SolverError("more than " + std::to_string(MeshState::kMaxPairs) +
-                        " tooth pairs in one mesh (contact ratio too high for MeshState)");
+      throw SolverError(detail::concat("more than ", MeshState::kMaxPairs, " tooth pairs in one mesh (", np,
+                                       " at t = ", t, " s, roll ", st.roll_m, " m, window margin ", h, " m, base pitch ",
+                                       mg.base_pitch_m, " m)"));
     st.pairs = np;
 
     // A pair entering or leaving contact within the step counts with the

@@ -368,7 +368,13 @@ struct WarmupStats {
 /// Whole mesh periods until the deflections repeat and the load torque holds
 /// the nominal speed (steady state w_s ~ 1/T_L at constant power, so
 /// T_L <- T_L mean(w_s)/Omega_s converges in a few periods).
-WarmupStats warm_up(Integration& r, const ProgressFn& report, double f0, double f1) {
+/// The speed the warm-up's loop holds (see warm_up()).
+enum class SpeedLoop {
+  SunSpeed,   ///< the sun's speed (the seed's choice; every result before session 20)
+  RigidMode,  ///< the rigid mode's own speed r'Mv / r'Mr
+};
+
+WarmupStats warm_up(Integration& r, const ProgressFn& report, double f0, double f1, SpeedLoop loop) {
   const SimulationConfig& c = r.c;
   PreparedStage& p = r.p;
   PlanetaryDynamics& sys = r.sys();
@@ -397,19 +403,14 @@ WarmupStats warm_up(Integration& r, const ProgressFn& report, double f0, double 
   const bool speed_held_by_rig = !sys.structure().has_rigid_mode;
   const Eigen::VectorXd& rig = p.rigid_mode;
   const double I_eq = speed_held_by_rig ? 0.0 : rig.dot(sys.mass() * rig);
-  // The speed the controller holds is the rigid mode's. Without flexible rig shafts the sun's
-  // speed averaged over the window is that speed (the gear train's elastic motion repeats every
-  // mesh period). A machine behind a flexible shaft moves against the gear train at the shaft's
-  // mode, which can be far slower than the window: the sun's window mean then carries that mode,
-  // and a controller acting on it with the whole train's inertia (machine included) injects
-  // energy and diverges (measured: a 6 kg m^2 motor on a 2000 N m/rad shaft, seed stage at
-  // 400 rpm). The rigid mode's own speed, the mass-weighted projection (r'M v) / (r'M r), leaves
-  // every elastic mode out exactly (they are M-orthogonal to r).
-  const bool flexible_rig_shaft =
-      !speed_held_by_rig && (c.rig.input_shaft_stiffness_N_m_rad > 0 || c.rig.output_shaft_stiffness_N_m_rad > 0);
-  const Eigen::VectorXd Mr_per_I = flexible_rig_shaft ? Eigen::VectorXd(sys.mass() * rig / I_eq) : Eigen::VectorXd();
+  // The speed the loop holds: the sun's (SpeedLoop::SunSpeed) or the rigid mode's own, the
+  // mass-weighted projection (r'M v) / (r'M r) (SpeedLoop::RigidMode), which leaves every elastic
+  // mode out exactly (they are M-orthogonal to r). The sun's speed carries them, and a loop
+  // acting on it can feed them back (settle() below says when that happens and what then).
+  const bool project = loop == SpeedLoop::RigidMode && !speed_held_by_rig;
+  const Eigen::VectorXd Mr_per_I = project ? Eigen::VectorXd(sys.mass() * rig / I_eq) : Eigen::VectorXd();
   const auto rigid_speed = [&](const Eigen::VectorXd& v) {
-    return flexible_rig_shaft ? Mr_per_I.dot(v) : sys.sun_theta_row().dot(v);
+    return project ? Mr_per_I.dot(v) : sys.sun_theta_row().dot(v);
   };
   const double k_r = speed_held_by_rig ? 1.0 : sys.output_theta_row().dot(rig);
   const int window = periodic_per_mesh ? 1 : std::max(c.stage.sun.teeth, c.stage.planet.teeth);
@@ -436,7 +437,7 @@ WarmupStats warm_up(Integration& r, const ProgressFn& report, double f0, double 
     for (long k = 0; k < n; ++k) {
       r.step();
       const double ws_sun = Omega + sys.sun_theta_row().dot(r.st.v);
-      const double ws = flexible_rig_shaft ? Omega + Mr_per_I.dot(r.st.v) : ws_sun;
+      const double ws = project ? Omega + rigid_speed(r.st.v) : ws_sun;
       mean_ws += ws;
       mean_sun_ws += ws_sun;
       mean_as += rigid_speed(r.st.a);
@@ -496,6 +497,40 @@ WarmupStats warm_up(Integration& r, const ProgressFn& report, double f0, double 
       break;
   }
   return w;
+}
+
+/// Static start and warm-up. The loop holds the sun's speed, as every result before session 20
+/// did (bit-identical), unless a flexible rig shaft needs the rigid mode's own speed: a machine
+/// on a soft shaft moves against the train at the shaft's slow mode, which the sun's window
+/// mean carries (a 6 kg m^2 motor on a 2000 N m/rad shaft diverged, session 19). The sun's
+/// speed also carries the elastic modes, and each load update, a torque step, excites them:
+/// where their share of the window's mean sun acceleration outweighs the torque balance the
+/// loop feeds them back and diverges (the seed stage at 1 kW: 100 000 rpm, windows of 36 us,
+/// grew x1.2 every four windows until the roll reached 1e14 m; 50 000 rpm ended the warm-up
+/// with a load torque of 2.6e11 N m). So when the sun-speed warm-up fails (a solver failure) or
+/// ends at a load torque no steady state has (efficiency T_L Omega_c / P outside (0, 1]: the
+/// stage cannot deliver more power than it takes), it is restarted from the static start on
+/// the rigid mode's speed. Sets `loop` to the loop that was used.
+WarmupStats settle(Integration& r, const ProgressFn& report, double f1, SpeedLoop& loop) {
+  const SimulationConfig& c = r.c;
+  PlanetaryDynamics& sys = r.sys();
+  const bool shafts = c.rig.input_shaft_stiffness_N_m_rad > 0 || c.rig.output_shaft_stiffness_N_m_rad > 0;
+  const double nominal_load = sys.load_torque_Nm();
+  if (!shafts) {
+    loop = SpeedLoop::SunSpeed;
+    try {
+      start_static(r);
+      const WarmupStats w = warm_up(r, report, 0.0, f1, loop);
+      const double efficiency = sys.load_torque_Nm() * r.p.carrier_speed_rad_s / c.operating.input_power_W;
+      if (!sys.structure().has_rigid_mode || (efficiency > 0 && efficiency <= 1)) return w;
+      sys.set_load_torque_Nm(nominal_load);  // ended off any steady state: restart below
+    } catch (const SolverError&) {
+      sys.set_load_torque_Nm(nominal_load);  // diverged: restart below (a second failure is thrown)
+    }
+  }
+  loop = SpeedLoop::RigidMode;
+  start_static(r);
+  return warm_up(r, report, 0.0, f1, loop);
 }
 
 /// Per-planet means over every recorded step that the summary scalars need
@@ -578,6 +613,58 @@ std::vector<RecordChannel> record_channels(const dynamics::LumpedStructure& S, i
 }
 
 /// Recording of `cycles` mesh periods into the selected channels of `out`.
+/// The speed encoders' pre-roll before the record (no-op for ideal encoders). The encoders
+/// filter the speeds' deviations from nominal: see record().
+void settle_encoders(Integration& r, EncoderFilter& sun_encoder, EncoderFilter& carrier_encoder) {
+  if (sun_encoder.passes()) return;
+  const PreparedStage& p = r.p;
+  PlanetaryDynamics& sys = r.sys();
+  const long spm = p.steps_per_mesh;
+  auto sun_speed_change = [&] { return sys.sun_theta_row().dot(r.st.v); };
+  auto carrier_speed_change = [&] { return sys.carrier_theta_row().dot(r.st.v); };
+  // Whole mesh periods before the record, so that the filters' start transient has
+  // decayed below 1e-12 of its size (and the record still starts on a mesh period).
+  // A slow encoder would need more periods than the warm-up may take (1 mHz: 6300 s of
+  // simulated time, half an hour of computing, seemingly hung): then the filters start the
+  // record in the periodic steady state of the last pre-roll period's speeds
+  // (EncoderFilter::set_periodic_state). That is exact for a steady state that repeats every
+  // mesh period, so one period of pre-roll suffices; with tooth-level features or a ripple
+  // the pre-roll runs solver.warmup_max_mesh_cycles periods, and the part of the speed that
+  // does not repeat per mesh period leaves a transient of at most exp(-sigma T_pre) of its
+  // size.
+  constexpr double kSettled = 1e-12;
+  const double settle = sun_encoder.settling_time_s(kSettled);
+  const double settle_periods = std::ceil(settle / (static_cast<double>(spm) * p.time_step_s));
+  const long max_periods = r.c.solver.warmup_max_mesh_cycles;
+  const bool periodic_start = settle_periods > static_cast<double>(max_periods);
+  const long pre_periods = !periodic_start             ? static_cast<long>(settle_periods)
+                           : has_tooth_level_features(r.c) ? max_periods
+                                                           : 1;
+  const long pre = spm * pre_periods;
+  std::vector<double> last_sun, last_carrier;
+  if (periodic_start) {
+    last_sun.resize(static_cast<std::size_t>(spm));
+    last_carrier.resize(static_cast<std::size_t>(spm));
+  }
+  for (long k = 0; k < pre; ++k) {
+    r.step();
+    const double ws = sun_speed_change(), wc = carrier_speed_change();
+    if (periodic_start) {
+      if (const long j = k - (pre - spm); j >= 0) {
+        last_sun[static_cast<std::size_t>(j)] = ws;
+        last_carrier[static_cast<std::size_t>(j)] = wc;
+      }
+    } else {
+      sun_encoder.step(ws);
+      carrier_encoder.step(wc);
+    }
+  }
+  if (periodic_start) {
+    sun_encoder.set_periodic_state(last_sun);
+    carrier_encoder.set_periodic_state(last_carrier);
+  }
+}
+
 RecordStats record(Integration& r, int cycles, SimulationResult& out, const OutputSelection& sel, const ProgressFn& report,
                    double f0, double f1) {
   PreparedStage& p = r.p;
@@ -634,49 +721,7 @@ RecordStats record(Integration& r, int cycles, SimulationResult& out, const Outp
   auto carrier_speed_change = [&] { return sys.carrier_theta_row().dot(r.st.v); };
   sun_encoder.reset(sun_speed_change());
   carrier_encoder.reset(carrier_speed_change());
-  if (!sun_encoder.passes()) {
-    // Whole mesh periods before the record, so that the filters' start transient has
-    // decayed below 1e-12 of its size (and the record still starts on a mesh period).
-    // A slow encoder would need more periods than the warm-up may take (1 mHz: 6300 s of
-    // simulated time, half an hour of computing, seemingly hung): then the filters start the
-    // record in the periodic steady state of the last pre-roll period's speeds
-    // (EncoderFilter::set_periodic_state). That is exact for a steady state that repeats every
-    // mesh period, so one period of pre-roll suffices; with tooth-level features or a ripple
-    // the pre-roll runs solver.warmup_max_mesh_cycles periods, and the part of the speed that
-    // does not repeat per mesh period leaves a transient of at most exp(-sigma T_pre) of its
-    // size.
-    constexpr double kSettled = 1e-12;
-    const double settle = sun_encoder.settling_time_s(kSettled);
-    const double settle_periods = std::ceil(settle / (spm * p.time_step_s));
-    const long max_periods = r.c.solver.warmup_max_mesh_cycles;
-    const bool periodic_start = settle_periods > static_cast<double>(max_periods);
-    const long pre_periods = !periodic_start             ? static_cast<long>(settle_periods)
-                             : has_tooth_level_features(r.c) ? max_periods
-                                                             : 1;
-    const long pre = spm * pre_periods;
-    std::vector<double> last_sun, last_carrier;
-    if (periodic_start) {
-      last_sun.resize(static_cast<std::size_t>(spm));
-      last_carrier.resize(static_cast<std::size_t>(spm));
-    }
-    for (long k = 0; k < pre; ++k) {
-      r.step();
-      const double ws = sun_speed_change(), wc = carrier_speed_change();
-      if (periodic_start) {
-        if (const long j = k - (pre - spm); j >= 0) {
-          last_sun[static_cast<std::size_t>(j)] = ws;
-          last_carrier[static_cast<std::size_t>(j)] = wc;
-        }
-      } else {
-        sun_encoder.step(ws);
-        carrier_encoder.step(wc);
-      }
-    }
-    if (periodic_start) {
-      sun_encoder.set_periodic_state(last_sun);
-      carrier_encoder.set_periodic_state(last_carrier);
-    }
-  }
+  settle_encoders(r, sun_encoder, carrier_encoder);
   const double t0 = r.st.t;
   MeshLoadRecorder loads(p.geometry, r.c.stage, sys.nominal_input_torque_Nm());
   for (std::int64_t k = 0; k < nrec; ++k) {
@@ -789,8 +834,8 @@ SimulationResult simulate(const SimulationConfig& c, const ProgressFn& progress,
   const double f_warm = wear_on ? 0.05 : 0.3, f_wear = wear_on ? 0.9 : f_warm;
 
   Integration run(p, c);
-  start_static(run);
-  const WarmupStats warm = warm_up(run, progress, 0.0, f_warm);
+  SpeedLoop loop = SpeedLoop::SunSpeed;
+  const WarmupStats warm = settle(run, progress, f_warm, loop);
   SimulationResult r;
   if (wear_on) wear(run, r, progress, f_warm, f_wear);
   const RecordStats rec = record(run, c.solver.record_mesh_cycles, r, output, progress, f_wear, 1.0);
@@ -818,6 +863,10 @@ SimulationResult simulate(const SimulationConfig& c, const ProgressFn& progress,
   scalar("efficiency", "1", "T_load Omega_c / P: mesh efficiency of the stage (friction losses)",
          load_torque * p.carrier_speed_rad_s / c.operating.input_power_W);
   scalar("warmup_mesh_cycles", "1", "mesh periods integrated before recording", warm.cycles);
+  scalar("warmup_speed_loop", "1",
+         "speed the warm-up's loop held: 0 the sun's, 1 the rigid mode's (with flexible rig shafts, or after the "
+         "sun's diverged or ended off any steady state; docs/derivation.md section 3.4)",
+         loop == SpeedLoop::RigidMode ? 1.0 : 0.0);
   scalar("periodicity_residual", "1", "relative change of mesh deflections over the last warm-up mesh period",
          warm.residual);
   const dynamics::NewmarkStatistics& solver_stats = run.solver.statistics();

@@ -103,6 +103,30 @@ TEST(Simulation, CrackedSunToothLowersMeshStiffnessOnlyWhileItMeshes) {
   EXPECT_LT(fraction, 1.62 / 21.0);
 }
 
+TEST(Simulation, TheWarmUpHoldsTheSpeedAtTheTopOfTheSpeedRangeWhereTheVibrationDwarfsTheTorque) {
+  // 1 kW at 50 000 and 100 000 rpm (operating.input_speed_rpm allows up to 1e5): 0.19 and
+  // 0.095 N m of input torque against the mesh vibration's inertia torques. The loop on the
+  // sun's speed feeds the elastic modes back there (each load update a torque step exciting
+  // them): it ended at a load torque of 2.6e11 N m (50 000 rpm) or diverged (100 000 rpm, roll
+  // 1e14 m). The warm-up then restarts on the rigid mode's own speed (docs/derivation.md §3.4).
+  // Steady state: periodic to the tolerance, mean sun speed nominal to 1e-6, and the load torque
+  // the input torque times the ratio and an efficiency between 0.9 and 1. At 400 rpm the sun's
+  // speed serves (the results of every earlier session, bit for bit).
+  for (const double rpm : {400.0, 50000.0, 100000.0}) {
+    SimulationConfig c;
+    c.operating.input_speed_rpm = rpm;
+    c.solver.record_mesh_cycles = 2;
+    const SimulationResult r = simulate(c);
+    EXPECT_EQ(scalar(r, "warmup_speed_loop"), rpm < 1000 ? 0.0 : 1.0) << rpm << " rpm";
+    EXPECT_LT(scalar(r, "periodicity_residual"), c.solver.periodicity_tolerance) << rpm << " rpm";
+    EXPECT_NEAR(mean(channel(r, "sun/speed")) / scalar(r, "sun_speed"), 1.0, 1e-6) << rpm << " rpm";
+    const double ratio = (c.stage.sun.teeth + c.stage.ring.teeth) / static_cast<double>(c.stage.sun.teeth);
+    const double eta = scalar(r, "load_torque") / (scalar(r, "input_torque") * ratio);
+    EXPECT_GT(eta, 0.9) << rpm << " rpm";
+    EXPECT_LT(eta, 1.0) << rpm << " rpm";
+  }
+}
+
 TEST(Simulation, InputTorqueRippleShowsInSunSpeedAtItsOrder) {
   SimulationConfig c = fast_seed(60);
   const SimulationResult smooth = simulate(c);
