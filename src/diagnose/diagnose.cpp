@@ -654,6 +654,58 @@ private:
     profile_saturating(ctx(), w, o_.alpha, [&](const std::string& s) { say(s); });
   }
 
+  /// A candidate's held-out chi2 as the verdict judges its lead, and the 1 - alpha/2 quantile of
+  /// its Monte-Carlo null: the fidelity directions at its own fitted model (3 more simulations:
+  /// those of the nuisance-fitted model hold no discretization or speed change of the lines it
+  /// adds) and, calibrated, the discrepancy's relative part at its own amplitudes (the
+  /// hypothesis is "the recording is its model plus the calibrated discrepancy": a fault's
+  /// sidebands reach the sensors through the same model-form error as the healthy lines;
+  /// docs/diagnose.md section 6a, item 4). V is restored afterwards, so every other score keeps
+  /// one V.
+  struct OwnModelScore {
+    double held_out_chi2 = 0;
+    double bound_held_out = std::numeric_limits<double>::quiet_NaN();
+  };
+  OwnModelScore score_at_own_model(const CandidateResult& c, bool calibrated) {
+    const Candidate* cc = find_candidate(c.name);
+    const std::vector<std::vector<double>> saved_u = cmp().fidelity_columns();
+    const std::vector<std::string> saved_names = cmp().fidelity_names();
+    set_fidelity(ctx(), c.config, nullptr);
+    const auto amp = cc && cc->sensor_only() ? ctx().amplitudes(c.config, true) : cmp().simulate(c.config)->amplitude;
+    if (calibrated) cmp().set_discrepancy_reference(amp, c.gains);
+    OwnModelScore s;
+    s.held_out_chi2 = cmp().score(amp, Half::HeldOut, c.gains, HousingGains::Given).chi2;
+    s.bound_held_out =
+        cmp().null_quantile(amp, c.gains, Half::HeldOut, o_.alpha / 2, static_cast<int>(c.parameters.size()));
+    if (calibrated) cmp().set_discrepancy_reference(ctx().nuisance_sim->amplitude, ctx().nuisance_gains);
+    cmp().set_fidelity(saved_u, saved_names);
+    return s;
+  }
+
+  /// Condition (e) (verdict.cpp): the first fitted near-alias of the lead -- a candidate whose
+  /// start_from maps the lead's parameters onto its own, or the lead's maps its -- that counts
+  /// and passes the lead's test (a) too.
+  void check_near_aliases(const CandidateResult& l, VerdictInputs& vin) {
+    const Candidate* lc = find_candidate(l.name);
+    for (std::size_t k = 1; k < d_.candidates.size(); ++k) {
+      const CandidateResult& a = d_.candidates[k];
+      if (a.name == l.name || !a.failed.empty() || !a.counts()) continue;
+      const Candidate* ac = find_candidate(a.name);
+      if (!lc || !ac) continue;
+      const bool alias = !ac->start_from(l.name, split_parameters(l, ctx().nuisance_x).own, ctx().base).empty() ||
+                         !lc->start_from(a.name, split_parameters(a, ctx().nuisance_x).own, ctx().base).empty();
+      if (!alias) continue;
+      say("scoring its near-alias " + a.name + " the same way");
+      const OwnModelScore s = score_at_own_model(a, true);
+      if (s.held_out_chi2 <= s.bound_held_out) {
+        vin.alias_within_own_null = a.name;
+        vin.alias_held_out_chi2 = s.held_out_chi2;
+        vin.alias_bound_held_out = s.bound_held_out;
+        return;
+      }
+    }
+  }
+
   /// The verdict (verdict.hpp): the best candidate is named only if its own fitted model
   /// explains the held-out half within its Monte-Carlo null and nothing it rests on sits at a bound.
   void decide() {
@@ -667,25 +719,11 @@ private:
         std::isfinite(d_.candidates.front().held_out.chi2)) {
       say("scoring the best candidate against its own null on the held-out half");
       const CandidateResult& l = d_.candidates.front();
-      const Candidate* lc = find_candidate(l.name);
-      // The fidelity directions at the candidate's own fitted model (3 more simulations): those
-      // of the nuisance-fitted model hold no discretization or speed change of the lines the
-      // candidate adds. Restored afterwards, so every other score keeps one V.
-      const std::vector<std::vector<double>> saved_u = cmp().fidelity_columns();
-      const std::vector<std::string> saved_names = cmp().fidelity_names();
-      set_fidelity(ctx(), l.config, nullptr);
-      const auto amp = lc && lc->sensor_only() ? ctx().amplitudes(l.config, true) : cmp().simulate(l.config)->amplitude;
-      // Calibrated: the hypothesis is "the recording is the lead's model plus the calibrated
-      // discrepancy", whose relative part scales with the lead's own lines (a fault's sidebands
-      // reach the sensors through the same model-form error as the healthy lines). Taken at
-      // the nuisance-fitted model instead, the lines the lead adds would be judged against the
-      // noise alone (docs/diagnose.md section 6a, item 4).
       const bool calibrated = !co_.discrepancy.empty();
-      if (calibrated) cmp().set_discrepancy_reference(amp, l.gains);
-      vin.lead_held_out_chi2 = cmp().score(amp, Half::HeldOut, l.gains, HousingGains::Given).chi2;
-      vin.lead_bound_held_out = cmp().null_quantile(amp, l.gains, Half::HeldOut, o_.alpha / 2, static_cast<int>(l.parameters.size()));
-      if (calibrated) cmp().set_discrepancy_reference(ctx().nuisance_sim->amplitude, ctx().nuisance_gains);
-      cmp().set_fidelity(saved_u, saved_names);
+      const OwnModelScore lead = score_at_own_model(l, calibrated);
+      vin.lead_held_out_chi2 = lead.held_out_chi2;
+      vin.lead_bound_held_out = lead.bound_held_out;
+      if (calibrated && l.counts()) check_near_aliases(l, vin);
     }
     vin.replicate_chi2 = cmp().replicate_chi2(ctx().nuisance_gains);
     decide_verdict(d_, vin);

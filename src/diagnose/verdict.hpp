@@ -74,6 +74,12 @@ struct VerdictInputs {
   /// chi2 of the recording's fit half as the prediction of its held-out half
   /// (ModelComparison::replicate_chi2; NaN: not used).
   double replicate_chi2 = std::numeric_limits<double>::quiet_NaN();
+  /// Condition (e), with a calibration: a fitted near-alias of the lead (Candidate::start_from
+  /// maps one's parameters onto the other's) that counts and also explains the held-out half
+  /// within its own null, scored as the lead is; empty: none. Its chi2 and bound for the text.
+  std::string alias_within_own_null;
+  double alias_held_out_chi2 = std::numeric_limits<double>::quiet_NaN();
+  double alias_bound_held_out = std::numeric_limits<double>::quiet_NaN();
   double alpha = 0.01;
   /// The calibration's discrepancy budgets in force (CompareOptions::discrepancy; empty: none).
   /// A "no missing physics" under a budget says how large a change of the lines it leaves

@@ -335,4 +335,23 @@ TEST(Verdict, ARivalBeyondTheConfidenceBicMarginDoesNotBlockTheFinding) {
   EXPECT_GT(far.lead.posterior, 0.995);
 }
 
+TEST(Verdict, ANearAliasThatAlsoPassesItsOwnNullUnderTheCalibrationMakesTheLeadALeadOnly) {
+  // Condition (e): the lead passes (a) (1050 <= 1110) and so does a fitted near-alias scored the
+  // same way (1080 <= 1095): not named, with the alias and its numbers in the reason. Without
+  // the alias input the same diagnosis is named (WinnerWithinItsOwnBoundIsNamed).
+  Diagnosis d = counting_friction();
+  VerdictInputs in = inputs(1110);
+  in.alias_within_own_null = "carrier_runout";
+  in.alias_held_out_chi2 = 1080;
+  in.alias_bound_held_out = 1095;
+  decide_verdict(d, in);
+  EXPECT_EQ(d.verdict, Verdict::Unexplained) << d.summary;
+  EXPECT_EQ(d.winner, -1);
+  EXPECT_NE(d.lead.failed.find("its near-alias carrier_runout explains the held-out half within its own null too "
+                               "(chi2 1080 <= 1095"),
+            std::string::npos)
+      << d.lead.failed;
+  EXPECT_NE(d.summary.find("closest lead: friction"), std::string::npos) << d.summary;
+}
+
 } // namespace pw::diagnose
