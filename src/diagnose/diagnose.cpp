@@ -687,12 +687,13 @@ private:
   /// and passes the lead's test (a) too.
   void check_near_aliases(const CandidateResult& l, VerdictInputs& vin) {
     const Candidate* lc = find_candidate(l.name);
+    const std::vector<double> lead_own = split_parameters(l, ctx().nuisance_x).own;
     for (std::size_t k = 1; k < d_.candidates.size(); ++k) {
       const CandidateResult& a = d_.candidates[k];
       if (a.name == l.name || !a.failed.empty() || !a.counts()) continue;
       const Candidate* ac = find_candidate(a.name);
       if (!lc || !ac) continue;
-      const bool alias = !ac->start_from(l.name, split_parameters(l, ctx().nuisance_x).own, ctx().base).empty() ||
+      const bool alias = !ac->start_from(l.name, lead_own, ctx().base).empty() ||
                          !lc->start_from(a.name, split_parameters(a, ctx().nuisance_x).own, ctx().base).empty();
       if (!alias) continue;
       say("scoring its near-alias " + a.name + " the same way");

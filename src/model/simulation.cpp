@@ -365,15 +365,15 @@ struct WarmupStats {
   double residual = 1.0;
 };
 
-/// Whole mesh periods until the deflections repeat and the load torque holds
-/// the nominal speed (steady state w_s ~ 1/T_L at constant power, so
-/// T_L <- T_L mean(w_s)/Omega_s converges in a few periods).
 /// The speed the warm-up's loop holds (see warm_up()).
 enum class SpeedLoop {
   SunSpeed,   ///< the sun's speed (the seed's choice; every result before session 20)
   RigidMode,  ///< the rigid mode's own speed r'Mv / r'Mr
 };
 
+/// Whole mesh periods until the deflections repeat and the load torque holds
+/// the nominal speed (steady state w_s ~ 1/T_L at constant power, so
+/// T_L <- T_L mean(w_s)/Omega_s converges in a few periods).
 WarmupStats warm_up(Integration& r, const ProgressFn& report, double f0, double f1, SpeedLoop loop) {
   const SimulationConfig& c = r.c;
   PreparedStage& p = r.p;
@@ -612,16 +612,16 @@ std::vector<RecordChannel> record_channels(const dynamics::LumpedStructure& S, i
   return ch;
 }
 
-/// Recording of `cycles` mesh periods into the selected channels of `out`.
-/// The speed encoders' pre-roll before the record (no-op for ideal encoders). The encoders
-/// filter the speeds' deviations from nominal: see record().
+/// The sun's and the carrier's speed minus their nominal speeds [rad/s], what the encoders
+/// filter (record()).
+double sun_speed_change(Integration& r) { return r.sys().sun_theta_row().dot(r.st.v); }
+double carrier_speed_change(Integration& r) { return r.sys().carrier_theta_row().dot(r.st.v); }
+
+/// The speed encoders' pre-roll before the record (no-op for ideal encoders).
 void settle_encoders(Integration& r, EncoderFilter& sun_encoder, EncoderFilter& carrier_encoder) {
   if (sun_encoder.passes()) return;
   const PreparedStage& p = r.p;
-  PlanetaryDynamics& sys = r.sys();
   const long spm = p.steps_per_mesh;
-  auto sun_speed_change = [&] { return sys.sun_theta_row().dot(r.st.v); };
-  auto carrier_speed_change = [&] { return sys.carrier_theta_row().dot(r.st.v); };
   // Whole mesh periods before the record, so that the filters' start transient has
   // decayed below 1e-12 of its size (and the record still starts on a mesh period).
   // A slow encoder would need more periods than the warm-up may take (1 mHz: 6300 s of
@@ -648,7 +648,7 @@ void settle_encoders(Integration& r, EncoderFilter& sun_encoder, EncoderFilter& 
   }
   for (long k = 0; k < pre; ++k) {
     r.step();
-    const double ws = sun_speed_change(), wc = carrier_speed_change();
+    const double ws = sun_speed_change(r), wc = carrier_speed_change(r);
     if (periodic_start) {
       if (const long j = k - (pre - spm); j >= 0) {
         last_sun[static_cast<std::size_t>(j)] = ws;
@@ -665,6 +665,7 @@ void settle_encoders(Integration& r, EncoderFilter& sun_encoder, EncoderFilter& 
   }
 }
 
+/// Recording of `cycles` mesh periods into the selected channels of `out`.
 RecordStats record(Integration& r, int cycles, SimulationResult& out, const OutputSelection& sel, const ProgressFn& report,
                    double f0, double f1) {
   PreparedStage& p = r.p;
@@ -717,17 +718,15 @@ RecordStats record(Integration& r, int cycles, SimulationResult& out, const Outp
   // (K = tan(pi f_c dt) ~ 1e-5 for 1 Hz) has a DC gain 1 only to ~1e-16 / K^2 in its
   // direct-form coefficients, 1e-6 at 1 Hz, which on the absolute speed shifted the encoder
   // channel by 4e-6 rad/s at 100 rpm, 1.6 % of its filtered mesh ripple.
-  auto sun_speed_change = [&] { return sys.sun_theta_row().dot(r.st.v); };
-  auto carrier_speed_change = [&] { return sys.carrier_theta_row().dot(r.st.v); };
-  sun_encoder.reset(sun_speed_change());
-  carrier_encoder.reset(carrier_speed_change());
+  sun_encoder.reset(sun_speed_change(r));
+  carrier_encoder.reset(carrier_speed_change(r));
   settle_encoders(r, sun_encoder, carrier_encoder);
   const double t0 = r.st.t;
   MeshLoadRecorder loads(p.geometry, r.c.stage, sys.nominal_input_torque_Nm());
   for (std::int64_t k = 0; k < nrec; ++k) {
     r.step();
-    const double w_sun = p.sun_speed_rad_s + sun_encoder.step(sun_speed_change());
-    const double w_carrier = p.carrier_speed_rad_s + carrier_encoder.step(carrier_speed_change());
+    const double w_sun = p.sun_speed_rad_s + sun_encoder.step(sun_speed_change(r));
+    const double w_carrier = p.carrier_speed_rad_s + carrier_encoder.step(carrier_speed_change(r));
     const auto& ms = sys.mesh_states();
     loads.add(ms);
     if (!sys.structure().has_rigid_mode) {  // only the speed-controlled load's shaft torque needs them
