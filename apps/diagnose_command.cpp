@@ -176,7 +176,10 @@ void diagnose_and_report(const DiagnoseCommandOptions& o_in, const std::string& 
   opt.remote_slots = ranks - 1;
   opt.only_candidates = o.candidates;
   opt.always_fit_candidates = o.always_fit;
-  if (calibration) opt.extra_nuisance = calibration->rig_elements;
+  if (calibration)  // refitted from their calibrated values, except those a diagnosis holds
+    for (const std::string& e : calibration->rig_elements)
+      if (const diagnose::Candidate* c = diagnose::find_candidate(e); c && !c->held_after_calibration())
+        opt.extra_nuisance.push_back(e);
   opt.compare = compare_options(o, calibration);
   opt.compare.remote = remote;
   if (!o.common.quiet) opt.progress = [](const std::string& s) { std::fprintf(stderr, "[diagnose] %s\n", s.c_str()); };

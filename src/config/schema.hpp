@@ -99,6 +99,23 @@ void visit_config(V& v, Config& c) {
   v.field("samples_per_pair", c.stiffness.samples_per_pair, "roll positions per tooth-pair contact [-]", integers(16, 100000));
   v.field("include_fillet_foundation", c.stiffness.include_fillet_foundation, "include the fillet-foundation term");
   v.field("scale", c.stiffness.scale, "multiplies every computed mesh stiffness [-]", interval(0, 1e3, Ends::OpenLow, "-"));
+  // Mesh-stiffness harmonic corrections (stage.hpp StiffnessSettings::Harmonics), relative to the
+  // mean stiffness. Half the mean bounds each part: the potential-energy law's own first harmonic
+  // is 0.1-0.35 of the mean for contact ratios 1.2-2 (planetwear stiffness), and a change of
+  // half the mean in one part is already a different law, not a correction of this one.
+  constexpr Range kHarmonicRange = interval(-0.5, 0.5, Ends::Closed, "-");
+  v.field("sun_planet_h1_cos", c.stiffness.sun_planet_harmonics.cos[0], "cos part of the mesh stiffness's harmonic 1, relative to its mean [-]", kHarmonicRange);
+  v.field("sun_planet_h1_sin", c.stiffness.sun_planet_harmonics.sin[0], "sin part of the mesh stiffness's harmonic 1, relative to its mean [-]", kHarmonicRange);
+  v.field("sun_planet_h2_cos", c.stiffness.sun_planet_harmonics.cos[1], "cos part of the mesh stiffness's harmonic 2, relative to its mean [-]", kHarmonicRange);
+  v.field("sun_planet_h2_sin", c.stiffness.sun_planet_harmonics.sin[1], "sin part of the mesh stiffness's harmonic 2, relative to its mean [-]", kHarmonicRange);
+  v.field("sun_planet_h3_cos", c.stiffness.sun_planet_harmonics.cos[2], "cos part of the mesh stiffness's harmonic 3, relative to its mean [-]", kHarmonicRange);
+  v.field("sun_planet_h3_sin", c.stiffness.sun_planet_harmonics.sin[2], "sin part of the mesh stiffness's harmonic 3, relative to its mean [-]", kHarmonicRange);
+  v.field("planet_ring_h1_cos", c.stiffness.planet_ring_harmonics.cos[0], "cos part of the mesh stiffness's harmonic 1, relative to its mean [-]", kHarmonicRange);
+  v.field("planet_ring_h1_sin", c.stiffness.planet_ring_harmonics.sin[0], "sin part of the mesh stiffness's harmonic 1, relative to its mean [-]", kHarmonicRange);
+  v.field("planet_ring_h2_cos", c.stiffness.planet_ring_harmonics.cos[1], "cos part of the mesh stiffness's harmonic 2, relative to its mean [-]", kHarmonicRange);
+  v.field("planet_ring_h2_sin", c.stiffness.planet_ring_harmonics.sin[1], "sin part of the mesh stiffness's harmonic 2, relative to its mean [-]", kHarmonicRange);
+  v.field("planet_ring_h3_cos", c.stiffness.planet_ring_harmonics.cos[2], "cos part of the mesh stiffness's harmonic 3, relative to its mean [-]", kHarmonicRange);
+  v.field("planet_ring_h3_sin", c.stiffness.planet_ring_harmonics.sin[2], "sin part of the mesh stiffness's harmonic 3, relative to its mean [-]", kHarmonicRange);
 
   v.section("contact");
   v.field("friction_coefficient", c.contact.friction_coefficient, "friction coefficient mu [-]", interval(0, 1, Ends::OpenHigh, "-"));

@@ -14,6 +14,7 @@
 
 #include "config/gear_spec.hpp"
 
+#include <array>
 #include <string>
 #include <vector>
 
@@ -56,6 +57,24 @@ struct StiffnessSettings {
   /// Multiplies every computed mesh stiffness [-]. 1 = as computed; the seed's
   /// Table 2 level corresponds to about 0.01 (docs/validation.md).
   double scale = 1.0;
+  /// A correction of the first kStiffnessHarmonics harmonics of each mesh family's combined
+  /// stiffness over one mesh cycle, relative to its time-mean stiffness [-]:
+  ///   K(s) -> K(s) + Kbar sum_h (cos_h cos(2 pi h u / p_b) + sin_h sin(2 pi h u / p_b)),
+  /// u the mesh's contact coordinate (pairs at xi_j = u - j p_b), applied to the pairs in contact
+  /// in proportion to their stiffness. Zero: the potential-energy law as computed. What a rig's
+  /// calibration fits when its gears' stiffness law differs in shape from the model's
+  /// (docs/diagnose.md §4, mesh_stiffness_harmonics); the mean stays Kbar.
+  struct Harmonics {
+    static constexpr int kCount = 3;
+    std::array<double, kCount> cos{}, sin{};
+    bool any() const {
+      for (int h = 0; h < kCount; ++h)
+        if (cos[h] != 0 || sin[h] != 0) return true;
+      return false;
+    }
+  };
+  Harmonics sun_planet_harmonics;
+  Harmonics planet_ring_harmonics;
 };
 
 /// Mesh contact physics.

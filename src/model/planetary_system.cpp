@@ -10,6 +10,9 @@
 namespace pw::model {
 namespace {
 
+/// Largest share of a mesh's stiffness in contact that the harmonic correction may remove [-].
+constexpr double kMaxStiffnessRemoved = 0.9;
+
 /// tanh(x), the smoothed sign of the sliding speed, with its saturated tails
 /// taken exactly: for |x| > 19.07 the double nearest tanh(x) is +-1 (checked
 /// against glibc over [19, 23] in steps of 1e-7), so pairs that slide faster
@@ -229,6 +232,21 @@ PlanetaryDynamics::PairWindow PlanetaryDynamics::pair_window(int m, double s_m) 
   return w;
 }
 
+double MeshFamily::stiffness_correction_N_m(double u_m) const {
+  // Phase in mesh cycles reduced to [0, 1) before the sine: u grows with the run.
+  const double cycles = u_m / geometry.base_pitch_m;
+  const double x = 2 * std::numbers::pi * (cycles - std::floor(cycles));
+  const double c1 = std::cos(x), s1 = std::sin(x);
+  double c = 1, s = 0, dk = 0;
+  for (int h = 0; h < StiffnessSettings::Harmonics::kCount; ++h) {
+    const double cn = c * c1 - s * s1;  // cos((h+1) x), sin((h+1) x) by the angle-sum recurrence
+    s = s * c1 + c * s1;
+    c = cn;
+    dk += harmonic_cos_N_m[h] * c + harmonic_sin_N_m[h] * s;
+  }
+  return dk;
+}
+
 void PlanetaryDynamics::update_contact_geometry(double t) {
   const int nm = static_cast<int>(structure_.meshes.size());
   const Eigen::Vector2d runout = sun_runout_m(t);  // one sin/cos per step, not per sun mesh
@@ -275,6 +293,15 @@ void PlanetaryDynamics::update_contact_geometry(double t) {
       pg.slide_nominal_m_s = mc.nominal_slide0_m_s + p.xi_m * mc.nominal_slide1_1_s;
       for (int k = 0; k < sc.entries; ++k) pg.h[k] = sc.h0[k] + p.xi_m * sc.h1[k];
       k_sum += pg.k_N_m;
+    }
+    if (fam.corrected && k_sum > 0) {
+      // The calibrated harmonics change the combined stiffness by dK(u); the pairs share it in
+      // proportion to their stiffness, so their shares (and the damping's) are unchanged. At most
+      // kMaxStiffnessRemoved of the stiffness in contact is taken away: a larger correction would
+      // leave a mesh in contact without stiffness, which no stiffness law has.
+      const double f = std::max(1.0 + fam.stiffness_correction_N_m(win.u_m) / k_sum, 1.0 - kMaxStiffnessRemoved);
+      for (int j = 0; j < np; ++j) pair_geometry_[m][j].k_N_m *= f;
+      k_sum *= f;
     }
     st.stiffness_N_m = k_sum;
     const double inv_k_sum = k_sum > 0 ? 1.0 / k_sum : 0.0;

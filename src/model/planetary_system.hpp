@@ -55,6 +55,11 @@ struct MeshFamily {
   stiffness::PairStiffnessCurve stiffness;
   double mean_stiffness_N_m = 0;  ///< time-averaged combined mesh stiffness [N/m]
   int teeth_a = 0, teeth_b = 0;
+  /// StiffnessSettings::Harmonics times the mean stiffness [N/m]; `corrected` when any is non-zero.
+  std::array<double, StiffnessSettings::Harmonics::kCount> harmonic_cos_N_m{}, harmonic_sin_N_m{};
+  bool corrected = false;
+  /// The correction of the combined stiffness at contact coordinate u [N/m] (zero mean over p_b).
+  double stiffness_correction_N_m(double u_m) const;
 };
 
 class PlanetaryDynamics final : public dynamics::SecondOrderSystem {

@@ -112,7 +112,7 @@ double combined_stiffness(const MeshFamily& f, double s) {
 }
 
 MeshFamily make_family(const geometry::GearSpec& a, const geometry::GearSpec& b, const geometry::MeshGeometry& mg,
-                       const SimulationConfig& c) {
+                       const SimulationConfig& c, const StiffnessSettings::Harmonics& harmonics) {
   MeshFamily f;
   f.geometry = mg;
   stiffness::MeshStiffnessOptions opt;
@@ -121,6 +121,11 @@ MeshFamily make_family(const geometry::GearSpec& a, const geometry::GearSpec& b,
   f.teeth_a = a.teeth;
   f.teeth_b = b.teeth;
   f.mean_stiffness_N_m = stiffness::summarize(f.stiffness, mg).combined_mean_N_m;
+  for (int h = 0; h < StiffnessSettings::Harmonics::kCount; ++h) {
+    f.harmonic_cos_N_m[h] = harmonics.cos[h] * f.mean_stiffness_N_m;
+    f.harmonic_sin_N_m[h] = harmonics.sin[h] * f.mean_stiffness_N_m;
+  }
+  f.corrected = harmonics.any();
   return f;
 }
 
@@ -175,8 +180,8 @@ PreparedStage prepare(const SimulationConfig& c) {
   p.carrier_speed_rad_s = carrier_speed(c.stage, p.sun_speed_rad_s);
   p.mesh_frequency_Hz = zs * (p.sun_speed_rad_s - p.carrier_speed_rad_s) / (2 * kPi);
 
-  MeshFamily sp = make_family(c.stage.sun, c.stage.planet, geo.sun_planet, c);
-  MeshFamily pr = make_family(c.stage.planet, c.stage.ring, geo.planet_ring, c);
+  MeshFamily sp = make_family(c.stage.sun, c.stage.planet, geo.sun_planet, c, c.stiffness.sun_planet_harmonics);
+  MeshFamily pr = make_family(c.stage.planet, c.stage.ring, geo.planet_ring, c, c.stiffness.planet_ring_harmonics);
 
   dynamics::StageLayout l;
   l.sun_base_radius_m = geo.sun.base_radius_m;

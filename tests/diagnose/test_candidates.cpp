@@ -297,6 +297,38 @@ TEST(Candidates, RigShaftsAreBoundedByTheBodysModeOnThemAndPutASpeedSourceBehind
   }
 }
 
+TEST(Candidates, MeshStiffnessHarmonicsIsACalibrationElementOverBothFamiliesThatDiagnosesHoldFixed) {
+  const Candidate* c = find_candidate("mesh_stiffness_harmonics");
+  ASSERT_NE(c, nullptr);
+  EXPECT_TRUE(c->calibration_only());        // a property of the healthy gears: never a finding
+  EXPECT_TRUE(c->held_after_calibration());  // kept at its calibrated value by diagnose
+  model::SimulationConfig base = stage(3);
+  base.stiffness.planet_ring_harmonics.sin[2] = 0.3;  // a calibrated value beyond the default box
+  const auto specs = c->parameters(base);
+  ASSERT_EQ(specs.size(), 12u);  // 2 families x 3 harmonics x (cos, sin)
+  std::vector<double> x;
+  for (std::size_t i = 0; i < specs.size(); ++i) {
+    const ParameterSpec& p = specs[i];
+    SCOPED_TRACE(p.name);
+    ASSERT_NE(config::find_number(base, p.name), nullptr);
+    EXPECT_EQ(p.null_value, *config::find_number(base, p.name));  // absent = as configured
+    EXPECT_LE(p.lower, p.null_value);
+    EXPECT_GE(p.upper, p.null_value);
+    EXPECT_GE(p.lower, -0.5);  // inside the key's range [-0.5, 0.5]
+    EXPECT_LE(p.upper, 0.5);
+    x.push_back(0.01 * static_cast<double>(i + 1));
+  }
+  EXPECT_EQ(specs.back().name, "stiffness.planet_ring_h3_sin");
+  EXPECT_EQ(specs.back().upper, 0.3);  // the box reaches the configured value
+  model::SimulationConfig applied = base;
+  c->apply(applied, Variant{}, x, nullptr);
+  EXPECT_EQ(applied.stiffness.sun_planet_harmonics.cos[0], 0.01);
+  EXPECT_EQ(applied.stiffness.sun_planet_harmonics.sin[0], 0.02);
+  EXPECT_EQ(applied.stiffness.sun_planet_harmonics.sin[2], 0.06);
+  EXPECT_EQ(applied.stiffness.planet_ring_harmonics.cos[0], 0.07);
+  EXPECT_EQ(applied.stiffness.planet_ring_harmonics.sin[2], 0.12);
+}
+
 TEST(Candidates, DampingScreenStepStaysInsideTheKeysRangeAtItsTop) {
   // contact.mesh_damping_ratio <= 1 (model/validate.cpp): at 1 the screening secant points down.
   const Candidate* c = find_candidate("damping_level");

@@ -46,6 +46,12 @@ inline void expect_config_eq(const model::SimulationConfig& a, const model::Simu
   EXPECT_EQ(a.stiffness.samples_per_pair, b.stiffness.samples_per_pair);
   EXPECT_EQ(a.stiffness.include_fillet_foundation, b.stiffness.include_fillet_foundation);
   EXPECT_EQ(a.stiffness.scale, b.stiffness.scale);
+  for (int h = 0; h < model::StiffnessSettings::Harmonics::kCount; ++h) {
+    EXPECT_EQ(a.stiffness.sun_planet_harmonics.cos[h], b.stiffness.sun_planet_harmonics.cos[h]);
+    EXPECT_EQ(a.stiffness.sun_planet_harmonics.sin[h], b.stiffness.sun_planet_harmonics.sin[h]);
+    EXPECT_EQ(a.stiffness.planet_ring_harmonics.cos[h], b.stiffness.planet_ring_harmonics.cos[h]);
+    EXPECT_EQ(a.stiffness.planet_ring_harmonics.sin[h], b.stiffness.planet_ring_harmonics.sin[h]);
+  }
 
   EXPECT_EQ(a.contact.friction_coefficient, b.contact.friction_coefficient);
   EXPECT_EQ(a.contact.friction_smoothing_m_s, b.contact.friction_smoothing_m_s);

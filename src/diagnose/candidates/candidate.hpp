@@ -84,6 +84,10 @@ public:
   /// reach a value without effect ('absent' is only its softest end), so "it improves on the
   /// model without it" cannot be tested.
   virtual bool calibration_only() const { return false; }
+  /// A calibration-only element that a diagnosis keeps at its calibrated value instead of
+  /// refitting it: a property of the gears' stiffness law, which no fault changes, and too many
+  /// parameters to carry through every fit of every candidate.
+  virtual bool held_after_calibration() const { return false; }
   virtual std::vector<ParameterSpec> parameters(const model::SimulationConfig& base) const = 0;
   /// Discrete variants to screen, most likely first (default: one).
   virtual std::vector<Variant> variants(const LocatedEvidence& evidence, const model::SimulationConfig& base,

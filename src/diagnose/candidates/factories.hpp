@@ -26,5 +26,6 @@ std::unique_ptr<Candidate> motor_inertia();         // rig_inertia.cpp
 std::unique_ptr<Candidate> load_inertia();          // rig_inertia.cpp
 std::unique_ptr<Candidate> input_shaft();           // rig_shaft.cpp
 std::unique_ptr<Candidate> output_shaft();          // rig_shaft.cpp
+std::unique_ptr<Candidate> mesh_stiffness_harmonics();  // mesh_stiffness_harmonics.cpp
 
 } // namespace pw::diagnose::candidates

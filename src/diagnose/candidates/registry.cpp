@@ -49,6 +49,7 @@ const std::vector<std::unique_ptr<Candidate>>& candidate_library() {
     t.push_back(candidates::load_inertia());
     t.push_back(candidates::input_shaft());
     t.push_back(candidates::output_shaft());
+    t.push_back(candidates::mesh_stiffness_harmonics());
     return t;
   }();
   return table;
