@@ -143,7 +143,9 @@ LeadAssessment assess_lead(Diagnosis& d, const VerdictInputs& in) {
                                  ? ", and > " + fmt("%.0f", a.replicate_chi2) + " of the recording's own fit half"
                                  : std::string()) +
                             ")"
-                      : "its held-out bound was not computed");
+                      : in.lead_score_failure.empty()
+                            ? "its held-out bound was not computed"
+                            : "its own model could not be simulated for the held-out test (" + in.lead_score_failure + ")");
   for (const auto& s : a.at_bound) why.push_back(s);
   // (d) The data tell it apart from every other counting explanation: its BIC posterior
   // probability among them is at least 1 - alpha/2, the confidence every other step of the
@@ -168,7 +170,10 @@ LeadAssessment assess_lead(Diagnosis& d, const VerdictInputs& in) {
   // toss the BIC of the noise-only chi2 hides. Measured on the independent corpus's held-out
   // set: carrier runouts of both gear sets named pin_error with posterior 1, the pin fits
   // giving one pattern whatever the truth (docs/diagnose-log.md, session 20).
-  if (!in.alias_within_own_null.empty())
+  if (!in.alias_within_own_null.empty() && !std::isfinite(in.alias_bound_held_out))
+    why.push_back("its near-alias " + in.alias_within_own_null +
+                  " could not be simulated for the same test, so it is not ruled out");
+  else if (!in.alias_within_own_null.empty())
     why.push_back("its near-alias " + in.alias_within_own_null +
                   " explains the held-out half within its own null too (chi2 " + fmt("%.0f", in.alias_held_out_chi2) +
                   " <= " + fmt("%.0f", in.alias_bound_held_out) +

@@ -71,6 +71,9 @@ struct VerdictInputs {
   double lead_held_out_chi2 = std::numeric_limits<double>::quiet_NaN();
   /// B_lead: 1 - alpha/2 null quantile of that chi2 (NaN: no lead or not computed).
   double lead_bound_held_out = std::numeric_limits<double>::quiet_NaN();
+  /// Why B_lead could not be computed (the solver's message on the lead's model or one of its
+  /// fidelity variants); empty when it was.
+  std::string lead_score_failure;
   /// chi2 of the recording's fit half as the prediction of its held-out half
   /// (ModelComparison::replicate_chi2; NaN: not used).
   double replicate_chi2 = std::numeric_limits<double>::quiet_NaN();

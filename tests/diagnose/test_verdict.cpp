@@ -355,3 +355,32 @@ TEST(Verdict, ANearAliasThatAlsoPassesItsOwnNullUnderTheCalibrationMakesTheLeadA
 }
 
 } // namespace pw::diagnose
+
+namespace pw::diagnose {
+
+TEST(Verdict, ALeadWhoseOwnModelCouldNotBeSimulatedForItsTestIsALeadOnlyAndSaysWhy) {
+  // The solver failed on the lead's model (or a fidelity variant of it) in the held-out test:
+  // no bound, so (a) is not met, and the reason carries the solver's message.
+  Diagnosis d = counting_friction();
+  VerdictInputs in = inputs(std::numeric_limits<double>::quiet_NaN());
+  in.lead_score_failure = "Newton iteration of the Newmark step at t = 0.588 s did not converge";
+  decide_verdict(d, in);
+  EXPECT_EQ(d.verdict, Verdict::Unexplained) << d.summary;
+  EXPECT_EQ(d.winner, -1);
+  EXPECT_NE(d.lead.failed.find("its own model could not be simulated for the held-out test (Newton iteration"),
+            std::string::npos)
+      << d.lead.failed;
+}
+
+TEST(Verdict, ANearAliasThatCouldNotBeScoredIsNotRuledOut) {
+  Diagnosis d = counting_friction();
+  VerdictInputs in = inputs(1110);
+  in.alias_within_own_null = "carrier_runout";  // as check_near_aliases sets it when the solver fails
+  decide_verdict(d, in);
+  EXPECT_EQ(d.verdict, Verdict::Unexplained) << d.summary;
+  EXPECT_NE(d.lead.failed.find("its near-alias carrier_runout could not be simulated for the same test"),
+            std::string::npos)
+      << d.lead.failed;
+}
+
+} // namespace pw::diagnose
