@@ -213,9 +213,26 @@ private:
   bool extra_nuisance(const Candidate& c) const {
     return std::find(o_.extra_nuisance.begin(), o_.extra_nuisance.end(), c.name()) != o_.extra_nuisance.end();
   }
-  /// A candidate the screening considers as a finding.
+  /// A candidate the screening considers as a finding. Under a calibration a rig-design element
+  /// is not one unless the command line asks for it by name (Candidate::rig_design).
   bool screened(const Candidate& c) const {
-    return !c.nuisance() && !extra_nuisance(c) && allowed(c) && !c.calibration_only();
+    return !c.nuisance() && !extra_nuisance(c) && allowed(c) && !c.calibration_only() && !design_fixed(c);
+  }
+  /// A rig-design element that a calibration or a healthy baseline of the same rig fixes, and that
+  /// the command line did not ask for by name: not a change since the healthy recordings.
+  bool design_fixed(const Candidate& c) const {
+    const bool reference = !o_.compare.discrepancy.empty() || !o_.compare.baseline.empty();
+    return reference && c.rig_design() && o_.only_candidates.empty() && !extra_nuisance(c);
+  }
+  /// The sentence for the report's rule: which design elements were not screened, and why.
+  std::string design_fixed_text() const {
+    std::string names;
+    for (const auto& c : candidate_library())
+      if (design_fixed(*c)) names += (names.empty() ? "" : ", ") + c->name();
+    if (names.empty()) return {};
+    return " Not screened as findings: " + names + " (the rig's design, which the " +
+           (o_.compare.discrepancy.empty() ? std::string("healthy baseline") : std::string("calibration's healthy recordings")) +
+           " share: not a change since them; name one with --candidates to screen it).";
   }
   ModelComparison& cmp() { return *cmp_; }
   FitContext& ctx() { return *ctx_; }
@@ -424,6 +441,7 @@ private:
                  resolvable(c, layout);
         },
         d_.location.evidence, *teeth_);
+    d_.rule += design_fixed_text();
     expect(6, static_cast<long>(screening_->simulations()));
     step(6, "screening " + std::to_string(screening_->variants()) + " candidate variants (" +
         std::to_string(screening_->simulations()) + " simulations)");

@@ -4,7 +4,8 @@
 # torsional one. Uncalibrated, a healthy recording comes out "unexplained_residual"
 # (test_model_form.sh). Calibrated on one healthy recording (seed 3):
 #   * another healthy recording (seed 4, not in the calibration) is "no_missing_physics";
-#   * a cracked sun tooth (seed 5) is not: the sun family is located first.
+#   * a cracked sun tooth (seed 5) is not: the sun family is located first;
+#   * the rig's design elements (tip relief, machine inertias) are not screened as its findings.
 # Measured 2026-11-26: calibrate 30 s, diagnoses 14 s and 40 s at 2 threads.
 # Usage: test_calibration.sh <planetwear> <workdir>
 set -eu
@@ -35,6 +36,16 @@ if s["missing_physics"] not in (None, "sun_tooth_damage"):
     sys.exit("cracked sun tooth named as " + str(s["missing_physics"]))
 if "located: sun family" not in s["summary"]:
     sys.exit("the sun family is not located first: " + s["summary"][:300])
+# Under a calibration the rig's design elements are not findings (docs/diagnose.md section 6a item 5):
+# the screening leaves them out and the decision rule says so.
+design = {"tip_relief", "motor_inertia", "load_inertia"}
+screened = {r["name"] for r in s["screening"]}
+if screened & design:
+    sys.exit("rig-design elements screened under a calibration: " + str(sorted(screened & design)))
+if not screened:
+    sys.exit("the cracked sun tooth's diagnosis screened nothing")
+if "Not screened as findings: tip_relief, motor_inertia, load_inertia" not in s["decision_rule"]:
+    sys.exit("the decision rule does not name the design elements left out: " + s["decision_rule"][-400:])
 print("healthy:", h["summary"][:160])
 print("sun tooth:", s["summary"][:200])
 PY

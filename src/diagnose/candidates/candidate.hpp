@@ -88,6 +88,12 @@ public:
   /// refitting it: a property of the gears' stiffness law, which no fault changes, and too many
   /// parameters to carry through every fit of every candidate.
   virtual bool held_after_calibration() const { return false; }
+  /// A property of the rig's design (an encoder's bandwidth, a machine's inertia, the gears' tip
+  /// relief) rather than something that changes in service. Under a calibration it is not
+  /// screened as a finding: the healthy recordings the calibration was made on carry the same
+  /// design, so it is either one of the calibration's rig elements or part of its discrepancy,
+  /// never a change since (docs/diagnose.md §6a item 5).
+  virtual bool rig_design() const { return false; }
   virtual std::vector<ParameterSpec> parameters(const model::SimulationConfig& base) const = 0;
   /// Discrete variants to screen, most likely first (default: one).
   virtual std::vector<Variant> variants(const LocatedEvidence& evidence, const model::SimulationConfig& base,

@@ -39,6 +39,7 @@ public:
            "the encoder's cutoff (a low-pass the model's ideal speed lacks)";
   }
   std::vector<Component> families() const override { return {Component::Mesh}; }
+  bool rig_design() const override { return true; }
   std::vector<ParameterSpec> parameters(const model::SimulationConfig& b) const override {
     const double fm = mesh_frequency_Hz(b);
     const double absent = b.sensor.encoder_bandwidth_Hz > 0 ? b.sensor.encoder_bandwidth_Hz

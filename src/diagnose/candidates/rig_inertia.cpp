@@ -44,6 +44,7 @@ public:
                  "the gear-set model lacks, which damps the carrier's speed response to the mesh forces";
   }
   std::vector<Component> families() const override { return {Component::Mesh}; }
+  bool rig_design() const override { return true; }
   std::vector<ParameterSpec> parameters(const model::SimulationConfig& b) const override {
     const double own = own_inertia_kgm2(b, machine_);
     const double configured = configured_kgm2(b);

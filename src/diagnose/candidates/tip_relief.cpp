@@ -34,6 +34,7 @@ public:
            "gradually, so the higher mesh harmonics fall off faster than the unmodified involutes' do";
   }
   std::vector<Component> families() const override { return {Component::Mesh}; }
+  bool rig_design() const override { return true; }
   std::vector<ParameterSpec> parameters(const model::SimulationConfig& b) const override {
     const double configured = b.contact.tip_relief_m;
     const double absent = configured > 0 ? configured : kAbsent_m;
