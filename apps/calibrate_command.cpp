@@ -39,8 +39,8 @@ CLI::App* add_calibrate_command(CLI::App& app, CalibrateCommandOptions& o) {
   c->add_option("--rig-elements", o.rig_elements,
                 "candidates fitted as nuisance parameters when the recording can see them (default: "
                 "encoder_bandwidth; motor_inertia, load_inertia (rigidly coupled machines) or input_shaft, "
-                "output_shaft (machines behind flexible shafts), and tip_relief may be added, docs/diagnose.md "
-                "section 6a; 'none' for none)")
+                "output_shaft (machines behind flexible shafts), tip_relief and mesh_stiffness_harmonics (the "
+                "stiffness law's shape) may be added, docs/diagnose.md section 6a; 'none' for none)")
       ->delimiter(',');
   c->add_option("--threads", o.threads, "OpenMP threads (default: OMP_NUM_THREADS or all cores)")
       ->check(CLI::Range(0, 1024));
