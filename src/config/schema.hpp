@@ -23,6 +23,7 @@
 #include "config/range.hpp"
 #include "config/stage.hpp"
 
+#include <array>
 #include <string>
 #include <string_view>
 #include <type_traits>
@@ -40,6 +41,23 @@ inline constexpr double kMaxSensorWindowWidth_rad = 1.25;
 /// Largest reference pressure angle [rad], pi/4: beyond it the tooth of a standard gear
 /// becomes pointed before its addendum (geometry/gear.cpp checks the tip of each gear).
 inline constexpr double kMaxPressureAngle_rad = 0.78539816339744830962;
+
+/// The keys of one mesh family's stiffness harmonic corrections (stage.hpp
+/// StiffnessSettings::Harmonics), relative to the mean stiffness: names[2h] the cos part of harmonic
+/// h + 1, names[2h + 1] its sin part. Half the mean bounds each part: the potential-energy law's own
+/// first harmonic is 0.1-0.35 of the mean for contact ratios 1.2-2 (planetwear stiffness), and a
+/// change of half the mean in one part is already a different law, not a correction of this one.
+template <class V, class Harmonics>
+void visit_harmonics(V& v, const std::array<std::string_view, 2 * model::StiffnessSettings::Harmonics::kCount>& names,
+                     Harmonics& h) {
+  constexpr Range kHarmonicRange = interval(-0.5, 0.5, Ends::Closed, "-");
+  for (int i = 0; i < model::StiffnessSettings::Harmonics::kCount; ++i) {
+    v.field(names[2 * i], h.cos[i], "cos part of a mesh-stiffness harmonic, relative to the mean stiffness [-]",
+            kHarmonicRange);
+    v.field(names[2 * i + 1], h.sin[i], "sin part of a mesh-stiffness harmonic, relative to the mean stiffness [-]",
+            kHarmonicRange);
+  }
+}
 
 /// The keys of one gear, under `section` ("stage.sun", ...). Its single-key ranges are stated
 /// here; what depends on the whole gear (a pointed tip, a dedendum below the addendum, the root
@@ -99,23 +117,10 @@ void visit_config(V& v, Config& c) {
   v.field("samples_per_pair", c.stiffness.samples_per_pair, "roll positions per tooth-pair contact [-]", integers(16, 100000));
   v.field("include_fillet_foundation", c.stiffness.include_fillet_foundation, "include the fillet-foundation term");
   v.field("scale", c.stiffness.scale, "multiplies every computed mesh stiffness [-]", interval(0, 1e3, Ends::OpenLow, "-"));
-  // Mesh-stiffness harmonic corrections (stage.hpp StiffnessSettings::Harmonics), relative to the
-  // mean stiffness. Half the mean bounds each part: the potential-energy law's own first harmonic
-  // is 0.1-0.35 of the mean for contact ratios 1.2-2 (planetwear stiffness), and a change of
-  // half the mean in one part is already a different law, not a correction of this one.
-  constexpr Range kHarmonicRange = interval(-0.5, 0.5, Ends::Closed, "-");
-  v.field("sun_planet_h1_cos", c.stiffness.sun_planet_harmonics.cos[0], "cos part of the mesh stiffness's harmonic 1, relative to its mean [-]", kHarmonicRange);
-  v.field("sun_planet_h1_sin", c.stiffness.sun_planet_harmonics.sin[0], "sin part of the mesh stiffness's harmonic 1, relative to its mean [-]", kHarmonicRange);
-  v.field("sun_planet_h2_cos", c.stiffness.sun_planet_harmonics.cos[1], "cos part of the mesh stiffness's harmonic 2, relative to its mean [-]", kHarmonicRange);
-  v.field("sun_planet_h2_sin", c.stiffness.sun_planet_harmonics.sin[1], "sin part of the mesh stiffness's harmonic 2, relative to its mean [-]", kHarmonicRange);
-  v.field("sun_planet_h3_cos", c.stiffness.sun_planet_harmonics.cos[2], "cos part of the mesh stiffness's harmonic 3, relative to its mean [-]", kHarmonicRange);
-  v.field("sun_planet_h3_sin", c.stiffness.sun_planet_harmonics.sin[2], "sin part of the mesh stiffness's harmonic 3, relative to its mean [-]", kHarmonicRange);
-  v.field("planet_ring_h1_cos", c.stiffness.planet_ring_harmonics.cos[0], "cos part of the mesh stiffness's harmonic 1, relative to its mean [-]", kHarmonicRange);
-  v.field("planet_ring_h1_sin", c.stiffness.planet_ring_harmonics.sin[0], "sin part of the mesh stiffness's harmonic 1, relative to its mean [-]", kHarmonicRange);
-  v.field("planet_ring_h2_cos", c.stiffness.planet_ring_harmonics.cos[1], "cos part of the mesh stiffness's harmonic 2, relative to its mean [-]", kHarmonicRange);
-  v.field("planet_ring_h2_sin", c.stiffness.planet_ring_harmonics.sin[1], "sin part of the mesh stiffness's harmonic 2, relative to its mean [-]", kHarmonicRange);
-  v.field("planet_ring_h3_cos", c.stiffness.planet_ring_harmonics.cos[2], "cos part of the mesh stiffness's harmonic 3, relative to its mean [-]", kHarmonicRange);
-  v.field("planet_ring_h3_sin", c.stiffness.planet_ring_harmonics.sin[2], "sin part of the mesh stiffness's harmonic 3, relative to its mean [-]", kHarmonicRange);
+  visit_harmonics(v, {"sun_planet_h1_cos", "sun_planet_h1_sin", "sun_planet_h2_cos", "sun_planet_h2_sin",
+                      "sun_planet_h3_cos", "sun_planet_h3_sin"}, c.stiffness.sun_planet_harmonics);
+  visit_harmonics(v, {"planet_ring_h1_cos", "planet_ring_h1_sin", "planet_ring_h2_cos", "planet_ring_h2_sin",
+                      "planet_ring_h3_cos", "planet_ring_h3_sin"}, c.stiffness.planet_ring_harmonics);
 
   v.section("contact");
   v.field("friction_coefficient", c.contact.friction_coefficient, "friction coefficient mu [-]", interval(0, 1, Ends::OpenHigh, "-"));
