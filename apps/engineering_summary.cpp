@@ -86,7 +86,14 @@ std::string engineering_summary(const model::SimulationConfig& c, const model::S
   o += "\nLoad-sharing factor per planet (N mean F_sp,i / sum mean F_sp):";
   for (int i = 0; i < c.stage.planet_count; ++i)
     o += " " + fmt("%.4f", scalar_or_nan(r, "load_sharing_factor/" + std::to_string(i)));
-  o += ". Mesh efficiency (friction losses): " + fmt("%.4f", scalar_or_nan(r, "efficiency")) + ".\n";
+  // An efficiency is a steady state's energy balance: of a transient's record (the warm-up
+  // cut short, the mean speed still drifting) T_load Omega_c / P can be anything, 1.65 measured.
+  const double efficiency = scalar_or_nan(r, "efficiency");
+  if (reached_steady_state(c, r) && efficiency > 0 && efficiency <= 1)
+    o += ". Mesh efficiency (friction losses): " + fmt("%.4f", efficiency) + ".\n";
+  else
+    o += ". Mesh efficiency: not given, the record is not of a steady state (T_load Omega_c / P = " +
+         fmt("%.4g", efficiency) + " there).\n";
   if (!r.wear.mesh_cycles.empty()) wear_table(o, r.wear);
   return o;
 }

@@ -65,6 +65,7 @@ grep -q "Stopped early" stopped.md || { echo "FAIL wear-limit: summary does not 
 check report 0 "" "" -- "$PW" simulate --speed-rpm 400 --set solver.record_mesh_cycles=2 --report summary.md -o rep.h5
 cmp -s summary.md stdout.txt || { echo "FAIL report: --report differs from the printed summary"; fail=1; }
 grep -q "steady state" stdout.txt stderr.txt && { echo "FAIL report: a settled run was flagged unsteady"; fail=1; }
+grep -q "Mesh efficiency (friction losses): 0\.9" stdout.txt || { echo "FAIL report: a settled run lacks its efficiency"; fail=1; }
 for col in "dynamic factor K_v" "largest contact pressure [MPa]" "Load-sharing factor" "allowable 1500 MPa"; do
   grep -qF "$col" summary.md || { echo "FAIL report: summary lacks '$col'"; fail=1; }; done
 check report-quiet 0 "" "" -- "$PW" simulate -q --speed-rpm 400 --set solver.record_mesh_cycles=2 -o rep.h5
@@ -73,6 +74,7 @@ check report-quiet 0 "" "" -- "$PW" simulate -q --speed-rpm 400 --set solver.rec
 check unsteady-flagged 0 "did not reach a steady state" "" -- "$PW" simulate --speed-rpm 400 \
   --set solver.warmup_max_mesh_cycles=1 --set solver.record_mesh_cycles=2 -o unsteady.h5
 grep -q "not a steady state" stdout.txt || { echo "FAIL unsteady-flagged: summary lacks the warning"; fail=1; }
+grep -q "Mesh efficiency: not given" stdout.txt || { echo "FAIL unsteady-flagged: a transient's efficiency was given"; fail=1; }
 check report-allowable 1 "allowable-contact-stress-pa" bad.h5 -- "$PW" simulate --allowable-contact-stress-pa -1 -o bad.h5
 check report-bad-dir 3 "no_such_dir" bad.h5 -- "$PW" simulate --report no_such_dir/s.md -o bad.h5
 [ $fail -eq 0 ] && echo "all CLI checks passed"
