@@ -191,6 +191,7 @@ void diagnose_and_report(const DiagnoseCommandOptions& o_in, const std::string& 
     a.insert(a.end(), o_in.common.assignments.begin(), o_in.common.assignments.end());
     o.common.assignments = a;
     opt.compare.baseline = baseline->cells;
+    opt.compare.discrepancy = baseline->budgets;
   }
   const Inputs in = read_inputs(o);
   const diagnose::Diagnosis d = diagnose::diagnose(in.recording, in.config, opt);

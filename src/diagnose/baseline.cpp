@@ -1,5 +1,6 @@
 #include "diagnose/baseline.hpp"
 
+#include "diagnose/calibration.hpp"
 #include "diagnose/order_analysis.hpp"
 
 #include <algorithm>
@@ -16,6 +17,7 @@ BaselineCell baseline_cell(const CalibrationCell& c) {
   for (int w = 0; w < 2; ++w) a += 0.5 * debiased_amplitude(c.recording[w], c.noise_variance);
   b.offset = a - c.model;
   b.variance = 0.25 * (c.variance[0] + c.variance[1]);
+  b.model = c.model;
   return b;
 }
 
@@ -26,6 +28,13 @@ BaselineReference fit_baseline(const Recording& baseline, const model::Simulatio
   BaselineReference ref;
   ref.overrides = d.final_overrides;
   for (const CalibrationCell& c : d.calibration_cells) ref.cells.push_back(baseline_cell(c));
+  // The baseline's relative model-form error, estimated as a calibration on it alone would
+  // (calibration.hpp), is the budget for how far the model's predicted change may be off: a
+  // fault's change reaches the sensors through the same model-form error as the healthy lines.
+  Calibration cal;
+  cal.alpha = options.alpha;
+  cal.discrepancy = estimate_discrepancy({d.calibration_cells});
+  ref.budgets = cal.budgets();
   ref.speed_rpm = d.speed.input_rpm;
   ref.revolutions = d.window_revolutions;
   ref.noise_test = d.verdict;

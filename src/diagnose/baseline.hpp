@@ -22,6 +22,9 @@ namespace pw::diagnose {
 struct BaselineReference {
   std::vector<std::string> overrides;  ///< the nuisance values fitted to the baseline (`--set` lines)
   std::vector<BaselineCell> cells;     ///< per channel and carrier order: offset e_i and its variance
+  /// The baseline's own discrepancy budgets (Calibration::budgets of a calibration on it alone):
+  /// CompareOptions::discrepancy, applied to the model's change from the baseline's model.
+  std::vector<DiscrepancyEntry> budgets;
   double speed_rpm = 0;                ///< the baseline's mean input speed
   double revolutions = 0;              ///< carrier revolutions per half of its analysis
   Verdict noise_test = Verdict::NoMissingPhysics;  ///< the baseline's own noise test (for the report)

@@ -123,6 +123,8 @@ ModelComparison::ModelComparison(const Recording& recording, const model::Simula
           }
     }
   match_baseline();
+  // Differential: what the model lacks in absolute terms is in the baseline too and cancels.
+  if (!opt_.baseline.empty()) disc_abs_.assign(m, 0.0);
   const double flag = chi2_quantile(1.0, opt_.alpha);
   for (int c = 0; c < nc; ++c)
     for (int i = 0; i < ncell; ++i) {
@@ -218,15 +220,22 @@ void ModelComparison::set_discrepancy_reference(const std::vector<std::vector<do
     for (int i = 0; i < ncell; ++i) {
       const std::size_t f = static_cast<std::size_t>(c * ncell + i);
       const double g = is_housing(c) ? gains[static_cast<std::size_t>(c)] : 1.0;
-      disc_sd_[f] = disc_[f] * model_amplitude(m, c, i, g);
+      // Relative to the line, or, differential, to the line's change from the baseline's model:
+      // a model-form error common to both recordings cancels, its effect on a change does not.
+      disc_sd_[f] = disc_[f] * (opt_.baseline.empty() ? model_amplitude(m, c, i, g)
+                                                      : std::fabs(raw_model_amplitude(m, c, i, g) - base_model_[f]));
       const double v = rice_ref_[f] + disc_sd_[f] * disc_sd_[f] + disc_abs_[f] + offset_var_[f];
       for (int w = 0; w < 2; ++w) d_[static_cast<std::size_t>(w)][f] = v + vns_[f];
     }
 }
 
+double ModelComparison::raw_model_amplitude(const std::vector<std::vector<double>>& m, int c, int i, double g) const {
+  return g * m[static_cast<std::size_t>(c)][static_cast<std::size_t>(spec_.layout.cells[static_cast<std::size_t>(i)].bin)];
+}
+
 double ModelComparison::model_amplitude(const std::vector<std::vector<double>>& m, int c, int i, double g) const {
   const std::size_t f = static_cast<std::size_t>(c * cells() + i);
-  const double a = g * m[static_cast<std::size_t>(c)][static_cast<std::size_t>(spec_.layout.cells[static_cast<std::size_t>(i)].bin)];
+  const double a = raw_model_amplitude(m, c, i, g);
   return offset_[f] == 0 ? a : std::max(0.0, a + offset_[f]);
 }
 
@@ -234,6 +243,7 @@ void ModelComparison::match_baseline() {
   const std::size_t m = static_cast<std::size_t>(features());
   offset_.assign(m, 0.0);
   offset_var_.assign(m, 0.0);
+  base_model_.assign(m, 0.0);
   if (opt_.baseline.empty()) return;
   const int ncell = cells();
   for (int c = 0; c < channels(); ++c)
@@ -252,6 +262,7 @@ void ModelComparison::match_baseline() {
       const std::size_t f = static_cast<std::size_t>(c * ncell + i);
       offset_[f] = it->offset;
       offset_var_[f] = it->variance;
+      base_model_[f] = it->model;
     }
 }
 

@@ -95,6 +95,7 @@ struct BaselineCell {
   double order = 0;     ///< carrier order of the cell
   double offset = 0;    ///< [channel unit] de-biased baseline amplitude - fitted model amplitude
   double variance = 0;  ///< [channel unit^2]
+  double model = 0;     ///< [channel unit] the baseline's fitted model amplitude (gain applied)
 };
 
 struct CompareOptions {
@@ -111,7 +112,9 @@ struct CompareOptions {
   /// concurrently from the diagnosis's threads. Errors are rethrown as the same types.
   std::function<std::optional<ModelSpectra>(const model::SimulationConfig&, bool keep_sensor_inputs)> remote;
   /// Calibrated model discrepancy (empty: none; the noise, non-stationarity and fidelity alone).
-  /// A cell carrying lines of several families takes the largest of theirs.
+  /// A cell carrying lines of several families takes the largest of theirs. With a baseline the
+  /// relative part applies to the model's change from the baseline's fitted model (what does not
+  /// cancel), and the absolute part is not used (content the model lacks is in both recordings).
   std::vector<DiscrepancyEntry> discrepancy;
   /// Differential diagnosis: the baseline's per-cell offsets (empty: absolute comparison). Every
   /// cell of the recording must have its counterpart (the same analysis windows).
@@ -239,6 +242,8 @@ private:
   /// Noise-free amplitude of feature f = (channel c, cell i) the model predicts at gain g: g m
   /// plus the baseline's offset (differential diagnosis), never below 0.
   double model_amplitude(const std::vector<std::vector<double>>& m, int c, int i, double g) const;
+  /// The same without the baseline offset: the model's own amplitude of cell i (gain g applied).
+  double raw_model_amplitude(const std::vector<std::vector<double>>& m, int c, int i, double g) const;
   void match_baseline();
 
   const Recording& rec_;
@@ -255,6 +260,7 @@ private:
   std::vector<double> disc_sd_;              // [feature]: relative discrepancy x the reference amplitude (set_reference)
   std::vector<double> rice_ref_;             // [feature]: Rician variance at the reference amplitude
   std::vector<double> offset_, offset_var_;  // [feature]: baseline offset and its variance
+  std::vector<double> base_model_;           // [feature]: the baseline's fitted model amplitude
   std::vector<double> dispersion_;           // [channel]
   int ns_cells_ = 0;
   std::vector<std::vector<double>> u_;       // [column][feature]

@@ -231,7 +231,7 @@ private:
       if (design_fixed(*c)) names += (names.empty() ? "" : ", ") + c->name();
     if (names.empty()) return {};
     return " Not screened as findings: " + names + " (the rig's design, which the " +
-           (o_.compare.discrepancy.empty() ? std::string("healthy baseline") : std::string("calibration's healthy recordings")) +
+           (o_.compare.baseline.empty() ? std::string("calibration's healthy recordings") : std::string("healthy baseline")) +
            " share: not a change since them; name one with --candidates to screen it).";
   }
   ModelComparison& cmp() { return *cmp_; }
@@ -755,6 +755,7 @@ private:
     vin.noise_consistent = consistent_;
     vin.alpha = o_.alpha;
     vin.discrepancy = co_.discrepancy;
+    vin.differential = !co_.baseline.empty();
     if (!d_.candidates.empty() && d_.candidates.front().failed.empty() &&
         std::isfinite(d_.candidates.front().held_out.chi2)) {
       say("scoring the best candidate against its own null on the held-out half");

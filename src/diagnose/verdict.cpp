@@ -198,7 +198,7 @@ std::string nuisance_text(const Diagnosis& d) {
   return s;
 }
 
-std::string named_summary(const Diagnosis& d, bool calibrated) {
+std::string named_summary(const Diagnosis& d, bool calibrated, bool differential) {
   const CandidateResult& w = d.candidates.front();
   std::string ps;
   for (const auto& p : w.parameters)
@@ -213,7 +213,8 @@ std::string named_summary(const Diagnosis& d, bool calibrated) {
          " on the fit half and " + fmt("%.0f", d.nuisance.held_out.chi2) + " -> " + fmt("%.0f", w.held_out.chi2) +
          " held out (noise bound " + fmt("%.0f", d.bound_held_out) + "; against its own null " +
          fmt("%.0f", d.lead.held_out_chi2) + " <= " + fmt("%.0f", d.lead.bound_held_out) +
-         (calibrated ? " with the fidelity directions and the calibrated discrepancy at its own model"
+         (calibrated ? (differential ? " with the fidelity directions and the baseline's discrepancy at its own change"
+                                     : " with the fidelity directions and the calibrated discrepancy at its own model")
                      : " with the fidelity directions at its own model") +
          ")." + where;
 }
@@ -304,7 +305,7 @@ void decide_verdict(Diagnosis& d, const VerdictInputs& in) {
   if (d.lead.counts && !named) d.candidates.front().reason += "; not named, a lead only: " + d.lead.failed;
   if (named) {
     d.verdict = Verdict::MissingPhysicsFound;
-    d.summary = named_summary(d, !in.discrepancy.empty());
+    d.summary = named_summary(d, !in.discrepancy.empty(), in.differential);
   } else if (in.noise_consistent) {  // the nuisance-fitted model already explains the recording
     d.verdict = Verdict::NoMissingPhysics;
     const bool fit_excess = d.nuisance.fit.chi2 > d.bound_fit;
@@ -317,7 +318,8 @@ void decide_verdict(Diagnosis& d, const VerdictInputs& in) {
                               "parameters were not fitted on: under the null that happens with probability alpha/2, "
                               "and nothing can be confirmed from it"
                             : std::string()) +
-                "." + budget_sensitivity_text(in.discrepancy);
+                // Differential, the budget scales with a predicted change: none at the baseline's model.
+                "." + (in.differential ? std::string() : budget_sensitivity_text(in.discrepancy));
   } else {
     d.verdict = Verdict::Unexplained;
     d.summary = unexplained_summary(d);

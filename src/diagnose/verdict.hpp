@@ -88,6 +88,9 @@ struct VerdictInputs {
   /// A "no missing physics" under a budget says how large a change of the lines it leaves
   /// undetectable.
   std::vector<DiscrepancyEntry> discrepancy;
+  /// Differential diagnosis (a baseline): the discrepancy budgets apply to the model's change
+  /// from the baseline's model, so they say nothing about a "no missing physics".
+  bool differential = false;
 };
 
 /// " Under the calibration's discrepancy budget ... not detectable" for the largest relative

@@ -145,6 +145,55 @@ TEST(CalibratedDiscrepancy, AModelWithStrongerLinesThanTheReferenceIsNotGivenAWi
   EXPECT_GT(chi_plain, p_ref) << "30 % is far outside the noise";
 }
 
+TEST(Baseline, TheBaselinesDiscrepancyScalesWithTheModelsChangeNotWithItsLines) {
+  // Differential with a relative budget of 50 % (what fit_baseline estimates from the baseline):
+  // (1) a lead that predicts the recording's new line 30 % too strong is within the budget of its
+  //     own change, and fails against the noise alone;
+  // (2) a model whose mesh lines are 30 % too strong where nothing changed gets no allowance at
+  //     all (a model-form error common to both recordings cancels, so none is budgeted), where
+  //     the absolute calibrated comparison lets 50 % of every line pass.
+  const auto model = perfect_model();
+  const double line = 5.0;  // [m/s^2], against 0.5 m/s^2 of white noise per sample
+  const Recording rec = synthetic(line, 6);
+  CompareOptions co;
+  co.discrepancy.push_back({Quantity::MeshAccelerationSunPlanet, Component::Mesh, 0.5, 0.0});
+  co.discrepancy.push_back({Quantity::MeshAccelerationSunPlanet, Component::Carrier, 0.5, 0.0, true});
+  CompareOptions differential = co;
+  differential.baseline = baseline_of(synthetic(0.0, 12), model);
+  ModelComparison cmp(rec, test::stage_1200rpm(), differential);
+  const auto with_line = ModelComparison(synthetic(line, 1, 1e-6, 1e-9), test::stage_1200rpm()).spectra().amplitude[0];
+  auto lead = model, mesh_off = model;
+  int line_bins = 0, mesh_bins = 0;
+  double strongest = 0;
+  for (double a : model[1]) strongest = std::max(strongest, a);
+  for (std::size_t b = 0; b < lead[1].size(); ++b) {
+    if (with_line[1][b] > 0.5 * line && with_line[1][b] > 2 * model[1][b]) lead[1][b] = 1.3 * with_line[1][b], ++line_bins;
+    if (model[1][b] > 0.1 * strongest) mesh_off[1][b] *= 1.3, ++mesh_bins;
+  }
+  ASSERT_GT(line_bins, 0);
+  ASSERT_GT(mesh_bins, 0);
+  cmp.set_reference(model, {});
+  EXPECT_GT(cmp.score(lead, Half::HeldOut, {}, HousingGains::Given).chi2,
+            cmp.null_quantile(lead, {}, Half::HeldOut, kAlphaHalf, 1))
+      << "at the baseline's model no change is budgeted";
+  cmp.set_discrepancy_reference(lead, {});
+  EXPECT_LT(cmp.score(lead, Half::HeldOut, {}, HousingGains::Given).chi2,
+            cmp.null_quantile(lead, {}, Half::HeldOut, kAlphaHalf, 1))
+      << "30 % of the predicted change is within the budget of that change";
+  // (2) Nothing changed in the mesh lines (the recording's baseline has them as the model does).
+  const Recording same = synthetic(0.0, 7);
+  ModelComparison diff_same(same, test::stage_1200rpm(), differential);
+  diff_same.set_reference(model, {});
+  EXPECT_GT(diff_same.score(mesh_off, Half::HeldOut, {}, HousingGains::Given).chi2,
+            diff_same.null_quantile(mesh_off, {}, Half::HeldOut, kAlphaHalf))
+      << "differential: a model-form error of the mesh lines is not budgeted";
+  ModelComparison abs_same(same, test::stage_1200rpm(), co);
+  abs_same.set_reference(model, {});
+  EXPECT_LT(abs_same.score(mesh_off, Half::HeldOut, {}, HousingGains::Given).chi2,
+            abs_same.null_quantile(mesh_off, {}, Half::HeldOut, kAlphaHalf))
+      << "absolute: 30 % of a mesh line is within the calibrated 50 %";
+}
+
 TEST(CalibratedDiscrepancy, ALineTheLeadAddsIsJudgedAgainstTheDiscrepancyAtTheLeadsOwnAmplitude) {
   // A candidate ("lead") adds the carrier-family line the reference (healthy) model lacks, 30 %
   // stronger than the recording's: a model-form error of the size the calibration allows
