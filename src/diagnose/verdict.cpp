@@ -177,8 +177,10 @@ LeadAssessment assess_lead(Diagnosis& d, const VerdictInputs& in) {
     why.push_back("its near-alias " + in.alias_within_own_null +
                   " explains the held-out half within its own null too (chi2 " + fmt("%.0f", in.alias_held_out_chi2) +
                   " <= " + fmt("%.0f", in.alias_bound_held_out) +
-                  ", at its own fitted model with the calibrated discrepancy): the data do not tell them apart at "
-                  "the calibrated model's fidelity");
+                  (in.differential ? ", at its own fitted change with the baseline's discrepancy): the data do not "
+                                     "tell them apart at the model's fidelity"
+                                   : ", at its own fitted model with the calibrated discrepancy): the data do not tell "
+                                     "them apart at the calibrated model's fidelity"));
   // (c) The excess it was called in for replicated: with the nuisance parameters alone the
   // held-out half exceeds its bound too. Otherwise the held-out half cannot confirm anything
   // (an improvement there is not the explanation of an excess), and a fit-half-only excess is
@@ -212,7 +214,12 @@ std::string named_summary(const Diagnosis& d, bool calibrated, bool differential
          "; fitted " + ps + "; chi2 " + fmt("%.0f", d.nuisance.fit.chi2) + " -> " + fmt("%.0f", w.fit.chi2) +
          " on the fit half and " + fmt("%.0f", d.nuisance.held_out.chi2) + " -> " + fmt("%.0f", w.held_out.chi2) +
          " held out (noise bound " + fmt("%.0f", d.bound_held_out) + "; against its own null " +
-         fmt("%.0f", d.lead.held_out_chi2) + " <= " + fmt("%.0f", d.lead.bound_held_out) +
+         fmt("%.0f", d.lead.held_out_chi2) +
+         // Which half of the budget max(B_lead, chi2_rep) it met (condition (a)).
+         (d.lead.held_out_chi2 <= d.lead.bound_held_out
+              ? " <= " + fmt("%.0f", d.lead.bound_held_out)
+              : " > " + fmt("%.0f", d.lead.bound_held_out) + " but <= " + fmt("%.0f", d.lead.replicate_chi2) +
+                    ", what the recording's own fit half leaves as the prediction of its held-out half,") +
          (calibrated ? (differential ? " with the fidelity directions and the baseline's discrepancy at its own change"
                                      : " with the fidelity directions and the calibrated discrepancy at its own model")
                      : " with the fidelity directions at its own model") +

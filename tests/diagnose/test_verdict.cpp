@@ -90,6 +90,7 @@ TEST(Verdict, WinnerWithinItsOwnBoundIsNamed) {
   // (48000 - 1050) / (48000 - 1100)
   EXPECT_NEAR(d.lead.explained_fraction, 46950.0 / 46900.0, 1e-12);
   EXPECT_NE(d.rule.find("friction: 1050.0 against 1110.0"), std::string::npos) << d.rule;
+  EXPECT_NE(d.summary.find("against its own null 1050 <= 1110 with"), std::string::npos) << d.summary;
 }
 
 TEST(Verdict, AFitHalfOnlyExcessIsNotConfirmedByTheHeldOutHalfAndNamesNothing) {
@@ -165,6 +166,10 @@ TEST(Verdict, WinnerAboveItsNullButBetterThanTheRecordingsOwnHalfIsNamed) {
   in.replicate_chi2 = 2100;
   decide_verdict(d, in);
   EXPECT_EQ(d.verdict, Verdict::MissingPhysicsFound) << d.summary;
+  // The summary says which part of the budget it met, never "1050 <= 1000".
+  EXPECT_NE(d.summary.find("against its own null 1050 > 1000 but <= 2100, what the recording's own fit half leaves"),
+            std::string::npos)
+      << d.summary;
   in.replicate_chi2 = 1040;
   d = counting_friction();
   decide_verdict(d, in);
