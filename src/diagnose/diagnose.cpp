@@ -721,8 +721,8 @@ private:
   }
 
   /// Condition (e) (verdict.cpp): the first fitted near-alias of the lead -- a candidate whose
-  /// start_from maps the lead's parameters onto its own, or the lead's maps its -- that counts
-  /// and passes the lead's test (a) too.
+  /// start_from maps the lead's parameters onto its own, or the lead's maps its -- that counts,
+  /// scored as the lead is by test (a).
   void check_near_aliases(const CandidateResult& l, VerdictInputs& vin) {
     const Candidate* lc = find_candidate(l.name);
     const std::vector<double> lead_own = split_parameters(l, ctx().nuisance_x).own;
@@ -734,15 +734,14 @@ private:
       const bool alias = !ac->start_from(l.name, lead_own, ctx().base).empty() ||
                          !lc->start_from(a.name, split_parameters(a, ctx().nuisance_x).own, ctx().base).empty();
       if (!alias) continue;
+      // A counting near-alias blocks the name whether or not it passes the lead's test (a) too
+      // (verdict.cpp, condition (e)); its score at its own model is computed for the reason.
       say("scoring its near-alias " + a.name + " the same way");
       const OwnModelScore s = score_at_own_model(a, true);
-      // An alias that could not be scored is not ruled out: it blocks the name as one that passes.
-      if (!s.failure.empty() || s.held_out_chi2 <= s.bound_held_out) {
-        vin.alias_within_own_null = a.name;
-        vin.alias_held_out_chi2 = s.held_out_chi2;
-        vin.alias_bound_held_out = s.bound_held_out;
-        return;
-      }
+      vin.counting_alias = a.name;
+      vin.alias_held_out_chi2 = s.held_out_chi2;
+      vin.alias_bound_held_out = s.bound_held_out;
+      return;
     }
   }
 

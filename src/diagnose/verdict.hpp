@@ -77,10 +77,11 @@ struct VerdictInputs {
   /// chi2 of the recording's fit half as the prediction of its held-out half
   /// (ModelComparison::replicate_chi2; NaN: not used).
   double replicate_chi2 = std::numeric_limits<double>::quiet_NaN();
-  /// Condition (e), with a calibration: a fitted near-alias of the lead (Candidate::start_from
-  /// maps one's parameters onto the other's) that counts and also explains the held-out half
-  /// within its own null, scored as the lead is; empty: none. Its chi2 and bound for the text.
-  std::string alias_within_own_null;
+  /// Condition (e), under a discrepancy budget: a fitted near-alias of the lead
+  /// (Candidate::start_from maps one's parameters onto the other's) that counts; empty: none.
+  /// Its held-out chi2 and bound at its own model, scored as the lead is, for the text (NaN
+  /// bound: it could not be simulated).
+  std::string counting_alias;
   double alias_held_out_chi2 = std::numeric_limits<double>::quiet_NaN();
   double alias_bound_held_out = std::numeric_limits<double>::quiet_NaN();
   double alpha = 0.01;
