@@ -743,6 +743,17 @@ private:
       vin.alias_bound_held_out = s.bound_held_out;
       return;
     }
+    // No fitted alias counts. One whose fit failed to converge from its own start (held-out
+    // seed-gear pin error rec_43: pin_error ended 8e8 above the nuisance model while the runout
+    // explained 91 %) is not shown to be worse either: a near-alias of the lead in the library
+    // blocks the name as well, unscored.
+    for (const auto& c : candidate_library()) {
+      if (!lc || c->name() == l.name || !screened(*c)) continue;
+      if (c->start_from(l.name, lead_own, ctx().base).empty()) continue;
+      vin.counting_alias = c->name();
+      vin.alias_counts = false;
+      return;
+    }
   }
 
   /// The verdict (verdict.hpp): the best candidate is named only if its own fitted model

@@ -183,8 +183,14 @@ LeadAssessment assess_lead(Diagnosis& d, const VerdictInputs& in) {
             : "held-out chi2 " + fmt("%.0f", in.alias_held_out_chi2) +
                   (in.alias_held_out_chi2 <= in.alias_bound_held_out ? " <= " : " > ") +
                   fmt("%.0f", in.alias_bound_held_out) + " " + at;
-    why.push_back("its near-alias " + in.counting_alias + " explains the excess too (it counts; " + score +
-                  "): the part that tells them apart is of the size of the model's fidelity, so the data do not");
+    why.push_back(in.alias_counts
+                      ? "its near-alias " + in.counting_alias + " explains the excess too (it counts; " + score +
+                            "): the part that tells them apart is of the size of the model's fidelity, so the data "
+                            "do not"
+                      : "its near-alias " + in.counting_alias +
+                            " (the same displacements read otherwise) is not ruled out: its fit did not converge to "
+                            "one that counts, and the part that tells them apart is of the size of the model's "
+                            "fidelity");
   }
   // (c) The excess it was called in for replicated: with the nuisance parameters alone the
   // held-out half exceeds its bound too. Otherwise the held-out half cannot confirm anything

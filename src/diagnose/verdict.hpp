@@ -82,6 +82,9 @@ struct VerdictInputs {
   /// Its held-out chi2 and bound at its own model, scored as the lead is, for the text (NaN
   /// bound: it could not be simulated).
   std::string counting_alias;
+  /// false: the alias is in the library but no fit of it counted (it did not converge from its
+  /// own start); it blocks the name unscored.
+  bool alias_counts = true;
   double alias_held_out_chi2 = std::numeric_limits<double>::quiet_NaN();
   double alias_bound_held_out = std::numeric_limits<double>::quiet_NaN();
   double alpha = 0.01;

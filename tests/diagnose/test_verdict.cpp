@@ -380,6 +380,21 @@ TEST(Verdict, ACountingNearAliasBlocksTheNameUnderABudgetEvenWhenItFailsTheLeads
       << d.lead.failed;
 }
 
+TEST(Verdict, ANearAliasWhoseFitDidNotCountStillBlocksTheNameUnderABudget) {
+  // The held-out seed-gear pin error rec_43 (session 21): pin_error's own fit diverged, the
+  // runout was named. The library's alias blocks the name unscored.
+  Diagnosis d = counting_friction();
+  VerdictInputs in = inputs(1110);
+  in.differential = true;
+  in.counting_alias = "pin_error";
+  in.alias_counts = false;
+  decide_verdict(d, in);
+  EXPECT_EQ(d.verdict, Verdict::Unexplained) << d.summary;
+  EXPECT_NE(d.lead.failed.find("its near-alias pin_error (the same displacements read otherwise) is not ruled out"),
+            std::string::npos)
+      << d.lead.failed;
+}
+
 TEST(Verdict, ALeadWhoseOwnModelCouldNotBeSimulatedForItsTestIsALeadOnlyAndSaysWhy) {
   // The solver failed on the lead's model (or a fidelity variant of it) in the held-out test:
   // no bound, so (a) is not met, and the reason carries the solver's message.
