@@ -279,8 +279,8 @@ std::string verdict_rule(const Diagnosis& d) {
        "them (equal prior odds) >= 1 - alpha/2";
   if (d.lead.candidate == 0 && d.lead.counts)
     r += " — " + fmt("%.4f", d.lead.posterior) + (d.lead.rival.empty() ? " (no rival)" : " (strongest rival " + d.lead.rival + ")");
-  r += "; and (e) with a calibration, no fitted near-alias of it (the same displacements read as another physics) "
-       "passes (a) as well";
+  r += "; and (e) under a discrepancy budget (a calibration or a baseline), no near-alias of it (the same "
+       "displacements read as another physics) counts, or stays unrefuted because its fit did not converge";
   r += ". Otherwise 'unexplained residual' with the best candidate as a lead. Result: " +
        std::string(to_string(d.verdict)) + (d.lead.failed.empty() ? "" : " (" + d.lead.failed + ")") + ".";
   return r;
