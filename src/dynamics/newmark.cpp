@@ -19,7 +19,8 @@ NewmarkSolver::NewmarkSolver(SecondOrderSystem& system, double dt_s, NewmarkSche
   require(scheme.gamma >= 0.5 && scheme.gamma <= 1.0, "solver.newmark_gamma", "must be in [0.5, 1], got ",
           scheme.gamma);
   const int n = sys_.size();
-  for (Eigen::VectorXd* w : {&q_pred_, &v_pred_, &q_, &v_, &a_, &a_prev_, &g_, &r_, &da_, &a_last_, &a_n_}) w->setZero(n);
+  for (Eigen::VectorXd* w : {&q_pred_, &v_pred_, &q_, &v_, &a_, &a_prev_, &g_, &r_, &da_, &a_last_, &a_last2_, &a_n_})
+    w->setZero(n);
   K_.setZero(n, n);
   C_.setZero(n, n);
   J_.setZero(n, n);
@@ -36,7 +37,7 @@ void NewmarkSolver::initialize(NewmarkState& s) {
   if (!lu_.factorize(sys_.mass())) throw SolverError("the mass matrix is singular (a body without inertia?)");
   lu_.solve(g_, s.a);
   have_lu_ = false;  // lu_ now holds M, not the iteration matrix
-  have_last_ = false;
+  history_ = 0;
 }
 
 double NewmarkSolver::residual(double t1, double& scale, bool tangents) {
@@ -100,16 +101,18 @@ void NewmarkSolver::factor_jacobian() {
 }
 
 int NewmarkSolver::step(NewmarkState& s) {
-  // The extrapolation needs the previous acceleration one full step back; a
-  // state set from outside (or a halved step) starts from a_n instead.
-  const bool extrapolate = newton_.extrapolate_start && have_last_ && s.t == t_end_;
+  // The extrapolation needs the previous accelerations at full steps back; a state set from
+  // outside (or a halved step) starts from a_n instead.
+  const int max_history = newton_.start == NewtonStart::Quadratic ? 2 : newton_.start == NewtonStart::Linear ? 1 : 0;
+  const int history = s.t == t_end_ ? std::min(history_, max_history) : 0;
   a_n_ = s.a;  // kept for the next step's extrapolation
-  int it = attempt(s, extrapolate);
+  int it = attempt(s, history);
   if (it < 0) it = halved_steps(s, 1);
   ++stats_.steps;
+  a_last2_.swap(a_last_);
   a_last_.swap(a_n_);
+  history_ = std::min(history + 1, 2);
   t_end_ = s.t;
-  have_last_ = true;
   return it;
 }
 
@@ -132,32 +135,37 @@ int NewmarkSolver::halved_steps(NewmarkState& s, int depth) {
   ++stats_.halved_steps;
   int iterations = 0;
   for (int half = 0; half < 2; ++half) {
-    const int it = attempt(s, false);
+    const int it = attempt(s, 0);
     iterations += it >= 0 ? it : halved_steps(s, depth + 1);
   }
   return iterations;
 }
 
-void NewmarkSolver::predict(const NewmarkState& s, bool extrapolate) {
+void NewmarkSolver::predict(const NewmarkState& s, int history) {
   // q* = q_n + dt v_n + dt^2 (1/2 - beta) a_n, v* = v_n + dt (1 - gamma) a_n, and the start a_(n+1)
-  // = 2 a_n - a_(n-1) (or a_n), in one loop; the same operations per entry as the Eigen
-  // expressions they replace (no temporaries, no fused multiply-add: bit-identical).
+  // extrapolated from the last 1 + history accelerations, in one loop; the same operations per
+  // entry as the Eigen expressions they replace (no temporaries, no fused multiply-add).
   const int n = static_cast<int>(s.q.size());
   const double dt = dt_, cq = dt * dt * (0.5 - scheme_.beta), cv = dt * (1.0 - scheme_.gamma);
-  const double *q = s.q.data(), *v = s.v.data(), *a = s.a.data(), *al = a_last_.data();
+  const double *q = s.q.data(), *v = s.v.data(), *a = s.a.data(), *al = a_last_.data(), *al2 = a_last2_.data();
   double *qp = q_pred_.data(), *vp = v_pred_.data(), *a1 = a_.data();
   for (int i = 0; i < n; ++i) {
     qp[i] = q[i] + dt * v[i] + cq * a[i];
     vp[i] = v[i] + cv * a[i];
-    a1[i] = extrapolate ? 2.0 * a[i] - al[i] : a[i];
   }
+  if (history >= 2)
+    for (int i = 0; i < n; ++i) a1[i] = 3.0 * (a[i] - al[i]) + al2[i];
+  else if (history == 1)
+    for (int i = 0; i < n; ++i) a1[i] = 2.0 * a[i] - al[i];
+  else
+    for (int i = 0; i < n; ++i) a1[i] = a[i];
 }
 
-int NewmarkSolver::attempt(NewmarkState& s, bool extrapolate) {
+int NewmarkSolver::attempt(NewmarkState& s, int history) {
   const double dt = dt_;
   const double b = scheme_.beta, gm = scheme_.gamma;
   const double t1 = s.t + dt;
-  predict(s, extrapolate);
+  predict(s, history);
   double scale = 0;
   int evaluations = 0;
   auto evaluate = [&](bool tangents) {

@@ -275,6 +275,7 @@ void PlanetaryDynamics::update_contact_geometry(double t) {
     // A pair entering or leaving contact within the step counts with the
     // share of the step it spends in contact (engagement_weight).
     const double xi_lo = mg.start_active_m, xi_hi = mg.end_active_m;
+    const bool pristine_a = fa.pristine(), pristine_b = fb.pristine();
     st.pairs_engaged = 0;
     double k_sum = 0;
     int ta = win.tooth_a, tb = win.tooth_b;
@@ -287,9 +288,13 @@ void PlanetaryDynamics::update_contact_geometry(double t) {
       PairGeometry& pg = pair_geometry_[m][j];
       const double w = engagement_weight(mg, p.xi_m, h, scales_[m].inv_engage_width_1_m);
       st.pairs_engaged += w >= 0.5 ? 1 : 0;
-      pg.k_N_m = w * pair_stiffness(fam.stiffness, scales_[m].stiffness_index_1_m, std::clamp(p.xi_m, xi_lo, xi_hi)) *
-                 fa.stiffness_factor(p.tooth_a) * fb.stiffness_factor(p.tooth_b);
-      pg.deviation_m = fa.deviation_m(p.tooth_a, p.xi_m) + fb.deviation_m(p.tooth_b, p.xi_m) + mesh_error_[m];
+      // Untouched flanks (FlankSet::pristine) contribute a factor 1 and a deviation 0: skipped.
+      pg.k_N_m = w * pair_stiffness(fam.stiffness, scales_[m].stiffness_index_1_m, std::clamp(p.xi_m, xi_lo, xi_hi));
+      if (!pristine_a) pg.k_N_m *= fa.stiffness_factor(p.tooth_a);
+      if (!pristine_b) pg.k_N_m *= fb.stiffness_factor(p.tooth_b);
+      const double dev_a = pristine_a ? 0.0 : fa.deviation_m(p.tooth_a, p.xi_m);
+      const double dev_b = pristine_b ? 0.0 : fb.deviation_m(p.tooth_b, p.xi_m);
+      pg.deviation_m = dev_a + dev_b + mesh_error_[m];
       pg.slide_nominal_m_s = mc.nominal_slide0_m_s + p.xi_m * mc.nominal_slide1_1_s;
       for (int k = 0; k < sc.entries; ++k) pg.h[k] = sc.h0[k] + p.xi_m * sc.h1[k];
       k_sum += pg.k_N_m;

@@ -45,14 +45,28 @@ public:
   /// Element index containing xi (clamped to [0, elements - 1]).
   int element_at(double xi_m) const;
 
-  double* tooth_deviation(int tooth) { return deviation_.data() + static_cast<std::size_t>(tooth) * elements_; }
+  double* tooth_deviation(int tooth) {
+    pristine_ = false;
+    return deviation_.data() + static_cast<std::size_t>(tooth) * elements_;
+  }
   const double* tooth_deviation(int tooth) const {
     return deviation_.data() + static_cast<std::size_t>(tooth) * elements_;
   }
-  std::vector<double>& deviations() { return deviation_; }  ///< teeth x elements, row-major
+  std::vector<double>& deviations() {  ///< teeth x elements, row-major
+    pristine_ = false;
+    return deviation_;
+  }
   const std::vector<double>& deviations() const { return deviation_; }
   double stiffness_factor(int tooth) const { return factor_[tooth]; }
-  void set_stiffness_factor(int tooth, double f) { factor_[tooth] = f; }
+  void set_stiffness_factor(int tooth, double f) {
+    pristine_ = false;
+    factor_[tooth] = f;
+  }
+  /// True while nothing has had write access to the deviations or factors since construction:
+  /// every deviation is then 0 and every factor 1, and the time step skips their look-ups
+  /// (same numbers: adding 0 and multiplying by 1 are exact). Any non-const accessor clears it
+  /// for good, whether or not it writes.
+  bool pristine() const { return pristine_; }
   /// Adds a uniform deviation to every element of one tooth [m].
   void add_uniform(int tooth, double deviation_m);
   double max_deviation_m() const;
@@ -63,6 +77,7 @@ private:
   double inv_dxi_ = 0;  // 1 / dxi_: deviation_m multiplies (it runs for every pair at every step)
   std::vector<double> deviation_;
   std::vector<double> factor_;
+  bool pristine_ = true;
 };
 
 struct ToothSurfaces {
