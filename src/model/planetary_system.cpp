@@ -195,7 +195,9 @@ double PlanetaryDynamics::imposed_deflection(int m, const Eigen::Vector2d& sun_r
   return d;
 }
 
-PlanetaryDynamics::PairWindow PlanetaryDynamics::pair_window(int m, double s_m) {
+// Inlined into update_contact_geometry, its one caller: 3-4 % of a torsional step (measured,
+// docs/benchmark.md session 22); GCC's size heuristic leaves it out of line otherwise.
+[[gnu::always_inline]] inline PlanetaryDynamics::PairWindow PlanetaryDynamics::pair_window(int m, double s_m) {
   // geometry::pairs_in_contact's arithmetic (the same n_first, n_last and xi_n = u - n p_b, so the
   // same pairs bit for bit) without its output vector and its two 64-bit modulos per call: the
   // window's first pair index moves by 0 or 1 per step, so its tooth indices are advanced by
