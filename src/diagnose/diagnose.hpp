@@ -234,6 +234,9 @@ struct Diagnosis {
   double model_speed_rpm = 0;            ///< mean speed of the simulated baseline
   ScoreSummary nominal_fit, nominal_held_out;
   CandidateResult nuisance;              ///< nuisance-only model
+  /// Non-empty when the nuisance-only model was fitted again from this candidate's fitted
+  /// nuisance values and fitted better there (diagnose.md §5, step 9b); the rule says so.
+  std::string nuisance_refitted_from;
   bool located = false;
   Location location;
   std::vector<ScreenResult> screening;    ///< every candidate, largest S first

@@ -2,7 +2,8 @@
 // their results so that each rule can be tested on hand-built fits:
 //   * assess: a candidate "counts" when it improves chi2 over the nuisance-only model by more
 //     than chi2_{1-alpha}(k) on the fit half and on the held-out half, and some own parameter
-//     differs from its 'absent' value beyond z_{1-alpha/2k} standard errors (Wald) -- or, for a
+//     differs from its 'absent' value beyond z_{1-alpha/2k} standard errors (Wald) and, when
+//     'absent' is a non-zero level, by more than kRecalibration of it -- or, for a
 //     saturating parameter, whose standard error means nothing, by the likelihood ratio against
 //     'absent'; its AIC and BIC count the nuisance parameters and its own;
 //   * rank: counting candidates first, then by BIC summed over both halves (stable);
@@ -18,6 +19,13 @@
 #include <vector>
 
 namespace pw::diagnose {
+
+/// A nuisance parameter counts as recalibrated beyond this relative change (and
+/// z_{1-alpha/2} standard errors): smaller shifts are within the model's fidelity
+/// (a discretization difference moves the fitted stiffness level by a few 0.1 %). The same
+/// margin applies to a candidate parameter whose 'absent' value is a configured level
+/// (friction, a tooth's stiffness factor 1, backlash): a smaller change is no finding.
+constexpr double kRecalibration = 0.05;
 
 /// What every candidate is judged against: the nuisance-only model's fit.
 struct RankingBasis {

@@ -173,7 +173,11 @@ LeadAssessment assess_lead(Diagnosis& d, const VerdictInputs& in) {
   // under a calibration (both gear sets, session 20), whether or not the alias passed (a) too; a
   // seed-gear pin error [0, 5, 0] um named carrier_runout (BIC gap 3564 in a fit-half chi2 of
   // 670 000, 150 times the noise bound) with the baseline's budget, its alias failing (a)
-  // (docs/diagnose-log.md, session 21).
+  // (docs/diagnose-log.md, session 21). Candidates acting on the mesh harmonics alone (friction,
+  // worn profile, stiffness and damping levels, ...) are each other's aliases in the same sense:
+  // against healthy baselines an independent simulator's 30 % stiffness change and its worn
+  // profile were both named friction (0.057 for the documented 0.06), a worn profile counting
+  // beside it (session 22).
   if (!in.counting_alias.empty()) {
     const std::string at = in.differential ? "at its own fitted change with the baseline's discrepancy"
                                            : "at its own fitted model with the calibrated discrepancy";
@@ -183,7 +187,12 @@ LeadAssessment assess_lead(Diagnosis& d, const VerdictInputs& in) {
             : "held-out chi2 " + fmt("%.0f", in.alias_held_out_chi2) +
                   (in.alias_held_out_chi2 <= in.alias_bound_held_out ? " <= " : " > ") +
                   fmt("%.0f", in.alias_bound_held_out) + " " + at;
-    why.push_back(in.alias_counts
+    why.push_back(in.alias_mesh_shape
+                      ? in.counting_alias + " explains the excess too (it counts; " + score +
+                            "): both change the mesh harmonics alone, and what tells them apart -- how the change is "
+                            "shared among the harmonics -- is the shape the model's stiffness law fixes, uncertain "
+                            "under the budget by more than the difference"
+                  : in.alias_counts
                       ? "its near-alias " + in.counting_alias + " explains the excess too (it counts; " + score +
                             "): the part that tells them apart is of the size of the model's fidelity, so the data "
                             "do not"
@@ -280,7 +289,8 @@ std::string verdict_rule(const Diagnosis& d) {
   if (d.lead.candidate == 0 && d.lead.counts)
     r += " — " + fmt("%.4f", d.lead.posterior) + (d.lead.rival.empty() ? " (no rival)" : " (strongest rival " + d.lead.rival + ")");
   r += "; and (e) under a discrepancy budget (a calibration or a baseline), no near-alias of it (the same "
-       "displacements read as another physics) counts, or stays unrefuted because its fit did not converge";
+       "displacements read as another physics; for a candidate acting on the mesh harmonics alone, any other such "
+       "candidate) counts, or stays unrefuted because its fit did not converge";
   r += ". Otherwise 'unexplained residual' with the best candidate as a lead. Result: " +
        std::string(to_string(d.verdict)) + (d.lead.failed.empty() ? "" : " (" + d.lead.failed + ")") + ".";
   return r;

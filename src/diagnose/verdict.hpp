@@ -48,15 +48,11 @@
 #pragma once
 
 #include "diagnose/diagnose.hpp"
+#include "diagnose/ranking.hpp"
 
 #include <string>
 
 namespace pw::diagnose {
-
-/// A nuisance parameter counts as recalibrated beyond this relative change (and
-/// z_{1-alpha/2} standard errors): smaller shifts are within the model's fidelity
-/// (a discretization difference moves the fitted stiffness level by a few 0.1 %).
-constexpr double kRecalibration = 0.05;
 
 /// value moved from initial by > z standard errors and > kRecalibration relative.
 bool recalibrated(const FittedParameter& p, double z);
@@ -85,6 +81,9 @@ struct VerdictInputs {
   /// false: the alias is in the library but no fit of it counted (it did not converge from its
   /// own start); it blocks the name unscored.
   bool alias_counts = true;
+  /// The counting alias is one because both act on the mesh harmonics alone (their difference is
+  /// the harmonics' shape), not because one's parameters map onto the other's.
+  bool alias_mesh_shape = false;
   double alias_held_out_chi2 = std::numeric_limits<double>::quiet_NaN();
   double alias_bound_held_out = std::numeric_limits<double>::quiet_NaN();
   double alpha = 0.01;

@@ -153,9 +153,6 @@ TEST(Candidates, RingPlacesCoverOnePlanetSpacingAtAQuarterOfTheSensorWindow) {
   EXPECT_TRUE(ring->phase_variants(chosen, LocatedEvidence{}, base, map).empty());
 }
 
-} // namespace
-} // namespace pw::diagnose
-
 namespace pw::diagnose {
 namespace {
 
@@ -377,6 +374,26 @@ TEST(Candidates, EveryCandidatesSetLinesReproduceTheConfigurationItsApplyWrites)
       *got = *want;
     }
     EXPECT_EQ(io::to_toml(reproduced), io::to_toml(applied));  // every other key exactly
+  }
+}
+
+} // namespace
+} // namespace pw::diagnose
+
+TEST(Candidates, OnlyTheMeshLevelCandidatesActOnTheMeshHarmonicsAlone) {
+  // Verdict condition (e) treats two such candidates as aliases under a budget: the level
+  // candidates are, every fault with a rotation family of its own (teeth, runouts, pin errors,
+  // ripple) is not, nor the sensor path (a carrier-family effect).
+  for (const char* name : {"friction", "worn_profile", "damping_level", "stiffness_level", "backlash"}) {
+    const Candidate* c = find_candidate(name);
+    ASSERT_NE(c, nullptr) << name;
+    EXPECT_TRUE(acts_on_mesh_harmonics_only(*c)) << name;
+  }
+  for (const char* name : {"sun_tooth_damage", "planet_tooth_damage", "ring_tooth_damage", "sun_runout",
+                           "carrier_runout", "pin_error", "torque_ripple", "sensor_transfer_path"}) {
+    const Candidate* c = find_candidate(name);
+    ASSERT_NE(c, nullptr) << name;
+    EXPECT_FALSE(acts_on_mesh_harmonics_only(*c)) << name;
   }
 }
 

@@ -84,6 +84,23 @@ TEST(Ranking, WaldTestOfAbsentUsesTheBonferroniZOfTheOwnParameters) {
   EXPECT_FALSE(no_error.non_null) << "a zero standard error is no evidence";
 }
 
+TEST(Ranking, ALevelMustMoveByMoreThanFivePercentOfItselfBesidesItsStandardErrors) {
+  // A friction coefficient documented 0.06 fitted to 0.0574 +- 0.00013 (20 standard errors, 4.4 %)
+  // against a healthy baseline of an independent simulator's worn profile (session 22): no finding.
+  const std::vector<ParameterSpec> level{own_spec(0.06)};
+  CandidateResult small = fitted(900, 900, 0.0574, 0.00013), large = fitted(900, 900, 0.0566, 0.00013);
+  assess_candidate(small, basis(), &level);
+  assess_candidate(large, basis(), &level);
+  EXPECT_FALSE(small.non_null);  // 0.0026 < 0.05 x 0.06 = 0.003
+  EXPECT_FALSE(small.counts());
+  EXPECT_TRUE(large.non_null);   // 0.0034 > 0.003 and > 2.576 x 0.00013
+  // An absolute 'absent' (0: no runout, no pin error) has no level to be relative to.
+  const std::vector<ParameterSpec> absolute{own_spec(0.0)};
+  CandidateResult tiny = fitted(900, 900, 1e-9, 1e-10);
+  assess_candidate(tiny, basis(), &absolute);
+  EXPECT_TRUE(tiny.non_null);
+}
+
 TEST(Ranking, ASaturatingParameterIsTestedByTheLikelihoodRatioNotItsStandardError) {
   const std::vector<ParameterSpec> spec{own_spec()};
   CandidateResult lr = fitted(900, 900, 0.5, 10.0);  // Wald would say 'absent'

@@ -380,6 +380,32 @@ TEST(Verdict, ACountingNearAliasBlocksTheNameUnderABudgetEvenWhenItFailsTheLeads
       << d.lead.failed;
 }
 
+TEST(Verdict, ACountingMeshOnlyRivalBlocksTheNameUnderABudgetAndSaysWhy) {
+  // Against healthy baselines, an independent simulator's worn profile was named friction
+  // (0.057 for 0.06) with worn_profile counting too (session 22): both act on the mesh
+  // harmonics alone, which the budget leaves undecided between them.
+  Diagnosis d = counting_friction();
+  VerdictInputs in = inputs(1110);
+  in.differential = true;
+  in.counting_alias = "worn_profile";
+  in.alias_mesh_shape = true;
+  in.alias_held_out_chi2 = 4300;
+  in.alias_bound_held_out = 4500;
+  decide_verdict(d, in);
+  EXPECT_EQ(d.verdict, Verdict::Unexplained) << d.summary;
+  EXPECT_EQ(d.winner, -1);
+  EXPECT_NE(d.lead.failed.find("worn_profile explains the excess too (it counts; held-out chi2 4300 <= 4500"),
+            std::string::npos)
+      << d.lead.failed;
+  EXPECT_NE(d.lead.failed.find("both change the mesh harmonics alone"), std::string::npos) << d.lead.failed;
+  // Without the rival the same lead is named (the rest of the rule holds).
+  Diagnosis named = counting_friction();
+  VerdictInputs plain = inputs(1110);
+  plain.differential = true;
+  decide_verdict(named, plain);
+  EXPECT_EQ(named.verdict, Verdict::MissingPhysicsFound) << named.summary;
+}
+
 TEST(Verdict, ANearAliasWhoseFitDidNotCountStillBlocksTheNameUnderABudget) {
   // The held-out seed-gear pin error rec_43 (session 21): pin_error's own fit diverged, the
   // runout was named. The library's alias blocks the name unscored.

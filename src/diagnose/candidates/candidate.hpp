@@ -144,6 +144,11 @@ const std::vector<std::unique_ptr<Candidate>>& candidate_library();
 /// nullptr if no candidate has that name.
 const Candidate* find_candidate(const std::string& name);
 
+/// True if the candidate's lines are the mesh harmonics alone (Component::Mesh only): two such
+/// candidates differ only in how their change is shared among the harmonics and channels, the
+/// shape the stiffness law fixes (verdict condition (e), docs/diagnose.md §5 step 10).
+bool acts_on_mesh_harmonics_only(const Candidate& c);
+
 /// A double for override strings: the shortest text that reads back exactly (core/format.hpp).
 std::string format_value(double v);
 

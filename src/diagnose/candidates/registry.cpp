@@ -6,6 +6,7 @@
 #include "config/schema.hpp"
 #include "core/format.hpp"
 
+#include <algorithm>
 #include <numbers>
 
 #include <stdexcept>
@@ -66,6 +67,11 @@ const Candidate* find_candidate(const std::string& name) {
   for (const auto& c : candidate_library())
     if (c->name() == name) return c.get();
   return nullptr;
+}
+
+bool acts_on_mesh_harmonics_only(const Candidate& c) {
+  const std::vector<Component> f = c.families();
+  return !f.empty() && std::all_of(f.begin(), f.end(), [](Component x) { return x == Component::Mesh; });
 }
 
 } // namespace pw::diagnose
