@@ -786,7 +786,7 @@ private:
     const std::vector<double> lead_own = split_parameters(l, ctx().nuisance_x).own;
     for (std::size_t k = 1; k < d_.candidates.size(); ++k) {
       const CandidateResult& a = d_.candidates[k];
-      if (a.name == l.name || !a.failed.empty() || !a.counts()) continue;
+      if (a.name == l.name || !a.failed.empty()) continue;
       const Candidate* ac = find_candidate(a.name);
       if (!lc || !ac) continue;
       const bool alias = !ac->start_from(l.name, lead_own, ctx().base).empty() ||
@@ -796,7 +796,11 @@ private:
       // plausible laws give harmonics 2-5 differing by factors 0.07-8 (docs/diagnose-log.md,
       // session 21). Under a budget that shape is model-form error, not evidence.
       const bool mesh_shape = acts_on_mesh_harmonics_only(*lc) && acts_on_mesh_harmonics_only(*ac);
-      if (!alias && !mesh_shape) continue;
+      // A displacement alias must count. A mesh-shape rival need only explain the excess on both
+      // halves: one whose level moved by less than kRecalibration does not count as a finding, but
+      // it still shows the excess is what a small level change absorbs (session 22: a stiffness
+      // change named worn_profile, Δχ² 493, with friction at 0.0576 improving by 591).
+      if (alias ? !a.counts() : !(mesh_shape && a.significant && a.holds)) continue;
       vin.alias_mesh_shape = !alias;
       // A counting near-alias blocks the name whether or not it passes the lead's test (a) too
       // (verdict.cpp, condition (e)); its score at its own model is computed for the reason.

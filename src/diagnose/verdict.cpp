@@ -188,7 +188,7 @@ LeadAssessment assess_lead(Diagnosis& d, const VerdictInputs& in) {
                   (in.alias_held_out_chi2 <= in.alias_bound_held_out ? " <= " : " > ") +
                   fmt("%.0f", in.alias_bound_held_out) + " " + at;
     why.push_back(in.alias_mesh_shape
-                      ? in.counting_alias + " explains the excess too (it counts; " + score +
+                      ? in.counting_alias + " explains the excess too (it improves both halves; " + score +
                             "): both change the mesh harmonics alone, and what tells them apart -- how the change is "
                             "shared among the harmonics -- is the shape the model's stiffness law fixes, uncertain "
                             "under the budget by more than the difference"

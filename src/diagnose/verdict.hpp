@@ -81,8 +81,9 @@ struct VerdictInputs {
   /// false: the alias is in the library but no fit of it counted (it did not converge from its
   /// own start); it blocks the name unscored.
   bool alias_counts = true;
-  /// The counting alias is one because both act on the mesh harmonics alone (their difference is
-  /// the harmonics' shape), not because one's parameters map onto the other's.
+  /// The alias is one because both act on the mesh harmonics alone (their difference is the
+  /// harmonics' shape), not because one's parameters map onto the other's; it then need only
+  /// improve both halves beyond its threshold, not count.
   bool alias_mesh_shape = false;
   double alias_held_out_chi2 = std::numeric_limits<double>::quiet_NaN();
   double alias_bound_held_out = std::numeric_limits<double>::quiet_NaN();

@@ -394,7 +394,7 @@ TEST(Verdict, ACountingMeshOnlyRivalBlocksTheNameUnderABudgetAndSaysWhy) {
   decide_verdict(d, in);
   EXPECT_EQ(d.verdict, Verdict::Unexplained) << d.summary;
   EXPECT_EQ(d.winner, -1);
-  EXPECT_NE(d.lead.failed.find("worn_profile explains the excess too (it counts; held-out chi2 4300 <= 4500"),
+  EXPECT_NE(d.lead.failed.find("worn_profile explains the excess too (it improves both halves; held-out chi2 4300 <= 4500"),
             std::string::npos)
       << d.lead.failed;
   EXPECT_NE(d.lead.failed.find("both change the mesh harmonics alone"), std::string::npos) << d.lead.failed;
