@@ -509,6 +509,9 @@ void write_diagnosis_report(const std::filesystem::path& dir, const dg::Diagnosi
   for (const auto& p : d.nuisance.parameters)
     if (p.moved) moved.push_back(p.name);
   j["recalibrated_nuisance"] = moved;
+  // The candidate from whose fitted nuisance values the nuisance-only model was refitted, when that
+  // fitted better (docs/diagnose.md §5 step 10); null when step 3's fit stood.
+  j["nuisance_refitted_from"] = d.nuisance_refitted_from.empty() ? json(nullptr) : json(d.nuisance_refitted_from);
   j["decision_rule"] = d.rule;
   if (d.lead.candidate == 0) {
     const dg::CandidateResult& l = d.candidates.front();
