@@ -437,11 +437,11 @@ private:
         "an excess there alone did not replicate) and %.1f (held out); family-wise alpha = %.3g. A candidate counts "
         "when it improves chi2 over the nuisance-only model by more than chi2_{1-alpha}(k) (k = its parameters) on the "
         "fit half and on the held-out half, and some parameter of it differs from its 'absent' value by more than "
-        "z_{1-alpha/2k} standard errors (and a level by more than 5 %% of it); the lowest BIC (chi2 + k ln m, summed over both halves) among those wins.",
+        "z_{1-alpha/2k} standard errors (and a level by more than %.0f %% of it); the lowest BIC (chi2 + k ln m, summed over both halves) among those wins.",
         cmp().cells(), sp.layout.max_order, d_.max_frequency_Hz, d_.channels.size(), cmp().features(), d_.revolutions,
         d_.nonstationary_features, d_.fidelity.size(),
         (d_.fidelity.empty() ? std::string() : d_.fidelity[0] + "; " + d_.fidelity[1]).c_str(), 1 - o_.alpha / 2,
-        co_.null_draws, d_.bound_fit, d_.bound_held_out, o_.alpha);
+        co_.null_draws, d_.bound_fit, d_.bound_held_out, o_.alpha, 100 * kRecalibration);
     d_.rule = rule;
   }
 

@@ -68,9 +68,9 @@ std::string ranking_reason(const CandidateResult& r, bool winner, double best_bi
   else if (!r.non_null)
     std::snprintf(buf, sizeof buf,
                   "improves both halves (-%.1f, -%.1f) but its parameters do not differ from 'absent' beyond "
-                  "their standard errors (Wald test) and, for a level, by more than 5 %% of it: the gain is the "
+                  "their standard errors (Wald test) and, for a level, by more than %.0f %% of it: the gain is the "
                   "nuisance parameters converging further, or a level soaking up model-form error",
-                  r.delta_chi2_fit, r.delta_chi2_held_out);
+                  r.delta_chi2_fit, r.delta_chi2_held_out, 100 * kRecalibration);
   else
     std::snprintf(buf, sizeof buf, "BIC (both halves) %.1f higher than the winner's", r.bic + r.bic_held_out - best_bic);
   return buf;
