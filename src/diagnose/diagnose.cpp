@@ -778,50 +778,22 @@ private:
     return s;
   }
 
-  /// Condition (e) (verdict.cpp): the first fitted near-alias of the lead -- a candidate whose
-  /// start_from maps the lead's parameters onto its own, or the lead's maps its -- that counts,
-  /// scored as the lead is by test (a).
-  void check_near_aliases(const CandidateResult& l, VerdictInputs& vin) {
-    const Candidate* lc = find_candidate(l.name);
-    const std::vector<double> lead_own = split_parameters(l, ctx().nuisance_x).own;
-    for (std::size_t k = 1; k < d_.candidates.size(); ++k) {
-      const CandidateResult& a = d_.candidates[k];
-      if (a.name == l.name || !a.failed.empty()) continue;
-      const Candidate* ac = find_candidate(a.name);
-      if (!lc || !ac) continue;
-      const bool alias = !ac->start_from(l.name, lead_own, ctx().base).empty() ||
-                         !lc->start_from(a.name, split_parameters(a, ctx().nuisance_x).own, ctx().base).empty();
-      // Two candidates that act on the mesh harmonics alone differ only in how they share their
-      // change among the harmonics and channels: the shape the stiffness law fixes, and two
-      // plausible laws give harmonics 2-5 differing by factors 0.07-8 (docs/diagnose-log.md,
-      // session 21). Under a budget that shape is model-form error, not evidence.
-      const bool mesh_shape = acts_on_mesh_harmonics_only(*lc) && acts_on_mesh_harmonics_only(*ac);
-      // A displacement alias must count. A mesh-shape rival need only explain the excess on both
-      // halves: one whose level moved by less than kRecalibration does not count as a finding, but
-      // it still shows the excess is what a small level change absorbs (session 22: a stiffness
-      // change named worn_profile, Δχ² 493, with friction at 0.0576 improving by 591).
-      if (alias ? !a.counts() : !(mesh_shape && a.significant && a.holds)) continue;
-      vin.alias_mesh_shape = !alias;
-      // A counting near-alias blocks the name whether or not it passes the lead's test (a) too
-      // (verdict.cpp, condition (e)); its score at its own model is computed for the reason.
-      say("scoring its near-alias " + a.name + " the same way");
-      const OwnModelScore s = score_at_own_model(a, true);
-      vin.counting_alias = a.name;
-      vin.alias_held_out_chi2 = s.held_out_chi2;
-      vin.alias_bound_held_out = s.bound_held_out;
-      return;
-    }
-    // No fitted alias counts. One whose fit failed to converge from its own start (held-out
-    // seed-gear pin error rec_43: pin_error ended 8e8 above the nuisance model while the runout
-    // explained 91 %) is not shown to be worse either: a near-alias of the lead in the library
-    // blocks the name as well, unscored.
-    for (const auto& c : candidate_library()) {
-      if (!lc || c->name() == l.name || !screened(*c)) continue;
-      if (c->start_from(l.name, lead_own, ctx().base).empty()) continue;
-      vin.counting_alias = c->name();
-      vin.alias_counts = false;
-      return;
-    }
+  /// Condition (e) (verdict.cpp): the near-alias of the lead that blocks its name
+  /// (blocking_near_alias), a fitted one scored as the lead is by test (a) for the reason.
+  void check_near_aliases(VerdictInputs& vin) {
+    const NearAlias a = blocking_near_alias(d_.candidates, ctx().nuisance_x, ctx().base,
+                                            [this](const Candidate& c) { return screened(c); });
+    if (a.name.empty()) return;
+    vin.counting_alias = a.name;
+    vin.alias_counts = a.fitted;
+    vin.alias_mesh_shape = a.mesh_shape;
+    if (!a.fitted) return;
+    // A counting near-alias blocks the name whether or not it passes the lead's test (a) too
+    // (verdict.cpp, condition (e)); its score at its own model is computed for the reason.
+    say("scoring its near-alias " + a.name + " the same way");
+    const OwnModelScore s = score_at_own_model(d_.candidates[a.index], true);
+    vin.alias_held_out_chi2 = s.held_out_chi2;
+    vin.alias_bound_held_out = s.bound_held_out;
   }
 
   /// The verdict (verdict.hpp): the best candidate is named only if its own fitted model
@@ -843,7 +815,7 @@ private:
       vin.lead_held_out_chi2 = lead.held_out_chi2;
       vin.lead_bound_held_out = lead.bound_held_out;
       vin.lead_score_failure = lead.failure;
-      if (calibrated && l.counts()) check_near_aliases(l, vin);
+      if (calibrated && l.counts()) check_near_aliases(vin);
     }
     vin.replicate_chi2 = cmp().replicate_chi2(ctx().nuisance_gains);
     decide_verdict(d_, vin);

@@ -2,6 +2,7 @@
 
 #include "core/format.hpp"
 #include "core/statistics.hpp"
+#include "diagnose/fit_context.hpp"
 #include "diagnose/locate.hpp"
 
 #include <algorithm>
@@ -323,6 +324,51 @@ std::string budget_sensitivity_text(const std::vector<DiscrepancyEntry>& budgets
          "up to about " + list + " (relative, one standard deviation" +
          (large.size() > 3 ? "; " + std::to_string(large.size() - 3) + " more" : std::string()) +
          "): an effect that changes those lines by less than that is not detectable with this calibration.";
+}
+
+NearAlias blocking_near_alias(const std::vector<CandidateResult>& ranked, const std::vector<double>& nuisance_x,
+                              const model::SimulationConfig& base,
+                              const std::function<bool(const Candidate&)>& screened) {
+  NearAlias out;
+  if (ranked.empty()) return out;
+  const CandidateResult& l = ranked.front();
+  const Candidate* lc = find_candidate(l.name);
+  if (lc == nullptr) return out;
+  const std::vector<double> lead_own = split_parameters(l, nuisance_x).own;
+  for (std::size_t k = 1; k < ranked.size(); ++k) {
+    const CandidateResult& a = ranked[k];
+    if (a.name == l.name || !a.failed.empty()) continue;
+    const Candidate* ac = find_candidate(a.name);
+    if (ac == nullptr) continue;
+    const bool alias = !ac->start_from(l.name, lead_own, base).empty() ||
+                       !lc->start_from(a.name, split_parameters(a, nuisance_x).own, base).empty();
+    // Two candidates that act on the mesh harmonics alone differ only in how they share their
+    // change among the harmonics and channels: the shape the stiffness law fixes, and two
+    // plausible laws give harmonics 2-5 differing by factors 0.07-8 (docs/diagnose-log.md,
+    // session 21). Under a budget that shape is model-form error, not evidence.
+    const bool mesh_shape = acts_on_mesh_harmonics_only(*lc) && acts_on_mesh_harmonics_only(*ac);
+    // A displacement alias must count. A mesh-shape rival need only explain the excess on both
+    // halves: one whose level moved by less than kRecalibration does not count as a finding, but
+    // it still shows the excess is what a small level change absorbs (session 22: a stiffness
+    // change named worn_profile, delta chi2 493, with friction at 0.0576 improving by 591).
+    if (alias ? !a.counts() : !(mesh_shape && a.significant && a.holds)) continue;
+    out.name = a.name;
+    out.index = k;
+    out.fitted = true;
+    out.mesh_shape = !alias;
+    return out;
+  }
+  // No fitted alias counts. One whose fit failed to converge from its own start (held-out
+  // seed-gear pin error rec_43: pin_error ended 8e8 above the nuisance model while the runout
+  // explained 91 %) is not shown to be worse either: a near-alias of the lead in the library
+  // blocks the name as well, unscored.
+  for (const auto& c : candidate_library()) {
+    if (c->name() == l.name || !screened(*c)) continue;
+    if (c->start_from(l.name, lead_own, base).empty()) continue;
+    out.name = c->name();
+    return out;
+  }
+  return out;
 }
 
 void decide_verdict(Diagnosis& d, const VerdictInputs& in) {

@@ -47,9 +47,11 @@
 // fails only when the truth lies on the edge of a box.
 #pragma once
 
+#include "diagnose/candidates/candidate.hpp"
 #include "diagnose/diagnose.hpp"
 #include "diagnose/ranking.hpp"
 
+#include <functional>
 #include <string>
 
 namespace pw::diagnose {
@@ -96,6 +98,26 @@ struct VerdictInputs {
   /// from the baseline's model, so they say nothing about a "no missing physics".
   bool differential = false;
 };
+
+/// Condition (e)'s rival of the lead `ranked.front()`, if any: under a discrepancy budget the
+/// first candidate in ranked order that
+///  * is a displacement near-alias of the lead (Candidate::start_from maps one's own parameters
+///    onto the other's: pin errors and a carrier runout) and counts; or
+///  * acts on the mesh harmonics alone, as the lead does (acts_on_mesh_harmonics_only), and
+///    improves both halves beyond its threshold (significant && holds), counting or not;
+/// fitted candidates that failed, and variants of the lead's own name, are never rivals. If no
+/// fitted one blocks, a displacement near-alias of the lead in the library that was screened
+/// (`screened`) but whose fit did not count blocks unscored (fitted = false): its fit not
+/// converging is not evidence against it. nuisance_x: the fixed nuisance values (split_parameters).
+struct NearAlias {
+  std::string name;         ///< empty: nothing blocks
+  std::size_t index = 0;    ///< into `ranked` when fitted
+  bool fitted = false;      ///< a fitted candidate (else a library alias, unscored)
+  bool mesh_shape = false;  ///< a mesh-harmonics rival rather than a displacement alias
+};
+NearAlias blocking_near_alias(const std::vector<CandidateResult>& ranked, const std::vector<double>& nuisance_x,
+                              const model::SimulationConfig& base,
+                              const std::function<bool(const Candidate&)>& screened);
 
 /// " Under the calibration's discrepancy budget ... not detectable" for the largest relative
 /// budgets (at least kReportedBudget), or "" if none is that large.

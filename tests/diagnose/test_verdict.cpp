@@ -448,3 +448,100 @@ TEST(Verdict, ANearAliasThatCouldNotBeScoredIsNotRuledOut) {
 }
 
 } // namespace pw::diagnose
+
+// Condition (e)'s choice of the rival that blocks a name (blocking_near_alias): which fitted
+// candidates count as near-aliases of the lead, and when a library alias blocks unscored.
+namespace pw::diagnose {
+namespace {
+
+/// A fitted candidate of `own` own parameters (each 1e-6 away from 'absent' 0) and the two
+/// default nuisance parameters, with the given test outcomes.
+CandidateResult fitted(const std::string& name, int own, bool significant, bool holds, bool non_null) {
+  CandidateResult c;
+  c.name = name;
+  c.own_parameters = own;
+  for (int i = 0; i < own; ++i)
+    c.parameters.push_back(parameter(name + "[" + std::to_string(i) + "]", 1e-6 * (i + 1), 1e-8, -1e-4, 1e-4, 0, false));
+  c.parameters.push_back(parameter("stiffness.scale", 1.0, 0.001, 0.5, 2.0, 1.0, true));
+  c.parameters.push_back(parameter("contact.mesh_damping_ratio", 0.05, 0.001, 0.01, 0.25, 0.05, true));
+  c.significant = significant;
+  c.holds = holds;
+  c.non_null = non_null;
+  return c;
+}
+
+model::SimulationConfig three_planets() {
+  model::SimulationConfig c;
+  c.stage.planet_count = 3;
+  return c;
+}
+
+const std::vector<double> kNuisance = {1.0, 0.05};
+bool none_screened(const Candidate&) { return false; }
+bool all_screened(const Candidate&) { return true; }
+
+TEST(NearAlias, TheFirstCountingDisplacementAliasInRankedOrderBlocksAndOtherKindsDoNot) {
+  // pin_error leads; a counting sun tooth (another physics) ranks second, the counting
+  // carrier runout (the same planet-centre displacements) third: the runout is the rival.
+  const std::vector<CandidateResult> ranked = {fitted("pin_error", 2, true, true, true),
+                                               fitted("sun_tooth_damage", 1, true, true, true),
+                                               fitted("carrier_runout", 2, true, true, true)};
+  const NearAlias a = blocking_near_alias(ranked, kNuisance, three_planets(), none_screened);
+  EXPECT_EQ(a.name, "carrier_runout");
+  EXPECT_EQ(a.index, 2u);
+  EXPECT_TRUE(a.fitted);
+  EXPECT_FALSE(a.mesh_shape);
+  // The same from the other side: the runout leads, pin_error is its alias.
+  const std::vector<CandidateResult> reversed = {ranked[2], ranked[1], ranked[0]};
+  EXPECT_EQ(blocking_near_alias(reversed, kNuisance, three_planets(), none_screened).name, "pin_error");
+}
+
+TEST(NearAlias, ADisplacementAliasMustCountWhileAMeshOnlyRivalNeedOnlyImproveBothHalves) {
+  // A runout that improves both halves but whose parameters stay at 'absent' does not block a
+  // pin error ...
+  const std::vector<CandidateResult> pin = {fitted("pin_error", 2, true, true, true),
+                                            fitted("carrier_runout", 2, true, true, false)};
+  EXPECT_TRUE(blocking_near_alias(pin, kNuisance, three_planets(), none_screened).name.empty());
+  // ... a worn profile that does the same blocks friction: both act on the mesh harmonics alone.
+  const std::vector<CandidateResult> mesh = {fitted("friction", 1, true, true, true),
+                                             fitted("worn_profile", 1, true, true, false)};
+  const NearAlias a = blocking_near_alias(mesh, kNuisance, three_planets(), none_screened);
+  EXPECT_EQ(a.name, "worn_profile");
+  EXPECT_TRUE(a.fitted);
+  EXPECT_TRUE(a.mesh_shape);
+  // One that does not hold on the held-out half does not.
+  const std::vector<CandidateResult> weak = {fitted("friction", 1, true, true, true),
+                                             fitted("worn_profile", 1, true, false, true)};
+  EXPECT_TRUE(blocking_near_alias(weak, kNuisance, three_planets(), none_screened).name.empty());
+}
+
+TEST(NearAlias, FailedFitsVariantsOfTheLeadAndOtherPhysicsNeverBlock) {
+  CandidateResult failed_runout = fitted("carrier_runout", 2, true, true, true);
+  failed_runout.failed = "the model could not be simulated";
+  const std::vector<CandidateResult> ranked = {fitted("pin_error", 2, true, true, true),
+                                               fitted("pin_error", 2, true, true, true),  // another variant
+                                               failed_runout, fitted("friction", 1, true, true, true),
+                                               fitted("sun_runout", 2, true, true, true)};
+  EXPECT_TRUE(blocking_near_alias(ranked, kNuisance, three_planets(), none_screened).name.empty());
+  // Friction leading, a counting sun tooth is not a mesh-only rival (it adds sun-family lines).
+  const std::vector<CandidateResult> f = {fitted("friction", 1, true, true, true),
+                                          fitted("sun_tooth_damage", 1, true, true, true)};
+  EXPECT_TRUE(blocking_near_alias(f, kNuisance, three_planets(), none_screened).name.empty());
+}
+
+TEST(NearAlias, AScreenedLibraryAliasWhoseFitDidNotCountBlocksUnscoredAndOnlyThen) {
+  // The runout leads; pin_error's fit failed to count. Screened, it blocks unscored ...
+  const std::vector<CandidateResult> ranked = {fitted("carrier_runout", 2, true, true, true),
+                                               fitted("pin_error", 2, false, false, false)};
+  const NearAlias a = blocking_near_alias(ranked, kNuisance, three_planets(), all_screened);
+  EXPECT_EQ(a.name, "pin_error");
+  EXPECT_FALSE(a.fitted);
+  // ... not screened (left out of the library by --candidates), it does not.
+  EXPECT_TRUE(blocking_near_alias(ranked, kNuisance, three_planets(), none_screened).name.empty());
+  // A lead without displacement aliases has none in the library either.
+  const std::vector<CandidateResult> tooth = {fitted("sun_tooth_damage", 1, true, true, true)};
+  EXPECT_TRUE(blocking_near_alias(tooth, kNuisance, three_planets(), all_screened).name.empty());
+}
+
+} // namespace
+} // namespace pw::diagnose
