@@ -135,7 +135,14 @@ private:
   int history_ = 0;   // how many of a_last_, a_last2_ are valid for the state at t_end_
   Eigen::MatrixXd K_, C_, J_;
   Eigen::VectorXd mass_diagonal_;
-  bool diagonal_mass_ = false;
+  /// Off-diagonal non-zeros of a non-diagonal mass matrix (lateral-torsional: the carrier's
+  /// rotation couples to the planets' translations), column by column: M a over them and the
+  /// diagonal instead of a dense n x n product.
+  struct MassEntry {
+    int row, col;
+    double m;
+  };
+  std::vector<MassEntry> mass_off_diagonal_;
   SmallLU lu_;
   bool have_lu_ = false;  // lu_ holds an iteration matrix (of an earlier step: modified Newton)
   NewmarkStatistics stats_;
