@@ -408,7 +408,13 @@ WindowScore ModelComparison::score(const std::vector<std::vector<double>>& m, Ha
         den += a * a / D[f];
       }
       if (!(den > 0)) continue;
-      const double g0 = num / den;
+      double g0 = num / den;
+      // A gain is positive. The start can come out <= 0 when a baseline's offsets exceed the
+      // recording's amplitudes (a model far from both recordings; found with rig keys the
+      // baseline was fitted under, session 23), and its logarithm then made every chi2 NaN.
+      // The search then starts from the gain given (the configuration's, or the last fit's).
+      if (!(g0 > 0) || !std::isfinite(g0)) g0 = gains[static_cast<std::size_t>(c)];
+      if (!(g0 > 0) || !std::isfinite(g0)) continue;
       auto cost = [&](double lg) {
         std::vector<double> gg = gains;
         gg[static_cast<std::size_t>(c)] = std::exp(lg);

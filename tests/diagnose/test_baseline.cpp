@@ -96,6 +96,32 @@ TEST(Baseline, AChangeFromTheBaselineStillStandsOut) {
   EXPECT_GT(chi2, 2 * bound);
 }
 
+TEST(Baseline, AHousingGainIsSearchedFromAPositiveStartWhenTheOffsetsExceedTheRecording) {
+  // Found on an independent simulator's recording diagnosed against its baseline with rig keys
+  // (session 23): the baseline's offsets exceeded the recording's housing lines, the weighted
+  // least-squares start of the housing gain came out negative, its logarithm NaN, and every chi2
+  // of the diagnosis with it. The mesh-acceleration channel is read as a housing accelerometer
+  // here, so that its gain is profiled.
+  auto as_housing = [](Recording r) {
+    r.channels[1].quantity = Quantity::HousingAcceleration;
+    return r;
+  };
+  const auto model = perfect_model();
+  CompareOptions co;
+  co.baseline = baseline_of(as_housing(synthetic(0.0, 12)), model);
+  for (BaselineCell& b : co.baseline)
+    if (b.channel == "sp_acc") b.offset = 50.0;  // [m/s^2]: above every line (10/h) of the recording
+  ModelComparison cmp(as_housing(synthetic(0.0, 11)), test::stage_1200rpm(), co);
+  ASSERT_TRUE(cmp.is_housing(1));
+  cmp.set_reference(model, {1.0, 1.0});
+  const WindowScore s = cmp.score(model, Half::Fit, {1.0, 1.0}, HousingGains::Profile);
+  EXPECT_TRUE(std::isfinite(s.chi2));
+  ASSERT_EQ(s.gains.size(), 2u);
+  EXPECT_GT(s.gains[1], 0.0);
+  EXPECT_LT(s.gains[1], 1.0);         // the search goes down from the given gain: the offsets are too large already
+  EXPECT_TRUE(s.gain_at_edge[1]);     // and the optimum lies beyond its bracket: reported, not hidden
+}
+
 TEST(Baseline, ABaselineWithoutTheRecordingsCellsIsRefusedNamingTheOption) {
   const auto model = perfect_model();
   CompareOptions co;
