@@ -87,7 +87,7 @@ CLI::App* add_diagnose_command(CLI::App& app, DiagnoseCommandOptions& o) {
       ->check(CLI::Range(1e-9, 0.5));
   d->add_option("--max-candidates", o.max_candidates, "candidates fitted after the nuisance parameters (default 4)")
       ->check(CLI::Range(1, 20));
-  d->add_option("--candidates", o.candidates, "restrict the library to these candidates (comma separated)")
+  d->add_option("--candidates", o.candidates, "restrict the library to these candidates (comma separated); the nuisance parameters are candidates too: name stiffness_level,damping_level to keep them fitted, e.g. --candidates stiffness_level,damping_level,torque_ripple")
       ->delimiter(',');
   d->add_flag("--always-fit", o.always_fit, "fit candidates even when the residual is consistent with the noise");
   d->add_option("--calibration", o.calibration,
