@@ -18,6 +18,7 @@ BaselineCell baseline_cell(const CalibrationCell& c) {
   b.offset = a - c.model;
   b.variance = 0.25 * (c.variance[0] + c.variance[1]);
   b.model = c.model;
+  b.discretization = c.discretization;
   return b;
 }
 

@@ -240,6 +240,8 @@ std::vector<CalibrationCell> calibration_cells(const ModelComparison& cmp,
         x.variance[w] = cmp.diagonal_variance(w, f);
       }
       x.noise_variance = cmp.noise_variance(f);
+      if (const int k = cmp.discretization_column(); k >= 0)
+        x.discretization = g * cmp.fidelity_columns()[static_cast<std::size_t>(k)][static_cast<std::size_t>(f)];
       out.push_back(std::move(x));
     }
   return out;

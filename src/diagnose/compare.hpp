@@ -96,6 +96,8 @@ struct BaselineCell {
   double offset = 0;    ///< [channel unit] de-biased baseline amplitude - fitted model amplitude
   double variance = 0;  ///< [channel unit^2]
   double model = 0;     ///< [channel unit] the baseline's fitted model amplitude (gain applied)
+  /// [channel unit] the baseline model's discretization direction (CalibrationCell::discretization)
+  double discretization = 0;
 };
 
 struct CompareOptions {
@@ -187,7 +189,13 @@ public:
                                  const std::vector<double>& gains);
 
   /// Fidelity columns (per feature, at gain 1) and their names.
-  void set_fidelity(std::vector<std::vector<double>> columns, std::vector<std::string> names);
+  /// The model-fidelity directions (columns [feature], raw amplitude changes without gains) and
+  /// their names. discretization_column: the column that is the model's discretization error
+  /// (-1: none). Differential (a baseline), the baseline's model has the same discretization
+  /// error, which cancels in the change: that column acts as its difference from the baseline's.
+  void set_fidelity(std::vector<std::vector<double>> columns, std::vector<std::string> names,
+                    int discretization_column = -1);
+  int discretization_column() const { return u_discretization_; }
   const std::vector<std::string>& fidelity_names() const { return u_names_; }
   const std::vector<std::vector<double>>& fidelity_columns() const { return u_; }
   /// Standard deviation [rad] of the angle reference's linear drift over a window, carried as a
@@ -236,7 +244,14 @@ public:
   double dispersion(int channel) const { return dispersion_.at(static_cast<std::size_t>(channel)); }
 
 private:
-  double chi2_of(const std::vector<double>& r, int window, const std::vector<double>& gains, WindowScore* out) const;
+  double chi2_of(const std::vector<double>& r, int window, const std::vector<double>& gains,
+                 const std::vector<double>& response, WindowScore* out) const;
+  /// Per feature: how the compared amplitude responds to a change of the model's raw amplitude,
+  /// the channel's gain, or 0 where a baseline's offset clips the model amplitude of `model` at
+  /// 0 (null model: nothing clipped).
+  std::vector<double> fidelity_response(const std::vector<std::vector<double>>* model, const std::vector<double>& gains) const;
+  /// Fidelity column col at feature f as it acts on the compared amplitude (response: fidelity_response).
+  double fidelity_value(std::size_t col, std::size_t f, const std::vector<double>& response) const;
   std::vector<double> residual_vector(const std::vector<std::vector<double>>& m, int window,
                                       const std::vector<double>& gains) const;
   /// Noise-free amplitude of feature f = (channel c, cell i) the model predicts at gain g: g m
@@ -245,6 +260,9 @@ private:
   /// The same without the baseline offset: the model's own amplitude of cell i (gain g applied).
   double raw_model_amplitude(const std::vector<std::vector<double>>& m, int c, int i, double g) const;
   void match_baseline();
+  /// Variance the baseline offset's error adds to feature f's residual at compared amplitude
+  /// `amplitude` (0 without a baseline).
+  double offset_variance(std::size_t f, double amplitude) const;
 
   const Recording& rec_;
   CompareOptions opt_;
@@ -266,6 +284,8 @@ private:
   std::vector<std::vector<double>> u_;       // [column][feature]
   std::vector<std::vector<double>> drift_;   // [window][feature]: angle-drift column (empty: none)
   std::vector<std::string> u_names_;
+  int u_discretization_ = -1;
+  std::vector<double> base_discretization_;  // [feature]: the baseline model's discretization direction
 
   mutable std::mutex mutex_;
   mutable std::map<std::string, std::shared_ptr<const ModelSpectra>> cache_;

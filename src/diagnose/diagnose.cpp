@@ -751,17 +751,19 @@ private:
     const Candidate* cc = find_candidate(c.name);
     const std::vector<std::vector<double>> saved_u = cmp().fidelity_columns();
     const std::vector<std::string> saved_names = cmp().fidelity_names();
+    const int saved_discretization = cmp().discretization_column();
     // V and the fidelity directions are restored however this ends: every other score keeps one V.
     struct Restore {
       DiagnosisRun& run;
       const std::vector<std::vector<double>>& u;
       const std::vector<std::string>& names;
+      int discretization;
       bool calibrated;
       ~Restore() {
         if (calibrated) run.cmp().set_discrepancy_reference(run.ctx().nuisance_sim->amplitude, run.ctx().nuisance_gains);
-        run.cmp().set_fidelity(u, names);
+        run.cmp().set_fidelity(u, names, discretization);
       }
-    } restore{*this, saved_u, saved_names, calibrated};
+    } restore{*this, saved_u, saved_names, saved_discretization, calibrated};
     OwnModelScore s;
     try {
       set_fidelity(ctx(), c.config, nullptr);

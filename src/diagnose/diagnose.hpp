@@ -196,6 +196,9 @@ struct CalibrationCell {
   double recording[2] = {0, 0};     ///< the recording's amplitude in the fit and held-out halves
   double variance[2] = {0, 0};      ///< D_i per half: Rician noise variance + non-stationarity
   double noise_variance = 0;        ///< s_i^2, noise in the bin
+  /// The model's discretization direction at this cell (the amplitude's change with a finer
+  /// time step, gain applied; ModelComparison::discretization_column), 0 if none was set.
+  double discretization = 0;
 };
 
 struct Timing {

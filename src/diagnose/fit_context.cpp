@@ -251,7 +251,7 @@ void set_fidelity(FitContext& ctx, const model::SimulationConfig& c, std::shared
     }
   char buf[96];
   std::snprintf(buf, sizeof buf, "speed +- %.2g (its relative standard error)", u);
-  cmp.set_fidelity(std::move(cols), {disc, buf});
+  cmp.set_fidelity(std::move(cols), {disc, buf}, 0);  // column 0: the discretization
   if (centre) *centre = s[0];
 }
 

@@ -133,6 +133,20 @@ double rice_mean(double nu, double s2) {
   return s * std::sqrt(kPi / 2) * ((1 + 2 * y) * i0e + 2 * y * i1e);
 }
 
+double rice_mean_slope(double nu, double s2) {
+  nu = std::fabs(nu);
+  if (!(s2 > 0)) return 1.0;
+  const double s = std::sqrt(0.5 * s2);  // per-component standard deviation
+  const double ratio = nu / s;
+  // d/dnu of the asymptotic form above: 1 - s^2/(2 nu^2) - 3 s^4/(8 nu^4).
+  if (ratio > 25) return 1 - s * s / (2 * nu * nu) - 3 * s * s * s * s / (8 * nu * nu * nu * nu);
+  // d mu/d nu = sqrt(pi/2) (nu / 2s) e^-y (I0(y) + I1(y)), y = nu^2/(4 s^2) (differentiating
+  // the Laguerre form above; checked against central differences in the tests).
+  const double y = ratio * ratio / 4;
+  const double e = std::exp(-y);
+  return std::sqrt(kPi / 2) * (ratio / 2) * (std::cyl_bessel_i(0.0, y) + std::cyl_bessel_i(1.0, y)) * e;
+}
+
 double rice_variance(double nu, double s2) {
   const double m = rice_mean(nu, s2);
   return std::max(nu * nu + s2 - m * m, 1e-300);

@@ -100,6 +100,9 @@ double exponential_mean(std::vector<double> values, double* relative_se = nullpt
 /// variance s2 (E|n|^2 = s2) and |s| = nu.
 double rice_mean(double nu, double s2);
 double rice_variance(double nu, double s2);
+/// d rice_mean / d nu: how the Rician mean follows its line amplitude nu (0 at nu = 0, where the
+/// noise dominates; 1 for nu much larger than the noise).
+double rice_mean_slope(double nu, double s2);
 /// The line amplitude estimated from a measured amplitude A in noise of variance s2:
 /// sqrt(max(A^2 - s2, 0)) (E[A^2] = nu^2 + s2).
 inline double debiased_amplitude(double A, double s2) { return std::sqrt(std::max(A * A - s2, 0.0)); }

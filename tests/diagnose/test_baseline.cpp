@@ -122,6 +122,65 @@ TEST(Baseline, AHousingGainIsSearchedFromAPositiveStartWhenTheOffsetsExceedTheRe
   EXPECT_TRUE(s.gain_at_edge[1]);     // and the optimum lies beyond its bracket: reported, not hidden
 }
 
+TEST(Baseline, TheDiscretizationErrorTheBaselinesModelSharesCancelsInTheNull) {
+  // A model whose lines are 30-90 times the rig's (an independent simulator's speed channels behind
+  // encoders that remove them, session 23), with a discretization direction of 10 % of its raw
+  // lines: 3 times the lines the recordings have. The baseline's model has the same error,
+  // which its offset carries with the opposite sign. Drawn as the model's own error, the null
+  // folded it at 0 and put the bound far above what a recording like its baseline gives.
+  auto model = perfect_model();
+  for (auto& channel : model)
+    for (std::size_t b = 0; b < channel.size(); ++b) channel[b] *= 30.0 * (1.0 + static_cast<double>(b % 7) / 3.0);
+  auto fidelity = [&](const ModelComparison& cmp) {
+    std::vector<std::vector<double>> u(2, std::vector<double>(static_cast<std::size_t>(cmp.features()), 0.0));
+    for (int c = 0; c < cmp.channels(); ++c)
+      for (int i = 0; i < cmp.cells(); ++i) {
+        const auto bin = static_cast<std::size_t>(cmp.spectra().layout.cells[static_cast<std::size_t>(i)].bin);
+        u[0][static_cast<std::size_t>(c * cmp.cells() + i)] = 0.1 * model[static_cast<std::size_t>(c)][bin];
+      }
+    return u;
+  };
+  const std::vector<std::string> names = {"discretization", "speed"};
+  const Recording base = synthetic(0.0, 12);
+  ModelComparison bc(base, test::stage_1200rpm());
+  bc.set_reference(model, {});
+  bc.set_fidelity(fidelity(bc), names, 0);
+  CompareOptions co;
+  for (const CalibrationCell& c : calibration_cells(bc, model, {1.0, 1.0})) co.baseline.push_back(baseline_cell(c));
+  const Recording rec = synthetic(0.0, 11);
+  ModelComparison rc(rec, test::stage_1200rpm(), co);
+  rc.set_reference(model, {});
+  rc.set_fidelity(fidelity(rc), names, 0);
+  const double m = rc.features();
+  const double chi2 = rc.score(model, Half::HeldOut, {}, HousingGains::Given).chi2;
+  const double bound = rc.null_quantile(model, {}, Half::HeldOut, kAlphaHalf);
+  rc.set_fidelity(fidelity(rc), names, -1);  // the column as the model's own error
+  const double bound_unshared = rc.null_quantile(model, {}, Half::HeldOut, kAlphaHalf);
+  EXPECT_LE(chi2, bound);
+  // m features of mean 1 plus a 1 - 0.005 margin of a few sqrt(2 m): 1.2 m is generous.
+  EXPECT_LT(bound, 1.2 * m) << "chi2 " << chi2;
+  EXPECT_GT(bound_unshared, 2 * bound) << "bound " << bound << ", m " << m;
+}
+
+TEST(Baseline, ARecordingLikeItsBaselineScoresOnePerFeatureAsTheNullAssumes) {
+  // The baseline's offset enters inside the Rician mean, so its error moves a cell whose line
+  // is below the noise hardly at all. Counted whole in V (session 22 and before), a recording
+  // like its baseline scored chi2 = 0.6 m while the null assumed m: a test at a fraction of its
+  // stated size. chi2 ~ m +- sqrt(2 m) here; 4 standard deviations either side.
+  const auto model = perfect_model();
+  CompareOptions co;
+  co.baseline = baseline_of(synthetic(0.0, 12), model);
+  for (unsigned seed : {11u, 13u}) {
+    ModelComparison rc(synthetic(0.0, seed), test::stage_1200rpm(), co);
+    rc.set_reference(model, {});
+    const double m = rc.features();
+    const double chi2 = rc.score(model, Half::HeldOut, {}, HousingGains::Given).chi2;
+    EXPECT_NEAR(chi2, m, 4 * std::sqrt(2 * m)) << "seed " << seed;
+    const double bound = rc.null_quantile(model, {}, Half::HeldOut, kAlphaHalf);
+    EXPECT_NEAR(bound, m + 2.58 * std::sqrt(2 * m), 4 * std::sqrt(2 * m)) << "seed " << seed;
+  }
+}
+
 TEST(Baseline, ABaselineWithoutTheRecordingsCellsIsRefusedNamingTheOption) {
   const auto model = perfect_model();
   CompareOptions co;
