@@ -363,11 +363,10 @@ std::vector<double> ModelComparison::fidelity_response(const std::vector<std::ve
     const double g = gains[static_cast<std::size_t>(c)];
     // Differential: the compared amplitude is max(0, g a + offset). Where the baseline's offset
     // takes a model line to 0 (the model has a line the baseline recording lacks), a small
-    // change of the line does not move it: the fidelity direction does not act there. Drawn
-    // there anyway, the null folded z u at 0 (fabs) into a bias the linear fidelity fit cannot
-    // take out; measured, a null bound of 4.8 m for a statistic of 1.1 m on an independent
-    // simulator's speed channels, whose encoders remove lines the model has (session 23).
-    const bool live = model == nullptr || offset_[f] == 0 || raw_model_amplitude(*model, c, i, g) + offset_[f] > 0;
+    // change of the line does not move it: the fidelity direction does not act there, and drawn
+    // there the null would fold z u at 0 into a bias the linear fidelity fit cannot take out.
+    // (Alone this did not lower the inflated bounds of session 23; fidelity_value's cancelling did.)
+    const bool live = model == nullptr || offset_[f] == 0 || model_amplitude(*model, c, i, g) > 0;
     k[f] = live ? g : 0.0;
   }
   return k;
@@ -381,7 +380,7 @@ double ModelComparison::fidelity_value(std::size_t col, std::size_t f, const std
   // channels whose lines the independent rig's encoders remove, the model's raw lines (30 times
   // the recording's) carried discretization directions 25 times the noise, and the null, folding
   // them at 0, put its bound at 4.8 m for a statistic of 1.1 m.
-  if (static_cast<int>(col) == u_discretization_ && !base_discretization_.empty() && response[f] != 0)
+  if (static_cast<int>(col) == u_discretization_ && !opt_.baseline.empty() && response[f] != 0)
     return u - base_discretization_[f];
   return u;
 }
