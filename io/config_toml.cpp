@@ -80,8 +80,10 @@ struct EnumNames<model::InputControl> {
 
 template <>
 struct EnumNames<model::LoadControl> {
-  static constexpr std::array<std::pair<model::LoadControl, std::string_view>, 2> values{
-      {{model::LoadControl::Torque, "torque"}, {model::LoadControl::Speed, "speed"}}};
+  static constexpr std::array<std::pair<model::LoadControl, std::string_view>, 3> values{
+      {{model::LoadControl::Torque, "torque"},
+       {model::LoadControl::Speed, "speed"},
+       {model::LoadControl::SpeedLoop, "speed_loop"}}};
 };
 
 template <class E>

@@ -210,11 +210,18 @@ void visit_config(V& v, Config& c) {
           "shaft from the motor (stage.input_inertia_kgm2) to the sun [N m/rad]; 0 = rigid", at_least(0, "N m/rad; 0 = rigid"));
   v.field("input_shaft_damping_N_m_s_rad", c.rig.input_shaft_damping_N_m_s_rad, "input shaft damping [N m s/rad]", at_least(0, "N m s/rad"));
   v.field("load_control", c.rig.load_control,
-          "load machine: \"torque\" (constant torque holding the mean speed) or \"speed\" (ideal speed control)");
+          "load machine: \"torque\" (constant torque holding the mean speed), \"speed\" (ideal speed control) or "
+          "\"speed_loop\" (a PI speed loop of gains load_speed_loop_*)");
   v.field("output_shaft_stiffness_N_m_rad", c.rig.output_shaft_stiffness_N_m_rad,
           "shaft from the carrier to the load machine [N m/rad]; 0 = rigid; > 0 with load_control = \"speed\"", at_least(0, "N m/rad; 0 = rigid"));
   v.field("output_shaft_damping_N_m_s_rad", c.rig.output_shaft_damping_N_m_s_rad,
           "output shaft damping [N m s/rad]", at_least(0, "N m s/rad"));
+  v.field("load_speed_loop_proportional_N_m_s_rad", c.rig.load_speed_loop_proportional_N_m_s_rad,
+          "proportional gain K_p of the load machine's speed loop (load_control = \"speed_loop\") [N m s/rad]",
+          at_least(0, "N m s/rad; > 0 with load_control = \"speed_loop\""));
+  v.field("load_speed_loop_integral_N_m_rad", c.rig.load_speed_loop_integral_N_m_rad,
+          "integral gain K_i of the load machine's speed loop (load_control = \"speed_loop\") [N m/rad]",
+          at_least(0, "N m/rad; > 0 with load_control = \"speed_loop\""));
 }
 
 namespace detail {

@@ -231,6 +231,7 @@ enum class InputControl {
 enum class LoadControl {
   Torque,  ///< constant load torque, adjusted in the warm-up so that the stage holds its nominal mean speed
   Speed,   ///< ideal speed control: the shaft's far end turns at exactly the nominal carrier speed (a dynamometer)
+  SpeedLoop,  ///< a PI speed controller on the load machine's speed: a dynamometer of finite loop bandwidth
 };
 
 /// The test rig around the stage: the shafts to the input motor and to the
@@ -251,6 +252,10 @@ struct RigSettings {
   /// no effect: its far end of the shaft turns at the set speed whatever its inertia.
   double output_shaft_stiffness_N_m_rad = 0.0;
   double output_shaft_damping_N_m_s_rad = 0.0;  ///< [N m s/rad]
+  /// Gains of the load machine's PI speed loop (load_control = speed_loop): load torque
+  /// T = T_ff - K_p (w - Omega_c) - K_i \int (w - Omega_c) dt, w the machine's speed.
+  double load_speed_loop_proportional_N_m_s_rad = 0.0;  ///< K_p [N m s/rad]
+  double load_speed_loop_integral_N_m_rad = 0.0;        ///< K_i [N m/rad] = [N m s/rad] per s
 };
 
 /// Shape of the transfer-path window of a housing accelerometer.

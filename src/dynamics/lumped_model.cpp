@@ -75,23 +75,36 @@ void add_rig(LumpedStructure& s, const RigLayout& rig, int first_dof) {
     shaft("input_shaft", s.input_body, s.sun_body, rig.input_shaft_N_m_rad, rig.input_shaft_N_m_s_rad);
   }
   if (rig.output_shaft_N_m_rad > 0) {
-    if (rig.speed_controlled_load) {
+    if (rig.load == LoadMachine::IdealSpeed) {
       // The far end turns at the nominal carrier speed: a spring to ground in the
       // perturbation coordinates; the feed-forward load torque stays on the carrier.
       shaft("output_shaft", s.carrier_body, -1, rig.output_shaft_N_m_rad, rig.output_shaft_N_m_s_rad);
+      s.speed_reference_spring = static_cast<int>(s.springs.size()) - 1;
       s.has_rigid_mode = false;
     } else {
       s.output_body = machine("load", rig.load_inertia_kgm2);
       shaft("output_shaft", s.carrier_body, s.output_body, rig.output_shaft_N_m_rad, rig.output_shaft_N_m_s_rad);
     }
   }
+  if (rig.load == LoadMachine::SpeedLoop) {
+    // The loop's integral and proportional actions on the load machine (on the carrier when the
+    // machine sits on it rigidly): K_i and K_p to the reference turning at the nominal speed.
+    shaft("speed_loop", s.output_body, -1, rig.speed_loop_integral_N_m_rad, rig.speed_loop_proportional_N_m_s_rad);
+    s.speed_reference_spring = static_cast<int>(s.springs.size()) - 1;
+    s.has_rigid_mode = false;
+  }
 }
 
 void check_rig(const RigLayout& rig) {
   require(rig.input_shaft_N_m_rad <= 0 || rig.motor_inertia_kgm2 > 0, "stage.input_inertia_kgm2",
           "a motor behind a flexible input shaft needs a positive inertia [kg m^2]");
-  require(rig.output_shaft_N_m_rad <= 0 || rig.speed_controlled_load || rig.load_inertia_kgm2 > 0,
+  require(rig.output_shaft_N_m_rad <= 0 || rig.load == LoadMachine::IdealSpeed || rig.load_inertia_kgm2 > 0,
           "stage.output_inertia_kgm2", "a load machine behind a flexible output shaft needs a positive inertia [kg m^2]");
+  require(rig.load != LoadMachine::IdealSpeed || rig.output_shaft_N_m_rad > 0, "rig.output_shaft_stiffness_N_m_rad",
+          "ideal speed control needs a flexible output shaft");
+  require(rig.load != LoadMachine::SpeedLoop ||
+              (rig.speed_loop_integral_N_m_rad > 0 && rig.speed_loop_proportional_N_m_s_rad > 0),
+          "rig.load_speed_loop", "a speed loop needs positive integral and proportional gains");
 }
 
 /// Adds the 2N meshes (sun-planet i at 2i, planet-ring i at 2i+1) with their
@@ -220,7 +233,7 @@ void assemble(LumpedStructure& s) {
 }
 
 int rig_dofs(const RigLayout& rig) {
-  return (rig.input_shaft_N_m_rad > 0 ? 1 : 0) + (rig.output_shaft_N_m_rad > 0 && !rig.speed_controlled_load ? 1 : 0);
+  return (rig.input_shaft_N_m_rad > 0 ? 1 : 0) + (rig.output_shaft_N_m_rad > 0 && rig.load != LoadMachine::IdealSpeed ? 1 : 0);
 }
 
 LumpedStructure build_torsional(const StageLayout& l, const RigLayout& rig) {

@@ -119,6 +119,10 @@ struct LumpedStructure {
   int input_body = 0, output_body = 0;
   /// False when a shaft ties the stage to a speed-controlled machine: no free rotation.
   bool has_rigid_mode = true;
+  /// The spring (index into `springs`) that ties the stage to the speed reference turning at the
+  /// nominal speed: the ideal speed control's shaft or the speed loop's P-I spring; -1 without one.
+  /// Its mean torque plus the feed-forward is the load machine's torque.
+  int speed_reference_spring = -1;
   std::vector<int> planet_bodies;
 };
 
@@ -153,12 +157,25 @@ struct StageLayout {
 ///   motor   theta_m  --k_in, c_in-- sun       input torque on the motor
 ///   carrier          --k_out, c_out-- load    load torque on the load machine (theta_L), or
 ///   carrier          --k_out, c_out-- ground  the far end at the nominal speed (ideal speed control)
+///   load (or carrier) --K_i, K_p-- ground     a PI speed loop on the load machine (SpeedLoop)
+/// In the perturbation coordinates (deviations from the nominal rotation) a PI speed
+/// controller T = -K_p (w - Omega) - K_i \int (w - Omega) dt is exactly a torsional spring
+/// K_i and damper K_p from its machine to ground: the integral of the speed error is the
+/// machine's angle perturbation (docs/derivation.md §3.6).
+enum class LoadMachine {
+  TorqueControlled,  ///< constant load torque on a free inertia
+  IdealSpeed,        ///< the output shaft's far end turns at exactly the nominal speed
+  SpeedLoop,         ///< a PI speed controller acting on the load machine's speed
+};
+
 struct RigLayout {
   double motor_inertia_kgm2 = 0;     ///< used when input_shaft_N_m_rad > 0 [kg m^2]
   double input_shaft_N_m_rad = 0, input_shaft_N_m_s_rad = 0;
-  double load_inertia_kgm2 = 0;      ///< used when output_shaft_N_m_rad > 0 and not speed_controlled_load [kg m^2]
+  double load_inertia_kgm2 = 0;      ///< used when output_shaft_N_m_rad > 0 and not IdealSpeed [kg m^2]
   double output_shaft_N_m_rad = 0, output_shaft_N_m_s_rad = 0;
-  bool speed_controlled_load = false;
+  LoadMachine load = LoadMachine::TorqueControlled;
+  double speed_loop_integral_N_m_rad = 0;        ///< K_i of the SpeedLoop [N m/rad] (per rad of angle error)
+  double speed_loop_proportional_N_m_s_rad = 0;  ///< K_p of the SpeedLoop [N m s/rad] (per rad/s of speed error)
 };
 
 /// Bearing supports of the lateral-torsional model (Lin & Parker 1999).

@@ -209,7 +209,11 @@ PreparedStage prepare(const SimulationConfig& c) {
   rig.load_inertia_kgm2 = c.stage.output_inertia_kgm2;
   rig.output_shaft_N_m_rad = c.rig.output_shaft_stiffness_N_m_rad;
   rig.output_shaft_N_m_s_rad = c.rig.output_shaft_damping_N_m_s_rad;
-  rig.speed_controlled_load = c.rig.load_control == LoadControl::Speed;
+  rig.load = c.rig.load_control == LoadControl::Speed       ? dynamics::LoadMachine::IdealSpeed
+             : c.rig.load_control == LoadControl::SpeedLoop ? dynamics::LoadMachine::SpeedLoop
+                                                            : dynamics::LoadMachine::TorqueControlled;
+  rig.speed_loop_integral_N_m_rad = c.rig.load_speed_loop_integral_N_m_rad;
+  rig.speed_loop_proportional_N_m_s_rad = c.rig.load_speed_loop_proportional_N_m_s_rad;
   dynamics::LumpedStructure structure;
   if (c.solver.level == ModelLevel::Torsional) {
     structure = dynamics::build_torsional(l, rig);
@@ -542,8 +546,10 @@ WarmupStats settle(Integration& r, const ProgressFn& report, double f1, SpeedLoo
 /// whether or not the force channels are stored.
 struct RecordStats {
   std::vector<double> mean_sun_planet_force_N;  ///< per planet [N]
-  double mean_carrier_angle_rad = 0;   ///< mean carrier angle perturbation [rad]
-  double mean_carrier_speed_rad_s = 0; ///< mean carrier speed perturbation [rad/s]
+  /// Mean angle and speed perturbations of the body held by the speed reference (the carrier
+  /// under ideal speed control, the load machine under a speed loop) [rad], [rad/s].
+  double mean_held_angle_rad = 0;
+  double mean_held_speed_rad_s = 0;
   std::vector<Scalar> mesh_loads;      ///< MeshLoadRecorder's summary (mesh_loads.hpp)
 };
 
@@ -734,9 +740,9 @@ RecordStats record(Integration& r, int cycles, SimulationResult& out, const Outp
     const double w_carrier = p.carrier_speed_rad_s + carrier_encoder.step(carrier_speed_change(r));
     const auto& ms = sys.mesh_states();
     loads.add(ms);
-    if (!sys.structure().has_rigid_mode) {  // only the speed-controlled load's shaft torque needs them
-      stats.mean_carrier_angle_rad += sys.carrier_theta_row().dot(r.st.q) / static_cast<double>(nrec);
-      stats.mean_carrier_speed_rad_s += sys.carrier_theta_row().dot(r.st.v) / static_cast<double>(nrec);
+    if (!sys.structure().has_rigid_mode) {  // only the speed-controlled load's torque needs them
+      stats.mean_held_angle_rad += sys.output_theta_row().dot(r.st.q) / static_cast<double>(nrec);
+      stats.mean_held_speed_rad_s += sys.output_theta_row().dot(r.st.v) / static_cast<double>(nrec);
     }
     if (report && k % spm == 0) report(f0 + (f1 - f0) * static_cast<double>(k) / static_cast<double>(nrec), "recording");
     if (k % dec != 0) continue;
@@ -856,13 +862,14 @@ SimulationResult simulate(const SimulationConfig& c, const ProgressFn& progress,
   scalar("sun_speed", "rad/s", "nominal absolute sun speed", p.sun_speed_rad_s);
   scalar("carrier_speed", "rad/s", "nominal carrier speed", p.carrier_speed_rad_s);
   scalar("input_torque", "N m", "mean input torque P / Omega_s", sys.nominal_input_torque_Nm());
-  // Under speed control the load machine's torque is the feed-forward plus the mean shaft
-  // torque k theta_c + c w_c (the shaft twist that takes up the friction losses).
+  // Under speed control the load machine's torque is the feed-forward plus the mean torque of
+  // the spring to the speed reference: the ideal control's shaft twist, or the loop's integral
+  // and proportional terms (they take up the friction losses).
+  const int held = sys.structure().speed_reference_spring;
   const double load_torque =
-      c.rig.load_control == LoadControl::Speed
-          ? sys.load_torque_Nm() + c.rig.output_shaft_stiffness_N_m_rad * rec.mean_carrier_angle_rad +
-                c.rig.output_shaft_damping_N_m_s_rad * rec.mean_carrier_speed_rad_s
-          : sys.load_torque_Nm();
+      held >= 0 ? sys.load_torque_Nm() + sys.structure().springs[held].stiffness * rec.mean_held_angle_rad +
+                      sys.structure().springs[held].damping * rec.mean_held_speed_rad_s
+                : sys.load_torque_Nm();
   scalar("load_torque", "N m", "mean load torque on the carrier at the nominal speed", load_torque);
   scalar("efficiency", "1", "T_load Omega_c / P: mesh efficiency of the stage (friction losses)",
          load_torque * p.carrier_speed_rad_s / c.operating.input_power_W);

@@ -193,8 +193,9 @@ void validate_sensor(const SensorSettings& s) {
 void validate_rig(const RigSettings& r, const StageSpec& st) {
   require(r.input_control == InputControl::Power || r.input_control == InputControl::Torque, "rig.input_control",
           "must be \"power\" or \"torque\"");
-  require(r.load_control == LoadControl::Torque || r.load_control == LoadControl::Speed, "rig.load_control",
-          "must be \"torque\" or \"speed\"");
+  require(r.load_control == LoadControl::Torque || r.load_control == LoadControl::Speed ||
+              r.load_control == LoadControl::SpeedLoop,
+          "rig.load_control", "must be \"torque\", \"speed\" or \"speed_loop\"");
   // A shaft needs a body at its far end: a massless motor behind a spring would
   // leave the spring's far end undetermined.
   require(r.input_shaft_stiffness_N_m_rad == 0 || st.input_inertia_kgm2 > 0, "rig.input_shaft_stiffness_N_m_rad",
@@ -214,6 +215,19 @@ void validate_rig(const RigSettings& r, const StageSpec& st) {
             "rig.output_shaft_stiffness_N_m_rad", "= ", r.output_shaft_stiffness_N_m_rad,
             " N m/rad puts the load machine behind a shaft, so it needs an inertia: set stage.output_inertia_kgm2 "
             "> 0, or rig.load_control = \"speed\", or the shaft stiffness to 0 (rigid)");
+  }
+  // The loop's gains act only under its control mode; a gain set without it would be silently
+  // ignored, so it is an error. Under the loop both are needed: without K_i the mean speed
+  // would sag by the friction losses / K_p (no integral action), without K_p the loop is an
+  // undamped spring.
+  const bool loop = r.load_control == LoadControl::SpeedLoop;
+  for (const auto& [key, gain] : {std::pair{"rig.load_speed_loop_proportional_N_m_s_rad",
+                                            r.load_speed_loop_proportional_N_m_s_rad},
+                                  std::pair{"rig.load_speed_loop_integral_N_m_rad", r.load_speed_loop_integral_N_m_rad}}) {
+    if (loop)
+      require(gain > 0, key, "must be > 0 with rig.load_control = \"speed_loop\" (got ", gain, ")");
+    else
+      require(gain == 0, key, "= ", gain, " acts only with rig.load_control = \"speed_loop\": set that, or the gain to 0");
   }
 }
 

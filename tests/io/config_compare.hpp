@@ -126,6 +126,8 @@ inline void expect_config_eq(const model::SimulationConfig& a, const model::Simu
   EXPECT_EQ(a.rig.load_control, b.rig.load_control);
   EXPECT_EQ(a.rig.output_shaft_stiffness_N_m_rad, b.rig.output_shaft_stiffness_N_m_rad);
   EXPECT_EQ(a.rig.output_shaft_damping_N_m_s_rad, b.rig.output_shaft_damping_N_m_s_rad);
+  EXPECT_EQ(a.rig.load_speed_loop_proportional_N_m_s_rad, b.rig.load_speed_loop_proportional_N_m_s_rad);
+  EXPECT_EQ(a.rig.load_speed_loop_integral_N_m_rad, b.rig.load_speed_loop_integral_N_m_rad);
 }
 
 /// Valid, and every field differs from its default (doubles chosen to need all
@@ -220,9 +222,11 @@ inline model::SimulationConfig nondefault_config() {
   c.rig.input_control = model::InputControl::Torque;
   c.rig.input_shaft_stiffness_N_m_rad = 2e5 / 3;
   c.rig.input_shaft_damping_N_m_s_rad = 0.1 + 15;
-  c.rig.load_control = model::LoadControl::Speed;
+  c.rig.load_control = model::LoadControl::SpeedLoop;
   c.rig.output_shaft_stiffness_N_m_rad = 1e6 / 3;
   c.rig.output_shaft_damping_N_m_s_rad = 60.0 / 7;
+  c.rig.load_speed_loop_proportional_N_m_s_rad = 95.0 / 3;
+  c.rig.load_speed_loop_integral_N_m_rad = 600.0 / 7;
   return c;
 }
 

@@ -209,6 +209,108 @@ TEST(Rig, SoftOutputShaftToASpeedControlledMachineHasTheModeSqrtKOverReflectedIn
   EXPECT_NEAR(lowest_frequency_Hz(held) / f, 1.0, 1e-4) << "closed form " << f << " Hz";
 }
 
+TEST(Rig, ASpeedLoopBehindAShaftGivesTheTwoModesOfStageShaftMachineAndLoop) {
+  // A PI speed loop is a spring K_i and a damper K_p from its machine to the speed reference
+  // (docs/derivation.md §3.6). Stage J_c (rigid, reflected to the carrier) -- shaft k -- machine
+  // J_L -- K_i -- reference: the undamped modes solve det(K - w^2 M) = 0 with
+  // M = diag(J_c, J_L), K = [[k, -k], [-k, k + K_i]]. The mesh compliance shifts them by
+  // O(k / k_mesh) ~ 1e-5 here: tolerance 1e-4.
+  SimulationConfig c = fast_seed();
+  const PreparedStage rigid = prepare(c);
+  const double J_c = reflected_inertia(rigid, rigid.dynamics->carrier_theta_row());
+  const double J_L = 0.05, k = 40.0, K_i = 15.0;
+  c.stage.output_inertia_kgm2 = J_L;
+  c.rig.output_shaft_stiffness_N_m_rad = k;
+  c.rig.load_control = LoadControl::SpeedLoop;
+  c.rig.load_speed_loop_integral_N_m_rad = K_i;
+  c.rig.load_speed_loop_proportional_N_m_s_rad = 2.0;
+  validate(c);
+  const PreparedStage p = prepare(c);
+  EXPECT_FALSE(p.dynamics->structure().has_rigid_mode);
+  EXPECT_EQ(p.dynamics->size(), rigid.dynamics->size() + 1);  // the machine's coordinate
+  // w^4 J_c J_L - w^2 (k J_L + (k + K_i) J_c) + k K_i = 0
+  const double a = J_c * J_L, b = -(k * J_L + (k + K_i) * J_c), cc = k * K_i;
+  const double disc = std::sqrt(b * b - 4 * a * cc);
+  const double f1 = std::sqrt((-b - disc) / (2 * a)) / (2 * kPi), f2 = std::sqrt((-b + disc) / (2 * a)) / (2 * kPi);
+  const Eigen::VectorXd& f = p.natural_frequencies_Hz;
+  EXPECT_NEAR(f(0) / f1, 1.0, 1e-4) << "closed form " << f1 << " Hz";
+  EXPECT_NEAR(f(1) / f2, 1.0, 1e-4) << "closed form " << f2 << " Hz";
+}
+
+TEST(Rig, ASpeedLoopHoldsTheMeanCarrierSpeedAndItsIntegralCarriesTheLosses) {
+  // Integral action: in the periodic steady state the loop's machine turns at exactly the
+  // nominal mean speed (to the periodicity tolerance 1e-6 over whole mesh periods), and the
+  // integral's mean torque K_i <theta> takes up the friction losses, so the efficiency agrees
+  // with the torque-controlled stage's to 1e-3 (as for ideal speed control above). Loop on a
+  // rigid machine (on the carrier) and behind a shaft, critically damped at w_n = 2 pi 20 Hz
+  // on the train's inertia.
+  SimulationConfig base = fast_seed(24);
+  const SimulationResult torque_held = simulate(base);
+  const PreparedStage rigid = prepare(base);
+  const double J_c = reflected_inertia(rigid, rigid.dynamics->carrier_theta_row());
+  const double w_n = 2 * kPi * 20;
+  for (const double shaft : {0.0, 2e4}) {
+    SimulationConfig c = base;
+    c.rig.load_control = LoadControl::SpeedLoop;
+    c.rig.load_speed_loop_integral_N_m_rad = J_c * w_n * w_n;
+    c.rig.load_speed_loop_proportional_N_m_s_rad = 2 * J_c * w_n;
+    if (shaft > 0) {
+      c.stage.output_inertia_kgm2 = 0.01;
+      c.rig.output_shaft_stiffness_N_m_rad = shaft;
+      c.rig.output_shaft_damping_N_m_s_rad = 5;
+    }
+    const SimulationResult r = simulate(c);
+    EXPECT_NEAR(mean(channel(r, "carrier/speed")) / scalar(r, "carrier_speed"), 1.0, 1e-6) << "shaft " << shaft;
+    EXPECT_NEAR(mean(channel(r, "sun/speed")) / scalar(r, "sun_speed"), 1.0, 1e-6) << "shaft " << shaft;
+    const double eta = scalar(r, "efficiency"), eta0 = scalar(torque_held, "efficiency");
+    EXPECT_LT(eta, 1.0);
+    EXPECT_NEAR(eta, eta0, 1e-3) << "shaft " << shaft;
+  }
+}
+
+TEST(Rig, ATorqueRippleDrivesTheSpeedLoopAsTheRigidTrainsClosedForm) {
+  // A torque-controlled motor with ripple a T_s sin(w t), the load machine rigidly on the
+  // carrier under a PI loop (K_i, K_p). Far below the first elastic mode (6.7 Hz against
+  // 181 Hz) the train turns rigidly: J_s th'' + k_r^2 (K_p th' + K_i th) = a T_s sin(w t),
+  // th the sun's angle, J_s the train's inertia reflected to the sun, k_r the carrier turn per
+  // sun turn. Sun speed amplitude w a T_s / |k_r^2 K_i - J_s w^2 + i w k_r^2 K_p|. The loop's
+  // mode is put at 5 Hz with damping ratio 0.3, so the response differs from a free train's
+  // (a T_s / (J_s w)) by a factor 1.6: the loop, not the inertia, decides it. Friction off (its
+  // torque ripples with the load). A 0.5 % ripple keeps the speed ripple at 2.7 % of the speed,
+  // so the mesh's own modulation stays linear (a 5 % ripple, 27 % of the speed, is 1.6 % off the
+  // linear closed form). Tolerance 2e-3: the elastic modes' O((f/f_1)^2) = 1.4e-3, the record's
+  // 3 ripple periods being whole only to 1e-3 (1.5e-4 measured).
+  SimulationConfig c = fast_seed();
+  c.contact.friction_coefficient = 0;
+  c.rig.input_control = InputControl::Torque;
+  c.imperfections.torque_ripple_fraction = 0.005;
+  c.imperfections.torque_ripple_order = 1;
+  const PreparedStage rigid = prepare(c);
+  const double J_s = reflected_inertia(rigid, rigid.dynamics->sun_theta_row());
+  const double k_r = rigid.dynamics->carrier_theta_row().dot(rigid.rigid_mode) /
+                     rigid.dynamics->sun_theta_row().dot(rigid.rigid_mode);
+  const double J_c = J_s / (k_r * k_r);
+  const double w_n = 2 * kPi * 5, zeta = 0.3;
+  c.rig.load_control = LoadControl::SpeedLoop;
+  c.rig.load_speed_loop_integral_N_m_rad = J_c * w_n * w_n;
+  c.rig.load_speed_loop_proportional_N_m_s_rad = 2 * zeta * J_c * w_n;
+  const double Omega = c.operating.input_speed_rpm * 2 * kPi / 60, w = Omega;
+  const double f_ripple = w / (2 * kPi);
+  const PreparedStage p = prepare(c);
+  // Whole ripple periods: mesh periods per sun revolution = Z_s (1 - k_r).
+  const double cycles_per_period = p.mesh_frequency_Hz / f_ripple;
+  c.solver.record_mesh_cycles = static_cast<int>(std::lround(3 * cycles_per_period));
+  const SimulationResult r = simulate(c);
+  const double T_s = scalar(r, "input_torque"), a = c.imperfections.torque_ripple_fraction;
+  const std::complex<double> impedance(k_r * k_r * c.rig.load_speed_loop_integral_N_m_rad - J_s * w * w,
+                                       w * k_r * k_r * c.rig.load_speed_loop_proportional_N_m_s_rad);
+  const double expected = w * a * T_s / std::abs(impedance);
+  const double dt = scalar(r, "time_step");
+  const double got = amplitude_at(channel(r, "sun/speed"), f_ripple, dt);
+  EXPECT_NEAR(got / expected, 1.0, 2e-3) << "closed form " << expected << " rad/s; free train "
+                                         << a * T_s / (J_s * w) << " rad/s";
+}
+
 TEST(Rig, SoftInputShaftGivesTheTwoInertiaModeOfMotorAndStage) {
   // Motor J_m on a shaft k to the sun, the stage free (constant load torque): besides the
   // rigid mode, motor against stage, omega^2 = k (1/J_m + 1/J_s), J_s the rigid stage's
