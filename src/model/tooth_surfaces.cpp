@@ -18,11 +18,6 @@ FlankSet::FlankSet(int teeth, int elements, double xi_min_m, double xi_max_m)
   factor_.assign(teeth_, 1.0);
 }
 
-int FlankSet::element_at(double xi) const {
-  const int e = static_cast<int>(std::floor((xi - xi_min_) / dxi_));
-  return std::clamp(e, 0, elements_ - 1);
-}
-
 void FlankSet::add_uniform(int tooth, double deviation_m) {
   double* d = tooth_deviation(tooth);
   for (int e = 0; e < elements_; ++e) d[e] += deviation_m;

@@ -11,6 +11,8 @@
 // grid is the same for every tooth of the family.
 #pragma once
 
+#include <algorithm>
+#include <cmath>
 #include <cstddef>
 #include <vector>
 
@@ -42,8 +44,17 @@ public:
     const double f = u - i;
     return (1 - f) * d[i] + f * d[i + 1];
   }
-  /// Element index containing xi (clamped to [0, elements - 1]).
-  int element_at(double xi_m) const;
+  /// Element index containing xi (clamped to [0, elements - 1]). Inline: the wear model calls
+  /// it for both flanks of every loaded pair at every step.
+  int element_at(double xi_m) const {
+    const int e = static_cast<int>(std::floor((xi_m - xi_min_) / dxi_));
+    return std::clamp(e, 0, elements_ - 1);
+  }
+  /// True when `other` has the same microelement grid (range and count): an xi then falls in
+  /// the same element of both.
+  bool same_grid(const FlankSet& other) const {
+    return elements_ == other.elements_ && xi_min_ == other.xi_min_ && dxi_ == other.dxi_;
+  }
 
   double* tooth_deviation(int tooth) {
     pristine_ = false;

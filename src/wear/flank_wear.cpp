@@ -39,12 +39,18 @@ FlankWearAccumulator::FlankWearAccumulator(const model::PlanetaryDynamics& sys, 
   for (int i = 0; i < planets_; ++i) make(s.planet_ring_side[i], gpr.base_radius_a_m, 0.0, 1.0, 1.0 / st.planet.teeth);
   make(s.ring, gpr.base_radius_b_m, gpr.tangent_distance_m, 1.0, N / st.ring.teeth);
   const int E = c.wear.elements_per_flank;
-  pending_.resize(sys.mesh_states().size());
-  for (auto& slots : pending_) {
-    slots.resize(model::MeshState::kMaxPairs + 2);
-    for (auto& p : slots) {
+  const std::size_t meshes = sys.mesh_states().size();
+  pending_.resize(meshes);
+  same_grid_.resize(meshes);
+  for (std::size_t m = 0; m < meshes; ++m) {
+    const dynamics::MeshId id = dynamics::MeshId::of(m);
+    const model::FlankSet& sa = id.sun_planet() ? s.sun : s.planet_ring_side[static_cast<std::size_t>(id.planet)];
+    const model::FlankSet& sb = id.sun_planet() ? s.planet_sun_side[static_cast<std::size_t>(id.planet)] : s.ring;
+    same_grid_[m] = sa.same_grid(sb) ? 1 : 0;
+    pending_[m].resize(model::MeshState::kMaxPairs + 2);
+    for (auto& p : pending_[m]) {
       p.wa.assign(E, 0.0);
-      p.wb.assign(E, 0.0);
+      if (!same_grid_[m]) p.wb.assign(E, 0.0);
     }
   }
 }
@@ -69,7 +75,7 @@ void FlankWearAccumulator::begin_window() {
 void FlankWearAccumulator::book(int fi, int tooth, const std::vector<double>& w) {
   Family& f = fam_[fi];
   double* dst = f.wear_m.data() + static_cast<std::size_t>(tooth) * f.elements;
-  for (int e = 0; e < f.elements; ++e) dst[e] += w[e];
+  for (int e = 0; e < f.elements; ++e) dst[e] += w[e] / f.arc_length_m[static_cast<std::size_t>(e)];
   ++f.passes[tooth];
 }
 
@@ -86,6 +92,7 @@ void FlankWearAccumulator::accumulate(double dt) {
     const model::FlankSet& sa = sp ? surf.sun : surf.planet_ring_side[i];
     const model::FlankSet& sb = sp ? surf.planet_sun_side[i] : surf.ring;
     const double width = sp ? width_sp_m_ : width_pr_m_;
+    const bool shared = same_grid_[m] != 0;
     auto& slots = pending_[m];
     for (auto& p : slots) p.seen = false;
     for (int j = 0; j < ms.pairs; ++j) {
@@ -105,23 +112,23 @@ void FlankWearAccumulator::accumulate(double dt) {
         slot->tooth_a = pr.tooth_a;
         slot->tooth_b = pr.tooth_b;
         std::fill(slot->wa.begin(), slot->wa.end(), 0.0);
-        std::fill(slot->wb.begin(), slot->wb.end(), 0.0);
+        std::fill(slot->wb.begin(), slot->wb.end(), 0.0);  // empty on a shared grid
       }
       slot->seen = true;
       const double F = ms.pair_force_N[j];
       if (F <= 0) continue;
-      // (W2): dh_e = kappa F' |v_s| dt / l_e on each flank.
+      // (W2): dh_e = kappa F' |v_s| dt / l_e on each flank; the division by l_e waits for book().
       const double base = kappa_ * (F / width) * std::fabs(ms.sliding_m_s[j]) * dt;
-      const int ea = sa.element_at(pr.xi_m), eb = sb.element_at(pr.xi_m);
-      slot->wa[ea] += base / fam_[fa].arc_length_m[ea];
-      slot->wb[eb] += base / fam_[fb].arc_length_m[eb];
+      const int ea = sa.element_at(pr.xi_m);
+      slot->wa[static_cast<std::size_t>(ea)] += base;
+      if (!shared) slot->wb[static_cast<std::size_t>(sb.element_at(pr.xi_m))] += base;
     }
     // Pairs that left contact complete their pass.
     for (auto& p : slots) {
       if (!p.used || p.seen) continue;
       if (!p.partial) {
         book(fa, p.tooth_a, p.wa);
-        book(fb, p.tooth_b, p.wb);
+        book(fb, p.tooth_b, shared ? p.wa : p.wb);
       }
       p.used = false;
     }

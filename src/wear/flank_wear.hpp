@@ -52,11 +52,17 @@ private:
     std::vector<int> passes;
     double passes_per_cycle = 0;
   };
+  /// A pair in contact: per element, the Archard load kappa F' |v_s| dt summed over its steps
+  /// so far [m^2] (W2 before the division by the element's arc length, which book() applies
+  /// once per pass instead of at every step). On a mesh whose two flank grids are the same
+  /// (same_grid_) both flanks' loads are in `wa` and `wb` stays empty.
   struct Pending {
     bool used = false, partial = false, seen = false;
     int tooth_a = -1, tooth_b = -1;
     std::vector<double> wa, wb;
   };
+  /// Adds one completed pass of `tooth` of family `fam`: its loads per element `w` [m^2] over
+  /// the elements' arc lengths.
   void book(int fam, int tooth, const std::vector<double>& w);
 
   const model::PlanetaryDynamics& sys_;
@@ -66,6 +72,7 @@ private:
   bool window_start_ = true;
   std::vector<Family> fam_;
   std::vector<std::vector<Pending>> pending_;  ///< per mesh, kMaxPairs + 2 slots
+  std::vector<char> same_grid_;                ///< per mesh: its flanks share one element grid
 };
 
 } // namespace pw::wear
