@@ -278,6 +278,7 @@ void PlanetaryDynamics::update_contact_geometry(double t) {
     // share of the step it spends in contact (engagement_weight).
     const double xi_lo = mg.start_active_m, xi_hi = mg.end_active_m;
     const bool pristine_a = fa.pristine(), pristine_b = fb.pristine();
+    const bool same_grid_a_b = !pristine_a && fa.same_grid(fb);
     st.pairs_engaged = 0;
     double k_sum = 0;
     int ta = win.tooth_a, tb = win.tooth_b;
@@ -294,8 +295,11 @@ void PlanetaryDynamics::update_contact_geometry(double t) {
       pg.k_N_m = w * pair_stiffness(fam.stiffness, scales_[m].stiffness_index_1_m, std::clamp(p.xi_m, xi_lo, xi_hi));
       if (!pristine_a) pg.k_N_m *= fa.stiffness_factor(p.tooth_a);
       if (!pristine_b) pg.k_N_m *= fb.stiffness_factor(p.tooth_b);
-      const double dev_a = pristine_a ? 0.0 : fa.deviation_m(p.tooth_a, p.xi_m);
-      const double dev_b = pristine_b ? 0.0 : fb.deviation_m(p.tooth_b, p.xi_m);
+      // The two flanks of a mesh share one element grid (same_grid_a_b): one grid point serves both.
+      const FlankSet::GridPoint gp_a = pristine_a ? FlankSet::GridPoint{} : fa.grid_point(p.xi_m);
+      const FlankSet::GridPoint gp_b = pristine_b ? FlankSet::GridPoint{} : same_grid_a_b ? gp_a : fb.grid_point(p.xi_m);
+      const double dev_a = pristine_a ? 0.0 : fa.deviation_m(p.tooth_a, gp_a);
+      const double dev_b = pristine_b ? 0.0 : fb.deviation_m(p.tooth_b, gp_b);
       pg.deviation_m = dev_a + dev_b + mesh_error_[m];
       pg.slide_nominal_m_s = mc.nominal_slide0_m_s + p.xi_m * mc.nominal_slide1_1_s;
       for (int k = 0; k < sc.entries; ++k) pg.h[k] = sc.h0[k] + p.xi_m * sc.h1[k];

@@ -32,18 +32,31 @@ public:
   double element_xi_m(int e) const { return xi_min_ + (e + 0.5) * dxi_; }
   double element_width_m() const { return dxi_; }
 
-  /// Deviation of `tooth` at roll coordinate xi [m], linear between element
-  /// centres, constant beyond the end centres. O(1), no allocation; inline
-  /// because the time step calls it for both flanks of every pair.
-  double deviation_m(int tooth, double xi_m) const {
-    const double* d = tooth_deviation(tooth);
+  /// Where a roll coordinate falls on the element-centre grid: between centres i and i + 1 at
+  /// fraction f, or beyond an end centre (`clamped` then holds that end's index). The same for
+  /// every flank set of one grid (same_grid), so a mesh computes it once for both its flanks.
+  struct GridPoint {
+    int i = 0;
+    double f = 0;
+    int clamped = -1;  ///< the end element's index beyond an end centre, else -1
+  };
+  GridPoint grid_point(double xi_m) const {
     const double u = (xi_m - xi_min_) * inv_dxi_ - 0.5;  // position in element-centre units
-    if (u <= 0) return d[0];
-    if (u >= elements_ - 1) return d[elements_ - 1];
+    if (u <= 0) return {0, 0.0, 0};
+    if (u >= elements_ - 1) return {0, 0.0, elements_ - 1};
     const int i = static_cast<int>(u);
-    const double f = u - i;
-    return (1 - f) * d[i] + f * d[i + 1];
+    return {i, u - i, -1};
   }
+  /// Deviation of `tooth` at a grid point [m]: linear between element centres, constant beyond
+  /// the end centres.
+  double deviation_m(int tooth, const GridPoint& g) const {
+    const double* d = tooth_deviation(tooth);
+    if (g.clamped >= 0) return d[g.clamped];
+    return (1 - g.f) * d[g.i] + g.f * d[g.i + 1];
+  }
+  /// Deviation of `tooth` at roll coordinate xi [m]. O(1), no allocation; inline because the
+  /// time step calls it for both flanks of every pair.
+  double deviation_m(int tooth, double xi_m) const { return deviation_m(tooth, grid_point(xi_m)); }
   /// Element index containing xi (clamped to [0, elements - 1]). Inline: the wear model calls
   /// it for both flanks of every loaded pair at every step.
   int element_at(double xi_m) const {
