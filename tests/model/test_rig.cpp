@@ -405,7 +405,7 @@ TEST(Rig, VeryStiffShaftsApproachTheRigidlyCoupledMachines) {
   EXPECT_GT(f1(f1.size() - 2), 10 * f0.maxCoeff());
 }
 
-TEST(Rig, ShaftWithoutAMachineInertiaOrSpeedControlWithoutAShaftIsAnInputErrorNamingTheKey) {
+TEST(Rig, ShaftWithoutAMachineInertiaSpeedControlWithoutAShaftOrALoopWithoutItsGainsIsAnInputErrorNamingTheKey) {
   SimulationConfig c = fast_seed();
   c.rig.input_shaft_stiffness_N_m_rad = 1e5;
   try {
@@ -426,4 +426,23 @@ TEST(Rig, ShaftWithoutAMachineInertiaOrSpeedControlWithoutAShaftIsAnInputErrorNa
   c = fast_seed();
   c.sensor.encoder_filter_order = 3;
   EXPECT_THROW(validate(c), pw::InputError);
+  // A speed loop needs both gains; a gain without the loop would be ignored, so it is refused.
+  c = fast_seed();
+  c.rig.load_control = LoadControl::SpeedLoop;
+  c.rig.load_speed_loop_proportional_N_m_s_rad = 10;
+  try {
+    validate(c);
+    FAIL() << "accepted a speed loop without integral gain";
+  } catch (const pw::InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("rig.load_speed_loop_integral_N_m_rad"), std::string::npos) << e.what();
+  }
+  c = fast_seed();
+  c.rig.load_speed_loop_integral_N_m_rad = 100;
+  try {
+    validate(c);
+    FAIL() << "accepted a speed-loop gain under torque control";
+  } catch (const pw::InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("rig.load_speed_loop_integral_N_m_rad"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("speed_loop"), std::string::npos) << e.what();
+  }
 }
