@@ -74,8 +74,11 @@ struct EnumNames<SensorWindow> {
 
 template <>
 struct EnumNames<model::InputControl> {
-  static constexpr std::array<std::pair<model::InputControl, std::string_view>, 2> values{
-      {{model::InputControl::Power, "power"}, {model::InputControl::Torque, "torque"}}};
+  static constexpr std::array<std::pair<model::InputControl, std::string_view>, 4> values{
+      {{model::InputControl::Power, "power"},
+       {model::InputControl::Torque, "torque"},
+       {model::InputControl::Speed, "speed"},
+       {model::InputControl::SpeedLoop, "speed_loop"}}};
 };
 
 template <>

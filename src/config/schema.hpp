@@ -205,10 +205,17 @@ void visit_config(V& v, Config& c) {
 
   v.section("rig");
   v.field("input_control", c.rig.input_control,
-          "input machine: \"power\" (constant power P/w, the seed's) or \"torque\" (constant torque)");
+          "input machine: \"power\" (constant power P/w, the seed's), \"torque\" (constant torque), \"speed\" (ideal "
+          "speed control through the input shaft) or \"speed_loop\" (a PI speed loop of gains input_speed_loop_*)");
   v.field("input_shaft_stiffness_N_m_rad", c.rig.input_shaft_stiffness_N_m_rad,
           "shaft from the motor (stage.input_inertia_kgm2) to the sun [N m/rad]; 0 = rigid", at_least(0, "N m/rad; 0 = rigid"));
   v.field("input_shaft_damping_N_m_s_rad", c.rig.input_shaft_damping_N_m_s_rad, "input shaft damping [N m s/rad]", at_least(0, "N m s/rad"));
+  v.field("input_speed_loop_proportional_N_m_s_rad", c.rig.input_speed_loop_proportional_N_m_s_rad,
+          "proportional gain K_p of the motor's speed loop (input_control = \"speed_loop\") [N m s/rad]",
+          at_least(0, "N m s/rad; > 0 with input_control = \"speed_loop\""));
+  v.field("input_speed_loop_integral_N_m_rad", c.rig.input_speed_loop_integral_N_m_rad,
+          "integral gain K_i of the motor's speed loop (input_control = \"speed_loop\") [N m/rad]",
+          at_least(0, "N m/rad; > 0 with input_control = \"speed_loop\""));
   v.field("load_control", c.rig.load_control,
           "load machine: \"torque\" (constant torque holding the mean speed), \"speed\" (ideal speed control) or "
           "\"speed_loop\" (a PI speed loop of gains load_speed_loop_*)");

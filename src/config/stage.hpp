@@ -225,6 +225,8 @@ struct WearSettings {
 enum class InputControl {
   Power,   ///< constant power P at the actual speed, T = P / w (today's model, the seed's constant input power)
   Torque,  ///< constant torque P / Omega_s (a torque-controlled motor; no speed feedback)
+  Speed,   ///< ideal speed control: the input shaft's far end turns at exactly the nominal sun speed
+  SpeedLoop,  ///< a PI speed controller on the motor's speed (a drive of finite loop bandwidth)
 };
 
 /// How the machine on the output shaft loads the carrier.
@@ -245,6 +247,10 @@ struct RigSettings {
   /// Input shaft between the motor (inertia stage.input_inertia_kgm2) and the sun [N m/rad]; 0 = rigid.
   double input_shaft_stiffness_N_m_rad = 0.0;
   double input_shaft_damping_N_m_s_rad = 0.0;  ///< [N m s/rad]
+  /// Gains of the motor's PI speed loop (input_control = speed_loop): motor torque
+  /// T = P / Omega_s - K_p (w - Omega_s) - K_i \int (w - Omega_s) dt, w the motor's speed.
+  double input_speed_loop_proportional_N_m_s_rad = 0.0;  ///< K_p [N m s/rad]
+  double input_speed_loop_integral_N_m_rad = 0.0;        ///< K_i [N m/rad]
   LoadControl load_control = LoadControl::Torque;
   /// Output shaft between the carrier and the load machine [N m/rad]; 0 = rigid. Required > 0
   /// with load_control = speed (an ideal speed control rigidly attached would lock the carrier).

@@ -70,17 +70,30 @@ void add_rig(LumpedStructure& s, const RigLayout& rig, int first_dof) {
     sp.damping = c;
     s.springs.push_back(sp);
   };
+  // Ties body `b` to the speed reference (a spring to ground in the perturbation coordinates).
+  auto hold = [&](const char* name, int b, double k, double c, bool at_input) {
+    shaft(name, b, -1, k, c);
+    s.speed_reference_spring = static_cast<int>(s.springs.size()) - 1;
+    s.speed_reference_at_input = at_input;
+    s.has_rigid_mode = false;
+  };
   if (rig.input_shaft_N_m_rad > 0) {
-    s.input_body = machine("motor", rig.motor_inertia_kgm2);
-    shaft("input_shaft", s.input_body, s.sun_body, rig.input_shaft_N_m_rad, rig.input_shaft_N_m_s_rad);
+    if (rig.input == InputMachine::IdealSpeed) {
+      // The shaft's far end turns at the nominal sun speed; the feed-forward torque stays on the sun.
+      hold("input_shaft", s.sun_body, rig.input_shaft_N_m_rad, rig.input_shaft_N_m_s_rad, true);
+    } else {
+      s.input_body = machine("motor", rig.motor_inertia_kgm2);
+      shaft("input_shaft", s.input_body, s.sun_body, rig.input_shaft_N_m_rad, rig.input_shaft_N_m_s_rad);
+    }
   }
+  if (rig.input == InputMachine::SpeedLoop)
+    hold("input_speed_loop", s.input_body, rig.input_loop_integral_N_m_rad, rig.input_loop_proportional_N_m_s_rad,
+         true);
   if (rig.output_shaft_N_m_rad > 0) {
     if (rig.load == LoadMachine::IdealSpeed) {
       // The far end turns at the nominal carrier speed: a spring to ground in the
       // perturbation coordinates; the feed-forward load torque stays on the carrier.
-      shaft("output_shaft", s.carrier_body, -1, rig.output_shaft_N_m_rad, rig.output_shaft_N_m_s_rad);
-      s.speed_reference_spring = static_cast<int>(s.springs.size()) - 1;
-      s.has_rigid_mode = false;
+      hold("output_shaft", s.carrier_body, rig.output_shaft_N_m_rad, rig.output_shaft_N_m_s_rad, false);
     } else {
       s.output_body = machine("load", rig.load_inertia_kgm2);
       shaft("output_shaft", s.carrier_body, s.output_body, rig.output_shaft_N_m_rad, rig.output_shaft_N_m_s_rad);
@@ -89,15 +102,21 @@ void add_rig(LumpedStructure& s, const RigLayout& rig, int first_dof) {
   if (rig.load == LoadMachine::SpeedLoop) {
     // The loop's integral and proportional actions on the load machine (on the carrier when the
     // machine sits on it rigidly): K_i and K_p to the reference turning at the nominal speed.
-    shaft("speed_loop", s.output_body, -1, rig.speed_loop_integral_N_m_rad, rig.speed_loop_proportional_N_m_s_rad);
-    s.speed_reference_spring = static_cast<int>(s.springs.size()) - 1;
-    s.has_rigid_mode = false;
+    hold("speed_loop", s.output_body, rig.speed_loop_integral_N_m_rad, rig.speed_loop_proportional_N_m_s_rad, false);
   }
 }
 
 void check_rig(const RigLayout& rig) {
-  require(rig.input_shaft_N_m_rad <= 0 || rig.motor_inertia_kgm2 > 0, "stage.input_inertia_kgm2",
-          "a motor behind a flexible input shaft needs a positive inertia [kg m^2]");
+  require(rig.input_shaft_N_m_rad <= 0 || rig.input == InputMachine::IdealSpeed || rig.motor_inertia_kgm2 > 0,
+          "stage.input_inertia_kgm2", "a motor behind a flexible input shaft needs a positive inertia [kg m^2]");
+  require(rig.input != InputMachine::IdealSpeed || rig.input_shaft_N_m_rad > 0, "rig.input_shaft_stiffness_N_m_rad",
+          "ideal input speed control needs a flexible input shaft");
+  require(rig.input != InputMachine::SpeedLoop ||
+              (rig.input_loop_integral_N_m_rad > 0 && rig.input_loop_proportional_N_m_s_rad > 0),
+          "rig.input_speed_loop", "a speed loop needs positive integral and proportional gains");
+  const bool input_held = rig.input != InputMachine::TorqueControlled;
+  require(!(input_held && rig.load != LoadMachine::TorqueControlled), "rig.load_control",
+          "one machine holds the speed: the load must be torque-controlled when the motor holds the speed");
   require(rig.output_shaft_N_m_rad <= 0 || rig.load == LoadMachine::IdealSpeed || rig.load_inertia_kgm2 > 0,
           "stage.output_inertia_kgm2", "a load machine behind a flexible output shaft needs a positive inertia [kg m^2]");
   require(rig.load != LoadMachine::IdealSpeed || rig.output_shaft_N_m_rad > 0, "rig.output_shaft_stiffness_N_m_rad",
@@ -233,7 +252,7 @@ void assemble(LumpedStructure& s) {
 }
 
 int rig_dofs(const RigLayout& rig) {
-  return (rig.input_shaft_N_m_rad > 0 ? 1 : 0) + (rig.output_shaft_N_m_rad > 0 && rig.load != LoadMachine::IdealSpeed ? 1 : 0);
+  return (rig.input_shaft_N_m_rad > 0 && rig.input != InputMachine::IdealSpeed ? 1 : 0) + (rig.output_shaft_N_m_rad > 0 && rig.load != LoadMachine::IdealSpeed ? 1 : 0);
 }
 
 LumpedStructure build_torsional(const StageLayout& l, const RigLayout& rig) {

@@ -121,8 +121,10 @@ struct LumpedStructure {
   bool has_rigid_mode = true;
   /// The spring (index into `springs`) that ties the stage to the speed reference turning at the
   /// nominal speed: the ideal speed control's shaft or the speed loop's P-I spring; -1 without one.
-  /// Its mean torque plus the feed-forward is the load machine's torque.
+  /// Its mean torque plus the feed-forward is the torque of the machine that holds the speed:
+  /// the motor's when `speed_reference_at_input`, else the load machine's.
   int speed_reference_spring = -1;
+  bool speed_reference_at_input = false;
   std::vector<int> planet_bodies;
 };
 
@@ -158,6 +160,8 @@ struct StageLayout {
 ///   carrier          --k_out, c_out-- load    load torque on the load machine (theta_L), or
 ///   carrier          --k_out, c_out-- ground  the far end at the nominal speed (ideal speed control)
 ///   load (or carrier) --K_i, K_p-- ground     a PI speed loop on the load machine (SpeedLoop)
+///   sun --k_in, c_in-- ground                 the motor's far end at the nominal speed (InputMachine::IdealSpeed)
+///   motor (or sun) --K_i, K_p-- ground        a PI speed loop on the motor (InputMachine::SpeedLoop)
 /// In the perturbation coordinates (deviations from the nominal rotation) a PI speed
 /// controller T = -K_p (w - Omega) - K_i \int (w - Omega) dt is exactly a torsional spring
 /// K_i and damper K_p from its machine to ground: the integral of the speed error is the
@@ -168,9 +172,20 @@ enum class LoadMachine {
   SpeedLoop,         ///< a PI speed controller acting on the load machine's speed
 };
 
+/// How the motor holds the input: by its torque (constant power or torque, PlanetaryDynamics'
+/// input torque), or by its speed like the load machine's IdealSpeed and SpeedLoop.
+enum class InputMachine {
+  TorqueControlled,
+  IdealSpeed,
+  SpeedLoop,
+};
+
 struct RigLayout {
-  double motor_inertia_kgm2 = 0;     ///< used when input_shaft_N_m_rad > 0 [kg m^2]
+  double motor_inertia_kgm2 = 0;     ///< used when input_shaft_N_m_rad > 0 and not IdealSpeed [kg m^2]
   double input_shaft_N_m_rad = 0, input_shaft_N_m_s_rad = 0;
+  InputMachine input = InputMachine::TorqueControlled;
+  double input_loop_integral_N_m_rad = 0;        ///< K_i of the input SpeedLoop [N m/rad]
+  double input_loop_proportional_N_m_s_rad = 0;  ///< K_p of the input SpeedLoop [N m s/rad]
   double load_inertia_kgm2 = 0;      ///< used when output_shaft_N_m_rad > 0 and not IdealSpeed [kg m^2]
   double output_shaft_N_m_rad = 0, output_shaft_N_m_s_rad = 0;
   LoadMachine load = LoadMachine::TorqueControlled;

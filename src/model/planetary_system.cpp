@@ -176,9 +176,15 @@ const FlankSet& PlanetaryDynamics::flank_b(int m) const {
 double PlanetaryDynamics::input_torque_Nm(double t, const Eigen::VectorXd& q, const Eigen::VectorXd& v) const {
   const double w_in = sun_speed_ + input_row_.dot(v);
   const double mean = power_ / (constant_power_ ? w_in : sun_speed_);
-  if (ripple_ == 0) return mean;
+  // A motor that holds the speed adds its spring to the speed reference (shaft or loop).
+  const int held = structure_.speed_reference_spring;
+  const double hold =
+      held >= 0 && structure_.speed_reference_at_input
+          ? -(structure_.springs[held].stiffness * input_row_.dot(q) + structure_.springs[held].damping * input_row_.dot(v))
+          : 0.0;
+  if (ripple_ == 0) return mean + hold;
   const double th_in = sun_speed_ * t + input_row_.dot(q);
-  return mean * (1.0 + ripple_ * std::sin(ripple_order_ * th_in));
+  return mean * (1.0 + ripple_ * std::sin(ripple_order_ * th_in)) + hold;
 }
 
 Eigen::Vector2d PlanetaryDynamics::sun_runout_m(double t) const {

@@ -206,6 +206,11 @@ PreparedStage prepare(const SimulationConfig& c) {
   rig.motor_inertia_kgm2 = c.stage.input_inertia_kgm2;
   rig.input_shaft_N_m_rad = c.rig.input_shaft_stiffness_N_m_rad;
   rig.input_shaft_N_m_s_rad = c.rig.input_shaft_damping_N_m_s_rad;
+  rig.input = c.rig.input_control == InputControl::Speed       ? dynamics::InputMachine::IdealSpeed
+              : c.rig.input_control == InputControl::SpeedLoop ? dynamics::InputMachine::SpeedLoop
+                                                               : dynamics::InputMachine::TorqueControlled;
+  rig.input_loop_integral_N_m_rad = c.rig.input_speed_loop_integral_N_m_rad;
+  rig.input_loop_proportional_N_m_s_rad = c.rig.input_speed_loop_proportional_N_m_s_rad;
   rig.load_inertia_kgm2 = c.stage.output_inertia_kgm2;
   rig.output_shaft_N_m_rad = c.rig.output_shaft_stiffness_N_m_rad;
   rig.output_shaft_N_m_s_rad = c.rig.output_shaft_damping_N_m_s_rad;
@@ -740,9 +745,11 @@ RecordStats record(Integration& r, int cycles, SimulationResult& out, const Outp
     const double w_carrier = p.carrier_speed_rad_s + carrier_encoder.step(carrier_speed_change(r));
     const auto& ms = sys.mesh_states();
     loads.add(ms);
-    if (!sys.structure().has_rigid_mode) {  // only the speed-controlled load's torque needs them
-      stats.mean_held_angle_rad += sys.output_theta_row().dot(r.st.q) / static_cast<double>(nrec);
-      stats.mean_held_speed_rad_s += sys.output_theta_row().dot(r.st.v) / static_cast<double>(nrec);
+    if (!sys.structure().has_rigid_mode) {  // only the speed-holding machine's torque needs them
+      const Eigen::RowVectorXd& held = sys.structure().speed_reference_at_input ? sys.input_theta_row()
+                                                                                 : sys.output_theta_row();
+      stats.mean_held_angle_rad += held.dot(r.st.q) / static_cast<double>(nrec);
+      stats.mean_held_speed_rad_s += held.dot(r.st.v) / static_cast<double>(nrec);
     }
     if (report && k % spm == 0) report(f0 + (f1 - f0) * static_cast<double>(k) / static_cast<double>(nrec), "recording");
     if (k % dec != 0) continue;
@@ -861,18 +868,29 @@ SimulationResult simulate(const SimulationConfig& c, const ProgressFn& progress,
   scalar("mesh_frequency", "Hz", "mesh frequency Zs (f_s - f_c) at the nominal speed", p.mesh_frequency_Hz);
   scalar("sun_speed", "rad/s", "nominal absolute sun speed", p.sun_speed_rad_s);
   scalar("carrier_speed", "rad/s", "nominal carrier speed", p.carrier_speed_rad_s);
-  scalar("input_torque", "N m", "mean input torque P / Omega_s", sys.nominal_input_torque_Nm());
-  // Under speed control the load machine's torque is the feed-forward plus the mean torque of
-  // the spring to the speed reference: the ideal control's shaft twist, or the loop's integral
-  // and proportional terms (they take up the friction losses).
-  const int held = sys.structure().speed_reference_spring;
+  // Under speed control the torque of the machine that holds the speed is its feed-forward plus
+  // the mean torque of its spring to the speed reference: the ideal control's shaft twist, or
+  // the loop's integral and proportional terms (they take up the friction losses). The load
+  // machine's acts against the carrier's rotation, the motor's with the sun's.
+  const int held = S.speed_reference_spring;
+  const double reference_torque =
+      held >= 0 ? S.springs[held].stiffness * rec.mean_held_angle_rad + S.springs[held].damping * rec.mean_held_speed_rad_s
+                : 0.0;
+  const bool motor_holds = held >= 0 && S.speed_reference_at_input;
+  const double input_torque = sys.nominal_input_torque_Nm() - (motor_holds ? reference_torque : 0.0);
   const double load_torque =
-      held >= 0 ? sys.load_torque_Nm() + sys.structure().springs[held].stiffness * rec.mean_held_angle_rad +
-                      sys.structure().springs[held].damping * rec.mean_held_speed_rad_s
-                : sys.load_torque_Nm();
+      held >= 0 && !motor_holds
+          ? sys.load_torque_Nm() + S.springs[held].stiffness * rec.mean_held_angle_rad +
+                S.springs[held].damping * rec.mean_held_speed_rad_s  // summed as before the motor's speed control
+          : sys.load_torque_Nm();
+  scalar("input_torque", "N m",
+         motor_holds ? "mean input torque: P / Omega_s plus the speed control's mean torque" : "mean input torque P / Omega_s",
+         input_torque);
   scalar("load_torque", "N m", "mean load torque on the carrier at the nominal speed", load_torque);
-  scalar("efficiency", "1", "T_load Omega_c / P: mesh efficiency of the stage (friction losses)",
-         load_torque * p.carrier_speed_rad_s / c.operating.input_power_W);
+  // The input power is P unless the motor holds the speed (then T_s Omega_s, the losses included).
+  const double input_power_W = motor_holds ? input_torque * p.sun_speed_rad_s : c.operating.input_power_W;
+  scalar("efficiency", "1", "T_load Omega_c / P_in: mesh efficiency of the stage (friction losses)",
+         load_torque * p.carrier_speed_rad_s / input_power_W);
   scalar("warmup_mesh_cycles", "1", "mesh periods integrated before recording", warm.cycles);
   scalar("warmup_speed_loop", "1",
          "speed the warm-up's loop held: 0 the sun's, 1 the rigid mode's (with flexible rig shafts, or after the "

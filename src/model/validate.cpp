@@ -20,11 +20,13 @@
 #include "geometry/gear.hpp"
 
 #include <cmath>
+#include <initializer_list>
 #include <limits>
 #include <numbers>
 #include <string>
 #include <string_view>
 #include <type_traits>
+#include <utility>
 #include <vector>
 
 namespace pw::model {
@@ -190,17 +192,32 @@ void validate_sensor(const SensorSettings& s) {
           "must be \"gaussian\" or \"hann\"");
 }
 
+/// A speed loop's two gains: both > 0 when `loop`, else both 0 (a gain without its loop would be
+/// ignored). `control` names the key that selects the loop.
+void require_loop_gains(bool loop, const char* control, std::initializer_list<std::pair<const char*, double>> gains) {
+  for (const auto& [key, gain] : gains) {
+    if (loop)
+      require(gain > 0, key, "must be > 0 with ", control, " = \"speed_loop\" (got ", gain, ")");
+    else
+      require(gain == 0, key, "= ", gain, " acts only with ", control, " = \"speed_loop\": set that, or the gain to 0");
+  }
+}
+
 void validate_rig(const RigSettings& r, const StageSpec& st) {
-  require(r.input_control == InputControl::Power || r.input_control == InputControl::Torque, "rig.input_control",
-          "must be \"power\" or \"torque\"");
+  require(r.input_control == InputControl::Power || r.input_control == InputControl::Torque ||
+              r.input_control == InputControl::Speed || r.input_control == InputControl::SpeedLoop,
+          "rig.input_control", "must be \"power\", \"torque\", \"speed\" or \"speed_loop\"");
   require(r.load_control == LoadControl::Torque || r.load_control == LoadControl::Speed ||
               r.load_control == LoadControl::SpeedLoop,
           "rig.load_control", "must be \"torque\", \"speed\" or \"speed_loop\"");
   // A shaft needs a body at its far end: a massless motor behind a spring would
   // leave the spring's far end undetermined.
-  require(r.input_shaft_stiffness_N_m_rad == 0 || st.input_inertia_kgm2 > 0, "rig.input_shaft_stiffness_N_m_rad",
-          "= ", r.input_shaft_stiffness_N_m_rad, " N m/rad puts the motor behind a shaft, so the motor needs an "
-          "inertia: set stage.input_inertia_kgm2 > 0, or the shaft stiffness to 0 (rigid)");
+  // (Under ideal input speed control the motor's far end of the shaft turns at the set speed
+  // whatever its inertia.)
+  require(r.input_shaft_stiffness_N_m_rad == 0 || r.input_control == InputControl::Speed || st.input_inertia_kgm2 > 0,
+          "rig.input_shaft_stiffness_N_m_rad", "= ", r.input_shaft_stiffness_N_m_rad,
+          " N m/rad puts the motor behind a shaft, so the motor needs an inertia: set stage.input_inertia_kgm2 > 0, "
+          "or rig.input_control = \"speed\", or the shaft stiffness to 0 (rigid)");
   require(r.input_shaft_damping_N_m_s_rad == 0 || r.input_shaft_stiffness_N_m_rad > 0,
           "rig.input_shaft_damping_N_m_s_rad", "needs a flexible input shaft (rig.input_shaft_stiffness_N_m_rad > 0)");
   require(r.output_shaft_damping_N_m_s_rad == 0 || r.output_shaft_stiffness_N_m_rad > 0,
@@ -216,19 +233,28 @@ void validate_rig(const RigSettings& r, const StageSpec& st) {
             " N m/rad puts the load machine behind a shaft, so it needs an inertia: set stage.output_inertia_kgm2 "
             "> 0, or rig.load_control = \"speed\", or the shaft stiffness to 0 (rigid)");
   }
-  // The loop's gains act only under its control mode; a gain set without it would be silently
-  // ignored, so it is an error. Under the loop both are needed: without K_i the mean speed
+  // A loop's gains act only under its control mode; a gain set without it would be silently
+  // ignored, so it is an error. Under a loop both are needed: without K_i the mean speed
   // would sag by the friction losses / K_p (no integral action), without K_p the loop is an
   // undamped spring.
-  const bool loop = r.load_control == LoadControl::SpeedLoop;
-  for (const auto& [key, gain] : {std::pair{"rig.load_speed_loop_proportional_N_m_s_rad",
-                                            r.load_speed_loop_proportional_N_m_s_rad},
-                                  std::pair{"rig.load_speed_loop_integral_N_m_rad", r.load_speed_loop_integral_N_m_rad}}) {
-    if (loop)
-      require(gain > 0, key, "must be > 0 with rig.load_control = \"speed_loop\" (got ", gain, ")");
-    else
-      require(gain == 0, key, "= ", gain, " acts only with rig.load_control = \"speed_loop\": set that, or the gain to 0");
-  }
+  require_loop_gains(r.load_control == LoadControl::SpeedLoop, "rig.load_control",
+                     {{"rig.load_speed_loop_proportional_N_m_s_rad", r.load_speed_loop_proportional_N_m_s_rad},
+                      {"rig.load_speed_loop_integral_N_m_rad", r.load_speed_loop_integral_N_m_rad}});
+  require_loop_gains(r.input_control == InputControl::SpeedLoop, "rig.input_control",
+                     {{"rig.input_speed_loop_proportional_N_m_s_rad", r.input_speed_loop_proportional_N_m_s_rad},
+                      {"rig.input_speed_loop_integral_N_m_rad", r.input_speed_loop_integral_N_m_rad}});
+  // Ideal input speed control holds the sun through its shaft, as the load's holds the carrier.
+  if (r.input_control == InputControl::Speed)
+    require(r.input_shaft_stiffness_N_m_rad > 0, "rig.input_shaft_stiffness_N_m_rad",
+            "must be > 0 with rig.input_control = \"speed\" (an ideally speed-controlled motor rigidly attached "
+            "would hold the sun still in the rotating frame)");
+  // One machine holds the speed, the other the torque: two speed references at the kinematic
+  // ratio over a stiff train would leave the torque between them undetermined by the controls.
+  const bool input_holds = r.input_control == InputControl::Speed || r.input_control == InputControl::SpeedLoop;
+  const bool load_holds = r.load_control == LoadControl::Speed || r.load_control == LoadControl::SpeedLoop;
+  require(!(input_holds && load_holds), "rig.load_control",
+          "must be \"torque\" when rig.input_control holds the speed (\"speed\" or \"speed_loop\"): one machine "
+          "holds the speed, the other the load");
 }
 
 void validate_solver(const SolverSettings& s, const SimulationConfig& c) {

@@ -128,6 +128,8 @@ inline void expect_config_eq(const model::SimulationConfig& a, const model::Simu
   EXPECT_EQ(a.rig.output_shaft_damping_N_m_s_rad, b.rig.output_shaft_damping_N_m_s_rad);
   EXPECT_EQ(a.rig.load_speed_loop_proportional_N_m_s_rad, b.rig.load_speed_loop_proportional_N_m_s_rad);
   EXPECT_EQ(a.rig.load_speed_loop_integral_N_m_rad, b.rig.load_speed_loop_integral_N_m_rad);
+  EXPECT_EQ(a.rig.input_speed_loop_proportional_N_m_s_rad, b.rig.input_speed_loop_proportional_N_m_s_rad);
+  EXPECT_EQ(a.rig.input_speed_loop_integral_N_m_rad, b.rig.input_speed_loop_integral_N_m_rad);
 }
 
 /// Valid, and every field differs from its default (doubles chosen to need all

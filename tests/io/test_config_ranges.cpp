@@ -157,6 +157,8 @@ TEST(ConfigRanges, TheDocumentedIntervalsAreTheOnesValidateEnforces) {
       {"rig.output_shaft_damping_N_m_s_rad", End::Lower},
       {"rig.load_speed_loop_proportional_N_m_s_rad", End::Lower},  // gains need rig.load_control = speed_loop
       {"rig.load_speed_loop_integral_N_m_rad", End::Lower},
+      {"rig.input_speed_loop_proportional_N_m_s_rad", End::Lower},  // gains need rig.input_control = speed_loop
+      {"rig.input_speed_loop_integral_N_m_rad", End::Lower},
   };
   // The degree keys are aliases: validate() sees (and names) the radian key they set.
   auto named = [](const std::string& key) {

@@ -106,7 +106,7 @@ TEST(ConfigToml, ConfigStructsHaveNoFieldsUnknownToTheSchema) {
     EXPECT_EQ(sizeof(model::SolverSettings), 80u);
     EXPECT_EQ(sizeof(model::WearSettings), 88u);  // + snapshot_record_mesh_cycles (int, padded)
     EXPECT_EQ(sizeof(model::SensorSettings), 48u);
-    EXPECT_EQ(sizeof(model::RigSettings), 64u);  // + the speed loop's two gains
+    EXPECT_EQ(sizeof(model::RigSettings), 80u);  // + the two speed loops' gains
     EXPECT_EQ(sizeof(model::SimulationConfig), sizeof(model::StageSpec) + sizeof(model::OperatingPoint) +
                                                    sizeof(model::StiffnessSettings) + sizeof(model::ContactSettings) +
                                                    sizeof(model::Imperfections) + sizeof(model::BearingSettings) +

@@ -349,6 +349,61 @@ TEST(Rig, IdealSpeedControlHoldsTheMeanCarrierSpeedAndTheShaftCarriesTheLosses) 
   EXPECT_NEAR(eta, eta0, 1e-3);
 }
 
+TEST(Rig, SoftInputShaftToASpeedControlledMotorHasTheModeSqrtKOverTheTrainsInertia) {
+  // The motor ideally speed-controlled (rig.input_control = "speed"), the load torque-controlled:
+  // the input shaft holds the whole train, whose lowest mode is the rigid stage turning on it,
+  // omega^2 = k / J_s with J_s the train's inertia reflected to the sun (rigid mode per unit sun
+  // rotation). Same O(k / k_mesh) tolerance as the output side's.
+  SimulationConfig c = fast_seed();
+  const PreparedStage free_train = prepare(c);
+  const double J_s = reflected_inertia(free_train, free_train.dynamics->sun_theta_row());
+  c.rig.input_control = InputControl::Speed;
+  c.rig.input_shaft_stiffness_N_m_rad = 20.0;
+  validate(c);
+  const PreparedStage held = prepare(c);
+  EXPECT_FALSE(held.dynamics->structure().has_rigid_mode);
+  EXPECT_EQ(held.dynamics->size(), free_train.dynamics->size());  // the motor adds no coordinate
+  const double f = std::sqrt(20.0 / J_s) / (2 * kPi);
+  EXPECT_NEAR(lowest_frequency_Hz(held) / f, 1.0, 1e-4) << "closed form " << f << " Hz";
+}
+
+TEST(Rig, AMotorThatHoldsTheSpeedTakesUpTheLossesAndTheLoadKeepsItsTorque) {
+  // Input speed control, ideal (through a shaft) or a PI loop (on the sun, motor rigid): the mean
+  // speeds are nominal to the periodicity tolerance 1e-6; the load keeps the nominal torque
+  // P / Omega_c; the motor's torque is P / Omega_s plus what its speed control adds, the friction
+  // losses, so the efficiency T_L Omega_c / (T_s Omega_s) agrees with the torque-controlled
+  // stage's to 1e-3 (the losses are ~2 % of the power and the mesh forces differ by as much,
+  // so the loss fraction differs by ~4e-4).
+  SimulationConfig base = fast_seed(24);
+  const SimulationResult torque_held = simulate(base);
+  const PreparedStage rigid = prepare(base);
+  const double J_s = reflected_inertia(rigid, rigid.dynamics->sun_theta_row());
+  const double w_n = 2 * kPi * 20;
+  for (const InputControl control : {InputControl::Speed, InputControl::SpeedLoop}) {
+    SimulationConfig c = base;
+    c.rig.input_control = control;
+    if (control == InputControl::Speed) {
+      c.rig.input_shaft_stiffness_N_m_rad = 2e3;
+      c.rig.input_shaft_damping_N_m_s_rad = 0.5;
+    } else {
+      c.rig.input_speed_loop_integral_N_m_rad = J_s * w_n * w_n;
+      c.rig.input_speed_loop_proportional_N_m_s_rad = 2 * J_s * w_n;
+    }
+    validate(c);
+    const SimulationResult r = simulate(c);
+    const char* name = control == InputControl::Speed ? "speed" : "speed_loop";
+    EXPECT_NEAR(mean(channel(r, "sun/speed")) / scalar(r, "sun_speed"), 1.0, 1e-6) << name;
+    EXPECT_NEAR(mean(channel(r, "carrier/speed")) / scalar(r, "carrier_speed"), 1.0, 1e-6) << name;
+    const double P = c.operating.input_power_W;
+    EXPECT_DOUBLE_EQ(scalar(r, "load_torque"), P / scalar(r, "carrier_speed")) << name;
+    EXPECT_GT(scalar(r, "input_torque"), P / scalar(r, "sun_speed")) << name;  // it supplies the losses
+    EXPECT_NEAR(mean(channel(r, "sun/input_torque")) / scalar(r, "input_torque"), 1.0, 1e-6) << name;
+    const double eta = scalar(r, "efficiency"), eta0 = scalar(torque_held, "efficiency");
+    EXPECT_LT(eta, 1.0);
+    EXPECT_NEAR(eta, eta0, 1e-3) << name;
+  }
+}
+
 TEST(Rig, AHeavyMotorOnASoftInputShaftReachesTheNominalMeanSpeed) {
   // A 6 kg m^2 motor (1e4 times the sun's disc) on a 2000 N m/rad shaft, 0.5 N m s/rad: the
   // stage's mode on the shaft sits near the mesh frequency at 400 rpm. The warm-up's speed loop
@@ -435,6 +490,17 @@ TEST(Rig, ShaftWithoutAMachineInertiaSpeedControlWithoutAShaftOrALoopWithoutItsG
     FAIL() << "accepted a speed loop without integral gain";
   } catch (const pw::InputError& e) {
     EXPECT_NE(std::string(e.what()).find("rig.load_speed_loop_integral_N_m_rad"), std::string::npos) << e.what();
+  }
+  c = fast_seed();
+  c.rig.input_control = InputControl::Speed;
+  c.rig.input_shaft_stiffness_N_m_rad = 1e4;
+  c.rig.load_control = LoadControl::Speed;
+  c.rig.output_shaft_stiffness_N_m_rad = 1e4;
+  try {
+    validate(c);
+    FAIL() << "accepted two machines holding the speed";
+  } catch (const pw::InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("rig.load_control"), std::string::npos) << e.what();
   }
   c = fast_seed();
   c.rig.load_speed_loop_integral_N_m_rad = 100;
