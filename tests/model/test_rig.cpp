@@ -404,6 +404,35 @@ TEST(Rig, AMotorThatHoldsTheSpeedTakesUpTheLossesAndTheLoadKeepsItsTorque) {
   }
 }
 
+TEST(Rig, TheSpeedControlsActAlikeInTheLateralTorsionalModel) {
+  // The rig's springs are the same at either model level (dynamics::add_rig). Lateral-torsional
+  // (Lin & Parker), seed stage: a soft output shaft to an ideally speed-controlled machine gives
+  // the rigid stage's mode omega^2 = k / J_c (bearings of 1e8 N/m and meshes of ~1e9 N/m shift it
+  // by O(k / k) ~ 1e-7: tolerance 1e-4); a motor's PI loop holds the mean sun speed to the
+  // periodicity tolerance and the efficiency agrees with the torque-controlled stage's to 1e-3.
+  SimulationConfig base = fast_seed(24);
+  base.solver.level = ModelLevel::LateralTorsional;
+  const PreparedStage rigid = prepare(base);
+  const double J_c = reflected_inertia(rigid, rigid.dynamics->carrier_theta_row());
+  const double J_s = reflected_inertia(rigid, rigid.dynamics->sun_theta_row());
+  SimulationConfig held = base;
+  held.rig.load_control = LoadControl::Speed;
+  held.rig.output_shaft_stiffness_N_m_rad = 20.0;
+  const double f = std::sqrt(20.0 / J_c) / (2 * kPi);
+  EXPECT_NEAR(lowest_frequency_Hz(prepare(held)) / f, 1.0, 1e-4) << "closed form " << f << " Hz";
+
+  const SimulationResult torque_held = simulate(base);
+  SimulationConfig loop = base;
+  const double w_n = 2 * kPi * 20;
+  loop.rig.input_control = InputControl::SpeedLoop;
+  loop.rig.input_speed_loop_integral_N_m_rad = J_s * w_n * w_n;
+  loop.rig.input_speed_loop_proportional_N_m_s_rad = 2 * J_s * w_n;
+  validate(loop);
+  const SimulationResult r = simulate(loop);
+  EXPECT_NEAR(mean(channel(r, "sun/speed")) / scalar(r, "sun_speed"), 1.0, 1e-6);
+  EXPECT_NEAR(scalar(r, "efficiency"), scalar(torque_held, "efficiency"), 1e-3);
+}
+
 TEST(Rig, AHeavyMotorOnASoftInputShaftReachesTheNominalMeanSpeed) {
   // A 6 kg m^2 motor (1e4 times the sun's disc) on a 2000 N m/rad shaft, 0.5 N m s/rad: the
   // stage's mode on the shaft sits near the mesh frequency at 400 rpm. The warm-up's speed loop
