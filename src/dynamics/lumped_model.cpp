@@ -3,6 +3,7 @@
 #include "core/error.hpp"
 
 #include <cmath>
+#include <string>
 
 namespace pw::dynamics {
 namespace {
@@ -49,18 +50,16 @@ void check_layout(const StageLayout& l) {
 /// The rig's machines and shafts (RigLayout): bodies on their own rotation
 /// coordinates from `first_dof` on, and the shaft springs with their dampers.
 void add_rig(LumpedStructure& s, const RigLayout& rig, int first_dof) {
-  s.input_body = s.sun_body;
-  s.output_body = s.carrier_body;
   int dof = first_dof;
-  auto machine = [&](const char* name, double inertia) {
+  auto machine = [&](const std::string& name, double inertia) {
     Body b = make_body(name, s.dofs, 0.0, inertia, {0, 0});
     b.map(2, dof) = 1;
-    s.dof_names.push_back(std::string("theta_") + name);
+    s.dof_names.push_back("theta_" + name);
     ++dof;
     s.bodies.push_back(std::move(b));
     return static_cast<int>(s.bodies.size()) - 1;
   };
-  auto shaft = [&](const char* name, int a, int b, double k, double c) {
+  auto spring = [&](const std::string& name, int a, int b, double k, double c) {
     Spring sp;
     sp.name = name;
     sp.body_a = a;
@@ -71,59 +70,49 @@ void add_rig(LumpedStructure& s, const RigLayout& rig, int first_dof) {
     s.springs.push_back(sp);
   };
   // Ties body `b` to the speed reference (a spring to ground in the perturbation coordinates).
-  auto hold = [&](const char* name, int b, double k, double c, bool at_input) {
-    shaft(name, b, -1, k, c);
+  auto hold = [&](const std::string& name, int b, double k, double c, bool at_input) {
+    spring(name, b, -1, k, c);
     s.speed_reference_spring = static_cast<int>(s.springs.size()) - 1;
     s.speed_reference_at_input = at_input;
     s.has_rigid_mode = false;
   };
-  if (rig.input_shaft_N_m_rad > 0) {
-    if (rig.input == InputMachine::IdealSpeed) {
-      // The shaft's far end turns at the nominal sun speed; the feed-forward torque stays on the sun.
-      hold("input_shaft", s.sun_body, rig.input_shaft_N_m_rad, rig.input_shaft_N_m_s_rad, true);
-    } else {
-      s.input_body = machine("motor", rig.motor_inertia_kgm2);
-      shaft("input_shaft", s.input_body, s.sun_body, rig.input_shaft_N_m_rad, rig.input_shaft_N_m_s_rad);
+  // One end: its machine (behind the shaft, or the stage body itself when the shaft is rigid),
+  // the shaft, and the speed control; returns the body its torque acts on. Under ideal speed
+  // control the shaft's far end turns at the nominal speed and the feed-forward torque stays
+  // on the stage body.
+  auto attach = [&](const RigEnd& e, const std::string& end, const std::string& machine_name, int stage_body,
+                    bool at_input) {
+    int body = stage_body;
+    if (e.shaft_N_m_rad > 0) {
+      if (e.control == MachineControl::IdealSpeed) {
+        hold(end + "_shaft", stage_body, e.shaft_N_m_rad, e.shaft_N_m_s_rad, at_input);
+      } else {
+        body = machine(machine_name, e.machine_inertia_kgm2);
+        spring(end + "_shaft", body, stage_body, e.shaft_N_m_rad, e.shaft_N_m_s_rad);
+      }
     }
-  }
-  if (rig.input == InputMachine::SpeedLoop)
-    hold("input_speed_loop", s.input_body, rig.input_loop_integral_N_m_rad, rig.input_loop_proportional_N_m_s_rad,
-         true);
-  if (rig.output_shaft_N_m_rad > 0) {
-    if (rig.load == LoadMachine::IdealSpeed) {
-      // The far end turns at the nominal carrier speed: a spring to ground in the
-      // perturbation coordinates; the feed-forward load torque stays on the carrier.
-      hold("output_shaft", s.carrier_body, rig.output_shaft_N_m_rad, rig.output_shaft_N_m_s_rad, false);
-    } else {
-      s.output_body = machine("load", rig.load_inertia_kgm2);
-      shaft("output_shaft", s.carrier_body, s.output_body, rig.output_shaft_N_m_rad, rig.output_shaft_N_m_s_rad);
-    }
-  }
-  if (rig.load == LoadMachine::SpeedLoop) {
-    // The loop's integral and proportional actions on the load machine (on the carrier when the
-    // machine sits on it rigidly): K_i and K_p to the reference turning at the nominal speed.
-    hold("speed_loop", s.output_body, rig.speed_loop_integral_N_m_rad, rig.speed_loop_proportional_N_m_s_rad, false);
-  }
+    if (e.control == MachineControl::SpeedLoop)
+      hold(end + "_speed_loop", body, e.loop_integral_N_m_rad, e.loop_proportional_N_m_s_rad, at_input);
+    return body;
+  };
+  s.input_body = attach(rig.input, "input", "motor", s.sun_body, true);
+  s.output_body = attach(rig.output, "output", "load", s.carrier_body, false);
+}
+
+void check_rig_end(const RigEnd& e, const char* inertia_key, const char* shaft_key, const char* loop_key) {
+  require(e.shaft_N_m_rad <= 0 || e.control == MachineControl::IdealSpeed || e.machine_inertia_kgm2 > 0, inertia_key,
+          "a machine behind a flexible shaft needs a positive inertia [kg m^2]");
+  require(e.control != MachineControl::IdealSpeed || e.shaft_N_m_rad > 0, shaft_key,
+          "ideal speed control needs a flexible shaft");
+  require(e.control != MachineControl::SpeedLoop || (e.loop_integral_N_m_rad > 0 && e.loop_proportional_N_m_s_rad > 0),
+          loop_key, "a speed loop needs positive integral and proportional gains");
 }
 
 void check_rig(const RigLayout& rig) {
-  require(rig.input_shaft_N_m_rad <= 0 || rig.input == InputMachine::IdealSpeed || rig.motor_inertia_kgm2 > 0,
-          "stage.input_inertia_kgm2", "a motor behind a flexible input shaft needs a positive inertia [kg m^2]");
-  require(rig.input != InputMachine::IdealSpeed || rig.input_shaft_N_m_rad > 0, "rig.input_shaft_stiffness_N_m_rad",
-          "ideal input speed control needs a flexible input shaft");
-  require(rig.input != InputMachine::SpeedLoop ||
-              (rig.input_loop_integral_N_m_rad > 0 && rig.input_loop_proportional_N_m_s_rad > 0),
-          "rig.input_speed_loop", "a speed loop needs positive integral and proportional gains");
-  const bool input_held = rig.input != InputMachine::TorqueControlled;
-  require(!(input_held && rig.load != LoadMachine::TorqueControlled), "rig.load_control",
+  check_rig_end(rig.input, "stage.input_inertia_kgm2", "rig.input_shaft_stiffness_N_m_rad", "rig.input_speed_loop");
+  check_rig_end(rig.output, "stage.output_inertia_kgm2", "rig.output_shaft_stiffness_N_m_rad", "rig.load_speed_loop");
+  require(!(rig.input.holds_speed() && rig.output.holds_speed()), "rig.load_control",
           "one machine holds the speed: the load must be torque-controlled when the motor holds the speed");
-  require(rig.output_shaft_N_m_rad <= 0 || rig.load == LoadMachine::IdealSpeed || rig.load_inertia_kgm2 > 0,
-          "stage.output_inertia_kgm2", "a load machine behind a flexible output shaft needs a positive inertia [kg m^2]");
-  require(rig.load != LoadMachine::IdealSpeed || rig.output_shaft_N_m_rad > 0, "rig.output_shaft_stiffness_N_m_rad",
-          "ideal speed control needs a flexible output shaft");
-  require(rig.load != LoadMachine::SpeedLoop ||
-              (rig.speed_loop_integral_N_m_rad > 0 && rig.speed_loop_proportional_N_m_s_rad > 0),
-          "rig.load_speed_loop", "a speed loop needs positive integral and proportional gains");
 }
 
 /// Adds the 2N meshes (sun-planet i at 2i, planet-ring i at 2i+1) with their
@@ -252,7 +241,10 @@ void assemble(LumpedStructure& s) {
 }
 
 int rig_dofs(const RigLayout& rig) {
-  return (rig.input_shaft_N_m_rad > 0 && rig.input != InputMachine::IdealSpeed ? 1 : 0) + (rig.output_shaft_N_m_rad > 0 && rig.load != LoadMachine::IdealSpeed ? 1 : 0);
+  int n = 0;
+  for (const RigEnd* e : {&rig.input, &rig.output})
+    n += e->shaft_N_m_rad > 0 && e->control != MachineControl::IdealSpeed ? 1 : 0;
+  return n;
 }
 
 LumpedStructure build_torsional(const StageLayout& l, const RigLayout& rig) {

@@ -153,44 +153,39 @@ struct StageLayout {
   double sun_speed_rel_rad_s = 0, ring_speed_rel_rad_s = 0;
 };
 
-/// The test rig's shafts and machines in lumped form (model::RigSettings,
-/// docs/derivation.md §3.6). A shaft of stiffness 0 is absent (its machine's
-/// inertia is then part of StageLayout's sun or carrier inertia).
-///   motor   theta_m  --k_in, c_in-- sun       input torque on the motor
-///   carrier          --k_out, c_out-- load    load torque on the load machine (theta_L), or
-///   carrier          --k_out, c_out-- ground  the far end at the nominal speed (ideal speed control)
-///   load (or carrier) --K_i, K_p-- ground     a PI speed loop on the load machine (SpeedLoop)
-///   sun --k_in, c_in-- ground                 the motor's far end at the nominal speed (InputMachine::IdealSpeed)
-///   motor (or sun) --K_i, K_p-- ground        a PI speed loop on the motor (InputMachine::SpeedLoop)
-/// In the perturbation coordinates (deviations from the nominal rotation) a PI speed
-/// controller T = -K_p (w - Omega) - K_i \int (w - Omega) dt is exactly a torsional spring
-/// K_i and damper K_p from its machine to ground: the integral of the speed error is the
-/// machine's angle perturbation (docs/derivation.md §3.6).
-enum class LoadMachine {
-  TorqueControlled,  ///< constant load torque on a free inertia
-  IdealSpeed,        ///< the output shaft's far end turns at exactly the nominal speed
-  SpeedLoop,         ///< a PI speed controller acting on the load machine's speed
+/// How a rig machine is controlled (docs/derivation.md §3.6). In the perturbation coordinates
+/// (deviations from the nominal rotation) a PI speed controller
+/// T = -K_p (w - Omega) - K_i \int (w - Omega) dt is exactly a torsional spring K_i and damper K_p
+/// from its machine to ground: the integral of the speed error is the machine's angle
+/// perturbation.
+enum class MachineControl {
+  Torque,      ///< by its torque (the motor's constant power or torque, the load's constant torque): a free inertia
+  IdealSpeed,  ///< its shaft's far end turns at exactly the nominal speed (the shaft: a spring to ground)
+  SpeedLoop,   ///< a PI speed controller on the machine's own speed (K_i, K_p to ground)
 };
 
-/// How the motor holds the input: by its torque (constant power or torque, PlanetaryDynamics'
-/// input torque), or by its speed like the load machine's IdealSpeed and SpeedLoop.
-enum class InputMachine {
-  TorqueControlled,
-  IdealSpeed,
-  SpeedLoop,
+/// One end of the test rig: a machine behind a shaft. A shaft of stiffness 0 is absent (the
+/// machine's inertia is then part of StageLayout's sun or carrier inertia).
+struct RigEnd {
+  double machine_inertia_kgm2 = 0;  ///< used behind a flexible shaft, unless IdealSpeed [kg m^2]
+  double shaft_N_m_rad = 0;         ///< [N m/rad]; 0 = rigid
+  double shaft_N_m_s_rad = 0;       ///< shaft damping [N m s/rad]
+  MachineControl control = MachineControl::Torque;
+  double loop_integral_N_m_rad = 0;        ///< K_i of a SpeedLoop [N m/rad] (per rad of angle error)
+  double loop_proportional_N_m_s_rad = 0;  ///< K_p of a SpeedLoop [N m s/rad] (per rad/s of speed error)
+  bool holds_speed() const { return control != MachineControl::Torque; }
 };
 
+/// The test rig's shafts and machines in lumped form (model::RigSettings):
+///   motor (theta_m) --k_in, c_in-- sun        input torque on the motor, or
+///   sun --k_in, c_in-- ground                  the motor's far end at the nominal speed (IdealSpeed)
+///   motor (or sun) --K_i, K_p-- ground         a PI speed loop on the motor (SpeedLoop)
+///   carrier --k_out, c_out-- load (theta_L)    load torque on the load machine, or
+///   carrier --k_out, c_out-- ground            the load's far end at the nominal speed (IdealSpeed)
+///   load (or carrier) --K_i, K_p-- ground      a PI speed loop on the load machine (SpeedLoop)
+/// At most one end holds the speed.
 struct RigLayout {
-  double motor_inertia_kgm2 = 0;     ///< used when input_shaft_N_m_rad > 0 and not IdealSpeed [kg m^2]
-  double input_shaft_N_m_rad = 0, input_shaft_N_m_s_rad = 0;
-  InputMachine input = InputMachine::TorqueControlled;
-  double input_loop_integral_N_m_rad = 0;        ///< K_i of the input SpeedLoop [N m/rad]
-  double input_loop_proportional_N_m_s_rad = 0;  ///< K_p of the input SpeedLoop [N m s/rad]
-  double load_inertia_kgm2 = 0;      ///< used when output_shaft_N_m_rad > 0 and not IdealSpeed [kg m^2]
-  double output_shaft_N_m_rad = 0, output_shaft_N_m_s_rad = 0;
-  LoadMachine load = LoadMachine::TorqueControlled;
-  double speed_loop_integral_N_m_rad = 0;        ///< K_i of the SpeedLoop [N m/rad] (per rad of angle error)
-  double speed_loop_proportional_N_m_s_rad = 0;  ///< K_p of the SpeedLoop [N m s/rad] (per rad/s of speed error)
+  RigEnd input, output;
 };
 
 /// Bearing supports of the lateral-torsional model (Lin & Parker 1999).

@@ -202,23 +202,25 @@ PreparedStage prepare(const SimulationConfig& c) {
   l.ring_inertia_kgm2 = m.ring_inertia_kgm2;
   l.sun_speed_rel_rad_s = p.sun_speed_rad_s - p.carrier_speed_rad_s;
   l.ring_speed_rel_rad_s = -p.carrier_speed_rad_s;
+  auto control = [](bool ideal_speed, bool loop) {
+    return ideal_speed ? dynamics::MachineControl::IdealSpeed
+                       : loop ? dynamics::MachineControl::SpeedLoop : dynamics::MachineControl::Torque;
+  };
   dynamics::RigLayout rig;
-  rig.motor_inertia_kgm2 = c.stage.input_inertia_kgm2;
-  rig.input_shaft_N_m_rad = c.rig.input_shaft_stiffness_N_m_rad;
-  rig.input_shaft_N_m_s_rad = c.rig.input_shaft_damping_N_m_s_rad;
-  rig.input = c.rig.input_control == InputControl::Speed       ? dynamics::InputMachine::IdealSpeed
-              : c.rig.input_control == InputControl::SpeedLoop ? dynamics::InputMachine::SpeedLoop
-                                                               : dynamics::InputMachine::TorqueControlled;
-  rig.input_loop_integral_N_m_rad = c.rig.input_speed_loop_integral_N_m_rad;
-  rig.input_loop_proportional_N_m_s_rad = c.rig.input_speed_loop_proportional_N_m_s_rad;
-  rig.load_inertia_kgm2 = c.stage.output_inertia_kgm2;
-  rig.output_shaft_N_m_rad = c.rig.output_shaft_stiffness_N_m_rad;
-  rig.output_shaft_N_m_s_rad = c.rig.output_shaft_damping_N_m_s_rad;
-  rig.load = c.rig.load_control == LoadControl::Speed       ? dynamics::LoadMachine::IdealSpeed
-             : c.rig.load_control == LoadControl::SpeedLoop ? dynamics::LoadMachine::SpeedLoop
-                                                            : dynamics::LoadMachine::TorqueControlled;
-  rig.speed_loop_integral_N_m_rad = c.rig.load_speed_loop_integral_N_m_rad;
-  rig.speed_loop_proportional_N_m_s_rad = c.rig.load_speed_loop_proportional_N_m_s_rad;
+  rig.input = {.machine_inertia_kgm2 = c.stage.input_inertia_kgm2,
+               .shaft_N_m_rad = c.rig.input_shaft_stiffness_N_m_rad,
+               .shaft_N_m_s_rad = c.rig.input_shaft_damping_N_m_s_rad,
+               .control = control(c.rig.input_control == InputControl::Speed,
+                                  c.rig.input_control == InputControl::SpeedLoop),
+               .loop_integral_N_m_rad = c.rig.input_speed_loop_integral_N_m_rad,
+               .loop_proportional_N_m_s_rad = c.rig.input_speed_loop_proportional_N_m_s_rad};
+  rig.output = {.machine_inertia_kgm2 = c.stage.output_inertia_kgm2,
+                .shaft_N_m_rad = c.rig.output_shaft_stiffness_N_m_rad,
+                .shaft_N_m_s_rad = c.rig.output_shaft_damping_N_m_s_rad,
+                .control = control(c.rig.load_control == LoadControl::Speed,
+                                   c.rig.load_control == LoadControl::SpeedLoop),
+                .loop_integral_N_m_rad = c.rig.load_speed_loop_integral_N_m_rad,
+                .loop_proportional_N_m_s_rad = c.rig.load_speed_loop_proportional_N_m_s_rad};
   dynamics::LumpedStructure structure;
   if (c.solver.level == ModelLevel::Torsional) {
     structure = dynamics::build_torsional(l, rig);
