@@ -215,9 +215,11 @@ private:
     return std::find(o_.extra_nuisance.begin(), o_.extra_nuisance.end(), c.name()) != o_.extra_nuisance.end();
   }
   /// A candidate the screening considers as a finding. Under a calibration a rig-design element
-  /// is not one unless the command line asks for it by name (Candidate::rig_design).
+  /// is not one unless the command line asks for it by name (Candidate::rig_design); nor is one
+  /// whose parameters do not act on this configuration's model (Candidate::acts_on).
   bool screened(const Candidate& c) const {
-    return !c.nuisance() && !extra_nuisance(c) && allowed(c) && !c.calibration_only() && !design_fixed(c);
+    return !c.nuisance() && !extra_nuisance(c) && allowed(c) && !c.calibration_only() && !design_fixed(c) &&
+           c.acts_on(config_);
   }
   /// A rig-design element that a calibration or a healthy baseline of the same rig fixes, and that
   /// the command line did not ask for by name: not a change since the healthy recordings.

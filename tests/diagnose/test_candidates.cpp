@@ -200,6 +200,33 @@ TEST(Candidates, EncoderBandwidthIsObservableOnlyInSpeedChannels) {
   EXPECT_TRUE(c->observable_in(r));
 }
 
+TEST(Candidates, AMachineInertiaBehindAnIdealSpeedControlDoesNotActAndIsNoCandidate) {
+  // Behind a flexible shaft whose far end an ideal speed control holds, the machine's inertia is
+  // not in the model (same mass matrix for any value): Candidate::acts_on says so, and the
+  // screening leaves the candidate out. Under torque control behind the same shaft, or with a
+  // rigid coupling, it acts.
+  for (const bool input : {true, false}) {
+    SCOPED_TRACE(input ? "motor_inertia" : "load_inertia");
+    const Candidate* c = find_candidate(input ? "motor_inertia" : "load_inertia");
+    ASSERT_NE(c, nullptr);
+    model::SimulationConfig b;
+    double& inertia = input ? b.stage.input_inertia_kgm2 : b.stage.output_inertia_kgm2;
+    EXPECT_TRUE(c->acts_on(b));  // rigid coupling
+    inertia = 0.1;
+    (input ? b.rig.input_shaft_stiffness_N_m_rad : b.rig.output_shaft_stiffness_N_m_rad) = 1e5;
+    EXPECT_TRUE(c->acts_on(b));  // torque-controlled machine behind the shaft
+    if (input)
+      b.rig.input_control = model::InputControl::Speed;
+    else
+      b.rig.load_control = model::LoadControl::Speed;
+    ASSERT_NO_THROW(model::validate(b));
+    EXPECT_FALSE(c->acts_on(b));
+    const Eigen::MatrixXd M1 = model::prepare(b).dynamics->mass();
+    inertia = 10.0;
+    EXPECT_EQ(model::prepare(b).dynamics->mass(), M1) << "the held machine's inertia changed the model";
+  }
+}
+
 TEST(Candidates, RigInertiasAreScaledByTheBodysOwnInertiaAndAbsentAtTheBottomOfTheirBox) {
   // 'Absent' = 1e-4 of the body's own inertia (the sun's disc; the carrier with its planets at
   // the carrier radius, as model::mass_properties derives them), the top 1e4 of it, the screen

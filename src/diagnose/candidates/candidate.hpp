@@ -120,6 +120,13 @@ public:
                      std::vector<std::string>* overrides = nullptr) const = 0;
   /// Parameters that change only the housing-sensor channels (no new simulation needed).
   virtual bool sensor_only() const { return false; }
+  /// Whether the parameters change the model of configuration `base` at all (default: yes). A
+  /// machine's inertia behind a shaft whose far end an ideal speed control holds does not: a fit
+  /// of it would be flat, and the screening leaves it out.
+  virtual bool acts_on(const model::SimulationConfig& base) const {
+    (void)base;
+    return true;
+  }
   /// Whether `recording` has a channel this candidate's parameters change (default: every
   /// channel does). A calibration leaves out rig elements its recordings cannot see.
   virtual bool observable_in(const Recording& recording) const {
