@@ -109,8 +109,10 @@ void check_rig_end(const RigEnd& e, const char* inertia_key, const char* shaft_k
 }
 
 void check_rig(const RigLayout& rig) {
-  check_rig_end(rig.input, "stage.input_inertia_kgm2", "rig.input_shaft_stiffness_N_m_rad", "rig.input_speed_loop");
-  check_rig_end(rig.output, "stage.output_inertia_kgm2", "rig.output_shaft_stiffness_N_m_rad", "rig.load_speed_loop");
+  check_rig_end(rig.input, "stage.input_inertia_kgm2", "rig.input_shaft_stiffness_N_m_rad",
+                "rig.input_speed_loop_integral_N_m_rad");
+  check_rig_end(rig.output, "stage.output_inertia_kgm2", "rig.output_shaft_stiffness_N_m_rad",
+                "rig.load_speed_loop_integral_N_m_rad");
   require(!(rig.input.holds_speed() && rig.output.holds_speed()), "rig.load_control",
           "one machine holds the speed: the load must be torque-controlled when the motor holds the speed");
 }

@@ -741,15 +741,18 @@ RecordStats record(Integration& r, int cycles, SimulationResult& out, const Outp
   settle_encoders(r, sun_encoder, carrier_encoder);
   const double t0 = r.st.t;
   MeshLoadRecorder loads(p.geometry, r.c.stage, sys.nominal_input_torque_Nm());
+  // The body the speed reference holds (the motor's end or the load's), for the mean torque of
+  // its spring; only the speed-controlled rigs need it.
+  const bool held_by_rig = !sys.structure().has_rigid_mode;
+  const Eigen::RowVectorXd& held = sys.structure().speed_reference_at_input ? sys.input_theta_row()
+                                                                             : sys.output_theta_row();
   for (std::int64_t k = 0; k < nrec; ++k) {
     r.step();
     const double w_sun = p.sun_speed_rad_s + sun_encoder.step(sun_speed_change(r));
     const double w_carrier = p.carrier_speed_rad_s + carrier_encoder.step(carrier_speed_change(r));
     const auto& ms = sys.mesh_states();
     loads.add(ms);
-    if (!sys.structure().has_rigid_mode) {  // only the speed-holding machine's torque needs them
-      const Eigen::RowVectorXd& held = sys.structure().speed_reference_at_input ? sys.input_theta_row()
-                                                                                 : sys.output_theta_row();
+    if (held_by_rig) {
       stats.mean_held_angle_rad += held.dot(r.st.q) / static_cast<double>(nrec);
       stats.mean_held_speed_rad_s += held.dot(r.st.v) / static_cast<double>(nrec);
     }
@@ -875,16 +878,14 @@ SimulationResult simulate(const SimulationConfig& c, const ProgressFn& progress,
   // the loop's integral and proportional terms (they take up the friction losses). The load
   // machine's acts against the carrier's rotation, the motor's with the sun's.
   const int held = S.speed_reference_spring;
-  const double reference_torque =
-      held >= 0 ? S.springs[held].stiffness * rec.mean_held_angle_rad + S.springs[held].damping * rec.mean_held_speed_rad_s
-                : 0.0;
   const bool motor_holds = held >= 0 && S.speed_reference_at_input;
-  const double input_torque = sys.nominal_input_torque_Nm() - (motor_holds ? reference_torque : 0.0);
-  const double load_torque =
-      held >= 0 && !motor_holds
-          ? sys.load_torque_Nm() + S.springs[held].stiffness * rec.mean_held_angle_rad +
-                S.springs[held].damping * rec.mean_held_speed_rad_s  // summed as before the motor's speed control
-          : sys.load_torque_Nm();
+  // A machine's feed-forward plus `sign` times its spring's mean torque k mean(theta) + c mean(w).
+  const auto with_reference = [&](double feed_forward, double sign) {
+    const dynamics::Spring& sp = S.springs[static_cast<std::size_t>(held)];
+    return feed_forward + sign * sp.stiffness * rec.mean_held_angle_rad + sign * sp.damping * rec.mean_held_speed_rad_s;
+  };
+  const double input_torque = motor_holds ? with_reference(sys.nominal_input_torque_Nm(), -1.0) : sys.nominal_input_torque_Nm();
+  const double load_torque = held >= 0 && !motor_holds ? with_reference(sys.load_torque_Nm(), 1.0) : sys.load_torque_Nm();
   scalar("input_torque", "N m",
          motor_holds ? "mean input torque: P / Omega_s plus the speed control's mean torque" : "mean input torque P / Omega_s",
          input_torque);
