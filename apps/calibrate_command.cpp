@@ -11,12 +11,14 @@
 #include "diagnose_command.hpp"
 #include "io/calibration_file.hpp"
 #include "io/config_toml.hpp"
+#include "io/recording_writer.hpp"
 
 #include <CLI/CLI.hpp>
 
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <iostream>
 
 namespace pw::app {
@@ -90,13 +92,7 @@ void print_table(const diagnose::Calibration& cal) {
                 "budget carries the rest)\n", s.c_str());
 }
 
-/// The rig elements a recording can see: an encoder's bandwidth only through a speed channel.
-std::vector<std::string> visible_rig_elements(const std::vector<std::string>& rig, const diagnose::Recording& r) {
-  std::vector<std::string> out;
-  for (const std::string& e : rig)
-    if (diagnose::find_candidate(e)->observable_in(r)) out.push_back(e);
-  return out;
-}
+std::string absolute_path(const std::string& p) { return std::filesystem::absolute(p).lexically_normal().string(); }
 
 /// One recording's nuisance-only diagnosis with the rig elements `rig`, and its gear-set configuration.
 struct RecordingFit {
@@ -174,7 +170,10 @@ int run_calibrate(const CalibrateCommandOptions& o) {
   const model::SimulationConfig& base_config = fits.front().config;  // the gear set's, for the rig elements' settings
   for (std::size_t i = 0; i < fits.size(); ++i) {
     const diagnose::Diagnosis& r = fits[i].diagnosis;
-    cal.recordings.push_back(o.recordings[i]);
+    // Absolute paths: `diagnose --calibration` finds the recording at its operating point again
+    // from wherever it runs (docs/diagnose.md §6a item 7).
+    cal.recordings.push_back(absolute_path(o.recordings[i]));
+    cal.sidecars.push_back(absolute_path(o.metas.empty() ? io::sidecar_path(o.recordings[i]).string() : o.metas[i]));
     cal.speeds_rpm.push_back(r.speed.input_rpm);
     cal.verdicts.push_back(diagnose::to_string(r.verdict));
     cells.push_back(r.calibration_cells);

@@ -9,6 +9,8 @@
 #include "diagnose/baseline.hpp"
 #include "diagnose/candidates/candidate.hpp"
 #include "diagnose/diagnose.hpp"
+#include "diagnose/order_analysis.hpp"
+#include "diagnose/ranking.hpp"
 #include "io/calibration_file.hpp"
 #include "io/config_toml.hpp"
 #include "io/diagnosis_report.hpp"
@@ -19,10 +21,14 @@
 
 #include <CLI/CLI.hpp>
 
+#include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
+#include <fstream>
 #include <iostream>
+#include <iterator>
 #include <memory>
 #include <optional>
 
@@ -60,6 +66,13 @@ std::string shell_quote(const std::string& s) {
 
 } // namespace
 
+std::vector<std::string> visible_rig_elements(const std::vector<std::string>& rig, const diagnose::Recording& r) {
+  std::vector<std::string> out;
+  for (const std::string& e : rig)
+    if (diagnose::find_candidate(e)->observable_in(r)) out.push_back(e);
+  return out;
+}
+
 CLI::App* add_diagnose_command(CLI::App& app, DiagnoseCommandOptions& o) {
   CLI::App* d = app.add_subcommand(
       "diagnose", "Compare a recording with the model: locate where they differ, fit candidate physics (tooth "
@@ -94,6 +107,13 @@ CLI::App* add_diagnose_command(CLI::App& app, DiagnoseCommandOptions& o) {
                 "calibration file from 'planetwear calibrate': its calibrated model (applied before --set) and its "
                 "model-discrepancy budget (added to the noise in every comparison)")
       ->check(CLI::ExistingFile);
+  d->add_option("--calibration-reference", o.calibration_reference,
+                "with --calibration: 'auto' (default) takes the calibration's own healthy recording at this "
+                "recording's operating point (speed within the mesh damping ratio, power within 5 %; not the "
+                "recording itself) as the reference, where the calibration's residual is known, and compares "
+                "differentially as --baseline does; 'none' judges against the calibration's budget alone "
+                "(docs/diagnose.md section 6a item 7)")
+      ->check(CLI::IsMember({"auto", "none"}));
   d->add_option("--baseline", o.baseline,
                 "healthy recording at the same operating point (same channels, duration, speed and load): "
                 "differential diagnosis, the recording's change from it against the model's change from the "
@@ -107,7 +127,9 @@ CLI::App* add_diagnose_command(CLI::App& app, DiagnoseCommandOptions& o) {
   for (const auto& c : diagnose::candidate_library()) names += (names.empty() ? "" : ", ") + c->name();
   d->footer("Candidates: " + names +
             ".\nExamples:\n  planetwear diagnose --config gearset.toml --recording rec.csv -o report/\n"
-            "  planetwear diagnose --config gearset.toml --recording rec.csv --baseline healthy.csv -o report/");
+            "  planetwear diagnose --config gearset.toml --recording rec.csv --baseline healthy.csv -o report/\n"
+            "  planetwear calibrate --config gearset.toml -r healthy400.csv -r healthy800.csv -o cal.toml\n"
+            "  planetwear diagnose --config gearset.toml --recording rec.csv --calibration cal.toml -o report/");
   return d;
 }
 
@@ -122,6 +144,8 @@ DiagnoseInputs read_diagnose_inputs(const DiagnoseCommandOptions& o) {
   require(o.baseline.empty() || o.calibration.empty(), "--baseline",
           "give either --baseline (differential) or --calibration (absolute with a discrepancy budget), not both");
   require(o.baseline_meta.empty() || !o.baseline.empty(), "--baseline-meta", "given without --baseline");
+  require(o.calibration_reference == "auto" || o.calibration_reference == "none", "--calibration-reference",
+          "must be 'auto' or 'none', got '", o.calibration_reference, "'");
   if (!o.baseline.empty()) {
     const std::filesystem::path meta = o.baseline_meta.empty() ? io::sidecar_path(o.baseline) : std::filesystem::path(o.baseline_meta);
     require(std::filesystem::exists(meta), "--baseline-meta", "no sidecar '", meta.string(),
@@ -153,11 +177,115 @@ diagnose::CompareOptions compare_options(const DiagnoseCommandOptions& o,
   return co;
 }
 
-/// The healthy baseline fitted with the command's configuration (differential diagnosis).
-diagnose::BaselineReference fit_baseline(const DiagnoseCommandOptions& o, const diagnose::DiagnoseOptions& opt) {
-  const RecordingInputs b = read_recording_inputs(o.common, o.baseline, o.baseline_meta, {}, {}, {});
+/// The healthy recording a diagnosis is compared against differentially: --baseline, or the
+/// calibration's own recording at the operating point.
+struct Reference {
+  std::string recording, meta;
+};
+
+std::string resolve_calibration_path(const std::string& p, const std::string& calibration_file) {
+  namespace fs = std::filesystem;
+  if (fs::path(p).is_absolute() || fs::exists(p)) return p;
+  const fs::path beside = fs::path(calibration_file).parent_path() / p;  // files written before paths were absolute
+  return fs::exists(beside) ? beside.string() : p;
+}
+
+bool same_file(const std::string& a, const std::string& b) {
+  std::error_code ec;
+  if (std::filesystem::equivalent(a, b, ec)) return true;
+  // A copy of the same data is the same recording: it would compare with itself.
+  std::ifstream fa(a, std::ios::binary), fb(b, std::ios::binary);
+  if (!fa || !fb || std::filesystem::file_size(a, ec) != std::filesystem::file_size(b, ec)) return false;
+  return std::equal(std::istreambuf_iterator<char>(fa), std::istreambuf_iterator<char>(),
+                    std::istreambuf_iterator<char>(fb));
+}
+
+/// The differential comparison needs the two recordings analysed in the same windows: the same
+/// channels and the same cells (whole carrier revolutions per half, the same band).
+bool same_analysis(const diagnose::RecordingSpectra& a, const diagnose::RecordingSpectra& b) {
+  if (a.channel_names != b.channel_names || a.layout.cells.size() != b.layout.cells.size()) return false;
+  for (std::size_t i = 0; i < a.layout.cells.size(); ++i) {
+    const double x = a.layout.cells[i].order, y = b.layout.cells[i].order;
+    if (std::fabs(x - y) > 1e-9 * std::max(1.0, std::fabs(x))) return false;  // as ModelComparison matches them
+  }
+  return true;
+}
+
+/// docs/diagnose.md §6a item 7. At an operating point the calibration has a healthy recording of,
+/// the model's discrepancy there is no longer a budget but a measurement: the calibration's
+/// residual on that recording (in Kennedy and O'Hagan's terms, the discrepancy's posterior mean at
+/// a calibration input, known to within the recording's noise). The recording is then compared
+/// with it differentially (§6b). "The same operating point":
+///  * speed: within the mesh damping ratio zeta of the gear set's configuration, relative. Every
+///    line then keeps its place relative to every mesh resonance to within that resonance's
+///    half-power half-width (zeta f_n), so the dynamic amplification the residual was measured
+///    through is the one the recording sees;
+///  * power: within kRecalibration (5 %), relative. The lines and their model-form error scale
+///    with the load (parametric excitation), and a level change below kRecalibration is what the
+///    diagnosis already treats as within the model's own fidelity.
+/// The recording itself (or a copy) is never its own reference: a held-out check stays held out.
+std::optional<Reference> calibrated_reference(const DiagnoseCommandOptions& o, const diagnose::Calibration& cal,
+                                              std::string& note) {
+  if (o.calibration_reference == "none") {
+    note = "--calibration-reference none: judged against the calibration's budget alone";
+    return std::nullopt;
+  }
+  const RecordingInputs self = read_recording_inputs(o.common, o.recording, o.meta, o.columns, o.speed_rpm, o.power_W);
+  const double n = self.recording.operating.input_speed_rpm, P = self.recording.operating.input_power_W;
+  const double zeta = self.config.contact.mesh_damping_ratio;
+  std::optional<diagnose::RecordingSpectra> self_analysis;
+  std::optional<Reference> best;
+  double best_dn = 0;
+  std::string missing, other_windows;
+  for (std::size_t i = 0; i < cal.recordings.size(); ++i) {
+    Reference r{resolve_calibration_path(cal.recordings[i], o.calibration), {}};
+    r.meta = i < cal.sidecars.size() ? resolve_calibration_path(cal.sidecars[i], o.calibration)
+                                     : io::sidecar_path(r.recording).string();
+    if (!std::filesystem::exists(r.recording) || !std::filesystem::exists(r.meta)) {
+      missing += (missing.empty() ? "" : ", ") + r.recording;
+      continue;
+    }
+    if (same_file(r.recording, o.recording)) continue;
+    const RecordingInputs c = read_recording_inputs(o.common, r.recording, r.meta, {}, {}, {});
+    const double dn = std::fabs(c.recording.operating.input_speed_rpm - n) / n;
+    const double dP = std::fabs(c.recording.operating.input_power_W - P) / P;
+    if (!(dn <= zeta && dP <= diagnose::kRecalibration) || (best && dn >= best_dn)) continue;
+    if (!self_analysis) self_analysis = diagnose::analyse_recording(self.recording, self.config.stage);
+    if (!same_analysis(*self_analysis, diagnose::analyse_recording(c.recording, c.config.stage))) {
+      other_windows += (other_windows.empty() ? "" : ", ") + r.recording;
+      continue;
+    }
+    best = r;
+    best_dn = dn;
+  }
+  char buf[400];
+  if (best)
+    std::snprintf(buf, sizeof buf,
+                  "the calibration's healthy recording at this operating point is the reference: %s (speed within "
+                  "%.3g %% of %.6g rpm, power within 5 %% of %.6g W)",
+                  best->recording.c_str(), 100 * best_dn, n, P);
+  else
+    std::snprintf(buf, sizeof buf,
+                  "the calibration has no healthy recording at this operating point (speed within the mesh damping "
+                  "ratio %.3g of %.6g rpm, power within 5 %% of %.6g W): judged against its budget",
+                  zeta, n, P);
+  note = buf;
+  if (!other_windows.empty())
+    note += "; at this operating point but analysed in other windows (other channels, duration or band), so not "
+            "comparable cell by cell: " + other_windows;
+  if (!missing.empty()) note += "; not found: " + missing;
+  return best;
+}
+
+/// The healthy reference fitted as --baseline's is (§6b): the gear set's configuration and
+/// --set, its nuisance parameters only. A calibration's recording is fitted the same way, not
+/// with the calibration's values or rig elements (docs/diagnose.md §6a item 6: at a measured
+/// operating point the residual holds what they would model).
+diagnose::BaselineReference fit_reference(const DiagnoseCommandOptions& o, const Reference& ref,
+                                          const diagnose::DiagnoseOptions& opt) {
+  const RecordingInputs b = read_recording_inputs(o.common, ref.recording, ref.meta, {}, {}, {});
   diagnose::DiagnoseOptions bo = opt;
-  if (opt.progress) bo.progress = [p = opt.progress](const std::string& s) { p("baseline: " + s); };
+  if (opt.progress) bo.progress = [p = opt.progress](const std::string& s) { p("reference: " + s); };
   return diagnose::fit_baseline(b.recording, b.config, bo);
 }
 
@@ -176,20 +304,28 @@ void diagnose_and_report(const DiagnoseCommandOptions& o_in, const std::string& 
   opt.remote_slots = ranks - 1;
   opt.only_candidates = o.candidates;
   opt.always_fit_candidates = o.always_fit;
-  if (calibration)  // refitted from their calibrated values, except those a diagnosis holds
+  if (!o.common.quiet) opt.progress = [](const std::string& s) { std::fprintf(stderr, "[diagnose] %s\n", s.c_str()); };
+  std::optional<Reference> reference;
+  std::string reference_note;
+  if (!o.baseline.empty()) reference = Reference{o.baseline, o.baseline_meta};
+  else if (calibration) reference = calibrated_reference(o, *calibration, reference_note);
+  if (calibration && !o.common.quiet) std::fprintf(stderr, "[diagnose] %s\n", reference_note.c_str());
+  if (calibration && !reference)  // refitted from their calibrated values, except those a diagnosis holds
     for (const std::string& e : calibration->rig_elements)
       if (const diagnose::Candidate* c = diagnose::find_candidate(e); c && !c->held_after_calibration())
         opt.extra_nuisance.push_back(e);
-  opt.compare = compare_options(o, calibration);
+  opt.compare = compare_options(o, reference ? std::nullopt : calibration);
   opt.compare.remote = remote;
-  if (!o.common.quiet) opt.progress = [](const std::string& s) { std::fprintf(stderr, "[diagnose] %s\n", s.c_str()); };
   std::optional<diagnose::BaselineReference> baseline;
-  if (!o.baseline.empty()) {
-    // The baseline's fitted model first, the command line's --set after it (the user's word wins).
-    baseline = fit_baseline(o, opt);
+  if (reference) {
+    // The reference's fitted model first, the command line's --set after it (the user's word
+    // wins); a calibrated reference replaces the calibration's model and budget (read_inputs
+    // below then reads without them).
+    baseline = fit_reference(o, *reference, opt);
     std::vector<std::string> a = baseline->overrides;
     a.insert(a.end(), o_in.common.assignments.begin(), o_in.common.assignments.end());
     o.common.assignments = a;
+    o.calibration.clear();
     opt.compare.baseline = baseline->cells;
     opt.compare.discrepancy = baseline->budgets;
   }
@@ -200,9 +336,10 @@ void diagnose_and_report(const DiagnoseCommandOptions& o_in, const std::string& 
   io::ReportContext ctx;
   ctx.recording_path = o.recording;
   ctx.config_path = o.common.config;
-  ctx.calibration_path = o.calibration;
-  if (calibration) ctx.calibration_at_bound = calibration->at_bound;
-  ctx.baseline_path = o.baseline;
+  ctx.calibration_path = o_in.calibration;
+  ctx.calibration_reference = reference_note;
+  if (calibration && !baseline) ctx.calibration_at_bound = calibration->at_bound;
+  if (reference) ctx.baseline_path = reference->recording;
   if (baseline) ctx.baseline_summary = baseline->summary;
   ctx.command_line = command_line;
   ctx.version = version_string();

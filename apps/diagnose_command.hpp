@@ -3,8 +3,8 @@
 //
 //   planetwear diagnose --config gearset.toml --recording rec.csv [--meta rec.json] -o report/
 //       [--set key=value ...] [--threads N] [--alpha 0.01] [--max-candidates 4]
-//       [--candidates a,b,...] [--calibration calibration.toml | --baseline healthy.csv
-//       [--baseline-meta healthy.json]] [--no-plots] [--quiet]
+//       [--candidates a,b,...] [--calibration calibration.toml [--calibration-reference auto|none]
+//       | --baseline healthy.csv [--baseline-meta healthy.json]] [--no-plots] [--quiet]
 //
 // Writes report/report.{md,html,json}, report/data/*.csv and, through
 // scripts/plot_diagnosis.py (Debian's /usr/bin/python3 + matplotlib), the PNGs.
@@ -42,6 +42,10 @@ struct DiagnoseCommandOptions {
   /// --baseline FILE: a healthy recording at the same operating point (differential diagnosis,
   /// src/diagnose/baseline.hpp); --baseline-meta its sidecar (default: its name with .json).
   std::string baseline, baseline_meta;
+  /// --calibration-reference: "auto" takes the calibration's own healthy recording at the
+  /// recording's operating point as the reference (docs/diagnose.md §6a item 7), "none" judges
+  /// against the calibration's budget alone.
+  std::string calibration_reference = "auto";
 };
 
 /// What a diagnosis starts from: the configuration (file, calibration overrides, --set, in that
@@ -55,6 +59,10 @@ struct DiagnoseInputs {
 /// Reads and validates the inputs of `options` (used by diagnose and calibrate); throws
 /// InputError naming the option.
 DiagnoseInputs read_diagnose_inputs(const DiagnoseCommandOptions& options);
+
+/// The rig elements a recording can see (an encoder's bandwidth only through a speed channel):
+/// those `calibrate` fits on it, and a calibrated reference is fitted with.
+std::vector<std::string> visible_rig_elements(const std::vector<std::string>& rig, const diagnose::Recording& r);
 
 CLI::App* add_diagnose_command(CLI::App& app, DiagnoseCommandOptions& options);
 int run_diagnose(const DiagnoseCommandOptions& options, const std::string& command_line);

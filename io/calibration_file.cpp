@@ -64,6 +64,7 @@ void write_calibration(const diagnose::Calibration& c, const std::filesystem::pa
   toml::table cal;
   cal.insert("alpha", c.alpha);
   cal.insert("recordings", to_array(c.recordings));
+  if (!c.sidecars.empty()) cal.insert("sidecars", to_array(c.sidecars));
   cal.insert("speeds_rpm", to_array(c.speeds_rpm));
   cal.insert("verdicts", to_array(c.verdicts));
   cal.insert("rig_elements", to_array(c.rig_elements));
@@ -119,6 +120,11 @@ diagnose::Calibration read_calibration(const std::filesystem::path& path) {
   c.alpha = cal["alpha"].value_or(0.01);
   require(c.alpha > 0 && c.alpha < 0.5, where(path, "calibration.alpha"), "must be in (0, 0.5), got ", c.alpha);
   c.recordings = read_array<std::string>(cal["recordings"].as_array(), path, "calibration.recordings");
+  if (cal["sidecars"]) {  // optional: written since session 25
+    c.sidecars = read_array<std::string>(cal["sidecars"].as_array(), path, "calibration.sidecars");
+    require(c.sidecars.size() == c.recordings.size(), where(path, "calibration.sidecars"), "has ", c.sidecars.size(),
+            " entries for ", c.recordings.size(), " recordings");
+  }
   c.speeds_rpm = read_array<double>(cal["speeds_rpm"].as_array(), path, "calibration.speeds_rpm");
   c.verdicts = read_array<std::string>(cal["verdicts"].as_array(), path, "calibration.verdicts");
   c.rig_elements = read_array<std::string>(cal["rig_elements"].as_array(), path, "calibration.rig_elements");

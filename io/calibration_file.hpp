@@ -3,7 +3,8 @@
 //
 //   [calibration]
 //   alpha = 0.01                          # of the budgets' upper confidence limits
-//   recordings = ["healthy1.csv", ...]    # what it was made from
+//   recordings = ["/data/healthy1.csv", ...]  # what it was made from (absolute paths)
+//   sidecars = ["/data/healthy1.json", ...]   # their sidecars (optional; default: the name with .json)
 //   speeds_rpm = [1000.0, ...]            # their input speeds [rpm]
 //   verdicts = ["unexplained_residual", ...]  # each one's nuisance-only verdict before calibration
 //   rig_elements = ["encoder_bandwidth"]  # candidates fitted as nuisance

@@ -156,6 +156,7 @@ void add_header(Doc& doc, const dg::Diagnosis& d, const ReportContext& ctx) {
     doc.p("The calibrated model is at the edge of its range: " + list +
           ". Those values are limits, not fits; the calibration's discrepancy budget carries what they could not.");
   }
+  if (!ctx.calibration_reference.empty()) doc.p("Calibration: " + ctx.calibration_reference + ".");
   if (!ctx.baseline_path.empty())
     doc.p("Differential diagnosis: the recording is compared with the model fitted to the baseline plus what that "
           "model missed on the baseline, cell by cell (" + ctx.baseline_summary +
@@ -500,6 +501,7 @@ void write_diagnosis_report(const std::filesystem::path& dir, const dg::Diagnosi
   j["calibration"] = ctx.calibration_path;
   j["calibration_at_bound"] = ctx.calibration_at_bound;
   j["baseline"] = ctx.baseline_path;
+  j["calibration_reference"] = ctx.calibration_reference;
   j["command_line"] = ctx.command_line;
   j["verdict"] = dg::to_string(d.verdict);
   j["summary"] = d.summary;

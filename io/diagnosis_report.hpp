@@ -27,6 +27,9 @@ struct ReportContext {
   std::vector<std::string> calibration_at_bound;  ///< its calibrated values that are bounds, not fits
   std::string baseline_path;     ///< --baseline recording (differential diagnosis), empty: none
   std::string baseline_summary;  ///< diagnose::BaselineReference::summary
+  /// With a calibration: which reference it was judged against (its own recording at this
+  /// operating point, or its budget alone) and why.
+  std::string calibration_reference;
   bool plots_available = true;  ///< false: say in the reports that no PNGs were drawn
   std::string plots_note;       ///< why not, if not
   int ranks = 1;                ///< MPI ranks that simulated (rank 0's threads + one per other rank)

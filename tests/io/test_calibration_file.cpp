@@ -14,7 +14,8 @@ TEST(CalibrationFile, WrittenCalibrationReadsBackExactly) {
   test::TempDir dir;
   diagnose::Calibration c;
   c.alpha = 0.02;
-  c.recordings = {"a.csv", "b.csv"};
+  c.recordings = {"/data/a.csv", "/data/b.csv"};
+  c.sidecars = {"/data/a.json", "/meta/b.json"};
   c.speeds_rpm = {1000.0 / 3, 1500.0};
   c.verdicts = {"unexplained_residual", "no_missing_physics"};
   c.rig_elements = {"encoder_bandwidth"};
@@ -41,6 +42,7 @@ TEST(CalibrationFile, WrittenCalibrationReadsBackExactly) {
   const diagnose::Calibration r = io::read_calibration(dir / "cal.toml");
   EXPECT_EQ(r.alpha, c.alpha);
   EXPECT_EQ(r.recordings, c.recordings);
+  EXPECT_EQ(r.sidecars, c.sidecars);
   EXPECT_EQ(r.speeds_rpm, c.speeds_rpm);
   EXPECT_EQ(r.verdicts, c.verdicts);
   EXPECT_EQ(r.rig_elements, c.rig_elements);
@@ -77,4 +79,26 @@ TEST(CalibrationFile, UnknownFamilyIsAnInputErrorNamingFileAndKey) {
   ASSERT_TRUE(e);
   EXPECT_TRUE(test::contains(e->what(), "bad.toml"));
   EXPECT_TRUE(test::contains(e->what(), "discrepancy[0].family"));
+}
+
+TEST(CalibrationFile, AFileWithoutSidecarsReadsAndOneWithTheWrongCountIsAnInputError) {
+  // Files written before session 25 have no sidecars (the default names apply); a list of
+  // another length than the recordings' cannot be matched to them.
+  test::TempDir dir;
+  const std::string head = "[calibration]\nalpha = 0.01\nrecordings = [\"a.csv\", \"b.csv\"]\nspeeds_rpm = [1.0, 2.0]\n"
+                           "verdicts = []\nrig_elements = []\noverrides = []\n";
+  const std::string disc = "[[discrepancy]]\nquantity = \"sun_speed\"\nfamily = \"mesh\"\nrelative_variance = 0\n"
+                           "relative_variance_se = 0\nabsolute_variance = 0\nabsolute_variance_se = 0\n";
+  {
+    std::ofstream f(dir / "old.toml");
+    f << head << disc;
+  }
+  EXPECT_TRUE(io::read_calibration(dir / "old.toml").sidecars.empty());
+  {
+    std::ofstream f(dir / "bad.toml");
+    f << head << "sidecars = [\"a.json\"]\n" << disc;
+  }
+  const auto e = test::thrown<InputError>([&] { io::read_calibration(dir / "bad.toml"); });
+  ASSERT_TRUE(e);
+  EXPECT_TRUE(test::contains(e->what(), "calibration.sidecars"));
 }
