@@ -171,7 +171,7 @@ int run_calibrate(const CalibrateCommandOptions& o) {
   for (std::size_t i = 0; i < fits.size(); ++i) {
     const diagnose::Diagnosis& r = fits[i].diagnosis;
     // Absolute paths: `diagnose --calibration` finds the recording at its operating point again
-    // from wherever it runs (docs/diagnose.md §6a item 7).
+    // from wherever it runs (docs/diagnose.md §6a item 6).
     cal.recordings.push_back(absolute_path(o.recordings[i]));
     cal.sidecars.push_back(absolute_path(o.metas.empty() ? io::sidecar_path(o.recordings[i]).string() : o.metas[i]));
     cal.speeds_rpm.push_back(r.speed.input_rpm);

@@ -112,7 +112,7 @@ CLI::App* add_diagnose_command(CLI::App& app, DiagnoseCommandOptions& o) {
                 "recording's operating point (speed within the mesh damping ratio, power within 5 %; not the "
                 "recording itself) as the reference, where the calibration's residual is known, and compares "
                 "differentially as --baseline does; 'none' judges against the calibration's budget alone "
-                "(docs/diagnose.md section 6a item 7)")
+                "(docs/diagnose.md section 6a item 6)")
       ->check(CLI::IsMember({"auto", "none"}));
   d->add_option("--baseline", o.baseline,
                 "healthy recording at the same operating point (same channels, duration, speed and load): "
@@ -178,9 +178,11 @@ diagnose::CompareOptions compare_options(const DiagnoseCommandOptions& o,
 }
 
 /// The healthy recording a diagnosis is compared against differentially: --baseline, or the
-/// calibration's own recording at the operating point.
+/// calibration's own recording at the operating point; both analysed with halves of at most
+/// `window_revolutions` carrier revolutions (common_windows).
 struct Reference {
   std::string recording, meta;
+  int window_revolutions = diagnose::OrderAnalysisOptions{}.max_window_revolutions;
 };
 
 std::string resolve_calibration_path(const std::string& p, const std::string& calibration_file) {
@@ -200,18 +202,54 @@ bool same_file(const std::string& a, const std::string& b) {
                     std::istreambuf_iterator<char>(fb));
 }
 
-/// The differential comparison needs the two recordings analysed in the same windows: the same
-/// channels and the same cells (whole carrier revolutions per half, the same band).
-bool same_analysis(const diagnose::RecordingSpectra& a, const diagnose::RecordingSpectra& b) {
-  if (a.channel_names != b.channel_names || a.layout.cells.size() != b.layout.cells.size()) return false;
-  for (std::size_t i = 0; i < a.layout.cells.size(); ++i) {
-    const double x = a.layout.cells[i].order, y = b.layout.cells[i].order;
-    if (std::fabs(x - y) > 1e-9 * std::max(1.0, std::fabs(x))) return false;  // as ModelComparison matches them
+/// The cell-by-cell comparison finds every channel and cell of the recording `a` in its
+/// reference `b` (ModelComparison::match_baseline; b may have more).
+bool covers(const diagnose::RecordingSpectra& b, const diagnose::RecordingSpectra& a) {
+  for (const std::string& c : a.channel_names)
+    if (std::find(b.channel_names.begin(), b.channel_names.end(), c) == b.channel_names.end()) return false;
+  for (const diagnose::FeatureCell& ca : a.layout.cells) {
+    const auto same = [&](const diagnose::FeatureCell& cb) {  // as match_baseline matches them
+      return std::fabs(cb.order - ca.order) <= 1e-9 * std::max(1.0, std::fabs(ca.order));
+    };
+    if (std::none_of(b.layout.cells.begin(), b.layout.cells.end(), same)) return false;
   }
   return true;
 }
 
-/// docs/diagnose.md §6a item 7. At an operating point the calibration has a healthy recording of,
+/// The longest analysis halves (whole carrier revolutions, at most the default) in which the
+/// recording and its reference share their cells: the default first; else both in halves of the
+/// shorter one's revolutions (a 10 s healthy recording is the reference of a 3 s one). None when
+/// even that does not match (another band, other channels, halves of mesh cycles).
+std::optional<int> common_windows(const RecordingInputs& self, const RecordingInputs& ref) {
+  diagnose::OrderAnalysisOptions o;
+  const auto a = diagnose::analyse_recording(self.recording, self.config.stage, o);
+  const auto b = diagnose::analyse_recording(ref.recording, ref.config.stage, o);
+  if (covers(b, a)) return o.max_window_revolutions;
+  const int R = std::min(a.layout.revolutions, b.layout.revolutions);
+  if (R < 1 || a.layout.mesh_cycles > 0 || b.layout.mesh_cycles > 0) return std::nullopt;
+  o.max_window_revolutions = R;
+  if (covers(diagnose::analyse_recording(ref.recording, ref.config.stage, o),
+             diagnose::analyse_recording(self.recording, self.config.stage, o)))
+    return R;
+  return std::nullopt;
+}
+
+RecordingInputs read_self(const DiagnoseCommandOptions& o) {
+  return read_recording_inputs(o.common, o.recording, o.meta, o.columns, o.speed_rpm, o.power_W);
+}
+
+/// --baseline: its windows shared with the recording's, or an input error before any fit.
+Reference given_baseline(const DiagnoseCommandOptions& o) {
+  Reference r{o.baseline, o.baseline_meta.empty() ? io::sidecar_path(o.baseline).string() : o.baseline_meta};
+  const std::optional<int> R = common_windows(read_self(o), read_recording_inputs(o.common, r.recording, r.meta, {}, {}, {}));
+  require(R.has_value(), "--baseline", "'", o.baseline, "' and the recording cannot be analysed in the same windows "
+          "(the same channels and sample rate, both at least two carrier revolutions long, or the same length): "
+          "a cell-by-cell comparison needs them (docs/diagnose.md section 6b)");
+  r.window_revolutions = *R;
+  return r;
+}
+
+/// docs/diagnose.md §6a item 6. At an operating point the calibration has a healthy recording of,
 /// the model's discrepancy there is no longer a budget but a measurement: the calibration's
 /// residual on that recording (in Kennedy and O'Hagan's terms, the discrepancy's posterior mean at
 /// a calibration input, known to within the recording's noise). The recording is then compared
@@ -230,10 +268,9 @@ std::optional<Reference> calibrated_reference(const DiagnoseCommandOptions& o, c
     note = "--calibration-reference none: judged against the calibration's budget alone";
     return std::nullopt;
   }
-  const RecordingInputs self = read_recording_inputs(o.common, o.recording, o.meta, o.columns, o.speed_rpm, o.power_W);
+  const RecordingInputs self = read_self(o);
   const double n = self.recording.operating.input_speed_rpm, P = self.recording.operating.input_power_W;
   const double zeta = self.config.contact.mesh_damping_ratio;
-  std::optional<diagnose::RecordingSpectra> self_analysis;
   std::optional<Reference> best;
   double best_dn = 0;
   std::string missing, other_windows;
@@ -250,11 +287,12 @@ std::optional<Reference> calibrated_reference(const DiagnoseCommandOptions& o, c
     const double dn = std::fabs(c.recording.operating.input_speed_rpm - n) / n;
     const double dP = std::fabs(c.recording.operating.input_power_W - P) / P;
     if (!(dn <= zeta && dP <= diagnose::kRecalibration) || (best && dn >= best_dn)) continue;
-    if (!self_analysis) self_analysis = diagnose::analyse_recording(self.recording, self.config.stage);
-    if (!same_analysis(*self_analysis, diagnose::analyse_recording(c.recording, c.config.stage))) {
+    const std::optional<int> R = common_windows(self, c);
+    if (!R) {
       other_windows += (other_windows.empty() ? "" : ", ") + r.recording;
       continue;
     }
+    r.window_revolutions = *R;
     best = r;
     best_dn = dn;
   }
@@ -271,10 +309,27 @@ std::optional<Reference> calibrated_reference(const DiagnoseCommandOptions& o, c
                   zeta, n, P);
   note = buf;
   if (!other_windows.empty())
-    note += "; at this operating point but analysed in other windows (other channels, duration or band), so not "
-            "comparable cell by cell: " + other_windows;
+    note += "; at this operating point but not comparable cell by cell (other channels or band, or halves of "
+            "mesh cycles): " + other_windows;
   if (!missing.empty()) note += "; not found: " + missing;
   return best;
+}
+
+/// --baseline, else (with --calibration) the calibration's recording at the operating point, if any.
+std::optional<Reference> choose_reference(const DiagnoseCommandOptions& o,
+                                          const std::optional<diagnose::Calibration>& calibration, std::string& note) {
+  if (!o.baseline.empty()) return given_baseline(o);
+  if (calibration) return calibrated_reference(o, *calibration, note);
+  return std::nullopt;
+}
+
+/// The comparison's options: a reference's windows and no budget (the reference's own comes with
+/// its fit), else the calibration's budget if any.
+diagnose::CompareOptions comparison_options(const DiagnoseCommandOptions& o, const std::optional<Reference>& reference,
+                                            const std::optional<diagnose::Calibration>& calibration) {
+  diagnose::CompareOptions co = compare_options(o, reference ? std::nullopt : calibration);
+  if (reference) co.analysis.max_window_revolutions = reference->window_revolutions;
+  return co;
 }
 
 /// The healthy reference fitted as --baseline's is (§6b): the gear set's configuration and
@@ -305,16 +360,14 @@ void diagnose_and_report(const DiagnoseCommandOptions& o_in, const std::string& 
   opt.only_candidates = o.candidates;
   opt.always_fit_candidates = o.always_fit;
   if (!o.common.quiet) opt.progress = [](const std::string& s) { std::fprintf(stderr, "[diagnose] %s\n", s.c_str()); };
-  std::optional<Reference> reference;
   std::string reference_note;
-  if (!o.baseline.empty()) reference = Reference{o.baseline, o.baseline_meta};
-  else if (calibration) reference = calibrated_reference(o, *calibration, reference_note);
+  const std::optional<Reference> reference = choose_reference(o, calibration, reference_note);
   if (calibration && !o.common.quiet) std::fprintf(stderr, "[diagnose] %s\n", reference_note.c_str());
   if (calibration && !reference)  // refitted from their calibrated values, except those a diagnosis holds
     for (const std::string& e : calibration->rig_elements)
       if (const diagnose::Candidate* c = diagnose::find_candidate(e); c && !c->held_after_calibration())
         opt.extra_nuisance.push_back(e);
-  opt.compare = compare_options(o, reference ? std::nullopt : calibration);
+  opt.compare = comparison_options(o, reference, calibration);
   opt.compare.remote = remote;
   std::optional<diagnose::BaselineReference> baseline;
   if (reference) {
@@ -377,7 +430,10 @@ int run_diagnose(const DiagnoseCommandOptions& o, const std::string& command_lin
   // A serving rank (mpirun -np P, P > 1) sets up the same comparison and simulates on request.
   const auto make_evaluate = [&o]() -> sweep::Evaluate {
     auto in = std::make_shared<const Inputs>(read_inputs(o));
-    auto cmp = std::make_shared<const diagnose::ModelComparison>(in->recording, in->config, compare_options(o, in->calibration));
+    std::string note;  // the same reference and windows as rank 0's: its simulations are compared in them
+    const std::optional<Reference> reference = choose_reference(o, in->calibration, note);
+    auto cmp = std::make_shared<const diagnose::ModelComparison>(in->recording, in->config,
+                                                                 comparison_options(o, reference, in->calibration));
     return [in, cmp](const model::SimulationConfig& c, bool keep) { return cmp->evaluate(c, keep); };
   };
   sweep::run_with_simulation_pool(

@@ -98,7 +98,7 @@ CalibrationFit calibration_fit(const std::vector<FittedParameter>& nuisance, dou
 /// A calibration as written by `planetwear calibrate` and read by `diagnose --calibration`.
 struct Calibration {
   std::vector<std::string> recordings;   ///< file names (absolute since session 25): the record, and the
-                                         ///< reference at a calibrated operating point (docs/diagnose.md §6a item 7)
+                                         ///< reference at a calibrated operating point (docs/diagnose.md §6a item 6)
   std::vector<std::string> sidecars;     ///< their JSON sidecars (same order); empty in older files: the default name
   std::vector<double> speeds_rpm;        ///< their input speeds [rpm]
   std::vector<std::string> verdicts;     ///< each recording's nuisance-only verdict before calibration
