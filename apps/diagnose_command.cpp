@@ -29,6 +29,7 @@
 #include <fstream>
 #include <iostream>
 #include <iterator>
+#include <limits>
 #include <memory>
 #include <optional>
 
@@ -178,11 +179,11 @@ diagnose::CompareOptions compare_options(const DiagnoseCommandOptions& o,
 }
 
 /// The healthy recording a diagnosis is compared against differentially: --baseline, or the
-/// calibration's own recording at the operating point; both analysed with halves of at most
-/// `window_revolutions` carrier revolutions (common_windows).
+/// calibration's own recording at the operating point; both analysed in the same windows
+/// (common_windows).
 struct Reference {
   std::string recording, meta;
-  int window_revolutions = diagnose::OrderAnalysisOptions{}.max_window_revolutions;
+  diagnose::OrderAnalysisOptions analysis{};
 };
 
 std::string resolve_calibration_path(const std::string& p, const std::string& calibration_file) {
@@ -220,21 +221,27 @@ bool covers(const diagnose::RecordingSpectra& b, const diagnose::RecordingSpectr
   return true;
 }
 
-/// The longest analysis halves (whole carrier revolutions, at most the default) in which the
-/// recording and its reference share their cells: the default first; else both in halves of the
-/// shorter one's revolutions (a 10 s healthy recording is the reference of a 3 s one). None when
-/// even that does not match (another band, other channels, halves of mesh cycles).
-std::optional<int> common_windows(const RecordingInputs& self, const RecordingInputs& ref) {
+/// The longest analysis halves in which the recording and its reference share their cells: the
+/// default first; else both in halves of the shorter one's whole carrier revolutions, or, when
+/// either is shorter than two (halves of mesh cycles, §2 "Short recordings"), both in halves of
+/// its mesh cycles (a 10 s healthy recording is the reference of a 3 s one). None when even that
+/// does not match (another band or other channels).
+std::optional<diagnose::OrderAnalysisOptions> common_windows(const RecordingInputs& self, const RecordingInputs& ref) {
+  const auto analyse = [](const RecordingInputs& r, const diagnose::OrderAnalysisOptions& o) {
+    return diagnose::analyse_recording(r.recording, r.config.stage, o);
+  };
   diagnose::OrderAnalysisOptions o;
-  const auto a = diagnose::analyse_recording(self.recording, self.config.stage, o);
-  const auto b = diagnose::analyse_recording(ref.recording, ref.config.stage, o);
-  if (covers(b, a)) return o.max_window_revolutions;
-  const int R = std::min(a.layout.revolutions, b.layout.revolutions);
-  if (R < 1 || a.layout.mesh_cycles > 0 || b.layout.mesh_cycles > 0) return std::nullopt;
-  o.max_window_revolutions = R;
-  if (covers(diagnose::analyse_recording(ref.recording, ref.config.stage, o),
-             diagnose::analyse_recording(self.recording, self.config.stage, o)))
-    return R;
+  const auto a = analyse(self, o), b = analyse(ref, o);
+  if (covers(b, a)) return o;
+  if (a.layout.mesh_cycles == 0 && b.layout.mesh_cycles == 0) {
+    o.max_window_revolutions = std::min(a.layout.revolutions, b.layout.revolutions);
+  } else {
+    const auto q = [](const diagnose::RecordingSpectra& s) {
+      return s.layout.mesh_cycles > 0 ? s.layout.mesh_cycles : std::numeric_limits<int>::max();
+    };
+    o.mesh_cycles = std::min(q(a), q(b));
+  }
+  if (covers(analyse(ref, o), analyse(self, o))) return o;
   return std::nullopt;
 }
 
@@ -245,11 +252,10 @@ RecordingInputs read_self(const DiagnoseCommandOptions& o) {
 /// --baseline: its windows shared with the recording's, or an input error before any fit.
 Reference given_baseline(const DiagnoseCommandOptions& o) {
   Reference r{o.baseline, o.baseline_meta.empty() ? io::sidecar_path(o.baseline).string() : o.baseline_meta};
-  const std::optional<int> R = common_windows(read_self(o), read_recording_inputs(o.common, r.recording, r.meta, {}, {}, {}));
-  require(R.has_value(), "--baseline", "'", o.baseline, "' and the recording cannot be analysed in the same windows "
-          "(the same channels and sample rate, both at least two carrier revolutions long, or the same length): "
-          "a cell-by-cell comparison needs them (docs/diagnose.md section 6b)");
-  r.window_revolutions = *R;
+  const auto w = common_windows(read_self(o), read_recording_inputs(o.common, r.recording, r.meta, {}, {}, {}));
+  require(w.has_value(), "--baseline", "'", o.baseline, "' and the recording cannot be analysed in the same windows "
+          "(the same channels and sample rate): a cell-by-cell comparison needs them (docs/diagnose.md section 6b)");
+  r.analysis = *w;
   return r;
 }
 
@@ -291,12 +297,12 @@ std::optional<Reference> calibrated_reference(const DiagnoseCommandOptions& o, c
     const double dn = std::fabs(c.recording.operating.input_speed_rpm - n) / n;
     const double dP = std::fabs(c.recording.operating.input_power_W - P) / P;
     if (!(dn <= zeta && dP <= diagnose::kRecalibration) || (best && dn >= best_dn)) continue;
-    const std::optional<int> R = common_windows(self, c);
-    if (!R) {
+    const auto w = common_windows(self, c);
+    if (!w) {
       other_windows += (other_windows.empty() ? "" : ", ") + r.recording;
       continue;
     }
-    r.window_revolutions = *R;
+    r.analysis = *w;
     best = r;
     best_dn = dn;
   }
@@ -313,8 +319,7 @@ std::optional<Reference> calibrated_reference(const DiagnoseCommandOptions& o, c
                   zeta, n, P);
   note = buf;
   if (!other_windows.empty())
-    note += "; at this operating point but not comparable cell by cell (other channels or band, or halves of "
-            "mesh cycles): " + other_windows;
+    note += "; at this operating point but not comparable cell by cell (other channels or band): " + other_windows;
   if (!missing.empty()) note += "; not found: " + missing;
   return best;
 }
@@ -332,7 +337,7 @@ std::optional<Reference> choose_reference(const DiagnoseCommandOptions& o,
 diagnose::CompareOptions comparison_options(const DiagnoseCommandOptions& o, const std::optional<Reference>& reference,
                                             const std::optional<diagnose::Calibration>& calibration) {
   diagnose::CompareOptions co = compare_options(o, reference ? std::nullopt : calibration);
-  if (reference) co.analysis.max_window_revolutions = reference->window_revolutions;
+  if (reference) co.analysis = reference->analysis;
   return co;
 }
 

@@ -492,18 +492,21 @@ void choose_layout(const Recording& rec, const model::StageSpec& stage, const Or
   const int revs = static_cast<int>(std::floor(total / (2 * kPi) + 1e-9));
   const double fs = 1.0 / dt;
   const double max_order = o.layout.band_fraction * fs / s.kinematics.carrier_Hz;
-  if (revs >= 2) {
+  if (revs >= 2 && o.mesh_cycles == 0) {
     const int R = std::max(1, std::min(revs / 2, o.max_window_revolutions));
     s.layout = make_layout(s.kinematics, stage.planet_count, R, max_order, o.layout);
   } else {
-    // Too short for two halves of whole carrier revolutions: halves of Q whole mesh cycles.
+    // Too short for two halves of whole carrier revolutions (or asked for): halves of Q whole
+    // mesh cycles.
     const double cycles = total / (2 * kPi) * s.kinematics.ring_teeth;
     const int need = min_recording_mesh_cycles(s.kinematics.sun_teeth);
-    const int Q = short_window_mesh_cycles(s.kinematics, cycles);
+    const int Q = o.mesh_cycles > 0 ? o.mesh_cycles : short_window_mesh_cycles(s.kinematics, cycles);
     require(Q > 0 && cycles >= need, "recording", rec.source, ": ", cycles, " mesh cycles (", total / (2 * kPi),
             " carrier revolutions); the diagnosis needs at least ", need,
             " mesh cycles: a fit and a held-out half of one sun period (Zs = ", s.kinematics.sun_teeth,
             " mesh cycles) each");
+    require(2 * Q <= cycles + 1e-9, "recording", rec.source, ": ", cycles, " mesh cycles, fewer than two halves of ",
+            Q, " mesh cycles");
     s.layout = make_layout_mesh_cycles(s.kinematics, stage.planet_count, Q, max_order, o.layout);
     drop_housing_channels(rec, s);
   }

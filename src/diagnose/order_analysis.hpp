@@ -211,6 +211,9 @@ struct RecordingSpectra {
 struct OrderAnalysisOptions {
   LayoutOptions layout{};
   int max_window_revolutions = 3;    ///< R = min(floor(revolutions / 2), this)
+  /// > 0: halves of this many whole mesh cycles whatever the recording's length (housing channels
+  /// dropped, as for a short recording): a long reference analysed in a short recording's windows.
+  int mesh_cycles = 0;
 };
 
 /// Speed, angle, windows, amplitudes and noise of a recording: halves of R whole carrier

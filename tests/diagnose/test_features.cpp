@@ -1,6 +1,9 @@
 // Feature extraction on synthetic signals with known lines.
 #include "diagnose/features.hpp"
 #include "diagnose/order_analysis.hpp"
+#include "diagnose/stage_1200rpm.hpp"
+
+#include "core/error.hpp"
 
 #include <gtest/gtest.h>
 
@@ -338,6 +341,34 @@ TEST(OrderAnalysis, ModelSpectrumOverWholeMeshCyclesPutsMeshAndSunLinesOnOneBinE
   EXPECT_NEAR(a[294], 1.0, 1e-3);
   EXPECT_NEAR(a[290], 0.4, 1e-3);
   EXPECT_LT(a[293] + a[295] + a[289] + a[291] + a[200], 2e-3);
+}
+
+
+TEST(OrderAnalysis, ALongReferenceInAShortRecordingsMeshCycleWindowsHasItsCellsAndWindowLength) {
+  // A reference longer than two carrier revolutions, analysed with OrderAnalysisOptions::mesh_cycles
+  // set to a short recording's Q, gets the short recording's layout: the same cells at the same
+  // orders and windows of Q mesh cycles (a differential comparison matches them cell by cell).
+  const model::SimulationConfig cfg = test::stage_1200rpm();
+  const Recording full = test::synthetic(0.0, 0.0, 3);  // 3.2 carrier revolutions
+  Recording part = full;                                 // its first 1.5 revolutions
+  const std::size_t n = static_cast<std::size_t>(static_cast<double>(full.time_s.size()) * 1.5 / 3.2);
+  part.time_s.resize(n);
+  for (auto& c : part.channels) c.values.resize(n);
+  const RecordingSpectra shrt = analyse_recording(part, cfg.stage);
+  ASSERT_GT(shrt.layout.mesh_cycles, 0);  // under two revolutions: halves of mesh cycles
+  OrderAnalysisOptions o;
+  o.mesh_cycles = shrt.layout.mesh_cycles;
+  const RecordingSpectra ref = analyse_recording(full, cfg.stage, o);
+  EXPECT_EQ(ref.layout.revolutions, 0);
+  EXPECT_EQ(ref.layout.mesh_cycles, shrt.layout.mesh_cycles);
+  ASSERT_EQ(ref.layout.cells.size(), shrt.layout.cells.size());
+  for (std::size_t i = 0; i < ref.layout.cells.size(); ++i) EXPECT_EQ(ref.layout.cells[i].order, shrt.layout.cells[i].order);
+  const Kinematics k = kinematics(cfg.stage, cfg.operating.input_speed_rpm);
+  for (const OrderWindow& w : ref.windows)  // Q mesh cycles each, to one sample
+    EXPECT_NEAR((w.t_end_s - w.t_begin_s) * k.mesh_Hz, o.mesh_cycles, 2e-4 * k.mesh_Hz + 1e-9);
+  // Asked for more than fits twice: an input error naming the recording.
+  o.mesh_cycles = 4 * shrt.layout.mesh_cycles;
+  EXPECT_THROW(analyse_recording(part, cfg.stage, o), InputError);
 }
 
 } // namespace
