@@ -69,6 +69,33 @@ TEST(Fit, AParameterTheModelCannotMoveOnEitherSideIsHeldWhileTheOthersConverge) 
   EXPECT_GE(r.failed_evaluations, 2);  // both sides of x1, at least once
 }
 
+TEST(Fit, AParameterTheResidualDoesNotSeeHasNoStandardErrorAndLeavesTheOthersTheirs) {
+  // r_i = (x0 t_i + x1 - y_i) / sigma; x2 does not enter (a saturated bandwidth, a held
+  // parameter): its Jacobian column is zero. x0 and x1 keep the straight line's closed-form
+  // covariance sigma^2 (T^T T)^-1; x2 gets NaN.
+  const int m = 50;
+  const double sigma = 0.1;
+  std::vector<double> t(m), y(m);
+  for (int i = 0; i < m; ++i) t[i] = i / 10.0, y[i] = 2.0 * t[i] + 1.0 + (i % 2 ? sigma : -sigma);
+  ResidualFn f = [&](const std::vector<double>& x, const std::vector<double>*) {
+    std::vector<double> r(m);
+    for (int i = 0; i < m; ++i) r[i] = (x[0] * t[i] + x[1] - y[i]) / sigma;
+    return r;
+  };
+  LmOptions o;
+  o.max_iterations = 20;
+  o.threads = 1;
+  const LmResult r = levenberg_marquardt(f, {{-10, 10, false}, {-10, 10, false}, {1, 100, true}}, {0.0, 0.0, 10.0}, o);
+  double st = 0, stt = 0;
+  for (double ti : t) st += ti, stt += ti * ti;
+  const double det = m * stt - st * st;  // T^T T = [[stt, st], [st, m]]; J = T / sigma
+  const double s0 = sigma * std::sqrt(m / det), s1 = sigma * std::sqrt(stt / det);
+  EXPECT_NEAR(r.std_error[0], s0, 1e-6 * s0);  // linear model: exact up to the differences' round-off
+  EXPECT_NEAR(r.std_error[1], s1, 1e-6 * s1);
+  EXPECT_TRUE(std::isnan(r.std_error[2]));
+  EXPECT_TRUE(std::isnan(r.covariance[0][2]));
+}
+
 TEST(Fit, StaysInsideTheBoxAndFlagsTheBound) {
   // Minimum at x = 3 outside [0, 2]: the estimate sits on the upper bound.
   ResidualFn f = [](const std::vector<double>& x, const std::vector<double>*) {
