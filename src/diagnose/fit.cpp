@@ -41,6 +41,35 @@ double norm2(const std::vector<double>& r) {
   for (double v : r) s += v * v;
   return s;
 }
+
+/// The estimate's covariance (J^T J)^-1 in v, mapped to x, over the parameters the residual
+/// depends on: a zero column (a parameter held for the iteration, or one the model does not see
+/// there, such as a saturated bandwidth) has no standard error (NaN) and is left out, as if
+/// fixed, so that it does not take the others' with it; a singular rest leaves all NaN.
+void set_covariance(const Eigen::MatrixXd& J, const std::vector<Bound>& bounds, const std::vector<double>& v,
+                    double scale, LmResult& res) {
+  std::vector<Eigen::Index> seen;
+  for (Eigen::Index i = 0; i < J.cols(); ++i)
+    if (J.col(i).squaredNorm() > 0) seen.push_back(i);
+  const Eigen::Index q = static_cast<Eigen::Index>(seen.size());
+  if (q == 0) return;
+  Eigen::MatrixXd A(q, q);
+  for (Eigen::Index a = 0; a < q; ++a)
+    for (Eigen::Index b = 0; b < q; ++b) A(a, b) = J.col(seen[a]).dot(J.col(seen[b]));
+  Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> es(A);
+  if (!(es.eigenvalues().minCoeff() > 1e-12 * std::max(es.eigenvalues().maxCoeff(), 1e-300))) return;
+  const Eigen::MatrixXd C = A.inverse() * scale;
+  for (Eigen::Index a = 0; a < q; ++a)
+    for (Eigen::Index b = 0; b < q; ++b) {
+      const std::size_t i = static_cast<std::size_t>(seen[a]), j = static_cast<std::size_t>(seen[b]);
+      res.covariance[i][j] = C(a, b) * dx_dv(bounds[i], v[i]) * dx_dv(bounds[j], v[j]);
+    }
+  for (Eigen::Index a = 0; a < q; ++a) {
+    const std::size_t i = static_cast<std::size_t>(seen[a]);
+    res.std_error[i] = std::sqrt(std::max(0.0, res.covariance[i][i]));
+  }
+}
+
 } // namespace
 
 LmResult levenberg_marquardt(const ResidualFn& f, const std::vector<Bound>& bounds, std::vector<double> x0,
@@ -171,34 +200,10 @@ LmResult levenberg_marquardt(const ResidualFn& f, const std::vector<Bound>& boun
   res.cost = cost;
   res.at_bound.resize(p);
   for (std::size_t i = 0; i < p; ++i) res.at_bound[i] = v[i] <= 1e-9 || v[i] >= 1 - 1e-9;
-  // Covariance from the last Jacobian (evaluated at or next to the estimate), over the parameters
-  // the residual depends on: a zero column (a parameter held for the iteration, or one the model
-  // does not see there, such as a saturated bandwidth) has no standard error (NaN) and is left
-  // out, as if fixed, so that it does not take the others' with it; a singular rest leaves all NaN.
+  // Covariance from the last Jacobian (evaluated at or next to the estimate).
   res.std_error.assign(p, std::numeric_limits<double>::quiet_NaN());
   res.covariance.assign(p, std::vector<double>(p, std::numeric_limits<double>::quiet_NaN()));
-  if (have_J) {
-    std::vector<Eigen::Index> seen;
-    for (Eigen::Index i = 0; i < static_cast<Eigen::Index>(p); ++i)
-      if (J.col(i).squaredNorm() > 0) seen.push_back(i);
-    const Eigen::Index q = static_cast<Eigen::Index>(seen.size());
-    Eigen::MatrixXd A(q, q);
-    for (Eigen::Index a = 0; a < q; ++a)
-      for (Eigen::Index b = 0; b < q; ++b) A(a, b) = J.col(seen[a]).dot(J.col(seen[b]));
-    Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> es(A);
-    if (q > 0 && es.eigenvalues().minCoeff() > 1e-12 * std::max(es.eigenvalues().maxCoeff(), 1e-300)) {
-      const Eigen::MatrixXd C = A.inverse() * o.covariance_scale;
-      for (Eigen::Index a = 0; a < q; ++a)
-        for (Eigen::Index b = 0; b < q; ++b) {
-          const std::size_t i = static_cast<std::size_t>(seen[a]), j = static_cast<std::size_t>(seen[b]);
-          res.covariance[i][j] = C(a, b) * dx_dv(bounds[i], v[i]) * dx_dv(bounds[j], v[j]);
-        }
-      for (Eigen::Index a = 0; a < q; ++a) {
-        const std::size_t i = static_cast<std::size_t>(seen[a]);
-        res.std_error[i] = std::sqrt(std::max(0.0, res.covariance[i][i]));
-      }
-    }
-  }
+  if (have_J) set_covariance(J, bounds, v, o.covariance_scale, res);
   return res;
 }
 
