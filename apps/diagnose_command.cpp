@@ -145,8 +145,6 @@ DiagnoseInputs read_diagnose_inputs(const DiagnoseCommandOptions& o) {
   require(o.baseline.empty() || o.calibration.empty(), "--baseline",
           "give either --baseline (differential) or --calibration (absolute with a discrepancy budget), not both");
   require(o.baseline_meta.empty() || !o.baseline.empty(), "--baseline-meta", "given without --baseline");
-  require(o.calibration_reference == "auto" || o.calibration_reference == "none", "--calibration-reference",
-          "must be 'auto' or 'none', got '", o.calibration_reference, "'");
   if (!o.baseline.empty()) {
     const std::filesystem::path meta = o.baseline_meta.empty() ? io::sidecar_path(o.baseline) : std::filesystem::path(o.baseline_meta);
     require(std::filesystem::exists(meta), "--baseline-meta", "no sidecar '", meta.string(),
@@ -169,14 +167,6 @@ namespace {
 
 using Inputs = DiagnoseInputs;
 Inputs read_inputs(const DiagnoseCommandOptions& o) { return read_diagnose_inputs(o); }
-
-diagnose::CompareOptions compare_options(const DiagnoseCommandOptions& o,
-                                        const std::optional<diagnose::Calibration>& calibration) {
-  diagnose::CompareOptions co;
-  co.alpha = o.alpha;
-  if (calibration) co.discrepancy = calibration->budgets();
-  return co;
-}
 
 /// The healthy recording a diagnosis is compared against differentially: --baseline, or the
 /// calibration's own recording at the operating point; both analysed in the same windows
@@ -226,12 +216,16 @@ bool covers(const diagnose::RecordingSpectra& b, const diagnose::RecordingSpectr
 /// either is shorter than two (halves of mesh cycles, §2 "Short recordings"), both in halves of
 /// its mesh cycles (a 10 s healthy recording is the reference of a 3 s one). None when even that
 /// does not match (another band or other channels).
-std::optional<diagnose::OrderAnalysisOptions> common_windows(const RecordingInputs& self, const RecordingInputs& ref) {
-  const auto analyse = [](const RecordingInputs& r, const diagnose::OrderAnalysisOptions& o) {
-    return diagnose::analyse_recording(r.recording, r.config.stage, o);
-  };
+diagnose::RecordingSpectra analyse(const RecordingInputs& r, const diagnose::OrderAnalysisOptions& o = {}) {
+  return diagnose::analyse_recording(r.recording, r.config.stage, o);
+}
+
+/// `a` is analyse(self) with the default windows (computed once by the caller).
+std::optional<diagnose::OrderAnalysisOptions> common_windows(const RecordingInputs& self,
+                                                             const diagnose::RecordingSpectra& a,
+                                                             const RecordingInputs& ref) {
   diagnose::OrderAnalysisOptions o;
-  const auto a = analyse(self, o), b = analyse(ref, o);
+  const auto b = analyse(ref, o);
   if (covers(b, a)) return o;
   if (a.layout.mesh_cycles == 0 && b.layout.mesh_cycles == 0) {
     o.max_window_revolutions = std::min(a.layout.revolutions, b.layout.revolutions);
@@ -252,7 +246,8 @@ RecordingInputs read_self(const DiagnoseCommandOptions& o) {
 /// --baseline: its windows shared with the recording's, or an input error before any fit.
 Reference given_baseline(const DiagnoseCommandOptions& o) {
   Reference r{o.baseline, o.baseline_meta.empty() ? io::sidecar_path(o.baseline).string() : o.baseline_meta};
-  const auto w = common_windows(read_self(o), read_recording_inputs(o.common, r.recording, r.meta, {}, {}, {}));
+  const RecordingInputs self = read_self(o);
+  const auto w = common_windows(self, analyse(self), read_recording_inputs(o.common, r.recording, r.meta, {}, {}, {}));
   require(w.has_value(), "--baseline", "'", o.baseline, "' and the recording cannot be analysed in the same windows "
           "(the same channels and sample rate): a cell-by-cell comparison needs them (docs/diagnose.md section 6b)");
   r.analysis = *w;
@@ -281,6 +276,7 @@ std::optional<Reference> calibrated_reference(const DiagnoseCommandOptions& o, c
   const RecordingInputs self = read_self(o);
   const double n = self.recording.operating.input_speed_rpm, P = self.recording.operating.input_power_W;
   const double zeta = self.config.contact.mesh_damping_ratio;
+  std::optional<diagnose::RecordingSpectra> self_analysis;  // once, when a candidate is at the operating point
   std::optional<Reference> best;
   double best_dn = 0;
   std::string missing, other_windows;
@@ -297,7 +293,8 @@ std::optional<Reference> calibrated_reference(const DiagnoseCommandOptions& o, c
     const double dn = std::fabs(c.recording.operating.input_speed_rpm - n) / n;
     const double dP = std::fabs(c.recording.operating.input_power_W - P) / P;
     if (!(dn <= zeta && dP <= diagnose::kRecalibration) || (best && dn >= best_dn)) continue;
-    const auto w = common_windows(self, c);
+    if (!self_analysis) self_analysis = analyse(self);
+    const auto w = common_windows(self, *self_analysis, c);
     if (!w) {
       other_windows += (other_windows.empty() ? "" : ", ") + r.recording;
       continue;
@@ -307,16 +304,17 @@ std::optional<Reference> calibrated_reference(const DiagnoseCommandOptions& o, c
     best_dn = dn;
   }
   char buf[400];
+  const double power_pct = 100 * diagnose::kRecalibration;
   if (best)
     std::snprintf(buf, sizeof buf,
                   "the calibration's healthy recording at this operating point is the reference: %s (speed within "
-                  "%.3g %% of %.6g rpm, power within 5 %% of %.6g W)",
-                  best->recording.c_str(), 100 * best_dn, n, P);
+                  "%.3g %% of %.6g rpm, power within %.3g %% of %.6g W)",
+                  best->recording.c_str(), 100 * best_dn, n, power_pct, P);
   else
     std::snprintf(buf, sizeof buf,
                   "the calibration has no healthy recording at this operating point (speed within the mesh damping "
-                  "ratio %.3g of %.6g rpm, power within 5 %% of %.6g W): judged against its budget",
-                  zeta, n, P);
+                  "ratio %.3g of %.6g rpm, power within %.3g %% of %.6g W): judged against its budget",
+                  zeta, n, power_pct, P);
   note = buf;
   if (!other_windows.empty())
     note += "; at this operating point but not comparable cell by cell (other channels or band): " + other_windows;
@@ -336,8 +334,10 @@ std::optional<Reference> choose_reference(const DiagnoseCommandOptions& o,
 /// its fit), else the calibration's budget if any.
 diagnose::CompareOptions comparison_options(const DiagnoseCommandOptions& o, const std::optional<Reference>& reference,
                                             const std::optional<diagnose::Calibration>& calibration) {
-  diagnose::CompareOptions co = compare_options(o, reference ? std::nullopt : calibration);
+  diagnose::CompareOptions co;
+  co.alpha = o.alpha;
   if (reference) co.analysis = reference->analysis;
+  else if (calibration) co.discrepancy = calibration->budgets();
   return co;
 }
 
