@@ -8,7 +8,8 @@
 # (apps/diagnose_command.cpp common_windows).
 #   * a second healthy recording (seed 4) is "no_missing_physics";
 #   * a cracked sun tooth (seed 5, stiffness factor 0.6) is named sun_tooth_damage with its
-#     factor within 20 % of 0.6.
+#     factor within 20 % of 0.6;
+#   * a baseline sampled at half the rate (seed 6) cannot share the recording's cells: refused.
 # Absolute (no baseline), the same two recordings are both "unexplained_residual" (measured
 # 2026-11-26: chi2 3.4 and 18.7 times their bounds after the best fit; docs/diagnose.md).
 # Measured 2026-11-26 on a loaded 2-core machine: 79 s and 336 s at 2 threads.
@@ -17,15 +18,23 @@ set -eu
 PW=$1
 rm -rf "$2"; mkdir -p "$2"; cd "$2"
 RIG="--speed-rpm 1200 --power-w 20000 --noise 0.05 --dc-offset 0.2 --sensor-angle-deg 40
-     --decimate 40 --start-mesh-cycle 450 --set solver.periodicity_tolerance=1e-3 --set rig.load_control=speed
+     --start-mesh-cycle 450 --set solver.periodicity_tolerance=1e-3 --set rig.load_control=speed
      --set rig.output_shaft_stiffness_N_m_rad=2e4 --set rig.output_shaft_damping_N_m_s_rad=5
      --set sensor.encoder_bandwidth_Hz=1500"
 # shellcheck disable=SC2086
-"$PW" synth -q $RIG --seed 3 --seconds 1.56 -o healthy3.csv
+"$PW" synth -q $RIG --seed 3 --seconds 1.56 --decimate 40 -o healthy3.csv
 # shellcheck disable=SC2086
-"$PW" synth -q $RIG --seed 4 --seconds 0.78 -o healthy4.csv
+"$PW" synth -q $RIG --seed 4 --seconds 0.78 --decimate 40 -o healthy4.csv
 # shellcheck disable=SC2086
-"$PW" synth -q $RIG --seed 5 --seconds 0.78 --set 'imperfections.teeth=[{body="sun",tooth=5,stiffness_factor=0.6}]' -o sun5.csv
+"$PW" synth -q $RIG --seed 5 --seconds 0.78 --decimate 40 --set 'imperfections.teeth=[{body="sun",tooth=5,stiffness_factor=0.6}]' -o sun5.csv
+# A baseline sampled at half the rate has no cells in the upper half of the recording's band: it
+# is refused before any fit (exit 1, naming --baseline), and no report is written.
+# shellcheck disable=SC2086
+"$PW" synth -q $RIG --seed 6 --seconds 0.78 --decimate 80 -o slow6.csv
+rc=0; "$PW" diagnose -q -r healthy4.csv --baseline slow6.csv -o slow6_rep --no-plots 2> slow6.err || rc=$?
+if [ "$rc" -ne 1 ] || ! grep -q -- "--baseline" slow6.err || [ -e slow6_rep ]; then
+  echo "a baseline at another sample rate: exit $rc, expected 1 naming --baseline with nothing written"; cat slow6.err; exit 1
+fi
 OMP_NUM_THREADS=2 "$PW" diagnose -q -r healthy4.csv --baseline healthy3.csv -o healthy4 --threads 2 --no-plots
 OMP_NUM_THREADS=2 "$PW" diagnose -q -r sun5.csv --baseline healthy3.csv -o sun5 --threads 2 --no-plots
 /usr/bin/python3 - <<'PY'
