@@ -14,6 +14,7 @@
 
 #include "diagnose/diagnose.hpp"
 
+#include <map>
 #include <string>
 #include <vector>
 
@@ -25,6 +26,9 @@ struct BaselineReference {
   /// The baseline's own discrepancy budgets (Calibration::budgets of a calibration on it alone):
   /// CompareOptions::discrepancy, applied to the model's change from the baseline's model.
   std::vector<DiscrepancyEntry> budgets;
+  /// The baseline's fitted gain per compared channel name (1 for channels without one; housing
+  /// sensors in m/s^2 per N): DiagnoseOptions::baseline_gains.
+  std::map<std::string, double> gains;
   double speed_rpm = 0;                ///< the baseline's mean input speed
   double revolutions = 0;              ///< carrier revolutions per half of its analysis
   Verdict noise_test = Verdict::NoMissingPhysics;  ///< the baseline's own noise test (for the report)

@@ -108,9 +108,11 @@ ModelComparison::ModelComparison(const Recording& recording, const model::Simula
   d_.assign(2, std::vector<double>(m));
   vns_.assign(m, 0.0);
   disc_.assign(m, 0.0);
+  disc_entry_.assign(m, -1);
   disc_abs_.assign(m, 0.0);
   disc_sd_.assign(m, 0.0);
-  for (const DiscrepancyEntry& e : opt_.discrepancy)
+  for (std::size_t k = 0; k < opt_.discrepancy.size(); ++k) {
+    const DiscrepancyEntry& e = opt_.discrepancy[k];
     for (int c = 0; c < nc; ++c) {
       if (rec_.channels[static_cast<std::size_t>(spec_.channels[static_cast<std::size_t>(c)])].quantity != e.quantity)
         continue;
@@ -118,10 +120,14 @@ ModelComparison::ModelComparison(const Recording& recording, const model::Simula
         for (int l : spec_.layout.cells[static_cast<std::size_t>(i)].lines)
           if (spec_.layout.lines[static_cast<std::size_t>(l)].family == e.family) {
             const std::size_t f = static_cast<std::size_t>(c * ncell + i);
-            disc_[f] = std::max(disc_[f], e.relative_std);
+            if (e.relative_std > disc_[f]) {
+              disc_[f] = e.relative_std;
+              disc_entry_[f] = static_cast<int>(k);
+            }
             disc_abs_[f] = std::max(disc_abs_[f], e.absolute_variance);
           }
     }
+  }
   match_baseline();
   // Differential: what the model lacks in absolute terms is in the baseline too and cancels.
   if (!opt_.baseline.empty()) disc_abs_.assign(m, 0.0);
@@ -227,6 +233,35 @@ void ModelComparison::set_discrepancy_reference(const std::vector<std::vector<do
       const double v = rice_ref_[f] + disc_sd_[f] * disc_sd_[f] + disc_abs_[f] + offset_variance(f, model_amplitude(m, c, i, g));
       for (int w = 0; w < 2; ++w) d_[static_cast<std::size_t>(w)][f] = v + vns_[f];
     }
+}
+
+std::vector<std::vector<double>> ModelComparison::model_form_shifts(const std::vector<std::vector<double>>& m,
+                                                                    const std::vector<double>& gains_in) const {
+  const int nc = channels(), ncell = cells();
+  std::vector<double> gains = gains_in;
+  if (gains.empty()) gains.assign(static_cast<std::size_t>(nc), 1.0);
+  std::vector<std::vector<double>> shifts;
+  for (std::size_t k = 0; k < opt_.discrepancy.size(); ++k) {
+    std::vector<double> e(static_cast<std::size_t>(features()), 0.0);
+    bool any = false;
+    for (int c = 0; c < nc; ++c)
+      for (int i = 0; i < ncell; ++i) {
+        const std::size_t f = static_cast<std::size_t>(c * ncell + i);
+        if (disc_entry_[f] != static_cast<int>(k)) continue;
+        const double g = is_housing(c) ? gains[static_cast<std::size_t>(c)] : 1.0;
+        const double a = model_amplitude(m, c, i, g);
+        // The budgeted amplitude error (signed, so that the cells of an entry move together),
+        // as set_discrepancy_reference sizes it, and its effect on the expected amplitude.
+        const double line = opt_.baseline.empty() ? a : raw_model_amplitude(m, c, i, g) - base_model_[f];
+        e[f] = -rice_mean_slope(a, s2_[f]) * disc_[f] * line;
+        any = any || e[f] != 0;
+      }
+    if (!any) continue;
+    WindowScore w;
+    chi2_of(e, window_index(Half::Fit), gains, fidelity_response(&m, gains), &w);
+    shifts.push_back(std::move(w.residual));
+  }
+  return shifts;
 }
 
 double ModelComparison::offset_variance(std::size_t f, double amplitude) const {

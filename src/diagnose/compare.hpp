@@ -233,6 +233,18 @@ public:
   double diagonal_variance(int window, int feature) const {
     return d_[static_cast<std::size_t>(window)][static_cast<std::size_t>(feature)];
   }
+  /// The model-form errors the comparison budgets (CompareOptions::discrepancy) as systematic
+  /// shifts of the whitened residual of the fit half, one per discrepancy entry (kind of channel,
+  /// line family) that has cells: the residual's change when every cell of that entry is off by
+  /// one relative standard deviation in the same direction, i.e. relative_std times the model's
+  /// amplitude (absolute) or times its change from the baseline's model (differential), through
+  /// the Rician mean's slope, whitened as score() whitens (housing gains `gains`, not profiled
+  /// again). Empty without a discrepancy. Why one direction per entry: a model that gets a
+  /// line's transfer wrong gets its neighbours' wrong alike, so the error does not average out
+  /// over the cells as noise does; carried through LmResult::sensitivity it is the fitted
+  /// values' model-form uncertainty (FittedParameter::model_form_std).
+  std::vector<std::vector<double>> model_form_shifts(const std::vector<std::vector<double>>& model_amplitude,
+                                                     const std::vector<double>& gains) const;
   /// Per feature: the calibrated relative discrepancy (0 without a calibration).
   double relative_discrepancy(int feature) const { return disc_[static_cast<std::size_t>(feature)]; }
   double nonstationary_variance(int feature) const { return vns_[static_cast<std::size_t>(feature)]; }
@@ -274,6 +286,7 @@ private:
   std::vector<std::vector<double>> d_;       // [window][feature]: D_i
   std::vector<double> vns_;
   std::vector<double> disc_;                 // [feature]: relative discrepancy (CompareOptions::discrepancy)
+  std::vector<int> disc_entry_;              // [feature]: the entry disc_ came from (-1: none)
   std::vector<double> disc_abs_;             // [feature]: absolute discrepancy variance
   std::vector<double> disc_sd_;              // [feature]: relative discrepancy x the reference amplitude (set_reference)
   std::vector<double> rice_ref_;             // [feature]: Rician variance at the reference amplitude

@@ -104,6 +104,7 @@ public:
       if (d_.winner == 0) refine_winner();
     }
     decide();
+    check_sensor_gain_change();
     tabulate();
     return finish();
   }
@@ -825,6 +826,85 @@ private:
     decide_verdict(d_, vin);
     d_.summary += unresolved_text(d_);
     d_.final_overrides = d_.winner == 0 ? d_.candidates.front().overrides : d_.nuisance.overrides;
+  }
+
+  /// Differential only, after a "no missing physics": the nuisance-fitted model explains the
+  /// recording with the housing gains profiled on it. If a housing channel's gain moved from the
+  /// baseline's (by more than z_{1-alpha/2} standard errors and kRecalibration of it, the rule for
+  /// a recalibrated nuisance parameter) and the same model with the baseline's gain fails the
+  /// held-out half's null, then everything the gears put into every channel is as in the baseline
+  /// and only that sensor reads it differently: its path changed (sensitivity, mounting, cable,
+  /// conditioning). That is a finding a rig engineer needs, and the absolute comparison cannot
+  /// make it: without a baseline the gain is a free nuisance parameter.
+  void check_sensor_gain_change() {
+    if (o_.baseline_gains.empty() || d_.verdict != Verdict::NoMissingPhysics) return;
+    const auto& amp = ctx().nuisance_sim->amplitude;
+    const double z = normal_quantile(o_.alpha / 2);
+    for (int ch = 0; ch < cmp().channels(); ++ch) {
+      const std::size_t c = static_cast<std::size_t>(ch);
+      const auto base = o_.baseline_gains.find(d_.channels[c]);
+      if (!cmp().is_housing(ch) || base == o_.baseline_gains.end()) continue;
+      const double g0 = base->second, g = ctx().nuisance_gains[c];
+      const auto p = std::find_if(d_.nuisance.parameters.begin(), d_.nuisance.parameters.end(),
+                                  [&](const FittedParameter& q) { return is_sensor_gain(q); });
+      if (p == d_.nuisance.parameters.end() || !(g0 > 0)) continue;
+      const double shift = std::fabs(g - g0);
+      if (!(shift > z * p->std_error && shift > kRecalibration * g0)) continue;
+      std::vector<double> gains = ctx().nuisance_gains;
+      gains[c] = g0;
+      const double chi2 = cmp().score(amp, Half::HeldOut, gains, HousingGains::Given).chi2;
+      const double bound = cmp().null_quantile(amp, gains, Half::HeldOut, o_.alpha / 2);
+      say("the housing gain of " + d_.channels[c] + " moved from the baseline's " + fmt("%.4g", g0) + " to " +
+          fmt("%.4g", g) + "; with the baseline's gain the held-out chi2 is " + fmt("%.0f", chi2) + " against " +
+          fmt("%.0f", bound));
+      if (!(chi2 > bound)) continue;
+      name_sensor_gain_change(d_.channels[c], g0, *p, chi2, bound);
+      return;
+    }
+  }
+
+  /// The verdict for check_sensor_gain_change: sensor_transfer_path, its parameter the gain.
+  void name_sensor_gain_change(const std::string& channel, double g0, FittedParameter gain, double chi2_base,
+                               double bound_base) {
+    CandidateResult w = d_.nuisance;
+    w.name = "sensor_transfer_path";
+    w.variant = "gain of " + channel + " since the baseline";
+    w.physics = "the housing accelerometer's transfer path changed since the baseline: it reads the same "
+                "vibration " + fmt("%.3g", gain.value / g0) + " times as strongly (sensitivity, mounting, cable or "
+                "conditioning), while every other channel and line is as the baseline's model predicts";
+    w.families = {"sensor"};
+    gain.nuisance = false;
+    gain.initial = g0;
+    gain.moved = true;
+    w.parameters.erase(std::remove_if(w.parameters.begin(), w.parameters.end(),
+                                      [](const FittedParameter& q) { return is_sensor_gain(q); }),
+                       w.parameters.end());
+    w.parameters.insert(w.parameters.begin(), gain);
+    w.own_parameters = 1;
+    w.reason = "named: the baseline's gain fails the held-out half (chi2 " + fmt("%.0f", chi2_base) + " > " +
+               fmt("%.0f", bound_base) + "), the fitted one passes (" + fmt("%.0f", d_.nuisance.held_out.chi2) +
+               " <= " + fmt("%.0f", d_.bound_held_out) + ")";
+    d_.candidates.insert(d_.candidates.begin(), w);
+    d_.winner = 0;
+    d_.verdict = Verdict::MissingPhysicsFound;
+    d_.lead = LeadAssessment{};
+    d_.lead.candidate = 0;
+    d_.lead.held_out_chi2 = d_.nuisance.held_out.chi2;
+    d_.lead.bound_held_out = d_.bound_held_out;
+    d_.lead.counts = true;
+    d_.lead.within_bound = true;
+    d_.summary = "Missing physics: sensor_transfer_path (the gain of " + channel +
+                 " changed since the baseline) — fitted " + gain.name + " = " + fmt("%.4g", gain.value) + " ± " +
+                 fmt("%.2g", gain.std_error) + " " + gain.unit + " against the baseline's " + fmt("%.4g", g0) + " (x" +
+                 fmt("%.3g", gain.value / g0) + "). With the baseline's gain the held-out chi2 is " +
+                 fmt("%.0f", chi2_base) + " > " + fmt("%.0f", bound_base) + " (its noise bound); with the fitted gain " +
+                 fmt("%.0f", d_.nuisance.held_out.chi2) + " <= " + fmt("%.0f", d_.bound_held_out) +
+                 ": the gears' lines are as in the baseline in every channel, only this sensor reads them differently "
+                 "(its sensitivity, mounting, cable or conditioning), not the gears." + unresolved_text(d_);
+    d_.rule += " Differential: a housing gain that moved from the baseline's by more than z_{1-alpha/2} standard errors "
+               "and " + fmt("%.0f", 100 * kRecalibration) + " %, after a 'no missing physics', is named "
+               "sensor_transfer_path when the baseline's gain fails the held-out half's null.";
+    d_.final_overrides = w.overrides;
   }
 
   /// Plot data: order spectra of the held-out half, residuals per cell, the located synchronous average.

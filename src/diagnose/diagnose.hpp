@@ -48,6 +48,7 @@
 
 #include <functional>
 #include <limits>
+#include <map>
 #include <string>
 #include <utility>
 #include <vector>
@@ -62,6 +63,10 @@ struct DiagnoseOptions {
   int max_candidates = 4;       ///< candidates fitted after the screening (sensor-only ones come free)
   bool always_fit_candidates = false;  ///< fit candidates even when the noise test passes
   std::vector<std::string> only_candidates;  ///< restrict the library (tests, expert use); empty = all
+  /// Differential diagnosis: the baseline's fitted housing-sensor gain per channel name [m/s^2 per
+  /// N] (BaselineReference::gains). A recording whose model needs another gain, and fits with it,
+  /// has a changed sensor path (DiagnosisRun::check_sensor_gain_change). Empty: no baseline.
+  std::map<std::string, double> baseline_gains;
   /// Candidates fitted with the nuisance parameters instead of screened as findings (calibration
   /// fits the rig elements the documentation is silent on, e.g. "encoder_bandwidth").
   std::vector<std::string> extra_nuisance;
@@ -79,6 +84,12 @@ struct DiagnoseOptions {
 struct FittedParameter {
   std::string name, unit;
   double value = 0, std_error = 0, lower = 0, upper = 0, initial = 0;
+  /// [unit] Standard deviation of the value from the model-form error the comparison budgets (a
+  /// calibration's or a baseline's discrepancy, ModelComparison::model_form_shifts): how far the
+  /// value moves if the model gets the lines it was fitted to wrong by one budgeted relative
+  /// error. 0 without a budget (std_error is then all the value's uncertainty); NaN where the
+  /// parameter has no standard error.
+  double model_form_std = 0;
   bool at_bound = false;
   bool nuisance = false;
   /// A housing-sensor gain, profiled in closed form on every model rather than fitted

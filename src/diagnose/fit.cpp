@@ -45,7 +45,8 @@ double norm2(const std::vector<double>& r) {
 /// The estimate's covariance (J^T J)^-1 in v, mapped to x, over the parameters the residual
 /// depends on: a zero column (a parameter held for the iteration, or one the model does not see
 /// there, such as a saturated bandwidth) has no standard error (NaN) and is left out, as if
-/// fixed, so that it does not take the others' with it; a singular rest leaves all NaN.
+/// fixed, so that it does not take the others' with it; a singular rest leaves all NaN. The
+/// same inverse gives the estimate's sensitivity to a residual shift, (J^T J)^-1 J^T.
 void set_covariance(const Eigen::MatrixXd& J, const std::vector<Bound>& bounds, const std::vector<double>& v,
                     double scale, LmResult& res) {
   std::vector<Eigen::Index> seen;
@@ -58,15 +59,19 @@ void set_covariance(const Eigen::MatrixXd& J, const std::vector<Bound>& bounds, 
     for (Eigen::Index b = 0; b < q; ++b) A(a, b) = J.col(seen[a]).dot(J.col(seen[b]));
   Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> es(A);
   if (!(es.eigenvalues().minCoeff() > 1e-12 * std::max(es.eigenvalues().maxCoeff(), 1e-300))) return;
-  const Eigen::MatrixXd C = A.inverse() * scale;
+  const Eigen::MatrixXd Ainv = A.inverse();
   for (Eigen::Index a = 0; a < q; ++a)
     for (Eigen::Index b = 0; b < q; ++b) {
       const std::size_t i = static_cast<std::size_t>(seen[a]), j = static_cast<std::size_t>(seen[b]);
-      res.covariance[i][j] = C(a, b) * dx_dv(bounds[i], v[i]) * dx_dv(bounds[j], v[j]);
+      res.covariance[i][j] = Ainv(a, b) * scale * dx_dv(bounds[i], v[i]) * dx_dv(bounds[j], v[j]);
     }
   for (Eigen::Index a = 0; a < q; ++a) {
     const std::size_t i = static_cast<std::size_t>(seen[a]);
     res.std_error[i] = std::sqrt(std::max(0.0, res.covariance[i][i]));
+    Eigen::VectorXd row = Eigen::VectorXd::Zero(J.rows());
+    for (Eigen::Index b = 0; b < q; ++b) row += Ainv(a, b) * J.col(seen[b]);
+    row *= dx_dv(bounds[i], v[i]);
+    res.sensitivity[i].assign(row.data(), row.data() + row.size());
   }
 }
 
@@ -203,8 +208,29 @@ LmResult levenberg_marquardt(const ResidualFn& f, const std::vector<Bound>& boun
   // Covariance from the last Jacobian (evaluated at or next to the estimate).
   res.std_error.assign(p, std::numeric_limits<double>::quiet_NaN());
   res.covariance.assign(p, std::vector<double>(p, std::numeric_limits<double>::quiet_NaN()));
+  res.sensitivity.assign(p, {});
   if (have_J) set_covariance(J, bounds, v, o.covariance_scale, res);
   return res;
+}
+
+std::vector<double> propagated_std(const LmResult& fit, const std::vector<std::vector<double>>& shifts) {
+  std::vector<double> out(fit.sensitivity.size(), 0.0);
+  for (std::size_t i = 0; i < out.size(); ++i) {
+    const std::vector<double>& row = fit.sensitivity[i];
+    if (row.empty()) {
+      out[i] = std::numeric_limits<double>::quiet_NaN();
+      continue;
+    }
+    double var = 0;
+    for (const std::vector<double>& w : shifts) {
+      require(w.size() == row.size(), "residual shift", "has ", w.size(), " entries, the residual ", row.size());
+      double dx = 0;
+      for (std::size_t k = 0; k < w.size(); ++k) dx += row[k] * w[k];
+      var += dx * dx;
+    }
+    out[i] = std::sqrt(var);
+  }
+  return out;
 }
 
 BoxedLeastSquares boxed_least_squares(const Eigen::MatrixXd& A, const Eigen::VectorXd& lower,

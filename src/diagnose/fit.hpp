@@ -53,6 +53,11 @@ struct LmResult {
   std::vector<double> x;            ///< estimate
   std::vector<double> std_error;    ///< sqrt(diag(cov)) in x units (NaN if singular)
   std::vector<std::vector<double>> covariance;  ///< in x units
+  /// The estimate's first-order response to a shift of the residual vector: a shift dr moves the
+  /// minimizer by dx = -sensitivity dr (Gauss-Newton: (J^T J)^-1 J^T, mapped to x units; no
+  /// covariance_scale). Exact for a residual linear in x. A row is empty for a parameter without
+  /// a standard error (NaN). Used to carry a systematic model error into the parameters.
+  std::vector<std::vector<double>> sensitivity;
   std::vector<double> residual;     ///< at x
   double cost = 0;                  ///< |r|^2 at x
   double initial_cost = 0;
@@ -71,6 +76,11 @@ struct LmResult {
 /// point propagates.
 LmResult levenberg_marquardt(const ResidualFn& residual, const std::vector<Bound>& bounds, std::vector<double> x0,
                              const LmOptions& options = {});
+
+/// Per parameter, the standard deviation of the estimate when the residual carries the shifts
+/// w_k, each with an independent N(0, 1) weight: sqrt(sum_k (sensitivity w_k)^2), through
+/// LmResult::sensitivity. Empty shifts give 0; a parameter without a sensitivity row gets NaN.
+std::vector<double> propagated_std(const LmResult& fit, const std::vector<std::vector<double>>& shifts);
 
 /// Minimizer of the linear least-squares cost |r + A a + B b|^2 with each a_i in the box
 /// [lower_i, upper_i] and b free, by a projected active set: solve for all free; every a_i whose

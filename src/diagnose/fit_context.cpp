@@ -110,6 +110,18 @@ std::vector<FittedParameter> describe(const std::vector<ParameterSpec>& specs, c
   return out;
 }
 
+/// Each fitted parameter's model-form standard deviation: the shifts of the residual the
+/// comparison's budget allows (one per discrepancy entry, independent of each other, each
+/// moving its cells together), carried into the estimate by the fit's sensitivity.
+void set_model_form_std(const ModelComparison& cmp, const LmResult& lm,
+                        const std::vector<std::vector<double>>& amplitudes, const std::vector<double>& gains,
+                        std::vector<FittedParameter>& parameters) {
+  const std::vector<std::vector<double>> shifts = cmp.model_form_shifts(amplitudes, gains);
+  if (shifts.empty()) return;
+  const std::vector<double> sd = propagated_std(lm, shifts);
+  for (std::size_t i = 0; i < sd.size() && i < parameters.size(); ++i) parameters[i].model_form_std = sd[i];
+}
+
 /// The profiled housing-sensor gains of a fit, as nuisance parameters with their `--set` line.
 void append_gains(const FitContext& ctx, const WindowScore& fit, CandidateResult& res) {
   int housing_channels = 0;
@@ -195,6 +207,7 @@ CandidateResult fit_model(FitContext& ctx, const Candidate* cand, const Variant&
   const WindowScore fit = ctx.cmp.score(amp, Half::Fit, ctx.nuisance_gains, HousingGains::Profile);
   const WindowScore held = ctx.cmp.score(amp, Half::HeldOut, fit.gains, HousingGains::Given);
   res.gains = fit.gains;
+  set_model_form_std(ctx.cmp, lm, amp, fit.gains, res.parameters);
   append_gains(ctx, fit, res);
   res.fit = summarize(fit);
   res.held_out = summarize(held);

@@ -9,6 +9,7 @@
 #include "diagnose/baseline.hpp"
 #include "diagnose/calibration.hpp"
 #include "diagnose/compare.hpp"
+#include "diagnose/fit.hpp"
 #include "diagnose/kinematics.hpp"
 #include "diagnose/stage_1200rpm.hpp"
 
@@ -277,6 +278,60 @@ TEST(Baseline, TheBaselinesDiscrepancyScalesWithTheModelsChangeNotWithItsLines) 
   EXPECT_LT(abs_same.score(mesh_off, Half::HeldOut, {}, HousingGains::Given).chi2,
             abs_same.null_quantile(mesh_off, {}, Half::HeldOut, kAlphaHalf))
       << "absolute: 30 % of a mesh line is within the calibrated 50 %";
+}
+
+/// The fit of a one-parameter "lead" whose change from `model` is theta times (with_line - model)
+/// (the carrier-family line and nothing else), on the fit half of `cmp`.
+LmResult fit_line_scale(const ModelComparison& cmp, const std::vector<std::vector<double>>& model,
+                        const std::vector<std::vector<double>>& with_line) {
+  auto lead_at = [&](double theta) {
+    auto m = model;
+    for (std::size_t c = 0; c < m.size(); ++c)
+      for (std::size_t b = 0; b < m[c].size(); ++b) m[c][b] += theta * (with_line[c][b] - model[c][b]);
+    return m;
+  };
+  ResidualFn f = [&](const std::vector<double>& x, const std::vector<double>*) {
+    return cmp.score(lead_at(x[0]), Half::Fit, {}, HousingGains::Given).residual;
+  };
+  LmOptions o;
+  o.max_iterations = 20;
+  o.threads = 1;
+  return levenberg_marquardt(f, {{0.0, 3.0, false}}, {0.5}, o);
+}
+
+TEST(Baseline, AFittedChangesModelFormUncertaintyIsTheBudgetTimesTheChange) {
+  // Differential, a relative budget of 50 % on the carrier family: a model that gets the
+  // transfer of the fitted change wrong by 50 % gets its size wrong by 50 %. The lead's only
+  // change is the carrier line (strong: 5 m/s^2 against 0.5 of noise per sample, Rician slope
+  // 1 to ~1e-4; an integer carrier order in whole revolutions, so it does not leak into weaker
+  // bins), so the propagated model-form standard deviation of its scale theta is 0.5 theta; 1 %
+  // allows for the Rician slope and the fit's finite differences. The noise's own standard error
+  // is far smaller: the model-form term is what sizes it.
+  const auto model = perfect_model();
+  const double line = 5.0;
+  const auto with_line = ModelComparison(synthetic(line, 1, 1e-6, 1e-9), test::stage_1200rpm()).spectra().amplitude[0];
+  CompareOptions differential;
+  differential.discrepancy.push_back({Quantity::MeshAccelerationSunPlanet, Component::Mesh, 0.5, 0.0});
+  differential.discrepancy.push_back({Quantity::MeshAccelerationSunPlanet, Component::Carrier, 0.5, 0.0, true});
+  differential.baseline = baseline_of(synthetic(0.0, 12), model);
+  ModelComparison cmp(synthetic(line, 6), test::stage_1200rpm(), differential);
+  cmp.set_reference(model, {});
+  const LmResult fit = fit_line_scale(cmp, model, with_line);
+  ASSERT_EQ(fit.x.size(), 1u);
+  EXPECT_NEAR(fit.x[0], 1.0, 0.1) << "the line is fitted at its size";
+  auto fitted = model;
+  for (std::size_t c = 0; c < fitted.size(); ++c)
+    for (std::size_t b = 0; b < fitted[c].size(); ++b) fitted[c][b] += fit.x[0] * (with_line[c][b] - model[c][b]);
+  const std::vector<double> sd = propagated_std(fit, cmp.model_form_shifts(fitted, {}));
+  ASSERT_EQ(sd.size(), 1u);
+  EXPECT_NEAR(sd[0], 0.5 * fit.x[0], 0.01 * fit.x[0]);
+  EXPECT_LT(fit.std_error[0], 0.2 * sd[0]);
+  // Without a budget there is no model-form shift, and at the baseline's model (nothing changed)
+  // none either: what cancels in the change is not an uncertainty of its size.
+  ModelComparison plain(synthetic(line, 6), test::stage_1200rpm());
+  plain.set_reference(model, {});
+  EXPECT_TRUE(plain.model_form_shifts(fitted, {}).empty());
+  EXPECT_TRUE(cmp.model_form_shifts(model, {}).empty());
 }
 
 TEST(CalibratedDiscrepancy, ALineTheLeadAddsIsJudgedAgainstTheDiscrepancyAtTheLeadsOwnAmplitude) {

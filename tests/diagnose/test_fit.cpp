@@ -96,6 +96,56 @@ TEST(Fit, AParameterTheResidualDoesNotSeeHasNoStandardErrorAndLeavesTheOthersThe
   EXPECT_TRUE(std::isnan(r.covariance[0][2]));
 }
 
+TEST(Fit, TheSensitivityMovesTheEstimateAsRefittingShiftedDataDoesForALinearModel) {
+  // r_i = (x0 t_i + x1 - y_i) / sigma. Data shifted by d (a systematic error, not noise) move
+  // the least-squares line by (T^T T)^-1 T^T d; the residual shifts by dr = -d / sigma, and
+  // LmResult::sensitivity must give dx = -S dr. Checked against a second fit of the shifted
+  // data and against the closed form, for a shift no multiple of the line (so both move).
+  const int m = 40;
+  const double sigma = 0.05;
+  std::vector<double> t(m), y(m), d(m);
+  for (int i = 0; i < m; ++i) {
+    t[i] = i / 8.0;
+    y[i] = -1.5 * t[i] + 0.5 + (i % 3 ? sigma : -2 * sigma);
+    d[i] = 0.02 * std::sin(0.7 * i) + 0.01 * t[i];
+  }
+  auto residual_of = [&](const std::vector<double>& data) {
+    return ResidualFn([&, data](const std::vector<double>& x, const std::vector<double>*) {
+      std::vector<double> r(m);
+      for (int i = 0; i < m; ++i) r[i] = (x[0] * t[i] + x[1] - data[i]) / sigma;
+      return r;
+    });
+  };
+  LmOptions o;
+  o.max_iterations = 30;
+  o.relative_tolerance = 1e-14;
+  o.step_tolerance = 1e-14;
+  o.threads = 1;
+  const std::vector<Bound> box{{-10, 10, false}, {-10, 10, false}};
+  const LmResult a = levenberg_marquardt(residual_of(y), box, {0.0, 0.0}, o);
+  std::vector<double> ys(m);
+  for (int i = 0; i < m; ++i) ys[i] = y[i] + d[i];
+  const LmResult b = levenberg_marquardt(residual_of(ys), box, a.x, o);
+  // Closed form: [x0; x1] moves by (X^T X)^-1 X^T d with X = [t 1].
+  double st = 0, stt = 0, sd = 0, std_ = 0;
+  for (int i = 0; i < m; ++i) st += t[i], stt += t[i] * t[i], sd += d[i], std_ += t[i] * d[i];
+  const double det = m * stt - st * st;
+  const double dx0 = (m * std_ - st * sd) / det, dx1 = (stt * sd - st * std_) / det;
+  ASSERT_EQ(a.sensitivity.size(), 2u);
+  for (int k = 0; k < 2; ++k) {
+    ASSERT_EQ(a.sensitivity[static_cast<std::size_t>(k)].size(), static_cast<std::size_t>(m));
+    double dx = 0;
+    for (int i = 0; i < m; ++i) dx -= a.sensitivity[static_cast<std::size_t>(k)][static_cast<std::size_t>(i)] * (-d[i] / sigma);
+    const double closed = k == 0 ? dx0 : dx1;
+    // Forward differences of a linear residual are exact up to round-off (1e-6 relative, as above).
+    EXPECT_NEAR(dx, closed, 1e-6 * std::fabs(closed)) << "parameter " << k;
+    EXPECT_NEAR(b.x[static_cast<std::size_t>(k)] - a.x[static_cast<std::size_t>(k)], closed, 1e-6 * std::fabs(closed))
+        << "parameter " << k;
+  }
+  EXPECT_GT(std::fabs(dx0), 1e-4);  // the shift does move both
+  EXPECT_GT(std::fabs(dx1), 1e-4);
+}
+
 TEST(Fit, StaysInsideTheBoxAndFlagsTheBound) {
   // Minimum at x = 3 outside [0, 2]: the estimate sits on the upper bound.
   ResidualFn f = [](const std::vector<double>& x, const std::vector<double>*) {

@@ -1,0 +1,104 @@
+#!/usr/bin/python3
+"""Sizes of the effects `planetwear diagnose` named right on an indepsim corpus, against the truth.
+
+For every recording whose report names its true effect, the fitted size of the effect's main
+parameter is compared with truth.json:
+
+  severity error   (fitted - true) / (true - absent), absent the value that means "no such
+                   effect" (tooth stiffness factor 1, eccentricity 0, the gear set's documented
+                   friction coefficient);
+  z (noise)        (fitted - true) / std_error, the fit's standard error alone;
+  z (total)        (fitted - true) / sqrt(std_error^2 + model_form_std^2), with the model-form
+                   standard deviation the report gives under a calibration or a baseline
+                   (docs/diagnose.md section 5, "model-form uncertainty").
+
+A size is "covered" when |z (total)| <= z_{1-alpha/2} with the diagnosis's alpha = 0.01 (2.576).
+
+    /usr/bin/python3 scripts/indepsim/sizes.py DIR [--json OUT]
+
+DIR is a directory confusion.py ran in (DIR/truth.json, DIR/<reports>/<gearset>/<rec>/report.json,
+<reports> the one DIR/diagnosis* directory there is, or --reports).
+"""
+import argparse
+import json
+import math
+import pathlib
+import sys
+
+Z_COVER = 2.5758293035489  # z_{1 - 0.01/2}
+
+# effect -> (report parameter, truth key, absent value or None for "documented friction")
+MAIN = {
+    "sun_tooth_damage": ("stiffness_factor", "tooth_stiffness_factor", 1.0),
+    "planet_tooth_damage": ("stiffness_factor", "tooth_stiffness_factor", 1.0),
+    "ring_tooth_damage": ("stiffness_factor", "tooth_stiffness_factor", 1.0),
+    "sun_runout": ("sun_eccentricity_m", "sun_ecc_m", 0.0),
+    "friction": ("contact.friction_coefficient", "friction_coefficient", None),
+    "torque_ripple": ("torque_ripple_fraction", "ripple_fraction", 0.0),
+    "stiffness_level": ("stiffness.scale", "stiffness_scale", 1.0),
+}
+
+
+def documented_friction(gearset_dir):
+    import tomllib
+    with open(gearset_dir / "gearset.toml", "rb") as f:
+        cfg = tomllib.load(f)
+    return cfg.get("contact", {}).get("friction_coefficient")
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("dir", type=pathlib.Path)
+    ap.add_argument("--json", type=pathlib.Path, help="write the rows here")
+    ap.add_argument("--reports", help="the reports' directory under DIR (default: the one diagnosis* there is)")
+    a = ap.parse_args()
+    if a.reports is None:
+        found = sorted(p.name for p in a.dir.glob("diagnosis*") if p.is_dir())
+        if len(found) != 1:
+            sys.exit(f"sizes.py: {len(found)} diagnosis* directories in {a.dir} ({', '.join(found)}): name one with --reports")
+        a.reports = found[0]
+    truth = json.loads((a.dir / "truth.json").read_text())["recordings"]
+    rows = []
+    for key, t in sorted(truth.items()):
+        effect = t.get("effect")
+        rep_path = a.dir / a.reports / key / "report.json"
+        if effect not in MAIN or not rep_path.exists():
+            continue
+        rep = json.loads(rep_path.read_text())
+        if rep.get("missing_physics") != effect:
+            continue
+        pname, tkey, absent = MAIN[effect]
+        if absent is None:
+            absent = documented_friction(a.dir / key.split("/")[0])
+        cand = next((c for c in rep.get("candidates", []) if c.get("name") == effect), None)
+        par = next((p for p in (cand or {}).get("parameters", []) if p["name"] == pname), None)
+        true = t.get("parameters", t.get("params", {})).get(tkey)
+        if par is None or true is None or par.get("value") is None:
+            continue
+        fit, se = par["value"], par.get("std_error") or 0.0
+        mf = par.get("model_form_std") or 0.0
+        total = math.hypot(se, mf)
+        dev = fit - true
+        rows.append(dict(recording=key, effect=effect, parameter=pname, true=true, fitted=fit, std_error=se,
+                         model_form_std=mf, severity_error=dev / (true - absent) if true != absent else None,
+                         z_noise=dev / se if se > 0 else None, z_total=dev / total if total > 0 else None,
+                         covered=bool(total > 0 and abs(dev) <= Z_COVER * total)))
+    print(f"{'recording':16s} {'effect':20s} {'true':>10s} {'fitted':>10s} {'± noise':>9s} {'± model':>9s} "
+          f"{'sev.err':>8s} {'z noise':>8s} {'z total':>8s} covered")
+    for r in rows:
+        f = lambda v, p=".3g": "—" if v is None else format(v, p)
+        print(f"{r['recording']:16s} {r['effect']:20s} {f(r['true']):>10s} {f(r['fitted'], '.4g'):>10s} "
+              f"{f(r['std_error'], '.2g'):>9s} {f(r['model_form_std'], '.2g'):>9s} {f(r['severity_error'], '+.2f'):>8s} "
+              f"{f(r['z_noise'], '+.1f'):>8s} {f(r['z_total'], '+.1f'):>8s} {'yes' if r['covered'] else 'NO'}")
+    n = len(rows)
+    within = sum(1 for r in rows if r["severity_error"] is not None and abs(r["severity_error"]) <= 0.2)
+    cov = sum(1 for r in rows if r["covered"])
+    print(f"\n{n} sizes: {within} within 20 % of the true severity; {cov} covered by "
+          f"value ± {Z_COVER:.3f} x sqrt(noise^2 + model form^2)")
+    if a.json:
+        a.json.write_text(json.dumps(dict(rows=rows, within_20_percent=within, covered=cov), indent=1) + "\n")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
