@@ -46,8 +46,9 @@ json candidate_json(const dg::CandidateResult& r, const std::vector<std::string>
   for (const auto& p : r.parameters) {
     json pj = {{"name", p.name}, {"unit", p.unit}, {"value", num(p.value)}, {"std_error", num(p.std_error)},
                {"lower", num(p.lower)}, {"upper", num(p.upper)}, {"initial", num(p.initial)},
-               {"model_form_std", num(p.model_form_std)}, {"at_bound", p.at_bound}, {"nuisance", p.nuisance},
-               {"moved", p.moved}};
+               {"model_form_std", num(p.model_form_std)},
+               {"model_form_range", {num(p.model_form_lower), num(p.model_form_upper)}}, {"at_bound", p.at_bound},
+               {"nuisance", p.nuisance}, {"moved", p.moved}};
     // Saturating: only a lower limit is identifiable (null when it was not profiled).
     if (p.saturates) {
       pj["saturates"] = true;
@@ -103,7 +104,9 @@ std::string param_cell(const dg::FittedParameter& p) {
     return ">= " + g(p.lower_limit, 3) + unit + " (lower limit; fitted " + g(p.value) + ", any larger value fits as well)";
   if (p.saturates) return g(p.value) + unit + " (saturating: only a lower limit is identifiable)";
   std::string s = g(p.value) + " ± " + (std::isfinite(p.std_error) ? g(p.std_error, 2) : std::string("n/a")) + unit;
-  if (p.model_form_std > 0 && !p.nuisance) s += " (model form ± " + g(p.model_form_std, 2) + unit + ")";
+  if (p.model_form_std > 0 && !p.nuisance && std::isfinite(p.model_form_lower))
+    s += " (model form ± " + g(p.model_form_std, 2) + unit + ": " + g(p.model_form_lower, 3) + " to " +
+         g(p.model_form_upper, 3) + unit + ")";
   if (p.at_bound) s += " (at bound)";
   return s;
 }
@@ -574,7 +577,9 @@ void write_diagnosis_report(const std::filesystem::path& dir, const dg::Diagnosi
     json ps = json::array();
     for (const auto& p : d.candidates.front().parameters) {
       json pj = {{"name", p.name}, {"value", num(p.value)}, {"std_error", num(p.std_error)},
-                 {"model_form_std", num(p.model_form_std)}, {"unit", p.unit}, {"nuisance", p.nuisance}};
+                 {"model_form_std", num(p.model_form_std)},
+                 {"model_form_range", {num(p.model_form_lower), num(p.model_form_upper)}}, {"unit", p.unit},
+                 {"nuisance", p.nuisance}};
       if (p.saturates) {
         pj["saturates"] = true;
         pj["lower_limit"] = num(p.lower_limit);

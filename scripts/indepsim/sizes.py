@@ -12,7 +12,10 @@ parameter is compared with truth.json:
                    standard deviation the report gives under a calibration or a baseline
                    (docs/diagnose.md section 5, "model-form uncertainty").
 
-A size is "covered" when |z (total)| <= z_{1-alpha/2} with the diagnosis's alpha = 0.01 (2.576).
+A size is "covered" when |z (total)| <= z_{1-alpha/2} with the diagnosis's alpha = 0.01 (2.576)
+(linear), and "in range" when the truth lies in the report's model_form_range (the lopsided range
+a relative error of the model's change allows, docs/diagnose.md section 5; computed here by the same
+formula from the report's values for reports that predate the field).
 
     /usr/bin/python3 scripts/indepsim/sizes.py DIR [--json OUT]
 
@@ -37,6 +40,20 @@ MAIN = {
     "torque_ripple": ("torque_ripple_fraction", "ripple_fraction", 0.0),
     "stiffness_level": ("stiffness.scale", "stiffness_scale", 1.0),
 }
+
+
+def size_range(value, absent, se, mf, lower, upper):
+    """fit_context.cpp model_form_range, at z_{1-alpha/2}."""
+    se = se if se is not None and math.isfinite(se) else 0.0
+    s = value - absent
+    near = far = value
+    if mf and mf > 0 and s != 0:
+        r = Z_COVER * mf / abs(s)
+        near = absent + s / (1 + r)
+        far = absent + s / (1 - r) if r < 1 else (upper if s > 0 else lower)
+    lo = min(max(min(near, far) - Z_COVER * se, lower), upper)
+    hi = min(max(max(near, far) + Z_COVER * se, lower), upper)
+    return lo, hi
 
 
 def documented_friction(gearset_dir):
@@ -79,24 +96,31 @@ def main():
         mf = par.get("model_form_std") or 0.0
         total = math.hypot(se, mf)
         dev = fit - true
+        rng = par.get("model_form_range")
+        if not rng or rng[0] is None:
+            rng = size_range(fit, absent, se, mf, par["lower"], par["upper"])
         rows.append(dict(recording=key, effect=effect, parameter=pname, true=true, fitted=fit, std_error=se,
                          model_form_std=mf, severity_error=dev / (true - absent) if true != absent else None,
                          z_noise=dev / se if se > 0 else None, z_total=dev / total if total > 0 else None,
-                         covered=bool(total > 0 and abs(dev) <= Z_COVER * total)))
+                         covered=bool(total > 0 and abs(dev) <= Z_COVER * total), range=list(rng),
+                         in_range=bool(rng[0] <= true <= rng[1])))
     print(f"{'recording':16s} {'effect':20s} {'true':>10s} {'fitted':>10s} {'± noise':>9s} {'± model':>9s} "
-          f"{'sev.err':>8s} {'z noise':>8s} {'z total':>8s} covered")
+          f"{'sev.err':>8s} {'z noise':>8s} {'z total':>8s} covered  range (in range)")
     for r in rows:
         f = lambda v, p=".3g": "—" if v is None else format(v, p)
         print(f"{r['recording']:16s} {r['effect']:20s} {f(r['true']):>10s} {f(r['fitted'], '.4g'):>10s} "
               f"{f(r['std_error'], '.2g'):>9s} {f(r['model_form_std'], '.2g'):>9s} {f(r['severity_error'], '+.2f'):>8s} "
-              f"{f(r['z_noise'], '+.1f'):>8s} {f(r['z_total'], '+.1f'):>8s} {'yes' if r['covered'] else 'NO'}")
+              f"{f(r['z_noise'], '+.1f'):>8s} {f(r['z_total'], '+.1f'):>8s} {'yes' if r['covered'] else 'NO ':7s}  "
+              f"{r['range'][0]:.3g} to {r['range'][1]:.3g} ({'yes' if r['in_range'] else 'NO'})")
     n = len(rows)
     within = sum(1 for r in rows if r["severity_error"] is not None and abs(r["severity_error"]) <= 0.2)
     cov = sum(1 for r in rows if r["covered"])
+    inr = sum(1 for r in rows if r["in_range"])
     print(f"\n{n} sizes: {within} within 20 % of the true severity; {cov} covered by "
-          f"value ± {Z_COVER:.3f} x sqrt(noise^2 + model form^2)")
+          f"value ± {Z_COVER:.3f} x sqrt(noise^2 + model form^2); {inr} inside the model-form range")
     if a.json:
-        a.json.write_text(json.dumps(dict(rows=rows, within_20_percent=within, covered=cov), indent=1) + "\n")
+        a.json.write_text(json.dumps(dict(rows=rows, within_20_percent=within, covered=cov, in_range=inr),
+                                     indent=1) + "\n")
     return 0
 
 

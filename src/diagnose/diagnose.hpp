@@ -90,6 +90,11 @@ struct FittedParameter {
   /// error. 0 without a budget (std_error is then all the value's uncertainty); NaN where the
   /// parameter has no standard error.
   double model_form_std = 0;
+  /// [unit] A finding's own parameter under a budget: the values the noise and the model-form
+  /// budget allow at 1 - alpha (model_form_range in fit_context.hpp; lopsided, since a relative
+  /// error of the model's change scales the size). NaN without a budget.
+  double model_form_lower = std::numeric_limits<double>::quiet_NaN();
+  double model_form_upper = std::numeric_limits<double>::quiet_NaN();
   bool at_bound = false;
   bool nuisance = false;
   /// A housing-sensor gain, profiled in closed form on every model rather than fitted

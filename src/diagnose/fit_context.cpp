@@ -1,5 +1,8 @@
 #include "diagnose/fit_context.hpp"
 
+#include "core/statistics.hpp"
+
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <limits>
@@ -75,6 +78,22 @@ std::vector<double> FitContext::fit_residual(const Candidate* cand, const Varian
   } catch (const SolverError&) {
     return {};
   }
+}
+
+SizeRange model_form_range(double value, double absent, double std_error, double model_form_std, double z,
+                           double box_lower, double box_upper) {
+  const double se = std::isfinite(std_error) ? std_error : 0.0;
+  const double s = value - absent;
+  double near = value, far = value;
+  if (model_form_std > 0 && s != 0) {
+    const double r = z * model_form_std / std::fabs(s);
+    near = absent + s / (1 + r);
+    far = r < 1 ? absent + s / (1 - r) : (s > 0 ? box_upper : box_lower);
+  }
+  SizeRange out;
+  out.lower = std::clamp(std::min(near, far) - z * se, box_lower, box_upper);
+  out.upper = std::clamp(std::max(near, far) + z * se, box_lower, box_upper);
+  return out;
 }
 
 SplitParameters split_parameters(const CandidateResult& r, const std::vector<double>& fixed_nuisance) {
@@ -208,6 +227,15 @@ CandidateResult fit_model(FitContext& ctx, const Candidate* cand, const Variant&
   const WindowScore held = ctx.cmp.score(amp, Half::HeldOut, fit.gains, HousingGains::Given);
   res.gains = fit.gains;
   set_model_form_std(ctx.cmp, lm, amp, fit.gains, res.parameters);
+  const double z = normal_quantile(ctx.alpha / 2);
+  for (std::size_t i = 0; i < nc && i < res.parameters.size(); ++i) {
+    FittedParameter& p = res.parameters[i];
+    if (!(p.model_form_std > 0) || cspec[i].saturates) continue;
+    const SizeRange range = model_form_range(p.value, cspec[i].null_value, p.std_error, p.model_form_std, z,
+                                             std::min(p.lower, p.upper), std::max(p.lower, p.upper));
+    p.model_form_lower = range.lower;
+    p.model_form_upper = range.upper;
+  }
   append_gains(ctx, fit, res);
   res.fit = summarize(fit);
   res.held_out = summarize(held);

@@ -17,6 +17,7 @@
 #include <exception>
 #include <memory>
 #include <mutex>
+#include <limits>
 #include <optional>
 #include <span>
 #include <string>
@@ -63,6 +64,7 @@ struct FitContext {
   std::shared_ptr<const ModelSpectra> nuisance_sim;  ///< the nuisance-fitted model, with sensor inputs
   std::vector<double> nuisance_gains;                ///< per channel
   int threads = 1;
+  double alpha = 0.01;                               ///< the diagnosis's (DiagnoseOptions::alpha)
 
   /// The parameters of every nuisance candidate, in the order of nuisance_x.
   std::vector<ParameterSpec> nuisance_specs() const;
@@ -82,6 +84,21 @@ struct FitContext {
                                    std::span<const double> nx, bool sensor_only = false,
                                    std::atomic<long>* tally = nullptr) const;
 };
+
+/// The values of an effect's size that the noise and the model-form budget allow at level
+/// 1 - alpha (z = z_{1-alpha/2}). The budget is a relative error of the model's change: the rig's
+/// change is (1 + delta) times the model's, so a size s = value - absent fitted to it stands for a
+/// true size s / (1 + delta). delta's standard deviation relative to s is model_form_std / |s|
+/// (the linearized propagation of FittedParameter::model_form_std), so the true size lies in
+/// s / (1 + z r) ... s / (1 - z r), r = model_form_std / |s|, unbounded (the box's edge) when
+/// z r >= 1; each end is widened by z std_error and kept in [box_lower, box_upper]. Without a
+/// model-form term (model_form_std 0 or NaN) it is value +- z std_error.
+struct SizeRange {
+  double lower = std::numeric_limits<double>::quiet_NaN();
+  double upper = std::numeric_limits<double>::quiet_NaN();
+};
+SizeRange model_form_range(double value, double absent, double std_error, double model_form_std, double z,
+                           double box_lower, double box_upper);
 
 /// A fitted model's parameter values split back into the candidate's own and the nuisance
 /// vector (gains excluded: they are profiled). A nuisance vector of the wrong length (the model

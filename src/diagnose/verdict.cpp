@@ -21,9 +21,11 @@ std::string param_text(const FittedParameter& p) {
   else if (p.saturates)
     std::snprintf(buf, sizeof buf, "%s = %.4g %s (saturating: not identifiable above the effect's onset)",
                   p.name.c_str(), p.value, p.unit == "1" ? "" : p.unit.c_str());
-  else if (p.model_form_std > 0 && !p.nuisance)  // a finding's size; NaN and 0 (no budget): the noise's error alone
-    std::snprintf(buf, sizeof buf, "%s = %.4g ± %.2g (model form ± %.2g) %s", p.name.c_str(), p.value, p.std_error,
-                  p.model_form_std, p.unit == "1" ? "" : p.unit.c_str());
+  else if (p.model_form_std > 0 && !p.nuisance && std::isfinite(p.model_form_lower))
+    // A finding's size under a budget: the range it allows (fit_context.hpp, model_form_range).
+    std::snprintf(buf, sizeof buf, "%s = %.4g ± %.2g (model form ± %.2g: %.3g to %.3g) %s", p.name.c_str(), p.value,
+                  p.std_error, p.model_form_std, p.model_form_lower, p.model_form_upper,
+                  p.unit == "1" ? "" : p.unit.c_str());
   else
     std::snprintf(buf, sizeof buf, "%s = %.4g ± %.2g %s", p.name.c_str(), p.value, p.std_error,
                   p.unit == "1" ? "" : p.unit.c_str());

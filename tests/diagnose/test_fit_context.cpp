@@ -1,0 +1,51 @@
+// fit_context.hpp: the size range a model-form budget allows (model_form_range).
+#include "diagnose/fit_context.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+namespace pw::diagnose {
+namespace {
+
+constexpr double kZ = 2.5758293035489;  // z_{1 - 0.01/2}
+
+TEST(ModelFormRange, AScaledChangeGivesTheSizeOverOnePlusOrMinusZTimesTheRelativeError) {
+  // A tooth stiffness factor 0.75 (absent: 1, size s = -0.25) with a model-form standard
+  // deviation 0.05 (r = z 0.05 / 0.25 = 0.515): the true size is s / (1 + r) to s / (1 - r),
+  // factors 1 - 0.25/1.515 = 0.8350 and 1 - 0.25/0.485 = 0.4845, and the noise widens each end
+  // by z standard errors.
+  const SizeRange r = model_form_range(0.75, 1.0, 0.0, 0.05, kZ, 0.05, 1.0);
+  const double rr = kZ * 0.05 / 0.25;
+  EXPECT_NEAR(r.upper, 1 - 0.25 / (1 + rr), 1e-12);
+  EXPECT_NEAR(r.lower, 1 - 0.25 / (1 - rr), 1e-12);
+  EXPECT_GT(0.75 - r.lower, r.upper - 0.75) << "lopsided: a smaller model change stands for a larger size";
+  const SizeRange n = model_form_range(0.75, 1.0, 0.01, 0.05, kZ, 0.05, 1.0);
+  EXPECT_NEAR(n.upper - r.upper, kZ * 0.01, 1e-12);
+  EXPECT_NEAR(r.lower - n.lower, kZ * 0.01, 1e-12);
+}
+
+TEST(ModelFormRange, ABudgetAsLargeAsTheSizeLeavesItUnboundedTowardsTheBoxEdge) {
+  // A runout of 0.5 um with a model-form standard deviation of 0.3 um: z r > 1, so any larger
+  // runout up to the box is allowed; the smallest is 0.5 / (1 + r).
+  const SizeRange r = model_form_range(0.5e-6, 0.0, 0.0, 0.3e-6, kZ, 1e-8, 5e-5);
+  EXPECT_DOUBLE_EQ(r.upper, 5e-5);
+  EXPECT_NEAR(r.lower, 0.5e-6 / (1 + kZ * 0.3 / 0.5), 1e-18);
+  // Growing from the absent value downwards (a friction below its documented level) alike.
+  const SizeRange f = model_form_range(0.04, 0.06, 0.0, 0.02, kZ, 0.0, 0.4);
+  EXPECT_DOUBLE_EQ(f.lower, 0.0);
+  EXPECT_NEAR(f.upper, 0.06 - 0.02 / (1 + kZ), 1e-15);
+}
+
+TEST(ModelFormRange, WithoutABudgetItIsTheNoisesIntervalKeptInTheBox) {
+  const SizeRange r = model_form_range(0.6, 1.0, 0.01, 0.0, kZ, 0.05, 1.0);
+  EXPECT_NEAR(r.lower, 0.6 - kZ * 0.01, 1e-12);
+  EXPECT_NEAR(r.upper, 0.6 + kZ * 0.01, 1e-12);
+  const SizeRange edge = model_form_range(0.99, 1.0, 0.01, 0.0, kZ, 0.05, 1.0);
+  EXPECT_DOUBLE_EQ(edge.upper, 1.0);
+  const SizeRange nan = model_form_range(0.6, 1.0, 0.01, std::nan(""), kZ, 0.05, 1.0);
+  EXPECT_NEAR(nan.upper, 0.6 + kZ * 0.01, 1e-12);
+}
+
+} // namespace
+} // namespace pw::diagnose
