@@ -1,0 +1,39 @@
+// Differential diagnosis: has a housing sensor's path changed since the baseline?
+// (docs/diagnose.md section 6b item 6.) A sensor whose sensitivity, mounting, cable or
+// conditioning changed reads everything it read in the baseline rho times as strongly, the
+// model-form part of it too; so the hypothesis is the baseline's own compared amplitudes in that
+// channel times rho, every other channel as the baseline's.
+#pragma once
+
+#include "diagnose/compare.hpp"
+
+#include <vector>
+
+namespace pw::diagnose {
+
+/// rho fitted for one housing channel, and the scores that decide whether it is a finding.
+struct SensorScale {
+  double rho = 1;          ///< [-] the channel reads the baseline's lines rho times as strongly
+  double ln_rho_std = 0;   ///< standard error of ln rho (curvature of the fit half's chi2)
+  double chi2_fit_1 = 0;   ///< fit half at rho = 1 (the baseline as it was)
+  double chi2_fit = 0;     ///< fit half at the fitted rho
+  double chi2_held_1 = 0;  ///< held-out half at rho = 1
+  double chi2_held = 0;    ///< held-out half at the fitted rho
+  double bound_held = 0;   ///< 1 - alpha/2 Monte-Carlo null of chi2_held (one fitted parameter)
+};
+
+/// Model amplitudes ([channel][bin], housing at gain 1) whose compared amplitudes in housing
+/// channel ch are rho (g0 a_i + e_i): the bins of ch's cells set to rho a + (rho - 1) e / g0
+/// (ModelComparison::score adds the baseline's offset e to g0 a). Other channels unchanged.
+std::vector<std::vector<double>> scaled_housing(const ModelComparison& cmp, const std::vector<std::vector<double>>& amp,
+                                                double g0, int ch, double rho);
+
+/// rho fitted on the fit half of `cmp` (which must hold a baseline) to the baseline's model
+/// `amp` at the baseline's gains: golden section in ln rho over [1/12, 12] (a sensor off by more
+/// than 12x is a broken channel, not a drift of its path), its standard error from the
+/// curvature as compare.cpp profiles a housing gain; then both halves at rho = 1 and at the fit,
+/// and the held-out null at the fit.
+SensorScale fit_sensor_scale(const ModelComparison& cmp, const std::vector<std::vector<double>>& amp,
+                             const std::vector<double>& gains, int ch, double alpha);
+
+} // namespace pw::diagnose
