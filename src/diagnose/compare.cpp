@@ -3,6 +3,7 @@
 #include "config/schema.hpp"
 
 #include "core/error.hpp"
+#include "core/golden_section.hpp"
 #include "core/statistics.hpp"
 #include "model/simulation.hpp"
 #include "model/validate.hpp"
@@ -504,25 +505,15 @@ WindowScore ModelComparison::score(const std::vector<std::vector<double>>& m, Ha
         gg[static_cast<std::size_t>(c)] = std::exp(lg);
         return chi2_of(residual_vector(m, w, gg), w, gg, fidelity_response(&m, gg), nullptr);
       };
-      const double lo0 = std::log(g0) - 0.4, hi0 = std::log(g0) + 0.4;
-      double lo = lo0, hi = hi0;
-      const double gr = (std::sqrt(5.0) - 1) / 2;
-      double x1 = hi - gr * (hi - lo), x2 = lo + gr * (hi - lo), f1 = cost(x1), f2 = cost(x2);
-      for (int it = 0; it < 30; ++it) {
-        if (f1 < f2) {
-          hi = x2, x2 = x1, f2 = f1, x1 = hi - gr * (hi - lo), f1 = cost(x1);
-        } else {
-          lo = x1, x1 = x2, f1 = f2, x2 = lo + gr * (hi - lo), f2 = cost(x2);
-        }
-      }
-      const double lg = 0.5 * (lo + hi);
+      // 30 reductions of a bracket of ln g0 +- 0.4: 0.618^30 ~ 5e-7 of its width.
+      const BracketedMinimum best = golden_section_minimum(cost, std::log(g0) - 0.4, std::log(g0) + 0.4, 30);
+      const double lg = best.x;
       gains[static_cast<std::size_t>(c)] = std::exp(lg);
       // Within the final bracket of an initial edge: the optimum may lie beyond it.
-      gain_edge[static_cast<std::size_t>(c)] = lg - lo0 <= hi - lo || hi0 - lg <= hi - lo;
-      // Standard error from the curvature of chi2 in ln g: se(ln g) = sqrt(2 / chi2'').
-      const double h = 1e-3;
-      const double curv = (cost(lg + h) - 2 * cost(lg) + cost(lg - h)) / (h * h);
-      gain_se[static_cast<std::size_t>(c)] = curv > 0 ? std::exp(lg) * std::sqrt(2.0 / curv) : 0.0;
+      gain_edge[static_cast<std::size_t>(c)] = best.at_edge;
+      // Standard error from the curvature of chi2 in ln g (step 1e-3 in ln g).
+      const double se_ln = chi2_curvature_std(cost, lg, 1e-3);
+      gain_se[static_cast<std::size_t>(c)] = std::isfinite(se_ln) ? std::exp(lg) * se_ln : 0.0;
     }
   }
   WindowScore s;

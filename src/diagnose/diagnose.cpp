@@ -845,24 +845,36 @@ private:
   void check_sensor_gain_change() {
     if (co_.baseline.empty() || d_.verdict != Verdict::NoMissingPhysics) return;
     const auto& amp = nominal_->amplitude;  // differential: the baseline's fitted model at this speed
+    // The baseline's gains, 1 where it has none; only channels the baseline gave a gain are tested.
     std::vector<double> gains(static_cast<std::size_t>(cmp().channels()), 1.0);
-    for (int ch = 0; ch < cmp().channels(); ++ch)
-      if (const auto g = o_.baseline_gains.find(d_.channels[static_cast<std::size_t>(ch)]);
-          cmp().is_housing(ch) && g != o_.baseline_gains.end())
-        gains[static_cast<std::size_t>(ch)] = g->second;
+    std::vector<bool> has_gain(gains.size(), false);
     for (int ch = 0; ch < cmp().channels(); ++ch) {
       const std::size_t c = static_cast<std::size_t>(ch);
-      if (!cmp().is_housing(ch) || !(gains[c] > 0) || !o_.baseline_gains.contains(d_.channels[c])) continue;
+      if (const auto g = o_.baseline_gains.find(d_.channels[c]); cmp().is_housing(ch) && g != o_.baseline_gains.end()) {
+        gains[c] = g->second;
+        has_gain[c] = gains[c] > 0;
+      }
+    }
+    for (int ch = 0; ch < cmp().channels(); ++ch) {
+      const std::size_t c = static_cast<std::size_t>(ch);
+      if (!has_gain[c]) continue;
       const SensorScale s = fit_sensor_scale(cmp(), amp, gains, ch, o_.alpha);
       say("the baseline's lines in " + d_.channels[c] + " read x" + fmt("%.4g", s.rho) + ": chi2 " +
           fmt("%.0f", s.chi2_fit_1) + " -> " + fmt("%.0f", s.chi2_fit) + " on the fit half, " + fmt("%.0f", s.chi2_held_1) +
-          " -> " + fmt("%.0f", s.chi2_held) + " held out (its bound " + fmt("%.0f", s.bound_held) + ")");
+          " -> " + fmt("%.0f", s.chi2_held) + " held out (its bound " + fmt("%.0f", s.bound_held) + ")" +
+          (s.at_bracket_edge ? "; at the edge of its range 1/12..12: a broken channel, not a changed path" : ""));
       const double lr = chi2_quantile(1.0, o_.alpha), z = normal_quantile(o_.alpha / 2);
       const bool moved = std::fabs(s.rho - 1) > kRecalibration && std::fabs(std::log(s.rho)) > z * s.ln_rho_std;
-      if (moved && s.chi2_fit_1 - s.chi2_fit > lr && s.chi2_held_1 - s.chi2_held > lr && s.chi2_held <= s.bound_held) {
+      // A ratio at the range's edge is a bound, not a size: not stated as a finding.
+      if (moved && !s.at_bracket_edge && s.chi2_fit_1 - s.chi2_fit > lr && s.chi2_held_1 - s.chi2_held > lr &&
+          s.chi2_held <= s.bound_held) {
         name_sensor_gain_change(d_.channels[c], s);
         return;
       }
+      if (s.at_bracket_edge && s.chi2_fit_1 - s.chi2_fit > lr)
+        d_.summary += " Note: " + d_.channels[c] + " reads the baseline's lines " +
+                      (s.rho > 1 ? "more than 12 times as strongly" : "less than 1/12 as strongly") +
+                      ": check that channel (its unit, sensitivity, cable and mounting) before trusting it.";
     }
   }
 
@@ -880,7 +892,7 @@ private:
     rho.unit = "1";
     rho.value = s.rho;
     rho.std_error = s.rho * s.ln_rho_std;
-    rho.lower = 1.0 / 12, rho.upper = 12, rho.initial = 1;
+    rho.lower = kMinSensorScale, rho.upper = kMaxSensorScale, rho.initial = 1;
     rho.moved = true;
     w.parameters.insert(w.parameters.begin(), rho);
     w.own_parameters = 1;

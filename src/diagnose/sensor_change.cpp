@@ -1,7 +1,8 @@
 #include "diagnose/sensor_change.hpp"
 
+#include "core/golden_section.hpp"
+
 #include <cmath>
-#include <limits>
 
 namespace pw::diagnose {
 
@@ -24,25 +25,15 @@ SensorScale fit_sensor_scale(const ModelComparison& cmp, const std::vector<std::
   auto chi2 = [&](double ln_rho, Half h) {
     return cmp.score(scaled_housing(cmp, amp, g0, ch, std::exp(ln_rho)), h, gains, HousingGains::Given).chi2;
   };
-  constexpr double kLnRange = 2.4849066497880004;  // ln 12
-  constexpr int kIterations = 40;                  // bracket 0.618^40 ~ 5e-9 of its width
-  double lo = -kLnRange, hi = kLnRange;
-  const double gr = (std::sqrt(5.0) - 1) / 2;
-  double x1 = hi - gr * (hi - lo), x2 = lo + gr * (hi - lo), f1 = chi2(x1, Half::Fit), f2 = chi2(x2, Half::Fit);
-  for (int it = 0; it < kIterations; ++it) {
-    if (f1 < f2) {
-      hi = x2, x2 = x1, f2 = f1, x1 = hi - gr * (hi - lo), f1 = chi2(x1, Half::Fit);
-    } else {
-      lo = x1, x1 = x2, f1 = f2, x2 = lo + gr * (hi - lo), f2 = chi2(x2, Half::Fit);
-    }
-  }
+  auto chi2_fit = [&](double ln_rho) { return chi2(ln_rho, Half::Fit); };
+  constexpr int kIterations = 40;  // bracket 0.618^40 ~ 5e-9 of its width
+  const BracketedMinimum best =
+      golden_section_minimum(chi2_fit, std::log(kMinSensorScale), std::log(kMaxSensorScale), kIterations);
   SensorScale s;
-  const double x = 0.5 * (lo + hi);
+  const double x = best.x;
   s.rho = std::exp(x);
-  // se(ln rho) = sqrt(2 / chi2''), chi2'' by central differences of step 1e-3 in ln rho.
-  const double h = 1e-3;
-  const double curv = (chi2(x + h, Half::Fit) - 2 * chi2(x, Half::Fit) + chi2(x - h, Half::Fit)) / (h * h);
-  s.ln_rho_std = curv > 0 ? std::sqrt(2.0 / curv) : std::numeric_limits<double>::infinity();
+  s.at_bracket_edge = best.at_edge;
+  s.ln_rho_std = chi2_curvature_std(chi2_fit, x, 1e-3);  // step 1e-3 in ln rho, as for a housing gain
   s.chi2_fit_1 = chi2(0.0, Half::Fit);
   s.chi2_fit = chi2(x, Half::Fit);
   s.chi2_held_1 = chi2(0.0, Half::HeldOut);

@@ -20,7 +20,15 @@ struct SensorScale {
   double chi2_held_1 = 0;  ///< held-out half at rho = 1
   double chi2_held = 0;    ///< held-out half at the fitted rho
   double bound_held = 0;   ///< 1 - alpha/2 Monte-Carlo null of chi2_held (one fitted parameter)
+  /// rho within the search's final bracket of kMinSensorScale or kMaxSensorScale: the channel
+  /// reads more than 12x off the baseline, a broken channel rather than a changed path, and rho
+  /// is only a bound.
+  bool at_bracket_edge = false;
 };
+
+/// The range rho is searched over [-]: a sensor off by more than 12x is a broken channel (wrong
+/// unit, a lost or shorted cable, a sensor off its mount), not a drift of its path.
+inline constexpr double kMinSensorScale = 1.0 / 12, kMaxSensorScale = 12;
 
 /// Model amplitudes ([channel][bin], housing at gain 1) whose compared amplitudes in housing
 /// channel ch are rho (g0 a_i + e_i): the bins of ch's cells set to rho a + (rho - 1) e / g0
@@ -29,10 +37,9 @@ std::vector<std::vector<double>> scaled_housing(const ModelComparison& cmp, cons
                                                 double g0, int ch, double rho);
 
 /// rho fitted on the fit half of `cmp` (which must hold a baseline) to the baseline's model
-/// `amp` at the baseline's gains: golden section in ln rho over [1/12, 12] (a sensor off by more
-/// than 12x is a broken channel, not a drift of its path), its standard error from the
-/// curvature as compare.cpp profiles a housing gain; then both halves at rho = 1 and at the fit,
-/// and the held-out null at the fit.
+/// `amp` at the baseline's gains: golden section in ln rho over [kMinSensorScale,
+/// kMaxSensorScale], its standard error from the curvature as compare.cpp profiles a housing
+/// gain; then both halves at rho = 1 and at the fit, and the held-out null at the fit.
 SensorScale fit_sensor_scale(const ModelComparison& cmp, const std::vector<std::vector<double>>& amp,
                              const std::vector<double>& gains, int ch, double alpha);
 
