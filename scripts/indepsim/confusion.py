@@ -4,7 +4,7 @@
     /usr/bin/python3 scripts/indepsim/confusion.py DIR --planetwear PATH/planetwear
         [--jobs N] [--threads 1] [--include-held-out] [--calibration-per-rig | --calibrate [--rig-elements E,...] | --differential]
         [--timeout S]
-        [--only NAME,...] [--gearset G] [--dry-run] [--check-reader]
+        [--only NAME,...] [--gearset G] [--sensors all|rig] [--dry-run] [--check-reader]
 
 For each recording DIR/<gearset>/recordings/rec_NN.csv (sidecar rec_NN.json) it runs
     planetwear diagnose -c DIR/<gearset>/gearset.toml -r rec.csv --meta rec.json
@@ -29,6 +29,11 @@ diagnosed with --calibration (docs/diagnose.md section 6a).
 operating point's healthy baseline (truth.json "baseline"; also when that baseline is held out:
 it is the rig's reference run), `--baseline B.csv --baseline-meta B.json` (docs/diagnose.md
 section 6b); outputs under DIR/diagnosis_diff/.
+
+--sensors rig: the sensor set a test rig usually has, the two speed encoders and the housing
+accelerometer; the line-of-action mesh accelerations (which need instrumented gears or
+telemetry) are left out. Each recording (and baseline) is read through a copy of its sidecar
+without those columns, written under the output directory; outputs go to <outroot>_rigsensors/.
 """
 import argparse
 import concurrent.futures as cf
@@ -40,6 +45,25 @@ import sys
 import time
 
 NUISANCE_PREFIXES = ("stiffness.scale", "contact.mesh_damping_ratio", "sensor.")
+# Quantities a test rig rarely measures (instrumented gears, slip rings or telemetry).
+MESH_QUANTITIES = ("mesh_acceleration_sun_planet", "mesh_acceleration_planet_ring")
+SENSOR_SETS = ("all", "rig")
+
+
+def sidecar(corpus, csv_rel, outroot, sensors):
+    """The sidecar a recording is read through: its own for --sensors all; for rig, a copy
+    under DIR/<outroot>/sidecars/ without the mesh-acceleration columns."""
+    own = os.path.join(corpus, os.path.splitext(csv_rel)[0] + ".json")
+    if sensors == "all":
+        return own
+    with open(own) as f:
+        meta = json.load(f)
+    meta["columns"] = {k: v for k, v in meta["columns"].items() if v.get("quantity") not in MESH_QUANTITIES}
+    path = os.path.join(corpus, outroot, "sidecars", os.path.splitext(csv_rel)[0] + ".json")
+    os.makedirs(os.path.dirname(path), exist_ok=True)
+    with open(path, "w") as f:
+        json.dump(meta, f, indent=1)
+    return path
 
 
 def find_key(obj, names):
@@ -94,7 +118,7 @@ def read_report(path):
     return label, verdict, summary, overrides
 
 
-def run_one(exe, corpus, key, rec, outroot, threads, timeout, extra_args=()):
+def run_one(exe, corpus, key, rec, outroot, threads, timeout, extra_args=(), sensors="all"):
     g, name = rec["gearset"], rec["name"]
     out = os.path.join(corpus, outroot, g, name)
     rj = os.path.join(out, "report.json")
@@ -107,7 +131,7 @@ def run_one(exe, corpus, key, rec, outroot, threads, timeout, extra_args=()):
     os.makedirs(out, exist_ok=True)
     csvp = os.path.join(corpus, rec["csv"])
     cmd = [exe, "diagnose", "-c", os.path.join(corpus, g, "gearset.toml"), "-r", csvp,
-           "--meta", os.path.splitext(csvp)[0] + ".json", "-o", out, "--threads", str(threads), "--no-plots", "-q"]
+           "--meta", sidecar(corpus, rec["csv"], outroot, sensors), "-o", out, "--threads", str(threads), "--no-plots", "-q"]
     cmd += list(extra_args)
     env = dict(os.environ, OMP_NUM_THREADS=str(threads))
     t0 = time.time()
@@ -180,6 +204,8 @@ def main(argv=None):
     ap.add_argument("--timeout", type=float, default=3 * 3600)
     ap.add_argument("--only", default="", help="comma-separated gearset/rec_NN keys")
     ap.add_argument("--gearset", default="")
+    ap.add_argument("--sensors", choices=SENSOR_SETS, default="all",
+                    help="all: every column of the sidecar; rig: encoders and housing only")
     ap.add_argument("--dry-run", action="store_true", help="score existing reports only, run nothing")
     ap.add_argument("--check-reader", action="store_true",
                     help="only check that planetwear's reader accepts each recording (stops each run after "
@@ -212,6 +238,8 @@ def main(argv=None):
                else "diagnosis_diff" if a.differential else "diagnosis")
     if a.rig_elements:
         outroot += "_" + a.rig_elements.replace(",", "+")
+    if a.sensors != "all":
+        outroot += "_" + a.sensors + "sensors"
     results = {}
     t_start = time.time()
     done_times = []
@@ -240,7 +268,8 @@ def main(argv=None):
                     progress(k, "cached-refused", ("refused", "refused", open(rf).read().strip(), []), 0.0)
             return
         with cf.ThreadPoolExecutor(max_workers=max(1, a.jobs)) as ex:
-            futs = [ex.submit(run_one, a.planetwear, a.corpus, k, recs[k], outroot, a.threads, a.timeout, extra(k))
+            futs = [ex.submit(run_one, a.planetwear, a.corpus, k, recs[k], outroot, a.threads, a.timeout, extra(k),
+                              a.sensors)
                     for k in klist]
             for fu in cf.as_completed(futs):
                 key, how, res, dt, _ = fu.result()
@@ -273,7 +302,7 @@ def main(argv=None):
                     cmd += ["--rig-elements", a.rig_elements]
                 for b in bases:
                     csvp = os.path.join(a.corpus, recs[b]["csv"])
-                    cmd += ["-r", csvp, "--meta", os.path.splitext(csvp)[0] + ".json"]
+                    cmd += ["-r", csvp, "--meta", sidecar(a.corpus, recs[b]["csv"], outroot, a.sensors)]
                 t0 = time.time()
                 p = subprocess.run(cmd, capture_output=True, text=True,
                                    env=dict(os.environ, OMP_NUM_THREADS=str(a.threads)))
@@ -287,8 +316,8 @@ def main(argv=None):
         jobs_for(keys, extra=lambda k: ["--calibration", cal_files[recs[k]["gearset"]]])
     elif a.differential:
         def baseline_args(k):
-            csvp = os.path.join(a.corpus, recs[recs[k]["baseline"]]["csv"])
-            return ["--baseline", csvp, "--baseline-meta", os.path.splitext(csvp)[0] + ".json"]
+            b = recs[recs[k]["baseline"]]["csv"]
+            return ["--baseline", os.path.join(a.corpus, b), "--baseline-meta", sidecar(a.corpus, b, outroot, a.sensors)]
         keys[:] = [k for k in keys if recs[k]["role"] != "baseline" and recs[k].get("baseline")]
         jobs_for(keys, extra=baseline_args)
     else:
