@@ -404,6 +404,7 @@ void diagnose_and_report(const DiagnoseCommandOptions& o_in, const std::string& 
   if (calibration && !baseline) ctx.calibration_at_bound = calibration->at_bound;
   if (reference) ctx.baseline_path = reference->recording;
   if (baseline) ctx.baseline_summary = baseline->summary;
+  if (baseline) ctx.baseline_at_bound = baseline->at_bound;
   ctx.command_line = command_line;
   ctx.version = version_string();
   ctx.plots_available = false;

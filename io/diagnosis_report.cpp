@@ -166,6 +166,13 @@ void add_header(Doc& doc, const dg::Diagnosis& d, const ReportContext& ctx) {
     doc.p("Differential diagnosis: the recording is compared with the model fitted to the baseline plus what that "
           "model missed on the baseline, cell by cell (" + ctx.baseline_summary +
           "). Findings are changes from the baseline; a fault already present in the baseline cannot be seen.");
+  if (!ctx.baseline_at_bound.empty()) {
+    std::string list;
+    for (const auto& s : ctx.baseline_at_bound) list += (list.empty() ? "" : "; ") + s;
+    doc.p("The model fitted to the baseline is at the edge of its range: " + list +
+          ". Those values are limits, not fits: the model cannot reach the baseline's level there, and the recording's "
+          "change is judged, and a finding's size stated, against that limited model.");
+  }
 }
 
 void add_kinematics(Doc& doc, const dg::Diagnosis& d) {
@@ -506,6 +513,7 @@ void write_diagnosis_report(const std::filesystem::path& dir, const dg::Diagnosi
   j["calibration"] = ctx.calibration_path;
   j["calibration_at_bound"] = ctx.calibration_at_bound;
   j["baseline"] = ctx.baseline_path;
+  j["baseline_at_bound"] = ctx.baseline_at_bound;
   j["calibration_reference"] = ctx.calibration_reference;
   j["command_line"] = ctx.command_line;
   j["verdict"] = dg::to_string(d.verdict);

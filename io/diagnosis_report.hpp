@@ -27,6 +27,7 @@ struct ReportContext {
   std::vector<std::string> calibration_at_bound;  ///< its calibrated values that are bounds, not fits
   std::string baseline_path;     ///< --baseline recording (differential diagnosis), empty: none
   std::string baseline_summary;  ///< diagnose::BaselineReference::summary
+  std::vector<std::string> baseline_at_bound;  ///< diagnose::BaselineReference::at_bound
   /// With a calibration: which reference it was judged against (its own recording at this
   /// operating point, or its budget alone) and why.
   std::string calibration_reference;

@@ -3,6 +3,8 @@
 #include "diagnose/calibration.hpp"
 #include "diagnose/order_analysis.hpp"
 
+#include "core/format.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -20,6 +22,16 @@ BaselineCell baseline_cell(const CalibrationCell& c) {
   b.model = c.model;
   b.discretization = c.discretization;
   return b;
+}
+
+std::vector<std::string> bound_texts(const std::vector<FittedParameter>& parameters) {
+  std::vector<std::string> out;
+  for (const FittedParameter& p : parameters) {
+    if (!p.at_bound || p.sensor_gain) continue;
+    const bool upper = std::fabs(p.value - p.upper) <= std::fabs(p.value - p.lower);
+    out.push_back(p.name + " at its " + (upper ? "upper" : "lower") + " bound " + fmt("%.4g", upper ? p.upper : p.lower));
+  }
+  return out;
 }
 
 BaselineReference fit_baseline(const Recording& baseline, const model::SimulationConfig& config,
@@ -41,6 +53,7 @@ BaselineReference fit_baseline(const Recording& baseline, const model::Simulatio
   ref.speed_rpm = d.speed.input_rpm;
   ref.revolutions = d.window_revolutions;
   ref.noise_test = d.verdict;
+  ref.at_bound = bound_texts(d.nuisance.parameters);
   char buf[300];
   std::snprintf(buf, sizeof buf,
                 "baseline at %.6g rpm, %zu cells; its nuisance-fitted model leaves chi2 %.0f (held out) against a "

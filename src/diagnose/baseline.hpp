@@ -33,7 +33,15 @@ struct BaselineReference {
   double revolutions = 0;              ///< carrier revolutions per half of its analysis
   Verdict noise_test = Verdict::NoMissingPhysics;  ///< the baseline's own noise test (for the report)
   std::string summary;                 ///< one sentence on the baseline and its fit
+  /// The baseline's nuisance values that ended at an edge of their box ("stiffness.scale at its
+  /// upper bound 2"): limits, not fits. The model the recording's change is judged by then cannot
+  /// reach the baseline's level, and a finding's size is stated against that limited model.
+  std::vector<std::string> at_bound;
 };
+
+/// "<name> at its upper|lower bound <value>" for each parameter at a bound (the nearer end;
+/// sensor gains have no box and are skipped).
+std::vector<std::string> bound_texts(const std::vector<FittedParameter>& parameters);
 
 /// Offset of one cell: the mean over both halves of the de-biased amplitude sqrt(max(A^2 - s^2, 0))
 /// (the estimator the comparison uses for the recording's own variances) minus the fitted model's

@@ -368,5 +368,22 @@ TEST(CalibratedDiscrepancy, ALineTheLeadAddsIsJudgedAgainstTheDiscrepancyAtTheLe
   EXPECT_EQ(cmp.null_quantile(lead, {}, Half::HeldOut, kAlphaHalf, 1), q_at_ref);
 }
 
+TEST(Baseline, NuisanceValuesAtAnEdgeOfTheirBoxAreListedWithThatEdgeAndGainsAreNot) {
+  auto param = [](std::string name, double value, double lower, double upper, bool at_bound, bool gain = false) {
+    FittedParameter p;
+    p.name = std::move(name);
+    p.value = value, p.lower = lower, p.upper = upper, p.at_bound = at_bound, p.sensor_gain = gain;
+    return p;
+  };
+  const std::vector<FittedParameter> ps = {param("stiffness.scale", 1.9999, 0.5, 2.0, true),
+                                           param("contact.mesh_damping_ratio", 0.0021, 0.002, 0.05, true),
+                                           param("friction", 0.06, 0.0, 0.3, false),
+                                           param("sensor.gain_m_s2_per_N", 3e-3, 0.0, 1.0, true, true)};
+  const std::vector<std::string> t = bound_texts(ps);
+  ASSERT_EQ(t.size(), 2u);
+  EXPECT_EQ(t[0], "stiffness.scale at its upper bound 2");
+  EXPECT_EQ(t[1], "contact.mesh_damping_ratio at its lower bound 0.002");
+}
+
 } // namespace
 } // namespace pw::diagnose
