@@ -751,7 +751,7 @@ RecordStats record(Integration& r, int cycles, SimulationResult& out, const Outp
     const double w_sun = p.sun_speed_rad_s + sun_encoder.step(sun_speed_change(r));
     const double w_carrier = p.carrier_speed_rad_s + carrier_encoder.step(carrier_speed_change(r));
     const auto& ms = sys.mesh_states();
-    loads.add(ms);
+    if (sel.mesh_load_summary) loads.add(ms);
     if (held_by_rig) {
       stats.mean_held_angle_rad += held.dot(r.st.q) / static_cast<double>(nrec);
       stats.mean_held_speed_rad_s += held.dot(r.st.v) / static_cast<double>(nrec);
@@ -800,9 +800,11 @@ RecordStats record(Integration& r, int cycles, SimulationResult& out, const Outp
                          "simulation time at which the recording starts: time_history/time + record_start_time is "
                          "the time of the absolute angles (sun/angle, carrier/angle)",
                          t0});
-  stats.mesh_loads = loads.scalars();
-  for (int i = 0; i < N; ++i) stats.mean_sun_planet_force_N.push_back(
-        loads.mean_force_N(dynamics::MeshId{i, dynamics::MeshKind::SunPlanet}.index()));
+  if (sel.mesh_load_summary) {
+    stats.mesh_loads = loads.scalars();
+    for (int i = 0; i < N; ++i)
+      stats.mean_sun_planet_force_N.push_back(loads.mean_force_N(dynamics::MeshId{i, dynamics::MeshKind::SunPlanet}.index()));
+  }
   return stats;
 }
 
@@ -915,7 +917,7 @@ SimulationResult simulate(const SimulationConfig& c, const ProgressFn& progress,
   const std::vector<double>& mean_f = rec.mean_sun_planet_force_N;
   double tot = 0;
   for (double x : mean_f) tot += x;
-  for (int i = 0; i < N; ++i)
+  for (int i = 0; i < N && !mean_f.empty(); ++i)  // empty: OutputSelection::mesh_load_summary off
     scalar("load_sharing_factor/" + std::to_string(i), "1", "N mean(F_sp,i) / sum_k mean(F_sp,k)",
            tot != 0 ? N * mean_f[i] / tot : 0.0);
   for (const Scalar& sc : rec.mesh_loads) r.scalars.push_back(sc);

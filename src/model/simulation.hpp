@@ -77,6 +77,11 @@ struct OutputSelection {
   /// Store every k-th time step [-], k >= 1 (campaigns' output.time_history_decimation).
   /// SimulationResult::time_step_s is then k times the integration step.
   int decimation = 1;
+  /// The mesh-load scalars (mesh_load/*: mean and largest force, dynamic factor, Hertzian
+  /// contact pressure; load_sharing_factor/*), gathered over every loaded tooth pair at every
+  /// recorded step. false skips that pass and leaves those scalars out (the diagnosis, which
+  /// reads only time histories: 4 % of its time, perf, docs/benchmark.md session 27).
+  bool mesh_load_summary = true;
   bool selects(const std::string& channel) const;
 };
 

@@ -313,6 +313,23 @@ TEST(SimulationOutput, HousingChannelAloneEqualsTheFullRunsWithoutDecimation) {
   EXPECT_EQ(channel(part, "housing/acceleration"), channel(full, "housing/acceleration"));
 }
 
+TEST(SimulationOutput, WithoutTheMeshLoadSummaryTheTimeHistoriesAreBitIdenticalAndItsScalarsAbsent) {
+  const SimulationConfig c = fast_seed(2);
+  const SimulationResult full = simulate(c);
+  OutputSelection sel;
+  sel.mesh_load_summary = false;
+  const SimulationResult part = simulate(c, {}, sel);
+  ASSERT_EQ(part.channels.size(), full.channels.size());
+  for (std::size_t k = 0; k < full.channels.size(); ++k)
+    EXPECT_EQ(part.channels[k].values, full.channels[k].values) << full.channels[k].name;
+  for (const Scalar& s : part.scalars) {
+    EXPECT_NE(s.name.rfind("mesh_load/", 0), 0u) << s.name;
+    EXPECT_NE(s.name.rfind("load_sharing_factor/", 0), 0u) << s.name;
+  }
+  EXPECT_EQ(scalar(part, "efficiency"), scalar(full, "efficiency"));
+  EXPECT_EQ(scalar(part, "time_steps"), scalar(full, "time_steps"));
+}
+
 TEST(SimulationOutput, UnknownChannelOrDecimationBelowOneIsAnInputErrorNamingTheKey) {
   const SimulationConfig c = fast_seed(1);
   try {
