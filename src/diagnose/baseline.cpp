@@ -28,8 +28,8 @@ std::vector<std::string> bound_texts(const std::vector<FittedParameter>& paramet
   std::vector<std::string> out;
   for (const FittedParameter& p : parameters) {
     if (!p.at_bound || p.sensor_gain) continue;
-    const bool upper = std::fabs(p.value - p.upper) <= std::fabs(p.value - p.lower);
-    out.push_back(p.name + " at its " + (upper ? "upper" : "lower") + " bound " + fmt("%.4g", upper ? p.upper : p.lower));
+    const double b = p.nearer_bound();
+    out.push_back(p.name + " at its " + (b == p.upper ? "upper" : "lower") + " bound " + fmt("%.4g", b));
   }
   return out;
 }

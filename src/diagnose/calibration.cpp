@@ -176,7 +176,7 @@ std::vector<std::string> parameters_at_bound(const std::vector<std::vector<Fitte
       Count& c = counts[p.name];
       if (!p.at_bound) continue;
       // at_bound does not say which end: the nearer one.
-      if (std::abs(p.value - p.upper) <= std::abs(p.value - p.lower)) ++c.upper, c.upper_value = p.upper;
+      if (p.nearer_bound() == p.upper) ++c.upper, c.upper_value = p.upper;
       else ++c.lower, c.lower_value = p.lower;
     }
   std::vector<std::string> out;

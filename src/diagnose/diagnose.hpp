@@ -46,6 +46,7 @@
 #include "diagnose/locate.hpp"
 #include "diagnose/recording.hpp"
 
+#include <cmath>
 #include <functional>
 #include <limits>
 #include <map>
@@ -105,6 +106,8 @@ struct FittedParameter {
   /// Saturating parameter of the winner: the smallest value whose fit-half chi2 is within
   /// chi2_{1-alpha}(1) of the fit (profile along the line from 'absent' to the fit); NaN if not computed.
   double lower_limit = std::numeric_limits<double>::quiet_NaN();
+  /// The end of the box nearer the value (upper on a tie): which bound an at_bound parameter is at.
+  double nearer_bound() const { return std::fabs(value - upper) <= std::fabs(value - lower) ? upper : lower; }
 };
 
 /// Chi-square of one model on one half.

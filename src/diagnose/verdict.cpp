@@ -40,7 +40,7 @@ bool is_gain(const FittedParameter& p) { return p.sensor_gain; }
 /// bracket of their profile search.
 std::string at_bound_text(const FittedParameter& p) {
   if (is_gain(p)) return p.name + " at the edge of its profile search (" + fmt("%.4g", p.value) + ")";
-  const double b = std::fabs(p.value - p.upper) < std::fabs(p.value - p.lower) ? p.upper : p.lower;
+  const double b = p.nearer_bound();
   return p.name + " at its bound " + fmt("%.4g", b);
 }
 
