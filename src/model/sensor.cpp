@@ -19,32 +19,49 @@ double wrap_angle(double a) {
   return r;
 }
 
-double sensor_window(double distance_rad, SensorWindow window, double width_rad) {
+WindowWeight::WindowWeight(SensorWindow window, double width_rad)
+    : window_(window), width_rad_(width_rad), s2_(2 * width_rad * width_rad) {
+  // The images' sum at d = 0: the normalization w(0) = 1, the same for every distance.
+  for (int k = -2; k <= 2; ++k) {
+    const double zk = kTwoPi * k;
+    w0_ += std::exp(-zk * zk / s2_);
+  }
+}
+
+double WindowWeight::operator()(double distance_rad) const {
   const double d = wrap_angle(distance_rad);
-  if (window == SensorWindow::Hann) {
-    const double h = std::sqrt(2 * kPi) * width_rad;  // same area as the Gaussian
+  if (window_ == SensorWindow::Hann) {
+    const double h = std::sqrt(2 * kPi) * width_rad_;  // same area as the Gaussian
     if (std::fabs(d) >= h) return 0.0;
     const double c = std::cos(kPi * d / (2 * h));
     return c * c;
   }
   // Wrapped Gaussian: periodic and smooth for any width; the images at
   // +-2 pi, +-4 pi matter only for wide windows. Normalized to w(0) = 1.
-  const double s2 = 2 * width_rad * width_rad;
-  double w = 0, w0 = 0;
+  double w = 0;
   for (int k = -2; k <= 2; ++k) {
-    const double dk = d + kTwoPi * k, zk = kTwoPi * k;
-    w += std::exp(-dk * dk / s2);
-    w0 += std::exp(-zk * zk / s2);
+    const double dk = d + kTwoPi * k;
+    w += std::exp(-dk * dk / s2_);
   }
-  return w / w0;
+  return w / w0_;
 }
+
+double sensor_window(double distance_rad, SensorWindow window, double width_rad) {
+  return WindowWeight(window, width_rad)(distance_rad);
+}
+
+namespace {
+double housing_acceleration(const SensorSettings& s, const WindowWeight& w, std::span<const double> psi,
+                            double theta_c, std::span<const double> dF) {
+  double a = 0;
+  for (std::size_t i = 0; i < psi.size(); ++i) a += w(psi[i] + theta_c - s.angle_rad) * dF[i];
+  return s.gain_m_s2_per_N * a;
+}
+} // namespace
 
 double housing_acceleration(const SensorSettings& s, std::span<const double> psi, double theta_c,
                             std::span<const double> dF) {
-  double a = 0;
-  for (std::size_t i = 0; i < psi.size(); ++i)
-    a += sensor_window(psi[i] + theta_c - s.angle_rad, s.window, s.window_width_rad) * dF[i];
-  return s.gain_m_s2_per_N * a;
+  return housing_acceleration(s, WindowWeight(s.window, s.window_width_rad), psi, theta_c, dF);
 }
 
 std::vector<double> housing_acceleration_history(const SensorSettings& s, std::span<const double> psi,
@@ -64,9 +81,10 @@ std::vector<double> housing_acceleration_history(const SensorSettings& s, std::s
     mean[i] = n > 0 ? m / static_cast<double>(n) : 0.0;
   }
   std::vector<double> out(n), dF(psi.size());
+  const WindowWeight w(s.window, s.window_width_rad);
   for (std::size_t k = 0; k < n; ++k) {
     for (std::size_t i = 0; i < psi.size(); ++i) dF[i] = force[i][k] - mean[i];
-    out[k] = housing_acceleration(s, psi, theta_c[k], dF);
+    out[k] = housing_acceleration(s, w, psi, theta_c[k], dF);
   }
   return out;
 }

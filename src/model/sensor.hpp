@@ -36,6 +36,24 @@ namespace pw::model {
 /// Angle wrapped to (-pi, pi] [rad].
 double wrap_angle(double angle_rad);
 
+/// The window w(d) of one shape and width (SensorWindow; width sigma [rad]), its
+/// normalization w(0) = 1 computed once: a record's history calls it for every
+/// sample and planet (the wrapped Gaussian's five-image normalization had been
+/// half of a diagnosis's exp calls, docs/benchmark.md session 27).
+class WindowWeight {
+public:
+  WindowWeight(SensorWindow window, double width_rad);
+  /// w(d) in [0, 1] for the angular distance d [rad] of a planet from the sensor
+  /// (any angle; wrapped internally).
+  double operator()(double distance_rad) const;
+
+private:
+  SensorWindow window_;
+  double width_rad_;
+  double s2_;        ///< 2 sigma^2 [rad^2]
+  double w0_ = 0;    ///< the wrapped Gaussian's image sum at d = 0
+};
+
 /// Window weight w(d) in [0, 1], w(0) = 1, for the angular distance d [rad]
 /// of a planet from the sensor (any angle; wrapped internally).
 double sensor_window(double distance_rad, SensorWindow window, double width_rad);
