@@ -221,6 +221,18 @@ std::vector<std::size_t> shortlist(const std::vector<Screen>& screens, const std
   return out;
 }
 
+std::vector<std::size_t> screened_rivals(const std::vector<Screen>& screens, const std::vector<std::size_t>& best,
+                                         const std::vector<std::size_t>& shortlist, double lead_S, double margin) {
+  std::vector<std::size_t> out;
+  for (std::size_t i : best) {
+    const Screen& sc = screens[i];
+    if (sc.failed || sc.S <= 0 || sc.S < lead_S - margin) continue;
+    if (std::find(shortlist.begin(), shortlist.end(), i) != shortlist.end()) continue;
+    out.push_back(i);
+  }
+  return out;
+}
+
 namespace {
 /// A shortlisted variant whose start comes from the grid: one parameter, simulated.
 bool gridded(const Screen& sc) { return !sc.failed && sc.spec.size() == 1 && !sc.c->sensor_only(); }

@@ -39,6 +39,16 @@ std::vector<std::size_t> best_per_candidate(const std::vector<Screen>& screens);
 std::vector<std::size_t> shortlist(const std::vector<Screen>& screens, const std::vector<std::size_t>& best,
                                    int max_candidates);
 
+/// Of `best`, the candidates the shortlist's cap left unfitted that the screening cannot tell
+/// from the lead (predicted improvement `lead_S`): S > 0 and S >= lead_S - margin, where margin
+/// = chi2_{1-alpha}(1), the smallest chi2 difference one more parameter must make to count
+/// (ranking.hpp's test). Without them the verdict's rival test (condition (d)) compares the
+/// lead with the candidates the cap happened to keep: seed3p rec_41, a planet tooth the
+/// screening put at 17.0 against a ring tooth's 18.5, was named ring_tooth_damage with the
+/// planet tooth never fitted (docs/diagnose-log.md, session 27). Largest S first.
+std::vector<std::size_t> screened_rivals(const std::vector<Screen>& screens, const std::vector<std::size_t>& best,
+                                         const std::vector<std::size_t>& shortlist, double lead_S, double margin);
+
 class Screening {
 public:
   Screening(FitContext& ctx, double alpha);
@@ -60,6 +70,11 @@ public:
   /// Those fitted (the free function below).
   std::vector<std::size_t> shortlist(const std::vector<std::size_t>& best, int max_candidates) const {
     return diagnose::shortlist(screens_, best, max_candidates);
+  }
+  /// The unfitted rivals of a lead (the free function below).
+  std::vector<std::size_t> screened_rivals(const std::vector<std::size_t>& best, const std::vector<std::size_t>& shortlist,
+                                           double lead_S, double margin) const {
+    return diagnose::screened_rivals(screens_, best, shortlist, lead_S, margin);
   }
   /// One-parameter candidates respond far from linearly over their box (a 10 % torque ripple
   /// swings the seed's sun speed by +-16 % through resonances; a softened tooth changes the

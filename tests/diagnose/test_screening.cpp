@@ -49,5 +49,33 @@ TEST(Screening, SensorOnlyAndVisibleSaturatingCandidatesAreAlwaysFittedBeyondThe
   EXPECT_EQ(std::find(fitted.begin(), fitted.end(), 3u), fitted.end()) << "friction is beyond the cap of 1";
 }
 
+TEST(Screening, UnfittedCandidatesWithinTheMarginOfTheLeadsPredictedImprovementAreItsRivals) {
+  // seed3p rec_41 (docs/diagnose-log.md, session 27): the cap of 4 kept carrier runout, pin
+  // error, torque ripple and ring tooth (18.5); sun tooth (17.2) and planet tooth (17.0, the
+  // truth) were not fitted. With margin chi2_{0.99}(1) = 6.63 both are rivals of a ring-tooth
+  // lead; friction at 5 is not (18.5 - 6.63 = 11.9), and neither is S = 0.
+  const std::vector<Screen> screens{screen("carrier_runout", 60),   screen("pin_error", 40),
+                                    screen("torque_ripple", 25),    screen("ring_tooth_damage", 18.5),
+                                    screen("sun_tooth_damage", 17.2), screen("planet_tooth_damage", 17.0),
+                                    screen("friction", 5),          screen("backlash", 0)};
+  for (const Screen& s : screens) ASSERT_NE(s.c, nullptr);
+  const std::vector<std::size_t> best = best_per_candidate(screens);
+  const std::vector<std::size_t> fitted = shortlist(screens, best, 4);
+  ASSERT_EQ(fitted, (std::vector<std::size_t>{0, 1, 2, 3}));
+  const double margin = 6.63;
+  EXPECT_EQ(screened_rivals(screens, best, fitted, 18.5, margin), (std::vector<std::size_t>{4, 5}));
+  // A lead far ahead of every unfitted candidate has none.
+  EXPECT_TRUE(screened_rivals(screens, best, fitted, 60, margin).empty());
+  // A lead that is not the top of the screening reaches down from its own S, not from the top's.
+  EXPECT_EQ(screened_rivals(screens, best, fitted, 11, margin), (std::vector<std::size_t>{4, 5, 6}));
+}
+
+TEST(Screening, AFailedScreenIsNeverARival) {
+  std::vector<Screen> screens{screen("ring_tooth_damage", 18.5), screen("planet_tooth_damage", 18.0)};
+  screens[1].failed = true;
+  const std::vector<std::size_t> best = best_per_candidate(screens);
+  EXPECT_TRUE(screened_rivals(screens, best, shortlist(screens, best, 1), 18.5, 6.63).empty());
+}
+
 } // namespace
 } // namespace pw::diagnose
