@@ -340,6 +340,33 @@ TEST(Verdict, ARivalBeyondTheConfidenceBicMarginDoesNotBlockTheFinding) {
   EXPECT_GT(far.lead.posterior, 0.995);
 }
 
+TEST(Verdict, ANonCountingRivalThatImprovesBothHalvesAsWellBlocksTheName) {
+  // seed3p rec_41 (docs/diagnose-log.md, session 28): a sun tooth at 0.973, within 5 % of
+  // 'absent' (so it does not count), fitted 36 better in BIC than the named ring tooth. The
+  // nuisance model refitted reaches as low as the lead: the lead's gain is not shown to be its
+  // physics. Its BIC 36 below the lead's: posterior ~ e^-18, far below 0.995.
+  Diagnosis d = friction_with_rival(-36);
+  d.candidates[1].non_null = false;
+  ASSERT_FALSE(d.candidates[1].counts());
+  decide_verdict(d, inputs(1100));
+  EXPECT_EQ(d.verdict, Verdict::Unexplained);
+  EXPECT_EQ(d.lead.rival, "worn_profile");
+  EXPECT_LT(d.lead.posterior, 1e-6);
+  EXPECT_NE(d.summary.find("do not tell it from worn_profile"), std::string::npos) << d.summary;
+}
+
+TEST(Verdict, ACandidateThatDoesNotImproveBothHalvesIsNoRival) {
+  // The same rival, its held-out improvement below chi2_{1-alpha}(k): not an explanation of
+  // the recording, so it does not block the lead however low its BIC.
+  Diagnosis d = friction_with_rival(-36);
+  d.candidates[1].non_null = false;
+  d.candidates[1].holds = false;
+  decide_verdict(d, inputs(1100));
+  EXPECT_EQ(d.verdict, Verdict::MissingPhysicsFound);
+  EXPECT_EQ(d.winner, 0);
+  EXPECT_TRUE(d.lead.rival.empty());
+}
+
 TEST(Verdict, ANearAliasThatAlsoPassesItsOwnNullUnderTheCalibrationMakesTheLeadALeadOnly) {
   // Condition (e): the lead passes (a) (1050 <= 1110) and so does a fitted near-alias scored the
   // same way (1080 <= 1095): not named, with the alias and its numbers in the reason. Without
