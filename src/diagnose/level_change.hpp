@@ -1,0 +1,56 @@
+// Differential diagnosis: has a mesh stiffness or damping level changed since the baseline?
+// (docs/diagnose.md section 6b item 7.) Against a baseline the nuisance levels are the
+// baseline's fitted values, and the recording's nuisance fit moves them freely: a level the
+// gears really changed (a lubricant that lost its damping, a stiffness drop) is then absorbed
+// and the verdict is "no missing physics". So, like a sensor's gain (sensor_change.hpp), each
+// level is tested on the baseline's own terms: the baseline's model with that one level times
+// rho, everything else (the other levels, the housing gains) as the baseline's, its compared
+// amplitudes a_i(theta) + e_i (compare.hpp: the baseline recording's lines at rho = 1).
+#pragma once
+
+#include "diagnose/fit_context.hpp"
+
+#include <cstddef>
+#include <string>
+#include <vector>
+
+namespace pw::diagnose {
+
+/// One nuisance level fitted alone from the baseline's value, and the scores that decide
+/// whether its change is a finding.
+struct LevelChange {
+  std::string candidate;       ///< the nuisance candidate: "stiffness_level", "damping_level"
+  std::string parameter;       ///< its configuration key
+  double baseline_value = 0;   ///< the baseline's fitted value
+  double rho = 1;              ///< [-] fitted value / baseline value
+  double ln_rho_std = 0;       ///< standard error of ln rho (curvature of the fit half's chi2)
+  double chi2_fit_1 = 0;       ///< fit half at rho = 1 (the baseline's model)
+  double chi2_fit = 0;         ///< fit half at the fitted rho
+  double chi2_held_1 = 0;      ///< held-out half at rho = 1
+  double chi2_held = 0;        ///< held-out half at the fitted rho (the diagnosis's V; the verdict's
+                               ///< test at its own model is the caller's, as for any lead)
+  bool at_box_edge = false;    ///< rho within the final bracket of the nuisance box's edge: a bound, not a size
+  bool failed = false;         ///< the solver failed at every point of the scan
+  int simulations = 0;         ///< simulations the search ran (cache hits not counted)
+  model::SimulationConfig config;  ///< the baseline's model at the fitted rho
+  std::vector<std::string> overrides;  ///< `--set` of the fitted value
+};
+
+/// Points of the coarse scan over ln rho (equal cells of the nuisance box; the chi2 of a
+/// stiffness level is not unimodal: it moves resonances through the lines), and the
+/// golden-section reductions of the bracket around the best of them (0.618^12 of a cell:
+/// 0.3 % of it, below a level's 5 % recalibration threshold).
+inline constexpr int kLevelScanPoints = 7;
+inline constexpr int kLevelGoldenIterations = 12;
+/// Step of the curvature in ln rho: 2 %, the nuisance secants' step (screening.hpp); a
+/// smaller one meets the solver's tolerance.
+inline constexpr double kLevelCurvatureStep = 0.02;
+
+/// The nuisance candidate `index` of ctx (its one parameter) fitted alone on the fit half of
+/// ctx.cmp (which holds a baseline; ctx.base carries the baseline's values) with the housing
+/// `gains` given: the scan, the golden section in the best cell and its neighbours, the
+/// curvature, both halves at rho = 1 and at the fit. The scan runs on ctx.threads threads.
+/// A nuisance candidate of more than one parameter is not a level: failed.
+LevelChange fit_level_change(const FitContext& ctx, std::size_t index, const std::vector<double>& gains);
+
+} // namespace pw::diagnose
