@@ -1004,6 +1004,10 @@ private:
       say("is the " + name + " changed since the baseline? fitting it alone from the baseline's value");
       const LevelChange lc = fit_level_change(ctx(), i, gains);
       if (lc.failed) continue;
+      std::string scan;
+      for (std::size_t j = 0; j < lc.scan_rho.size(); ++j)
+        scan += (j ? ", x" : "x") + fmt("%.3g", lc.scan_rho[j]) + " " + fmt("%.0f", lc.scan_chi2_fit[j]);
+      say("  scan (fit half): " + scan);
       say("  " + lc.parameter + " x" + fmt("%.4g", lc.rho) + " of the baseline's " + fmt("%.4g", lc.baseline_value) +
           ": chi2 " + fmt("%.0f", lc.chi2_fit_1) + " -> " + fmt("%.0f", lc.chi2_fit) + " on the fit half, " +
           fmt("%.0f", lc.chi2_held_1) + " -> " + fmt("%.0f", lc.chi2_held) + " held out (" +

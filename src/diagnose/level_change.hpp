@@ -32,6 +32,7 @@ struct LevelChange {
   bool at_box_edge = false;    ///< rho within the final bracket of the nuisance box's edge: a bound, not a size
   bool failed = false;         ///< the solver failed at every point of the scan
   int simulations = 0;         ///< simulations the search ran (cache hits not counted)
+  std::vector<double> scan_rho, scan_chi2_fit;  ///< the coarse scan: rho and the fit half's chi2
   model::SimulationConfig config;  ///< the baseline's model at the fitted rho
   std::vector<std::string> overrides;  ///< `--set` of the fitted value
 };
