@@ -66,7 +66,7 @@ struct DiagnoseOptions {
   std::vector<std::string> only_candidates;  ///< restrict the library (tests, expert use); empty = all
   /// Differential diagnosis: the baseline's fitted housing-sensor gain per channel name [m/s^2 per
   /// N] (BaselineReference::gains). A recording whose model needs another gain, and fits with it,
-  /// has a changed sensor path (DiagnosisRun::check_sensor_gain_change). Empty: no baseline.
+  /// has a changed sensor path (DiagnosisRun::check_changes_since_baseline). Empty: no baseline.
   std::map<std::string, double> baseline_gains;
   /// Candidates fitted with the nuisance parameters instead of screened as findings (calibration
   /// fits the rig elements the documentation is silent on, e.g. "encoder_bandwidth").
