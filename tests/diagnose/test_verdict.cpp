@@ -355,6 +355,20 @@ TEST(Verdict, ANonCountingRivalThatImprovesBothHalvesAsWellBlocksTheName) {
   EXPECT_NE(d.summary.find("do not tell it from worn_profile"), std::string::npos) << d.summary;
 }
 
+TEST(Verdict, ANonCountingCandidateWithAHigherBicThanTheLeadIsNoRival) {
+  // The lead beats the best null it has (a backlash at the mesh resonance beside a sun tooth
+  // within 5 % of absent, 10.4 higher in BIC: ctest Diagnose.BacklashAtTheMeshResonance...).
+  Diagnosis d = friction_with_rival(10.4);
+  d.candidates[1].non_null = false;
+  decide_verdict(d, inputs(1100));
+  EXPECT_EQ(d.verdict, Verdict::MissingPhysicsFound);
+  EXPECT_TRUE(d.lead.rival.empty());
+  // The same rival counting blocks it (posterior 1 / (1 + e^-5.2) = 0.9945 < 0.995).
+  Diagnosis c = friction_with_rival(10.4);
+  decide_verdict(c, inputs(1100));
+  EXPECT_EQ(c.verdict, Verdict::Unexplained);
+}
+
 TEST(Verdict, ACandidateThatDoesNotImproveBothHalvesIsNoRival) {
   // The same rival, its held-out improvement below chi2_{1-alpha}(k): not an explanation of
   // the recording, so it does not block the lead however low its BIC.
