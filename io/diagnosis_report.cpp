@@ -538,6 +538,18 @@ void write_diagnosis_report(const std::filesystem::path& dir, const dg::Diagnosi
   } else {
     j["lead"] = nullptr;
   }
+  // Differential, after a "no missing physics": each single change since the baseline tested on
+  // the baseline's own terms (docs/diagnose.md section 6b item 7); empty when the check did not run.
+  json changes = json::array();
+  for (const dg::BaselineChange& c : d.baseline_changes)
+    changes.push_back({{"name", c.name}, {"parameter", c.parameter}, {"ratio", num(c.ratio)},
+                       {"ratio_std_error", num(c.ratio_std_error)},
+                       {"chi2_fit", {{"unchanged", num(c.chi2_fit_unchanged)}, {"fitted", num(c.chi2_fit)}}},
+                       {"chi2_held_out", {{"unchanged", num(c.chi2_held_unchanged)}, {"fitted", num(c.chi2_held)}}},
+                       {"own_model_held_out_chi2", num(c.own_held_out_chi2)}, {"own_model_bound", num(c.own_bound)},
+                       {"at_edge", c.at_edge}, {"explains", c.explains}, {"passes", c.passes},
+                       {"posterior", num(c.posterior)}});
+  j["changes_since_baseline"] = changes;
   j["explained_fraction"] = num(d.lead.explained_fraction);
   j["at_bound"] = d.lead.at_bound;
   json exc = json::array();

@@ -1,10 +1,14 @@
-// Minimum of a unimodal scalar function by golden-section search, and the standard error a
-// chi-square's curvature gives its minimiser: the one implementation of both that the
-// diagnosis's one-parameter searches (a housing gain, a sensor's change since a baseline) use.
+// Minimum of a unimodal scalar function by golden-section search, of one that need not be
+// unimodal by a scan first, and the standard error a chi-square's curvature gives its minimiser:
+// the one implementation of each that the diagnosis's one-parameter searches (a housing gain, a
+// sensor's change since a baseline, a level's change) use.
 #pragma once
 
+#include <algorithm>
 #include <cmath>
+#include <cstddef>
 #include <limits>
+#include <vector>
 
 namespace pw {
 
@@ -42,11 +46,61 @@ BracketedMinimum golden_section_minimum(F&& f, double lo, double hi, int iterati
 
 /// Standard error of the minimiser x of a chi-square chi2(x): sqrt(2 / chi2''(x)) (the
 /// curvature of a chi-square is twice the inverse variance), chi2'' by central differences of
-/// step h. Infinite when the curvature is not positive (a flat or non-convex chi2 there).
+/// step h. Infinite when the curvature is not positive (a flat or non-convex chi2 there) or not
+/// finite (chi2 not finite at a neighbour).
 template <class F>
 double chi2_curvature_std(F&& chi2, double x, double h) {
   const double curv = (chi2(x + h) - 2 * chi2(x) + chi2(x - h)) / (h * h);
-  return curv > 0 ? std::sqrt(2.0 / curv) : std::numeric_limits<double>::infinity();
+  // A failed neighbour (chi2 infinite) is no curvature: it would give a standard error of 0.
+  return std::isfinite(curv) && curv > 0 ? std::sqrt(2.0 / curv) : std::numeric_limits<double>::infinity();
+}
+
+/// Where scanned_minimum ended.
+struct ScannedMinimum {
+  double x = 0;                  ///< the best point evaluated
+  double value = 0;              ///< f(x)
+  bool at_edge = false;          ///< the golden section's final bracket touches an edge of [lo, hi]
+  bool failed = false;           ///< f was not finite at any scan point (nothing else evaluated)
+  std::vector<double> scan_x, scan_value;  ///< the scan's points and values
+};
+
+/// Minimum of f over [lo, hi] where f need not be unimodal (a chi-square in a stiffness level
+/// moves resonances through the lines): f at the centres of `cells` equal cells (evaluated by
+/// scan(xs), which returns f at each and may run them in parallel), then `iterations`
+/// golden-section reductions over the best cell and its neighbours (the interval's edge where it
+/// has none), then one parabolic step through f at the bracket's midpoint m and m +- h: the final
+/// bracket can still be wide against a steep f. The result is the best point evaluated (that
+/// midpoint, the parabola's vertex, the scan's best). A non-finite f (a failed evaluation) is
+/// never chosen, and no vertex is taken through one. Evaluations: cells + iterations + 2 + 3 (+1 for the vertex).
+template <class F, class Scan>
+ScannedMinimum scanned_minimum(F&& f, Scan&& scan, double lo, double hi, int cells, int iterations, double h) {
+  ScannedMinimum out;
+  const double cell = (hi - lo) / cells;
+  for (int i = 0; i < cells; ++i) out.scan_x.push_back(lo + (i + 0.5) * cell);
+  out.scan_value = scan(out.scan_x);
+  const auto best = std::min_element(out.scan_value.begin(), out.scan_value.end());
+  if (best == out.scan_value.end() || !std::isfinite(*best)) {
+    out.failed = true;
+    return out;
+  }
+  const double b = out.scan_x[static_cast<std::size_t>(best - out.scan_value.begin())];
+  const double a0 = std::max(lo, b - 1.5 * cell), a1 = std::min(hi, b + 1.5 * cell);
+  const BracketedMinimum m = golden_section_minimum(f, a0, a1, iterations);
+  const double f0 = f(m.x), fp = f(m.x + h), fm = f(m.x - h);
+  double x = m.x, fx = f0;
+  // Only through three finite values: a failed neighbour would put the vertex at NaN.
+  const bool finite = std::isfinite(f0) && std::isfinite(fp) && std::isfinite(fm);
+  if (const double second = fp - 2 * f0 + fm; finite && second > 0) {
+    const double xp = std::clamp(m.x - h * (fp - fm) / (2 * second), a0, a1);
+    if (const double fxp = f(xp); fxp < fx) x = xp, fx = fxp;
+  }
+  if (*best < fx) x = b, fx = *best;
+  out.x = x;
+  out.value = fx;
+  // At the interval's edge only when the bracket touches an edge the interval has: a bracket
+  // edge inside it is the scan's choice of cells.
+  out.at_edge = m.at_edge && (m.x - lo <= m.width || hi - m.x <= m.width);
+  return out;
 }
 
 } // namespace pw

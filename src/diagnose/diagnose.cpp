@@ -955,6 +955,46 @@ private:
     }
   }
 
+  /// The report's record of one hypothesis (Diagnosis::baseline_changes).
+  BaselineChange record_of(const ChangeHypothesis& h) const {
+    BaselineChange b;
+    b.name = h.name;
+    b.chi2_fit_unchanged = h.chi2_fit_1, b.chi2_fit = h.chi2_fit;
+    b.chi2_held_unchanged = h.chi2_held_1, b.chi2_held = h.chi2_held;
+    b.explains = explains(h);
+    b.passes = h.passes;
+    if (h.level) {
+      b.parameter = h.level->parameter;
+      b.ratio = h.level->rho;
+      b.ratio_std_error = h.level->rho * h.level->ln_rho_std;
+      b.at_edge = h.level->at_box_edge;
+      b.own_held_out_chi2 = h.own.held_out_chi2;
+      b.own_bound = h.own.bound_held_out;
+    } else {
+      b.parameter = "housing_gain_ratio[" + d_.channels[static_cast<std::size_t>(h.channel)] + "]";
+      b.ratio = h.sensor.rho;
+      b.ratio_std_error = h.sensor.rho * h.sensor.ln_rho_std;
+      b.at_edge = h.sensor.at_bracket_edge;
+      b.own_held_out_chi2 = h.sensor.chi2_held;  // the sensor's fit is its own model
+      b.own_bound = h.sensor.bound_held;
+    }
+    return b;
+  }
+
+  /// Makes `w` the named finding of check_changes_since_baseline: first among the candidates,
+  /// the lead whose held-out test (chi2 <= bound) it passed.
+  void adopt_change(CandidateResult w, double held_out_chi2, double bound_held_out) {
+    d_.candidates.insert(d_.candidates.begin(), std::move(w));
+    d_.winner = 0;
+    d_.verdict = Verdict::MissingPhysicsFound;
+    d_.lead = LeadAssessment{};
+    d_.lead.candidate = 0;
+    d_.lead.held_out_chi2 = held_out_chi2;
+    d_.lead.bound_held_out = bound_held_out;
+    d_.lead.counts = true;
+    d_.lead.within_bound = true;
+  }
+
   /// Differential only, after a "no missing physics" (docs/diagnose.md section 6b items 6-7):
   /// has one thing changed since the baseline
   /// -- a housing sensor's gain (sensor_change.hpp) or a mesh stiffness or damping level
@@ -970,6 +1010,7 @@ private:
     std::vector<ChangeHypothesis> hs;
     sensor_hypotheses(hs);
     level_hypotheses(hs);
+    for (const ChangeHypothesis& h : hs) d_.baseline_changes.push_back(record_of(h));
     std::vector<const ChangeHypothesis*> rivals;
     for (const ChangeHypothesis& h : hs)
       if (explains(h)) rivals.push_back(&h);
@@ -981,6 +1022,9 @@ private:
     double sum = 0;
     for (const ChangeHypothesis* r : rivals) sum += std::exp(-0.5 * std::min(r->total() - best.total(), 1400.0));
     const double posterior = 1.0 / sum;
+    for (std::size_t i = 0; i < hs.size(); ++i)
+      if (d_.baseline_changes[i].explains)
+        d_.baseline_changes[i].posterior = std::exp(-0.5 * std::min(hs[i].total() - best.total(), 1400.0)) / sum;
     if (best.passes && posterior >= 1 - o_.alpha / 2) {
       if (best.level) name_level_change(*best.level, best.own);
       else name_sensor_gain_change(d_.channels[static_cast<std::size_t>(best.channel)], best.sensor);
@@ -1020,15 +1064,7 @@ private:
     w.reason = "named: the baseline's housing lines x" + fmt("%.4g", s.rho) + " explain the held-out half (chi2 " +
                fmt("%.0f", s.chi2_held) + " <= " + fmt("%.0f", s.bound_held) + "), x1 does not as well (" +
                fmt("%.0f", s.chi2_held_1) + ")";
-    d_.candidates.insert(d_.candidates.begin(), w);
-    d_.winner = 0;
-    d_.verdict = Verdict::MissingPhysicsFound;
-    d_.lead = LeadAssessment{};
-    d_.lead.candidate = 0;
-    d_.lead.held_out_chi2 = s.chi2_held;
-    d_.lead.bound_held_out = s.bound_held;
-    d_.lead.counts = true;
-    d_.lead.within_bound = true;
+    adopt_change(std::move(w), s.chi2_held, s.bound_held);
     d_.summary = "Missing physics: sensor_transfer_path (the gain of " + channel + " changed since the baseline) — " +
                  channel + " reads the baseline's lines x" + fmt("%.4g", s.rho) + " ± " + fmt("%.2g", rho.std_error) +
                  "; chi2 " + fmt("%.0f", s.chi2_fit_1) + " -> " + fmt("%.0f", s.chi2_fit) + " on the fit half and " +
@@ -1119,15 +1155,7 @@ private:
                " explains the held-out half (chi2 " + fmt("%.0f", own.held_out_chi2) + " <= " +
                fmt("%.0f", own.bound_held_out) + " at its own model), the baseline's as it was does not as well (" +
                fmt("%.0f", lc.chi2_held_1) + ")";
-    d_.candidates.insert(d_.candidates.begin(), w);
-    d_.winner = 0;
-    d_.verdict = Verdict::MissingPhysicsFound;
-    d_.lead = LeadAssessment{};
-    d_.lead.candidate = 0;
-    d_.lead.held_out_chi2 = own.held_out_chi2;
-    d_.lead.bound_held_out = own.bound_held_out;
-    d_.lead.counts = true;
-    d_.lead.within_bound = true;
+    adopt_change(std::move(w), own.held_out_chi2, own.bound_held_out);
     d_.final_overrides = lc.overrides;
     d_.summary = "Missing physics: " + lc.candidate + " (changed since the baseline) — " + lc.parameter + " = " +
                  fmt("%.4g", p.value) + " ± " + fmt("%.2g", p.std_error) + ", x" + fmt("%.3g", lc.rho) +

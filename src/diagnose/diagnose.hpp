@@ -220,6 +220,26 @@ struct CalibrationCell {
   double discretization = 0;
 };
 
+/// One single-parameter explanation of a change since the baseline (differential, after a "no
+/// missing physics": docs/diagnose.md section 6b item 7), tested on the baseline's own terms.
+struct BaselineChange {
+  std::string name;        ///< sensor_transfer_path, stiffness_level, damping_level
+  std::string parameter;   ///< housing_gain_ratio[<channel>] or the level's configuration key
+  double ratio = 1;        ///< [-] fitted value / the baseline's (rho)
+  double ratio_std_error = 0;  ///< [-] standard error of rho (curvature of the fit half's chi2)
+  double chi2_fit_unchanged = 0, chi2_fit = 0;    ///< fit half at rho = 1 and at the fitted rho
+  double chi2_held_unchanged = 0, chi2_held = 0;  ///< held-out half at rho = 1 and at the fitted rho
+  /// Its own model's held-out test: chi2 and the null's 1 - alpha/2 quantile (NaN where not run:
+  /// it runs only for one that explains, moved and is off its range's edge).
+  double own_held_out_chi2 = std::numeric_limits<double>::quiet_NaN();
+  double own_bound = std::numeric_limits<double>::quiet_NaN();
+  bool at_edge = false;    ///< rho at the edge of its range: a bound, not a size
+  bool explains = false;   ///< improves both halves by more than chi2_{1-alpha}(1): a rival
+  bool passes = false;     ///< every test of its own
+  /// Posterior probability among the rivals (equal priors, one parameter each); NaN if no rival.
+  double posterior = std::numeric_limits<double>::quiet_NaN();
+};
+
 struct Timing {
   double total_s = 0, analysis_s = 0, baseline_s = 0, nuisance_s = 0, locate_s = 0, screening_s = 0, candidates_s = 0,
          phase_s = 0,
@@ -266,6 +286,7 @@ struct Diagnosis {
   int winner = -1;                       ///< index into candidates, -1 if none
   LeadAssessment lead;                   ///< the best candidate, named or not (verdict.hpp)
   std::vector<ChannelExcess> excess_by_channel;  ///< largest share first
+  std::vector<BaselineChange> baseline_changes;  ///< the change check's hypotheses (empty: not run)
   std::vector<std::string> final_overrides;
   std::vector<PlotSeries> plots;
   std::vector<CalibrationCell> calibration_cells;  ///< DiagnoseOptions::nuisance_only only

@@ -67,6 +67,11 @@ if h.get("baseline_at_bound") != [] or s.get("baseline_at_bound") != []:
     sys.exit(f"baseline values listed at a bound: {h.get('baseline_at_bound')}, {s.get('baseline_at_bound')}")
 if h["verdict"] != "no_missing_physics":
     sys.exit(f"healthy recording against its baseline: {h['verdict']}: {h['summary'][:300]}")
+# The change check ran on the healthy recording (both levels and the housing gain tested), and
+# nothing it tested passed as a finding.
+hc = h["changes_since_baseline"]
+if {"stiffness_level", "damping_level"} - {c["name"] for c in hc} or any(c["passes"] and c["explains"] and (c["posterior"] or 0) >= 0.995 for c in hc):
+    sys.exit(f"healthy recording: changes_since_baseline {hc}")
 if s["missing_physics"] != "sun_tooth_damage":
     sys.exit(f"cracked sun tooth against the baseline: {s['verdict']}, {s['missing_physics']}: {s['summary'][:300]}")
 text = s["summary"]
@@ -105,6 +110,12 @@ for name, cand, key, truth in (("damp9", "damping_level", "contact.mesh_damping_
     ratio = q["value"] / q["initial"]
     if abs(ratio - truth) > 0.2 * truth:
         sys.exit(f"{key}: ratio {ratio:.4f} to the baseline's, true {truth} (more than 20 % off)")
+    # The report lists every hypothesis of the change check; the named one passed its tests, with
+    # its ratio, and won among the rivals at posterior >= 1 - alpha/2.
+    ch = {c["name"]: c for c in r["changes_since_baseline"]}
+    c = ch.get(cand)
+    if not c or not c["passes"] or c["posterior"] < 0.995 or abs(c["ratio"] - ratio) > 1e-9 * ratio:
+        sys.exit(f"{name}: changes_since_baseline does not record the named {cand}: {r['changes_since_baseline']}")
     print(name + ":", r["summary"][:200])
 print("healthy:", h["summary"][:160])
 print("gain x0.6:", g["summary"][:200])
