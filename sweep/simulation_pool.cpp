@@ -223,6 +223,7 @@ std::vector<char> encode_spectra(const diagnose::ModelSpectra& s) {
   w.f64s(s.carrier_angle);
   w.f64s(s.planet_angles_rad);
   w.f64s(s.angle_theta);
+  write_matrix(w, s.leak_variance);
   return w.take();
 }
 
@@ -238,6 +239,7 @@ diagnose::ModelSpectra decode_spectra(std::span<const char> bytes) {
   s.carrier_angle = r.f64s();
   s.planet_angles_rad = r.f64s();
   s.angle_theta = r.f64s();
+  s.leak_variance = read_matrix(r);
   return s;
 }
 

@@ -84,8 +84,11 @@ ModelComparison::ModelComparison(const Recording& recording, const model::Simula
   base_.operating.input_speed_rpm = spec_.speed.input_rpm;
   // The model records as many mesh cycles as the recording holds; counted in
   // double so that a very long recording is refused, not wrapped in int.
-  const double cycles = (spec_.layout.mesh_cycles > 0 ? spec_.layout.mesh_cycles
-                                                      : std::ceil(spec_.layout.revolutions * spec_.kinematics.ring_teeth)) +
+  // In halves of Q mesh cycles, (kLeakWindows - 1) Q / kLeakWindows more: the windows that
+  // start elsewhere in the gear pattern (ModelSpectra::leak_variance).
+  const int Q = spec_.layout.mesh_cycles;
+  const double cycles = (Q > 0 ? Q + std::ceil(static_cast<double>(Q) * (kLeakWindows - 1) / kLeakWindows)
+                               : std::ceil(spec_.layout.revolutions * spec_.kinematics.ring_teeth)) +
                         3;
   require(cycles <= kMaxModelRecordCycles, "--recording", "covers ", cycles - 3, " mesh cycles; the model records at most ",
           kMaxModelRecordCycles, " (solver.record_mesh_cycles); diagnose a shorter excerpt");
@@ -218,6 +221,21 @@ void ModelComparison::set_reference(const std::vector<std::vector<double>>& m, c
   set_discrepancy_reference(m, gains);
 }
 
+void ModelComparison::set_reference(const ModelSpectra& m, const std::vector<double>& gains) {
+  // The window-start variance (halves of Q mesh cycles; order_analysis.hpp) of the reference model:
+  // fixed with the Rician variances while candidates are compared.
+  leak_.assign(static_cast<std::size_t>(features()), 0.0);
+  if (!m.leak_variance.empty())
+    for (int c = 0; c < channels(); ++c)
+      for (int i = 0; i < cells(); ++i) {
+        const std::size_t f = static_cast<std::size_t>(c * cells() + i);
+        const double g = is_housing(c) && !gains.empty() ? gains[static_cast<std::size_t>(c)] : 1.0;
+        leak_[f] = g * g *
+                   m.leak_variance[static_cast<std::size_t>(c)][static_cast<std::size_t>(spec_.layout.cells[static_cast<std::size_t>(i)].bin)];
+      }
+  set_reference(m.amplitude, gains);
+}
+
 void ModelComparison::set_discrepancy_reference(const std::vector<std::vector<double>>& m,
                                                 const std::vector<double>& gains_in) {
   const int nc = channels(), ncell = cells();
@@ -231,7 +249,8 @@ void ModelComparison::set_discrepancy_reference(const std::vector<std::vector<do
       // a model-form error common to both recordings cancels, its effect on a change does not.
       disc_sd_[f] = disc_[f] * (opt_.baseline.empty() ? model_amplitude(m, c, i, g)
                                                       : std::fabs(raw_model_amplitude(m, c, i, g) - base_model_[f]));
-      const double v = rice_ref_[f] + disc_sd_[f] * disc_sd_[f] + disc_abs_[f] + offset_variance(f, model_amplitude(m, c, i, g));
+      const double v = rice_ref_[f] + disc_sd_[f] * disc_sd_[f] + disc_abs_[f] + offset_variance(f, model_amplitude(m, c, i, g)) +
+                       (leak_.empty() ? 0.0 : leak_[f]);
       for (int w = 0; w < 2; ++w) d_[static_cast<std::size_t>(w)][f] = v + vns_[f];
     }
 }
@@ -586,6 +605,8 @@ double ModelComparison::null_quantile(const std::vector<std::vector<double>>& m,
       if (disc_abs_[f] > 0) r[f] += std::sqrt(disc_abs_[f]) * nd(rng);
       // The baseline offset's estimation error (differential diagnosis; drawn only when present).
       if (offset_var_[f] > 0) r[f] += std::sqrt(offset_variance(f, a[f])) * nd(rng);
+      // The model's window-start variance (halves of Q mesh cycles; drawn only when present).
+      if (!leak_.empty() && leak_[f] > 0) r[f] += std::sqrt(leak_[f]) * nd(rng);
     }
     chi[static_cast<std::size_t>(d)] = chi2_of(r, w, gains, response, nullptr);
     // Parameters fitted on the other window (see the header): + 2 chi2(k), drawn after this

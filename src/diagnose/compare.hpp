@@ -180,6 +180,10 @@ public:
   /// same for every model scored afterwards, so their chi2 compare): the
   /// nominal model first, the nuisance-fitted one after the nuisance fit.
   void set_reference(const std::vector<std::vector<double>>& model_amplitude, const std::vector<double>& gains);
+  /// As above, and the model's window-start variance (ModelSpectra::leak_variance, halves of Q
+  /// mesh cycles) enters V as a variance of the residual (and the null's draws) until the next
+  /// call of this overload.
+  void set_reference(const ModelSpectra& model, const std::vector<double>& gains);
   /// Only the calibrated relative discrepancy's term of V (and of the null's draws) taken at
   /// `model_amplitude`; the Rician variances stay at set_reference's model. A verdict tests
   /// "the recording is this candidate's model plus the calibrated discrepancy": the relative
@@ -289,6 +293,7 @@ private:
   std::vector<int> disc_entry_;              // [feature]: the entry disc_ came from (-1: none)
   std::vector<double> disc_abs_;             // [feature]: absolute discrepancy variance
   std::vector<double> disc_sd_;              // [feature]: relative discrepancy x the reference amplitude (set_reference)
+  std::vector<double> leak_;                 // [feature]: the reference model's window-start variance (empty: none)
   std::vector<double> rice_ref_;             // [feature]: Rician variance at the reference amplitude
   std::vector<double> offset_, offset_var_;  // [feature]: baseline offset and its variance
   std::vector<double> base_model_;           // [feature]: the baseline's fitted model amplitude

@@ -322,14 +322,14 @@ private:
     {
       const WindowScore f0 = cmp().score(nominal_->amplitude, Half::Fit, ctx().nuisance_gains, HousingGains::Profile);
       ctx().nuisance_gains = f0.gains;
-      cmp().set_reference(nominal_->amplitude, ctx().nuisance_gains);
+      cmp().set_reference(*nominal_, ctx().nuisance_gains);
     }
     const std::vector<double> x0 = nuisance_start_point();
     d_.nuisance = fit_model(ctx(), nullptr, Variant{}, true, threads_, 2 * o_.max_iterations, &x0);
     adopt_nuisance_values();
     // Fidelity at the fitted nuisance parameters, then every score with it.
     set_fidelity(ctx(), d_.nuisance.config, &ctx().nuisance_sim);
-    cmp().set_reference(ctx().nuisance_sim->amplitude, ctx().nuisance_gains);
+    cmp().set_reference(*ctx().nuisance_sim, ctx().nuisance_gains);
     d_.fidelity = cmp().fidelity_names();
     if (cmp().angle_drift_std_rad() > 0)
       d_.fidelity.push_back("linear drift of the angle reference over the window (sd " +

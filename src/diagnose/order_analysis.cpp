@@ -754,16 +754,18 @@ std::string model_channel_name(const SignalChannel& c) {
 
 namespace {
 
-/// The model's angle reference over the compared window, as the recording's: the integral of
-/// the same speed channel averaged over one mesh period (or uniform time when the recording's
-/// angle came from a tacho or a constant speed). theta_j [rad] from theta_0 = 0 at the record's
-/// first sample up to a few samples past 2 pi R (the interpolation stencil's right end).
+/// An angle reference over one compared window: theta_j [rad] from 0 at the window's first
+/// sample up to a few samples past 2 pi R (the interpolation stencil's right end).
 struct ModelAngle {
   std::vector<double> theta;
 };
 
-ModelAngle model_angle(const model::SimulationResult& r, const RecordingSpectra& s, const model::StageSpec& st) {
-  const double R = s.layout.window_revolutions;
+/// The model's angle reference over its whole record, as the recording's: the integral of the
+/// same speed channel averaged over one mesh period (or uniform time when the recording's angle
+/// came from a tacho or a constant speed). theta_j [rad] from theta_0 = 0 at the record's first
+/// sample.
+std::vector<double> model_angle_record(const model::SimulationResult& r, const RecordingSpectra& s,
+                                       const model::StageSpec& st) {
   const double dt = r.time_step_s;
   const model::Channel* ca = r.find("carrier/angle");
   if (!ca) throw SolverError("diagnose: the simulation has no channel 'carrier/angle'");
@@ -785,14 +787,33 @@ ModelAngle model_angle(const model::SimulationResult& r, const RecordingSpectra&
     const double omega = (ca->values.back() - ca->values.front()) / (static_cast<double>(n - 1) * dt);
     for (std::size_t j = 0; j < n; ++j) th[j] = omega * dt * static_cast<double>(j);
   }
-  const double end = 2 * kPi * R;
-  const std::size_t i = static_cast<std::size_t>(std::lower_bound(th.begin(), th.end(), end) - th.begin());
-  constexpr std::size_t kStencilTail = 3;  // samples past 2 pi R that the cubic stencil may read
-  if (i + kStencilTail > n)
-    throw SolverError(detail::concat("diagnose: the simulated record covers ", th.back() / (2 * kPi),
-                                     " carrier revolutions, fewer than the ", R, " compared"));
-  th.resize(i + kStencilTail);
-  return ModelAngle{std::move(th)};
+  return th;
+}
+
+/// Samples past 2 pi R that the cubic stencil may read.
+constexpr std::size_t kStencilTail = 3;
+
+/// Whether a window of R carrier revolutions from sample `first` of the record's angle `th` fits
+/// in the record (with the stencil's tail).
+bool window_fits(const std::vector<double>& th, std::size_t first, double R) {
+  const std::size_t i = static_cast<std::size_t>(
+      std::lower_bound(th.begin(), th.end(), th[first] + 2 * kPi * R) - th.begin());
+  return i + kStencilTail <= th.size();
+}
+
+/// The angle of the window of R carrier revolutions that starts at sample `first` of the
+/// record's angle `th`, from 0 at that sample up to a few samples past 2 pi R.
+ModelAngle window_angle(const std::vector<double>& th, std::size_t first, double R) {
+  const std::size_t i = static_cast<std::size_t>(
+      std::lower_bound(th.begin(), th.end(), th[first] + 2 * kPi * R) - th.begin());
+  if (i + kStencilTail > th.size())
+    throw SolverError(detail::concat("diagnose: the simulated record covers ", (th.back() - th[first]) / (2 * kPi),
+                                     " carrier revolutions from the window's start, fewer than the ", R, " compared"));
+  ModelAngle a;
+  a.theta.assign(th.begin() + static_cast<long>(first), th.begin() + static_cast<long>(i + kStencilTail));
+  if (first > 0)
+    for (double& v : a.theta) v -= th[first];
+  return a;
 }
 
 /// |c_k|, k = 0 .. max_bin, of y (sampled at the angles a.theta) over its first R carrier
@@ -838,6 +859,41 @@ std::vector<double> angle_spectrum(std::span<const double> y, const ModelAngle& 
   return whole_revolution_spectrum(y, scaled, 1, max_bin);
 }
 
+/// Halves of Q mesh cycles only (docs/diagnose.md section 2, "Short recordings"): per channel and
+/// bin, the mean square change of the model's amplitude when its window starts elsewhere in
+/// the gear pattern, over kLeakWindows - 1 starts j Q / kLeakWindows mesh cycles (j >= 1) after
+/// the first. Why: the planet, carrier and input-shaft lines complete no whole period in Q mesh
+/// cycles, so they leak into the compared cells with a phase set by where a window starts; the
+/// recording's halves start at places the model's one window does not share (no absolute
+/// angle), and a healthy recording's chi2 followed the data segment by 6 noise standard
+/// deviations (docs/diagnose-log.md, session 29). Empty when the record is too short for every
+/// start. Housing channels (not compared in such halves) get 0.
+std::vector<std::vector<double>> window_start_variance(const model::SimulationResult& r, const Recording& rec,
+                                                       const RecordingSpectra& s, const std::vector<double>& th,
+                                                       const std::vector<std::vector<double>>& first) {
+  const double R = s.layout.window_revolutions;
+  std::vector<std::vector<double>> var(first.size());
+  for (std::size_t c = 0; c < first.size(); ++c) var[c].assign(first[c].size(), 0.0);
+  for (int j = 1; j < kLeakWindows; ++j) {
+    const double a0 = 2 * kPi * R * j / kLeakWindows;
+    const std::size_t i0 = static_cast<std::size_t>(std::lower_bound(th.begin(), th.end(), a0) - th.begin());
+    if (i0 >= th.size() || !window_fits(th, i0, R)) return {};
+    const ModelAngle ang = window_angle(th, i0, R);
+    for (std::size_t c = 0; c < s.channels.size(); ++c) {
+      const auto& rc = rec.channels[static_cast<std::size_t>(s.channels[c])];
+      if (rc.quantity == Quantity::HousingAcceleration) continue;
+      const model::Channel* mc = r.find(model_channel_name(rc));
+      if (!mc) continue;
+      const auto a = angle_spectrum(std::span<const double>(mc->values).subspan(i0), ang, R, s.layout.max_bin);
+      for (std::size_t k = 0; k < a.size() && k < var[c].size(); ++k) {
+        const double d = a[k] - first[c][k];
+        var[c][k] += d * d / (kLeakWindows - 1);
+      }
+    }
+  }
+  return var;
+}
+
 } // namespace
 
 model::OutputSelection model_channels(const Recording& rec, const RecordingSpectra& s,
@@ -856,7 +912,8 @@ model::OutputSelection model_channels(const Recording& rec, const RecordingSpect
 ModelSpectra model_spectra(const model::SimulationResult& r, const Recording& rec, const RecordingSpectra& s,
                            const model::SimulationConfig& config, bool keep) {
   const double R = s.layout.window_revolutions;
-  const ModelAngle ang = model_angle(r, s, config.stage);
+  const std::vector<double> th = model_angle_record(r, s, config.stage);
+  const ModelAngle ang = window_angle(th, 0, R);
   const std::size_t N = ang.theta.size();
   const model::Channel* ca = r.find("carrier/angle");
   ModelSpectra m;
@@ -898,6 +955,7 @@ ModelSpectra model_spectra(const model::SimulationResult& r, const Recording& re
     if (!mc) throw SolverError("diagnose: the simulation has no channel '" + name + "'");
     m.amplitude.push_back(angle_spectrum(mc->values, ang, R, s.layout.max_bin));
   }
+  if (s.layout.mesh_cycles > 0) m.leak_variance = window_start_variance(r, rec, s, th, m.amplitude);
   if (keep) {
     need_forces();
     for (const auto& f : forces) m.ring_force.emplace_back(f.begin(), f.end());

@@ -240,7 +240,15 @@ struct ModelSpectra {
   std::vector<double> carrier_angle;
   std::vector<double> planet_angles_rad;
   std::vector<double> angle_theta;  ///< the angle reference at each kept sample [rad] (see model_spectra)
+  /// Halves of Q mesh cycles only: per channel and bin, the mean square change of the amplitude
+  /// over kLeakWindows - 1 other window starts ([unit^2]; empty otherwise; model_spectra).
+  std::vector<std::vector<double>> leak_variance;
 };
+
+/// Window starts the model's spectrum is taken at in halves of Q mesh cycles (0, Q/4, Q/2,
+/// 3Q/4 mesh cycles): three differences estimate the window-start variance of each bin, and
+/// the model's record grows by 3Q/4 mesh cycles for them.
+inline constexpr int kLeakWindows = 4;
 
 /// Model channel that predicts a recording channel ("sun/speed", ...; "" for
 /// housing accelerometers, computed from the ring forces, and tachos).

@@ -21,6 +21,7 @@ diagnose::ModelSpectra sample_spectra() {
   s.carrier_angle = {0.0, std::nextafter(1.0, 2.0)};
   s.planet_angles_rad = {0.0, 2.0943951023931953, 4.1887902047863905};
   s.angle_theta = {0.0, 1e-9};
+  s.leak_variance = {{0.25, 1e-310}, {}, {3.0}};
   return s;
 }
 
@@ -38,6 +39,7 @@ TEST(SimulationPool, SpectraSurviveTheRoundTripBitForBit) {
   EXPECT_EQ(a.carrier_angle, b.carrier_angle);
   EXPECT_EQ(a.planet_angles_rad, b.planet_angles_rad);
   EXPECT_EQ(a.angle_theta, b.angle_theta);
+  EXPECT_EQ(a.leak_variance, b.leak_variance);
 }
 
 TEST(SimulationPool, TruncatedBytesAreRejectedNotMisread) {
