@@ -8,6 +8,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <initializer_list>
 #include <numbers>
 #include <random>
@@ -343,6 +344,42 @@ TEST(OrderAnalysis, ModelSpectrumOverWholeMeshCyclesPutsMeshAndSunLinesOnOneBinE
   EXPECT_LT(a[293] + a[295] + a[289] + a[291] + a[200], 2e-3);
 }
 
+TEST(OrderAnalysis, InMeshCycleWindowsOnlyALineWithoutWholePeriodsMakesTheWindowsStartAVariance) {
+  // Q = 42 mesh cycles: mesh harmonic 7 (order 567, bin 294) and its sun sideband (bin 290)
+  // complete whole periods, so their bins do not depend on where the window starts. A planet-
+  // family line (order 567 + 81/30, bin 295.4: no whole period in 42 mesh cycles) leaks into
+  // bin 294 with a phase that does: there the amplitude beats with the window's start.
+  const model::SimulationConfig cfg;
+  const auto& st = cfg.stage;
+  const Recording rec = sun_speed_and_mesh_recording();
+  RecordingSpectra s;
+  s.layout = make_layout_mesh_cycles(kinematics(st, 1200), st.planet_count, 42, 600.0);
+  s.angle_reference = AngleReference::SunSpeed;
+  s.channels = {0, 1};
+  const ModelSpectra whole =
+      model_spectra(rippled_sun_record(st, 1.0, {{2, 567, 0.3}, {0.8, 567 - 2 * 81.0 / 21, 1.1}}, 5.0), rec, s, cfg, false);
+  ASSERT_EQ(whole.leak_variance.size(), 2u);
+  double largest = 0;
+  for (const double v : whole.leak_variance[1]) largest = std::max(largest, v);
+  EXPECT_LT(largest, 1e-8);  // resampling round-off only (the lines' amplitudes are 1 and 0.4)
+  const ModelSpectra leaky = model_spectra(
+      rippled_sun_record(st, 1.0, {{2, 567, 0.3}, {0.8, 567 - 2 * 81.0 / 21, 1.1}, {1.0, 567 + 81.0 / 30, 0.7}}, 5.0),
+      rec, s, cfg, false);
+  // The leak into bin 294 is 0.5 |sin(1.4 pi) / (1.4 pi)| = 0.11 of the line there: its phase
+  // against the line moves by 2 pi 2.7 (Q/4) / 81 per shift, so the mean square change is of
+  // order 0.11^2.
+  EXPECT_GT(leaky.leak_variance[1][294], 1e-3);
+  EXPECT_LT(leaky.leak_variance[1][294], 4 * 0.11 * 0.11);
+  EXPECT_LT(leaky.leak_variance[1][290], leaky.leak_variance[1][294]);
+  std::printf("window-start variance at bin 294: %.3g (whole-period lines only: largest %.3g)\n",
+              leaky.leak_variance[1][294], largest);
+  // Whole carrier revolutions: no such variance.
+  RecordingSpectra w = s;
+  w.layout = RecordingSpectra{}.layout;
+  w.layout.revolutions = 1;
+  w.layout.max_bin = 700;
+  EXPECT_TRUE(model_spectra(rippled_sun_record(st, 1.05, {{2, 567, 0.3}}, 5.0), rec, w, cfg, false).leak_variance.empty());
+}
 
 TEST(OrderAnalysis, ALongReferenceInAShortRecordingsMeshCycleWindowsHasItsCellsAndWindowLength) {
   // A reference longer than two carrier revolutions, analysed with OrderAnalysisOptions::mesh_cycles
