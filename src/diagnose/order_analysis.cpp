@@ -793,24 +793,22 @@ std::vector<double> model_angle_record(const model::SimulationResult& r, const R
 /// Samples past 2 pi R that the cubic stencil may read.
 constexpr std::size_t kStencilTail = 3;
 
-/// Whether a window of R carrier revolutions from sample `first` of the record's angle `th` fits
-/// in the record (with the stencil's tail).
-bool window_fits(const std::vector<double>& th, std::size_t first, double R) {
-  const std::size_t i = static_cast<std::size_t>(
-      std::lower_bound(th.begin(), th.end(), th[first] + 2 * kPi * R) - th.begin());
-  return i + kStencilTail <= th.size();
+/// One past the last sample a window of R carrier revolutions from sample `first` of the
+/// record's angle `th` reads (the stencil's tail included); more than th.size() if it does not fit.
+std::size_t window_end(const std::vector<double>& th, std::size_t first, double R) {
+  return static_cast<std::size_t>(std::lower_bound(th.begin(), th.end(), th[first] + 2 * kPi * R) - th.begin()) +
+         kStencilTail;
 }
 
 /// The angle of the window of R carrier revolutions that starts at sample `first` of the
 /// record's angle `th`, from 0 at that sample up to a few samples past 2 pi R.
 ModelAngle window_angle(const std::vector<double>& th, std::size_t first, double R) {
-  const std::size_t i = static_cast<std::size_t>(
-      std::lower_bound(th.begin(), th.end(), th[first] + 2 * kPi * R) - th.begin());
-  if (i + kStencilTail > th.size())
+  const std::size_t end = window_end(th, first, R);
+  if (end > th.size())
     throw SolverError(detail::concat("diagnose: the simulated record covers ", (th.back() - th[first]) / (2 * kPi),
                                      " carrier revolutions from the window's start, fewer than the ", R, " compared"));
   ModelAngle a;
-  a.theta.assign(th.begin() + static_cast<long>(first), th.begin() + static_cast<long>(i + kStencilTail));
+  a.theta.assign(th.begin() + static_cast<long>(first), th.begin() + static_cast<long>(end));
   if (first > 0)
     for (double& v : a.theta) v -= th[first];
   return a;
@@ -877,7 +875,7 @@ std::vector<std::vector<double>> window_start_variance(const model::SimulationRe
   for (int j = 1; j < kLeakWindows; ++j) {
     const double a0 = 2 * kPi * R * j / kLeakWindows;
     const std::size_t i0 = static_cast<std::size_t>(std::lower_bound(th.begin(), th.end(), a0) - th.begin());
-    if (i0 >= th.size() || !window_fits(th, i0, R)) return {};
+    if (i0 >= th.size() || window_end(th, i0, R) > th.size()) return {};
     const ModelAngle ang = window_angle(th, i0, R);
     for (std::size_t c = 0; c < s.channels.size(); ++c) {
       const auto& rc = rec.channels[static_cast<std::size_t>(s.channels[c])];
