@@ -99,8 +99,10 @@ ModelComparison::ModelComparison(const Recording& recording, const model::Simula
   // carries what the coarser step changes into V. Measured: a 2 s cracked-sun-tooth diagnosis
   // 3.5x faster, the own corpus's scores unchanged (docs/benchmark.md, session 18). A
   // configuration that states its step or band keeps it.
-  if (base_.solver.time_step_s == 0 && base_.solver.accuracy_band_Hz == 0)
+  if (base_.solver.time_step_s == 0 && base_.solver.accuracy_band_Hz == 0) {
     base_.solver.accuracy_band_Hz = opt_.analysis.layout.band_fraction / rec_.sample_interval_s();
+    band_step_ = true;
+  }
   model::validate(base_);
   const int nc = channels(), ncell = cells();
   for (int c = 0; c < nc; ++c)
@@ -367,7 +369,22 @@ std::shared_ptr<const ModelSpectra> ModelComparison::simulate(const model::Simul
 
 ModelSpectra ModelComparison::evaluate(const model::SimulationConfig& c, bool keep) const {
   model::validate(c);
-  return model_spectra(wear::simulate(c, {}, model_channels(rec_, spec_, c)), rec_, spec_, c, keep);
+  try {
+    return model_spectra(wear::simulate(c, {}, model_channels(rec_, spec_, c)), rec_, spec_, c, keep);
+  } catch (const SolverError&) {
+    // The band step is this class's choice, not the configuration's: where it fails (a response
+    // that diverges at the coarser step, model::Integration::step; measured on the seed stage at
+    // 100 rpm and 10 kW with tooth-level features, docs/diagnose.md §2) the simulation is run
+    // again at the model's own step, the one `simulate` takes. Deterministic: the same
+    // configuration fails or passes the same way on any rank or thread. A failure there is the
+    // model's, and is rethrown.
+    if (!band_step_ || c.solver.time_step_s != 0 || c.solver.accuracy_band_Hz != base_.solver.accuracy_band_Hz) throw;
+    model::SimulationConfig own_step = c;
+    own_step.solver.accuracy_band_Hz = 0;
+    model::validate(own_step);
+    return model_spectra(wear::simulate(own_step, {}, model_channels(rec_, spec_, own_step)), rec_, spec_, own_step,
+                         keep);
+  }
 }
 
 long ModelComparison::simulations() const {

@@ -284,6 +284,9 @@ private:
   CompareOptions opt_;
   RecordingSpectra spec_;
   model::SimulationConfig base_;
+  /// The constructor chose the time step (the analysed band's, base_.solver.accuracy_band_Hz):
+  /// a simulation that fails at it is run again at the model's own step (evaluate()).
+  bool band_step_ = false;
   std::vector<bool> housing_;
   std::vector<std::vector<double>> a_rec_;   // [window][feature]
   std::vector<double> s2_;                   // [feature]

@@ -354,6 +354,17 @@ std::vector<Scalar> stiffness_scalars(const PreparedStage& p) {
   return out;
 }
 
+void Integration::throw_reversed(double sun_speed_rad_s) const {
+  throw SolverError(detail::concat(
+      "the simulated sun stopped turning forward at t = ", st.t, " s (sun speed ", sun_speed_rad_s,
+      " rad/s, nominal ", p.sun_speed_rad_s, " rad/s): the response diverged and has no steady state to record. "
+      "Either the time step (", p.time_step_s, " s) is too long for this load at this speed (set "
+      "solver.steps_per_mode_period above ", c.solver.steps_per_mode_period,
+      ", or solver.time_step_s or solver.accuracy_band_Hz so that the step is shorter), or the stage cannot run at ",
+      c.operating.input_power_W, " W and ", c.operating.input_speed_rpm,
+      " rpm (operating.input_power_W, operating.input_speed_rpm)"));
+}
+
 namespace {
 
 

@@ -101,7 +101,17 @@ struct Integration {
   void step() {
     solver.step(st);
     p.dynamics->set_roll_reference(st.q);
+    // The sun must keep turning forward: the model's contact geometry follows the nominal
+    // rotation (pair windows advance, the roll reference lags one step) and a constant input
+    // power P / w is singular at w = 0. A sun speed at or below zero (or not finite) is a
+    // response that diverged, never a steady operating point: stop here with an error instead of
+    // returning its record (measured, 2026-11-28: the four-planet stage of docs/diagnose.md's
+    // independent corpus at 100 rpm and 10 kW ran on to -2.8e6 rad/s and was written as a result).
+    if (const double ws = p.sun_speed_rad_s + p.dynamics->sun_theta_row().dot(st.v); !(ws > 0)) throw_reversed(ws);
   }
+
+private:
+  [[noreturn]] void throw_reversed(double sun_speed_rad_s) const;
 };
 
 /// The wear loop between the warm-up and the recording: advances `run` and
