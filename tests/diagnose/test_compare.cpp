@@ -11,6 +11,7 @@
 #include "diagnose/kinematics.hpp"
 #include "diagnose/stage_1200rpm.hpp"
 #include "io/config_toml.hpp"
+#include "model/simulation.hpp"
 
 #include <gtest/gtest.h>
 
@@ -162,6 +163,48 @@ TEST(Compare, BuiltinCacheKeyChangesWhenAnyOneKeyOfTheSchemaChanges) {
     changed += varied;
   }
   EXPECT_EQ(changed, static_cast<int>(io::config_keys().size()));
+}
+
+
+// The band step is ModelComparison's choice (0.3 of the sample rate): where a simulation runs
+// away at it (model::Integration::step's solver error) evaluate() runs it at the model's own
+// step instead of failing or, as before 2026-11-28, comparing the run-away record. Case: the
+// seed stage at 100 rpm / 10 kW, a 2 s recording at 10 kHz (band 3 kHz: a 10.4 us step), and a
+// sun runout of 1 pm, which only selects the tooth-level warm-up: measured to run away at the
+// band step after 0.62 s, and to reach its steady state at the model's own 2.8 us.
+TEST(Compare, ASimulationThatRunsAwayAtTheBandStepIsRunAgainAtTheModelsOwnStep) {
+  model::SimulationConfig cfg;
+  cfg.operating.input_speed_rpm = 100;
+  cfg.operating.input_power_W = 10000;
+  const Kinematics k = kinematics(cfg.stage, cfg.operating.input_speed_rpm);
+  const double fs = 10000, omega = 100 * 2 * std::numbers::pi / 60;
+  std::mt19937_64 rng(3);
+  std::normal_distribution<double> nd(0.0, 1.0);
+  Recording r;
+  r.source = "synthetic";
+  r.operating = cfg.operating;
+  SignalChannel w{"sun_speed", Quantity::SunSpeed, "rad/s", 0, 0.0, {}};
+  SignalChannel a{"sp_acc", Quantity::MeshAccelerationSunPlanet, "m/s^2", 0, 0.0, {}};
+  for (int i = 0; i < 2 * static_cast<int>(fs); ++i) {
+    const double t = i / fs;
+    r.time_s.push_back(t);
+    w.values.push_back(omega + 0.01 * nd(rng));
+    double x = 0.5 * nd(rng);
+    for (int h = 1; h <= 8; ++h) x += (10.0 / h) * std::cos(2 * std::numbers::pi * h * k.mesh_Hz * t);
+    a.values.push_back(x);
+  }
+  r.channels = {w, a};
+  const ModelComparison cmp(r, cfg);
+  ASSERT_DOUBLE_EQ(cmp.base().solver.accuracy_band_Hz, 0.3 * fs);
+  model::SimulationConfig c = cmp.base();
+  c.imperfections.sun_eccentricity_m = 1e-12;
+  EXPECT_THROW((void)model::simulate(c), SolverError);  // at the band step
+  const ModelSpectra s = cmp.evaluate(c, false);
+  c.solver.accuracy_band_Hz = 0;
+  EXPECT_DOUBLE_EQ(s.time_step_s, model::prepare(c).time_step_s);  // the model's own step
+  EXPECT_NEAR(s.mean_input_rpm, 100.0, 1.0);
+  for (const auto& channel : s.amplitude)
+    for (double v : channel) ASSERT_TRUE(std::isfinite(v));
 }
 
 } // namespace
