@@ -24,6 +24,9 @@ inline model::SimulationConfig stage_1200rpm() {
   return c;
 }
 
+/// A synthetic recording of `cfg`'s stage at its operating point: `seconds` at 10 kHz, a
+/// sun-speed channel (constant + white noise) and a sun-planet mesh acceleration made of 8 mesh
+/// harmonics plus white noise.
 /// phase_jitter_rad: standard deviation per sample of a random walk in the
 /// mesh phase (harmonic k sees k times it) — the skirt that slow speed or load
 /// wander spreads around every mesh harmonic. sideband_m_s2: a stationary
@@ -31,11 +34,11 @@ inline model::SimulationConfig stage_1200rpm() {
 /// speed_bias: relative error of the speed channel (the integrated angle reference then
 /// drifts linearly against the true shaft angle). noise_m_s2: acceleration noise per sample;
 /// speed_noise_rad_s: speed-channel noise per sample (its integral is the angle reference's random walk).
-inline Recording synthetic(double phase_jitter_rad, double sideband_m_s2, unsigned seed, double speed_bias = 0.0,
-                    double noise_m_s2 = 0.5, double speed_noise_rad_s = 0.01) {
-  const auto cfg = stage_1200rpm();
+inline Recording synthetic_of(const model::SimulationConfig& cfg, double seconds, double phase_jitter_rad,
+                              double sideband_m_s2, unsigned seed, double speed_bias = 0.0, double noise_m_s2 = 0.5,
+                              double speed_noise_rad_s = 0.01) {
   const Kinematics k = kinematics(cfg.stage, cfg.operating.input_speed_rpm);
-  const double fs = 10000, seconds = 3.2 / k.carrier_Hz;
+  const double fs = 10000;
   const std::size_t n = static_cast<std::size_t>(seconds * fs);
   std::mt19937_64 rng(seed);
   std::normal_distribution<double> nd(0.0, 1.0);
@@ -58,6 +61,15 @@ inline Recording synthetic(double phase_jitter_rad, double sideband_m_s2, unsign
   }
   r.channels = {w, a};
   return r;
+}
+
+/// synthetic_of the 1200 rpm stage over 3.2 carrier revolutions.
+inline Recording synthetic(double phase_jitter_rad, double sideband_m_s2, unsigned seed, double speed_bias = 0.0,
+                    double noise_m_s2 = 0.5, double speed_noise_rad_s = 0.01) {
+  const auto cfg = stage_1200rpm();
+  const Kinematics k = kinematics(cfg.stage, cfg.operating.input_speed_rpm);
+  return synthetic_of(cfg, 3.2 / k.carrier_Hz, phase_jitter_rad, sideband_m_s2, seed, speed_bias, noise_m_s2,
+                      speed_noise_rad_s);
 }
 
 } // namespace pw::diagnose::test

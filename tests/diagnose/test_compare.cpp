@@ -176,24 +176,8 @@ TEST(Compare, ASimulationThatRunsAwayAtTheBandStepIsRunAgainAtTheModelsOwnStep) 
   model::SimulationConfig cfg;
   cfg.operating.input_speed_rpm = 100;
   cfg.operating.input_power_W = 10000;
-  const Kinematics k = kinematics(cfg.stage, cfg.operating.input_speed_rpm);
-  const double fs = 10000, omega = 100 * 2 * std::numbers::pi / 60;
-  std::mt19937_64 rng(3);
-  std::normal_distribution<double> nd(0.0, 1.0);
-  Recording r;
-  r.source = "synthetic";
-  r.operating = cfg.operating;
-  SignalChannel w{"sun_speed", Quantity::SunSpeed, "rad/s", 0, 0.0, {}};
-  SignalChannel a{"sp_acc", Quantity::MeshAccelerationSunPlanet, "m/s^2", 0, 0.0, {}};
-  for (int i = 0; i < 2 * static_cast<int>(fs); ++i) {
-    const double t = i / fs;
-    r.time_s.push_back(t);
-    w.values.push_back(omega + 0.01 * nd(rng));
-    double x = 0.5 * nd(rng);
-    for (int h = 1; h <= 8; ++h) x += (10.0 / h) * std::cos(2 * std::numbers::pi * h * k.mesh_Hz * t);
-    a.values.push_back(x);
-  }
-  r.channels = {w, a};
+  const double fs = 10000;  // test::synthetic_of's sample rate [Hz]
+  const Recording r = test::synthetic_of(cfg, 2.0, 0.0, 0.0, 3);
   const ModelComparison cmp(r, cfg);
   ASSERT_DOUBLE_EQ(cmp.base().solver.accuracy_band_Hz, 0.3 * fs);
   model::SimulationConfig c = cmp.base();
