@@ -152,6 +152,9 @@ class ModelComparison {
 public:
   /// Analyses the recording and prepares `config` at the recording's speed.
   ModelComparison(const Recording& recording, const model::SimulationConfig& config, CompareOptions options = {});
+  /// The comparison keeps a reference to the recording: a temporary would dangle (found
+  /// 2026-11-28: tests that passed temporaries read freed memory, and crashed once the layout moved).
+  ModelComparison(Recording&&, const model::SimulationConfig&, CompareOptions = {}) = delete;
 
   const Recording& recording() const { return rec_; }
   const RecordingSpectra& spectra() const { return spec_; }

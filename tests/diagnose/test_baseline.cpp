@@ -112,7 +112,8 @@ TEST(Baseline, AHousingGainIsSearchedFromAPositiveStartWhenTheOffsetsExceedTheRe
   co.baseline = baseline_of(as_housing(synthetic(0.0, 12)), model);
   for (BaselineCell& b : co.baseline)
     if (b.channel == "sp_acc") b.offset = 50.0;  // [m/s^2]: above every line (10/h) of the recording
-  ModelComparison cmp(as_housing(synthetic(0.0, 11)), test::stage_1200rpm(), co);
+  const Recording rec = as_housing(synthetic(0.0, 11));
+  ModelComparison cmp(rec, test::stage_1200rpm(), co);
   ASSERT_TRUE(cmp.is_housing(1));
   cmp.set_reference(model, {1.0, 1.0});
   const WindowScore s = cmp.score(model, Half::Fit, {1.0, 1.0}, HousingGains::Profile);
@@ -172,7 +173,8 @@ TEST(Baseline, ARecordingLikeItsBaselineScoresOnePerFeatureAsTheNullAssumes) {
   CompareOptions co;
   co.baseline = baseline_of(synthetic(0.0, 12), model);
   for (unsigned seed : {11u, 13u}) {
-    ModelComparison rc(synthetic(0.0, seed), test::stage_1200rpm(), co);
+    const Recording rec = synthetic(0.0, seed);
+    ModelComparison rc(rec, test::stage_1200rpm(), co);
     rc.set_reference(model, {});
     const double m = rc.features();
     const double chi2 = rc.score(model, Half::HeldOut, {}, HousingGains::Given).chi2;
@@ -247,7 +249,8 @@ TEST(Baseline, TheBaselinesDiscrepancyScalesWithTheModelsChangeNotWithItsLines) 
   CompareOptions differential = co;
   differential.baseline = baseline_of(synthetic(0.0, 12), model);
   ModelComparison cmp(rec, test::stage_1200rpm(), differential);
-  const auto with_line = ModelComparison(synthetic(line, 1, 1e-6, 1e-9), test::stage_1200rpm()).spectra().amplitude[0];
+  const Recording clean_with_line = synthetic(line, 1, 1e-6, 1e-9);
+  const auto with_line = ModelComparison(clean_with_line, test::stage_1200rpm()).spectra().amplitude[0];
   auto lead = model, mesh_off = model;
   int line_bins = 0, mesh_bins = 0;
   double strongest = 0;
@@ -309,12 +312,14 @@ TEST(Baseline, AFittedChangesModelFormUncertaintyIsTheBudgetTimesTheChange) {
   // is far smaller: the model-form term is what sizes it.
   const auto model = perfect_model();
   const double line = 5.0;
-  const auto with_line = ModelComparison(synthetic(line, 1, 1e-6, 1e-9), test::stage_1200rpm()).spectra().amplitude[0];
+  const Recording clean_with_line = synthetic(line, 1, 1e-6, 1e-9);
+  const auto with_line = ModelComparison(clean_with_line, test::stage_1200rpm()).spectra().amplitude[0];
   CompareOptions differential;
   differential.discrepancy.push_back({Quantity::MeshAccelerationSunPlanet, Component::Mesh, 0.5, 0.0});
   differential.discrepancy.push_back({Quantity::MeshAccelerationSunPlanet, Component::Carrier, 0.5, 0.0, true});
   differential.baseline = baseline_of(synthetic(0.0, 12), model);
-  ModelComparison cmp(synthetic(line, 6), test::stage_1200rpm(), differential);
+  const Recording rec = synthetic(line, 6);
+  ModelComparison cmp(rec, test::stage_1200rpm(), differential);
   cmp.set_reference(model, {});
   const LmResult fit = fit_line_scale(cmp, model, with_line);
   ASSERT_EQ(fit.x.size(), 1u);
@@ -328,7 +333,8 @@ TEST(Baseline, AFittedChangesModelFormUncertaintyIsTheBudgetTimesTheChange) {
   EXPECT_LT(fit.std_error[0], 0.2 * sd[0]);
   // Without a budget there is no model-form shift, and at the baseline's model (nothing changed)
   // none either: what cancels in the change is not an uncertainty of its size.
-  ModelComparison plain(synthetic(line, 6), test::stage_1200rpm());
+  const Recording plain_rec = synthetic(line, 6);
+  ModelComparison plain(plain_rec, test::stage_1200rpm());
   plain.set_reference(model, {});
   EXPECT_TRUE(plain.model_form_shifts(fitted, {}).empty());
   EXPECT_TRUE(cmp.model_form_shifts(model, {}).empty());

@@ -45,7 +45,8 @@ TEST(Compare, TheModelsAutomaticStepResolvesTheAnalysedBandUnlessTheConfiguratio
 TEST(Compare, DispersionStaysOneWhenTheHalvesAgreeEvenWithAStationaryFaultLine) {
   // A stationary line 10x the noise at a carrier sideband is the same in both halves: it
   // cancels in A_1 - A_2 and must not be read as extra noise.
-  const ModelComparison cmp(synthetic(0.0, 5.0, 3), stage_1200rpm());
+  const Recording rec = synthetic(0.0, 5.0, 3);
+  const ModelComparison cmp(rec, stage_1200rpm());
   ASSERT_EQ(cmp.channels(), 2);
   EXPECT_EQ(cmp.dispersion(0), 1.0);
   EXPECT_EQ(cmp.dispersion(1), 1.0);
@@ -57,10 +58,12 @@ TEST(Compare, DispersionMeasuresTheSkirtOfAJitteredMeshHarmonic) {
   // changes between the halves while the floor between the sideband groups does not see it.
   // phi is set only when it exceeds 1 beyond its sampling error, and more wander gives a
   // wider skirt, so phi grows with it.
-  const ModelComparison cmp(synthetic(2e-3, 0.0, 4), stage_1200rpm());
+  const Recording rec = synthetic(2e-3, 0.0, 4);
+  const ModelComparison cmp(rec, stage_1200rpm());
   EXPECT_EQ(cmp.dispersion(0), 1.0);  // the speed channel has no jitter
   EXPECT_GT(cmp.dispersion(1), 1.0);
-  const ModelComparison more(synthetic(4e-3, 0.0, 4), stage_1200rpm());
+  const Recording more_rec = synthetic(4e-3, 0.0, 4);
+  const ModelComparison more(more_rec, stage_1200rpm());
   EXPECT_GT(more.dispersion(1), cmp.dispersion(1));
 }
 
@@ -87,15 +90,18 @@ TEST(Compare, DriftColumnTakesALinearAngleReferenceErrorWithItsSignAndSizeAndRem
   // Low acceleration noise puts the leaks of a few-sd drift well above the floor; at 0.05 m/s^2
   // they sit at it and the amplitude-domain linearization takes only ~40 % of a 4 sd drift.
   const double noise = 0.005;  // m/s^2 per sample: lines of 10/h m/s^2 stand 2000:1 above it
-  const ModelComparison exact(synthetic(0.0, 0.0, 7, 0.0, noise, 1e-9), stage_1200rpm());
-  const ModelComparison clean(synthetic(0.0, 0.0, 7, 0.0, noise), stage_1200rpm());
+  const Recording exact_rec = synthetic(0.0, 0.0, 7, 0.0, noise, 1e-9);
+  const ModelComparison exact(exact_rec, stage_1200rpm());
+  const Recording clean_rec = synthetic(0.0, 0.0, 7, 0.0, noise);
+  const ModelComparison clean(clean_rec, stage_1200rpm());
   const double sd = clean.angle_drift_std_rad();
   ASSERT_GT(sd, 0.0);
   const int R = clean.spectra().layout.revolutions, nc = clean.channels(), ncell = clean.cells();
   double dz_first = 0;
   for (double drift_in_sd : {4.0, 8.0}) {
     const double delta = drift_in_sd * sd, eps = delta / (2 * kPi * R);
-    const ModelComparison biased(synthetic(0.0, 0.0, 7, eps, noise), stage_1200rpm());
+    const Recording biased_rec = synthetic(0.0, 0.0, 7, eps, noise);
+    const ModelComparison biased(biased_rec, stage_1200rpm());
     ASSERT_NEAR(biased.angle_drift_std_rad(), sd, 0.05 * sd);  // the bias does not change the noise
     for (int w = 0; w < 2; ++w) {
       const auto& model = exact.spectra().amplitude[static_cast<std::size_t>(w)];

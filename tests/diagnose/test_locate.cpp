@@ -71,8 +71,10 @@ Recording modulated_mesh(Component fault, double beta, double noise_fraction, un
 
 /// Locates the recording's residual against the unmodulated, noiseless signal.
 Location locate_against_unmodulated(Component fault, double beta, unsigned seed) {
-  const ModelComparison cmp(modulated_mesh(fault, beta, 0.05, seed), stage_1200rpm());
-  const ModelComparison model(modulated_mesh(fault, 0.0, 1e-9, seed), stage_1200rpm());
+  const Recording rec = modulated_mesh(fault, beta, 0.05, seed);
+  const Recording clean = modulated_mesh(fault, 0.0, 1e-9, seed);
+  const ModelComparison cmp(rec, stage_1200rpm());
+  const ModelComparison model(clean, stage_1200rpm());
   const auto& m = model.spectra().amplitude[0];
   EXPECT_EQ(cmp.spectra().layout.revolutions, 3);
   return locate(cmp, cmp.score(m, Half::Fit, {}, HousingGains::Given), cmp.score(m, Half::HeldOut, {}, HousingGains::Given), m);

@@ -26,18 +26,21 @@ Recording housing_recording(unsigned seed, double gain, double noise_m_s2 = 0.5)
 }
 
 std::vector<std::vector<double>> perfect_model() {
-  const ModelComparison c(housing_recording(1, 1.0, 1e-6), test::stage_1200rpm());
+  const Recording clean = housing_recording(1, 1.0, 1e-6);
+  const ModelComparison c(clean, test::stage_1200rpm());
   return c.spectra().amplitude[0];
 }
 
 /// rho fitted for a recording whose housing channel reads `gain` times the baseline's.
 SensorScale fitted(double gain) {
   const auto model = perfect_model();
-  ModelComparison base(housing_recording(12, 1.0), test::stage_1200rpm());
+  const Recording baseline = housing_recording(12, 1.0);
+  ModelComparison base(baseline, test::stage_1200rpm());
   base.set_reference(model, {1.0, 1.0});
   CompareOptions co;
   for (const CalibrationCell& c : calibration_cells(base, model, {1.0, 1.0})) co.baseline.push_back(baseline_cell(c));
-  ModelComparison cmp(housing_recording(11, gain), test::stage_1200rpm(), co);
+  const Recording rec = housing_recording(11, gain);
+  ModelComparison cmp(rec, test::stage_1200rpm(), co);
   cmp.set_reference(model, {1.0, 1.0});
   return fit_sensor_scale(cmp, model, {1.0, 1.0}, 1, kAlpha);
 }
