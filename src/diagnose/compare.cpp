@@ -368,9 +368,12 @@ std::shared_ptr<const ModelSpectra> ModelComparison::simulate(const model::Simul
 }
 
 ModelSpectra ModelComparison::evaluate(const model::SimulationConfig& c, bool keep) const {
-  model::validate(c);
+  const auto run = [&](const model::SimulationConfig& cfg) {
+    model::validate(cfg);
+    return model_spectra(wear::simulate(cfg, {}, model_channels(rec_, spec_, cfg)), rec_, spec_, cfg, keep);
+  };
   try {
-    return model_spectra(wear::simulate(c, {}, model_channels(rec_, spec_, c)), rec_, spec_, c, keep);
+    return run(c);
   } catch (const SolverError&) {
     // The band step is this class's choice, not the configuration's: where it fails (a response
     // that diverges at the coarser step, model::Integration::step; measured on the seed stage at
@@ -381,9 +384,7 @@ ModelSpectra ModelComparison::evaluate(const model::SimulationConfig& c, bool ke
     if (!band_step_ || c.solver.time_step_s != 0 || c.solver.accuracy_band_Hz != base_.solver.accuracy_band_Hz) throw;
     model::SimulationConfig own_step = c;
     own_step.solver.accuracy_band_Hz = 0;
-    model::validate(own_step);
-    return model_spectra(wear::simulate(own_step, {}, model_channels(rec_, spec_, own_step)), rec_, spec_, own_step,
-                         keep);
+    return run(own_step);
   }
 }
 

@@ -880,9 +880,9 @@ std::vector<std::vector<double>> window_start_variance(const model::SimulationRe
     for (std::size_t c = 0; c < s.channels.size(); ++c) {
       const auto& rc = rec.channels[static_cast<std::size_t>(s.channels[c])];
       if (rc.quantity == Quantity::HousingAcceleration) continue;
-      const model::Channel* mc = r.find(model_channel_name(rc));
-      if (!mc) continue;
-      const auto a = angle_spectrum(std::span<const double>(mc->values).subspan(i0), ang, R, s.layout.max_bin);
+      // Present: model_spectra found every non-housing channel before calling here.
+      const model::Channel& mc = *r.find(model_channel_name(rc));
+      const auto a = angle_spectrum(std::span<const double>(mc.values).subspan(i0), ang, R, s.layout.max_bin);
       for (std::size_t k = 0; k < a.size() && k < var[c].size(); ++k) {
         const double d = a[k] - first[c][k];
         var[c][k] += d * d / (kLeakWindows - 1);
