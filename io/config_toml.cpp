@@ -89,6 +89,12 @@ struct EnumNames<model::LoadControl> {
        {model::LoadControl::SpeedLoop, "speed_loop"}}};
 };
 
+template <>
+struct EnumNames<model::MeshPhase> {
+  static constexpr std::array<std::pair<model::MeshPhase, std::string_view>, 2> values{
+      {{model::MeshPhase::Rotation, "rotation"}, {model::MeshPhase::NominalTime, "nominal_time"}}};
+};
+
 template <class E>
 std::string_view enum_name(E e) {
   for (const auto& [value, name] : EnumNames<E>::values)

@@ -121,6 +121,9 @@ void visit_config(V& v, Config& c) {
                       "sun_planet_h3_cos", "sun_planet_h3_sin"}, c.stiffness.sun_planet_harmonics);
   visit_harmonics(v, {"planet_ring_h1_cos", "planet_ring_h1_sin", "planet_ring_h2_cos", "planet_ring_h2_sin",
                       "planet_ring_h3_cos", "planet_ring_h3_sin"}, c.stiffness.planet_ring_harmonics);
+  v.field("mesh_phase", c.stiffness.mesh_phase,
+          "what the mesh stiffness variation follows: \"rotation\" (the gears' roll angle, physical) or "
+          "\"nominal_time\" (the nominal rotation only, k(t) of parametrically excited lumped models)");
 
   v.section("contact");
   v.field("friction_coefficient", c.contact.friction_coefficient, "friction coefficient mu [-]", interval(0, 1, Ends::OpenHigh, "-"));

@@ -51,6 +51,18 @@ struct OperatingPoint {
 };
 
 /// Mesh stiffness model (potential energy method, docs/derivation.md §2).
+/// What the mesh stiffness's variation over a mesh cycle follows.
+enum class MeshPhase {
+  /// The gears' actual roll angle (nominal rotation plus the computed perturbation): a real
+  /// gear's tooth pairs change as it turns, so a speed fluctuation modulates the mesh frequency.
+  Rotation,
+  /// The nominal rotation only, k(t) at the constant mean speed: the time-varying stiffness of
+  /// lumped-parameter models that excite the mesh parametrically in time (e.g. Kahraman 1994;
+  /// Lin & Parker 2002). No real gear does this; a recording from such a simulator has mesh lines
+  /// locked to time, not to the shafts' angle (docs/derivation.md §1).
+  NominalTime,
+};
+
 struct StiffnessSettings {
   int samples_per_pair = 200;      ///< roll positions sampled over one pair's contact [-]
   bool include_fillet_foundation = true;  ///< Sainsot et al. 2004 body term
@@ -75,6 +87,8 @@ struct StiffnessSettings {
   };
   Harmonics sun_planet_harmonics;
   Harmonics planet_ring_harmonics;
+  /// What the pairs in contact and their stiffness follow (MeshPhase); rotation = physical.
+  MeshPhase mesh_phase = MeshPhase::Rotation;
 };
 
 /// Mesh contact physics.

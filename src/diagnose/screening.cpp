@@ -245,6 +245,15 @@ std::size_t Screening::grid_simulations(const std::vector<std::size_t>& shortlis
   return n;
 }
 
+std::vector<double> Screening::grid_values(const ParameterSpec& ps) {
+  std::vector<double> out;
+  for (int g = 0; g < kGridPoints; ++g) {
+    const double f = (g + 0.5) / kGridPoints;
+    out.push_back(ps.log_scale ? ps.lower * std::pow(ps.upper / ps.lower, f) : ps.lower + f * (ps.upper - ps.lower));
+  }
+  return out;
+}
+
 void Screening::grid_starts(const std::vector<std::size_t>& shortlist,
                             const std::function<void(const std::string&)>& say) {
   struct GridPoint {
@@ -255,12 +264,7 @@ void Screening::grid_starts(const std::vector<std::size_t>& shortlist,
   for (std::size_t i : shortlist) {
     const Screen& sc = screens_[i];
     if (!gridded(sc)) continue;
-    const ParameterSpec& ps = sc.spec.front();
-    for (int g = 0; g < kGridPoints; ++g) {
-      const double f = (g + 0.5) / kGridPoints;
-      const double x = ps.log_scale ? ps.lower * std::pow(ps.upper / ps.lower, f) : ps.lower + f * (ps.upper - ps.lower);
-      grid.push_back({i, x});
-    }
+    for (double x : grid_values(sc.spec.front())) grid.push_back({i, x});
   }
   if (grid.empty()) return;
   say("grid starts for the one-parameter candidates (" + std::to_string(grid.size()) + " simulations)");

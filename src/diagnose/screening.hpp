@@ -85,6 +85,9 @@ public:
   std::size_t grid_simulations(const std::vector<std::size_t>& shortlist) const;
   /// Values per one-parameter candidate in the grid of starts (at the centres of equal cells).
   static constexpr int kGridPoints = 6;
+  /// The grid of starts over one parameter's box: kGridPoints values at the centres of equal
+  /// cells (of ln x where the parameter is fitted on a log scale).
+  static std::vector<double> grid_values(const ParameterSpec& ps);
 
   const Screen& operator[](std::size_t i) const { return screens_[i]; }
 

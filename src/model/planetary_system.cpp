@@ -101,6 +101,7 @@ PlanetaryDynamics::PlanetaryDynamics(const SimulationConfig& cfg, dynamics::Lump
   output_row_ = structure_.bodies[structure_.output_body].map.row(2);
   constant_power_ = cfg.rig.input_control == InputControl::Power;
   q_roll_.setZero(structure_.dofs);
+  roll_follows_rotation_ = cfg.stiffness.mesh_phase == MeshPhase::Rotation;
   // Ideal (loss-free) matching load torque; simulate() refines it so that the
   // stage holds its nominal speed in the presence of friction losses.
   load_torque_ = power_ / carrier_speed_;

@@ -82,8 +82,9 @@ public:
   /// step (an error of r w dt^2, far below a microelement) so that the pair
   /// set does not change inside Newton's iterations, where the jump of a pair
   /// entering contact would stall convergence. Call after every accepted step.
+  /// With stiffness.mesh_phase = nominal_time the roll stays the nominal rotation's (q_roll_ = 0).
   void set_roll_reference(const Eigen::VectorXd& q) {
-    q_roll_ = q;
+    if (roll_follows_rotation_) q_roll_ = q;
     ++contact_epoch_;
   }
 
@@ -191,6 +192,7 @@ private:
   std::vector<Eigen::Vector2d> normals_;
   Eigen::RowVectorXd sun_row_, carrier_row_, input_row_, output_row_;
   Eigen::VectorXd q_roll_;          // state that fixes the roll distances
+  bool roll_follows_rotation_ = true;  // stiffness.mesh_phase = rotation (false: nominal_time)
   std::vector<double> engage_half_width_m_;  // per mesh: half the roll per smoothing step [m]
   std::vector<dynamics::SparseCoupling> sparse_;  // per mesh: g, h0, h1, roll on the coordinates it touches
   std::vector<std::array<PairGeometry, MeshState::kMaxPairs>> pair_geometry_;  // per mesh, this step's pairs

@@ -46,6 +46,7 @@ inline void expect_config_eq(const model::SimulationConfig& a, const model::Simu
   EXPECT_EQ(a.stiffness.samples_per_pair, b.stiffness.samples_per_pair);
   EXPECT_EQ(a.stiffness.include_fillet_foundation, b.stiffness.include_fillet_foundation);
   EXPECT_EQ(a.stiffness.scale, b.stiffness.scale);
+  EXPECT_EQ(a.stiffness.mesh_phase, b.stiffness.mesh_phase);
   for (int h = 0; h < model::StiffnessSettings::Harmonics::kCount; ++h) {
     EXPECT_EQ(a.stiffness.sun_planet_harmonics.cos[h], b.stiffness.sun_planet_harmonics.cos[h]);
     EXPECT_EQ(a.stiffness.sun_planet_harmonics.sin[h], b.stiffness.sun_planet_harmonics.sin[h]);
