@@ -422,7 +422,7 @@ private:
   /// The two differ only where the lead moves the shafts' speed (a torque ripple of a few
   /// percent phase-modulates the h-th mesh harmonic by h Z_s dtheta_s); a recording whose mesh
   /// lines stay locked to time leaves that modulation as a residual no size of the lead removes
-  /// (docs/diagnose-log.md, session 31: four4p rec_20, its rig given, 81516 -> 1446 held out).
+  /// (docs/diagnose-log.md, session 31: four4p rec_20, its rig given, 81516 -> 1465 held out).
   /// One simulation decides whether to try: the lead's fitted values under nominal_time must
   /// improve its fit-half chi2 by more than chi2_{1-alpha}(1) (a discrete model-form choice is
   /// a comparison of two models with the same parameters; the margin keeps round-off and
