@@ -50,7 +50,6 @@ struct OperatingPoint {
   double input_power_W = 1000.0;   ///< sun power [W] (seed: 1 kW)
 };
 
-/// Mesh stiffness model (potential energy method, docs/derivation.md §2).
 /// What the mesh stiffness's variation over a mesh cycle follows.
 enum class MeshPhase {
   /// The gears' actual roll angle (nominal rotation plus the computed perturbation): a real
@@ -63,6 +62,7 @@ enum class MeshPhase {
   NominalTime,
 };
 
+/// Mesh stiffness model (potential energy method, docs/derivation.md §2).
 struct StiffnessSettings {
   int samples_per_pair = 200;      ///< roll positions sampled over one pair's contact [-]
   bool include_fillet_foundation = true;  ///< Sainsot et al. 2004 body term

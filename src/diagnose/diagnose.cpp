@@ -490,17 +490,16 @@ private:
     for (std::size_t k = 0; k < fits.size(); ++k) {
       std::optional<CandidateResult>& f = fits[k];
       if (!f) continue;
-      say("  from " + std::string(k == 0 ? "its fitted values" : spec.size() == 1 ? "the grid's best" : "its own start") +
-          ": fit-half chi2 " +
-          fmt("%.6g", f->fit.chi2) + ", " + f->parameters.front().name + " = " + fmt("%.4g", f->parameters.front().value));
+      const std::string from = k == 0 ? "its fitted values" : spec.size() == 1 ? "the grid's best" : "its own start";
+      say("  from " + from + ": fit-half chi2 " + fmt("%.6g", f->fit.chi2) + ", " + f->parameters.front().name + " = " +
+          fmt("%.4g", f->parameters.front().value));
       refit_simulations += f->simulations;
       if (!r || f->fit.chi2 < r->fit.chi2) r = std::move(f);
     }
     if (!r || !(r->fit.chi2 < w.fit.chi2)) return;
-    r->simulations = refit_simulations;
+    r->simulations = w.simulations + 1 + refit_simulations;  // its first fit, the probe, the refit
     r->evidence_z = w.evidence_z;
     r->predicted_improvement = w.predicted_improvement;
-    r->simulations += w.simulations + 1;
     r->seconds = w.seconds + seconds_since(tc);
     r->variant = (r->variant.empty() ? std::string() : r->variant + "; ") +
                  "mesh stiffness locked to nominal time, not to the gears' roll (stiffness.mesh_phase = nominal_time)";
