@@ -167,6 +167,9 @@ private:
   };
   /// Evaluates the contact geometry of every mesh at time t (once per step).
   void update_contact_geometry(double t);
+  /// update_contact_geometry for mesh m of NE coupled coordinates (0: any, SparseCoupling::entries).
+  template <int NE>
+  void update_mesh_geometry(int m, double t, const Eigen::Vector2d& sun_runout_m);
   /// Adds mesh m's normal, damping and friction forces at (q, v) to g (and tangents).
   void add_mesh_force(int m, const Eigen::VectorXd& q, const Eigen::VectorXd& v, Eigen::VectorXd& g,
                       Eigen::MatrixXd* K, Eigen::MatrixXd* C);
