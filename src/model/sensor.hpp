@@ -28,6 +28,7 @@
 
 #include "config/stage.hpp"
 
+#include <numbers>
 #include <span>
 #include <vector>
 
@@ -48,10 +49,15 @@ public:
   double operator()(double distance_rad) const;
 
 private:
+  /// An image whose exponent lies this far below a term already in the sum (or the one it is
+  /// added to) is below 2^-54 of it, e^-1 to spare: adding it cannot change the double (54 ln 2 + 1).
+  static constexpr double kNegligibleExponentGap = 54 * std::numbers::ln2 + 1;
   SensorWindow window_;
   double width_rad_;
   double s2_;        ///< 2 sigma^2 [rad^2]
   double w0_ = 0;    ///< the wrapped Gaussian's image sum at d = 0
+  bool outer_images_negligible_ = false;  ///< the images at +-4 pi never change the sum
+  double negligible_gap_times_s2_ = 0;    ///< kNegligibleExponentGap s2 [rad^2]
 };
 
 /// Window weight w(d) in [0, 1], w(0) = 1, for the angular distance d [rad]

@@ -78,6 +78,39 @@ TEST(SensorWindow, IsOneAtTheSensorSymmetricAndPeriodic) {
   EXPECT_NEAR(sensor_window(h / 2, SensorWindow::Hann, 0.5), 0.5, 1e-12);
 }
 
+TEST(SensorWindow, GaussianSkipsOnlyImagesThatCannotChangeTheDouble) {
+  // WindowWeight leaves out the wrapped images whose exponent lies so far below a term already in
+  // the sum that adding them cannot change the double. So it must equal, bit for bit, the full
+  // five-image sum in the same order, at every distance (wrapped as WindowWeight wraps) and width
+  // up to the configuration's limit 1.25 rad, across the per-width switch (~1.03 rad) and the
+  // per-distance thresholds, including d = +-pi and their neighbours.
+  const auto full_sum = [](double distance, double sigma) {
+    double d = std::remainder(distance, 2 * kPi);
+    if (d <= -kPi) d += 2 * kPi;
+    const double s2 = 2 * sigma * sigma;
+    double w = 0, w0 = 0;
+    for (int k = -2; k <= 2; ++k) {
+      const double zk = 2 * kPi * k, dk = d + 2 * kPi * k;
+      w0 += std::exp(-zk * zk / s2);
+      w += std::exp(-dk * dk / s2);
+    }
+    return w / w0;
+  };
+  long checked = 0, differing = 0;
+  for (double sigma : {0.01, 0.05, 0.2, 0.5, 0.8, 1.0, 1.02, 1.026, 1.027, 1.03, 1.1, 1.25}) {
+    const WindowWeight weight(SensorWindow::Gaussian, sigma);
+    std::vector<double> distances;
+    for (int k = -20000; k <= 20000; ++k) distances.push_back(1.5 * kPi * k / 20000.0);
+    for (double edge : {kPi, -kPi, 1.6, -1.6, 0.0})
+      for (int u = -50; u <= 50; ++u) distances.push_back(edge + u * 1e-3 * sigma * sigma);
+    for (double d : distances) {
+      ++checked;
+      if (weight(d) != full_sum(d, sigma)) ++differing;
+    }
+  }
+  EXPECT_EQ(differing, 0) << "of " << checked;
+}
+
 TEST(SensorWindow, GaussianAndHannHaveTheSameArea) {
   // Same mean gain over a revolution: switching the shape changes no level.
   for (double sigma : {0.2, 0.5, 1.0}) {
