@@ -294,73 +294,71 @@ void PlanetaryDynamics::update_contact_geometry(double t) {
 
 template <int NE>
 void PlanetaryDynamics::update_mesh_geometry(int m, double t, const Eigen::Vector2d& runout) {
-  {
-    const dynamics::MeshCoupling& mc = structure_.meshes[m];
-    const dynamics::SparseCoupling& sc = sparse_[m];
-    const int ne = NE > 0 ? NE : sc.entries;
-    const MeshFamily& fam = family(m);
-    const geometry::MeshGeometry& mg = fam.geometry;
-    const FlankSet& fa = flank_a(m);
-    const FlankSet& fb = flank_b(m);
-    MeshState& st = states_[m];
+  const dynamics::MeshCoupling& mc = structure_.meshes[m];
+  const dynamics::SparseCoupling& sc = sparse_[m];
+  const int ne = NE > 0 ? NE : sc.entries;
+  const MeshFamily& fam = family(m);
+  const geometry::MeshGeometry& mg = fam.geometry;
+  const FlankSet& fa = flank_a(m);
+  const FlankSet& fb = flank_b(m);
+  MeshState& st = states_[m];
 
-    double roll_q = 0;
-    for (int k = 0; k < ne; ++k) roll_q += sc.roll[k] * q_roll_(sc.dof[k]);
-    st.roll_m = mc.nominal_roll_rate_m_s * t + roll_q;
-    imposed_[m] = imposed_deflection(m, runout);
-    const double h = engage_half_width_m_[m];
-    const PairWindow win = pair_window(m, st.roll_m);
-    const int np = win.count;
-    if (np > MeshState::kMaxPairs) [[unlikely]]
-      throw SolverError(detail::concat("more than ", MeshState::kMaxPairs, " tooth pairs in one mesh (", np,
-                                       " at t = ", t, " s, roll ", st.roll_m, " m, window margin ", h, " m, base pitch ",
-                                       mg.base_pitch_m, " m)"));
-    st.pairs = np;
+  double roll_q = 0;
+  for (int k = 0; k < ne; ++k) roll_q += sc.roll[k] * q_roll_(sc.dof[k]);
+  st.roll_m = mc.nominal_roll_rate_m_s * t + roll_q;
+  imposed_[m] = imposed_deflection(m, runout);
+  const double h = engage_half_width_m_[m];
+  const PairWindow win = pair_window(m, st.roll_m);
+  const int np = win.count;
+  if (np > MeshState::kMaxPairs) [[unlikely]]
+    throw SolverError(detail::concat("more than ", MeshState::kMaxPairs, " tooth pairs in one mesh (", np,
+                                     " at t = ", t, " s, roll ", st.roll_m, " m, window margin ", h, " m, base pitch ",
+                                     mg.base_pitch_m, " m)"));
+  st.pairs = np;
 
-    // A pair entering or leaving contact within the step counts with the
-    // share of the step it spends in contact (engagement_weight).
-    const double xi_lo = mg.start_active_m, xi_hi = mg.end_active_m;
-    const bool pristine_a = fa.pristine(), pristine_b = fb.pristine();
-    const bool same_grid_a_b = !pristine_a && fa.same_grid(fb);
-    st.pairs_engaged = 0;
-    double k_sum = 0;
-    int ta = win.tooth_a, tb = win.tooth_b;
-    double n = win.n_first;
-    for (int j = 0; j < np; ++j, n += 1.0) {
-      geometry::ContactPair& p = st.pair[j];
-      p = {win.u_m - n * mg.base_pitch_m, ta, tb};
-      if (++ta == fam.teeth_a) ta = 0;
-      if (++tb == fam.teeth_b) tb = 0;
-      PairGeometry& pg = pair_geometry_[m][j];
-      const double w = engagement_weight(mg, p.xi_m, h, scales_[m].inv_engage_width_1_m);
-      st.pairs_engaged += w >= 0.5 ? 1 : 0;
-      // Untouched flanks (FlankSet::pristine) contribute a factor 1 and a deviation 0: skipped.
-      pg.k_N_m = w * pair_stiffness(fam.stiffness, scales_[m].stiffness_index_1_m, std::clamp(p.xi_m, xi_lo, xi_hi));
-      if (!pristine_a) pg.k_N_m *= fa.stiffness_factor(p.tooth_a);
-      if (!pristine_b) pg.k_N_m *= fb.stiffness_factor(p.tooth_b);
-      // The two flanks of a mesh share one element grid (same_grid_a_b): one grid point serves both.
-      const FlankSet::GridPoint gp_a = pristine_a ? FlankSet::GridPoint{} : fa.grid_point(p.xi_m);
-      const FlankSet::GridPoint gp_b = pristine_b ? FlankSet::GridPoint{} : same_grid_a_b ? gp_a : fb.grid_point(p.xi_m);
-      const double dev_a = pristine_a ? 0.0 : fa.deviation_m(p.tooth_a, gp_a);
-      const double dev_b = pristine_b ? 0.0 : fb.deviation_m(p.tooth_b, gp_b);
-      pg.deviation_m = dev_a + dev_b + mesh_error_[m];
-      pg.slide_nominal_m_s = mc.nominal_slide0_m_s + p.xi_m * mc.nominal_slide1_1_s;
-      for (int k = 0; k < ne; ++k) pg.h[k] = sc.h0[k] + p.xi_m * sc.h1[k];
-      k_sum += pg.k_N_m;
-    }
-    if (fam.corrected && k_sum > 0) {
-      // The calibrated harmonics change the combined stiffness by dK(u); the pairs share it in
-      // proportion to their stiffness, so their shares (and the damping's) are unchanged. At most
-      // kMaxStiffnessRemoved of the stiffness in contact is taken away: a larger correction would
-      // leave a mesh in contact without stiffness, which no stiffness law has.
-      const double f = std::max(1.0 + fam.stiffness_correction_N_m(win.u_m) / k_sum, 1.0 - kMaxStiffnessRemoved);
-      for (int j = 0; j < np; ++j) pair_geometry_[m][j].k_N_m *= f;
-      k_sum *= f;
-    }
-    st.stiffness_N_m = k_sum;
-    const double inv_k_sum = k_sum > 0 ? 1.0 / k_sum : 0.0;
-    for (int j = 0; j < np; ++j) pair_geometry_[m][j].share = pair_geometry_[m][j].k_N_m * inv_k_sum;
+  // A pair entering or leaving contact within the step counts with the
+  // share of the step it spends in contact (engagement_weight).
+  const double xi_lo = mg.start_active_m, xi_hi = mg.end_active_m;
+  const bool pristine_a = fa.pristine(), pristine_b = fb.pristine();
+  const bool same_grid_a_b = !pristine_a && fa.same_grid(fb);
+  st.pairs_engaged = 0;
+  double k_sum = 0;
+  int ta = win.tooth_a, tb = win.tooth_b;
+  double n = win.n_first;
+  for (int j = 0; j < np; ++j, n += 1.0) {
+    geometry::ContactPair& p = st.pair[j];
+    p = {win.u_m - n * mg.base_pitch_m, ta, tb};
+    if (++ta == fam.teeth_a) ta = 0;
+    if (++tb == fam.teeth_b) tb = 0;
+    PairGeometry& pg = pair_geometry_[m][j];
+    const double w = engagement_weight(mg, p.xi_m, h, scales_[m].inv_engage_width_1_m);
+    st.pairs_engaged += w >= 0.5 ? 1 : 0;
+    // Untouched flanks (FlankSet::pristine) contribute a factor 1 and a deviation 0: skipped.
+    pg.k_N_m = w * pair_stiffness(fam.stiffness, scales_[m].stiffness_index_1_m, std::clamp(p.xi_m, xi_lo, xi_hi));
+    if (!pristine_a) pg.k_N_m *= fa.stiffness_factor(p.tooth_a);
+    if (!pristine_b) pg.k_N_m *= fb.stiffness_factor(p.tooth_b);
+    // The two flanks of a mesh share one element grid (same_grid_a_b): one grid point serves both.
+    const FlankSet::GridPoint gp_a = pristine_a ? FlankSet::GridPoint{} : fa.grid_point(p.xi_m);
+    const FlankSet::GridPoint gp_b = pristine_b ? FlankSet::GridPoint{} : same_grid_a_b ? gp_a : fb.grid_point(p.xi_m);
+    const double dev_a = pristine_a ? 0.0 : fa.deviation_m(p.tooth_a, gp_a);
+    const double dev_b = pristine_b ? 0.0 : fb.deviation_m(p.tooth_b, gp_b);
+    pg.deviation_m = dev_a + dev_b + mesh_error_[m];
+    pg.slide_nominal_m_s = mc.nominal_slide0_m_s + p.xi_m * mc.nominal_slide1_1_s;
+    for (int k = 0; k < ne; ++k) pg.h[k] = sc.h0[k] + p.xi_m * sc.h1[k];
+    k_sum += pg.k_N_m;
   }
+  if (fam.corrected && k_sum > 0) {
+    // The calibrated harmonics change the combined stiffness by dK(u); the pairs share it in
+    // proportion to their stiffness, so their shares (and the damping's) are unchanged. At most
+    // kMaxStiffnessRemoved of the stiffness in contact is taken away: a larger correction would
+    // leave a mesh in contact without stiffness, which no stiffness law has.
+    const double f = std::max(1.0 + fam.stiffness_correction_N_m(win.u_m) / k_sum, 1.0 - kMaxStiffnessRemoved);
+    for (int j = 0; j < np; ++j) pair_geometry_[m][j].k_N_m *= f;
+    k_sum *= f;
+  }
+  st.stiffness_N_m = k_sum;
+  const double inv_k_sum = k_sum > 0 ? 1.0 / k_sum : 0.0;
+  for (int j = 0; j < np; ++j) pair_geometry_[m][j].share = pair_geometry_[m][j].k_N_m * inv_k_sum;
 }
 
 void PlanetaryDynamics::add_mesh_force(int m, const Eigen::VectorXd& q, const Eigen::VectorXd& v, Eigen::VectorXd& g,
