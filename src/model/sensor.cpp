@@ -43,12 +43,14 @@ double WindowWeight::operator()(double distance_rad) const {
   }
   // Wrapped Gaussian: periodic and smooth for any width; the images at
   // +-2 pi, +-4 pi matter only for wide windows. Normalized to w(0) = 1.
+  // The image at 2 pi k; every sum below adds them in the order of k.
+  const auto image = [&](int k) {
+    const double dk = d + kTwoPi * k;
+    return std::exp(-dk * dk / s2_);
+  };
   double w = 0;
   if (!outer_images_negligible_) {
-    for (int k = -2; k <= 2; ++k) {
-      const double dk = d + kTwoPi * k;
-      w += std::exp(-dk * dk / s2_);
-    }
+    for (int k = -2; k <= 2; ++k) w += image(k);
     return w / w0_;
   }
   // The same sum, bit for bit, without the images that cannot change it (a record's history
@@ -63,18 +65,9 @@ double WindowWeight::operator()(double distance_rad) const {
   //    k = 1 term (4 pi^2 + 4 pi d) / s2: each is skipped where that gap exceeds
   //    kNegligibleExponentGap (then every term after the k = 0 one is below 2^-54 of the sum too).
   // The gap's margin (one unit beyond 54 ln 2) covers the rounding of exp and of the exponents.
-  if (4 * kPi * (kPi - d) <= negligible_gap_times_s2_) {
-    const double dk = d + kTwoPi * -1;
-    w += std::exp(-dk * dk / s2_);
-  }
-  {
-    const double dk = d + kTwoPi * 0;
-    w += std::exp(-dk * dk / s2_);
-  }
-  if (4 * kPi * (kPi + d) <= negligible_gap_times_s2_) {
-    const double dk = d + kTwoPi * 1;
-    w += std::exp(-dk * dk / s2_);
-  }
+  if (4 * kPi * (kPi - d) <= negligible_gap_times_s2_) w += image(-1);
+  w += image(0);
+  if (4 * kPi * (kPi + d) <= negligible_gap_times_s2_) w += image(1);
   return w / w0_;
 }
 
