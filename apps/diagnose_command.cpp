@@ -122,6 +122,12 @@ CLI::App* add_diagnose_command(CLI::App& app, DiagnoseCommandOptions& o) {
       ->check(CLI::ExistingFile);
   d->add_option("--baseline-meta", o.baseline_meta,
                 "JSON sidecar of the baseline (default: the baseline's name with .json)");
+  d->add_option("--baseline-transfer", o.baseline_transfer,
+                "how the model's change from the reference's model is compared: 'additive' (default) as it is; "
+                "'line_ratio' scaled per cell by the reference's measured-to-model line ratio at that frequency, "
+                "for a rig whose transfer the model gets wrong by a factor (experimental: docs/diagnose.md "
+                "section 6b item 9)")
+      ->check(CLI::IsMember({"additive", "line_ratio"}));
   d->add_flag("--no-plots", o.no_plots, "do not run scripts/plot_diagnosis.py");
   d->add_flag("-q,--quiet", o.common.quiet, "no progress on stderr");
   std::string names;
@@ -350,7 +356,10 @@ diagnose::BaselineReference fit_reference(const DiagnoseCommandOptions& o, const
   const RecordingInputs b = read_recording_inputs(o.common, ref.recording, ref.meta, {}, {}, {});
   diagnose::DiagnoseOptions bo = opt;
   if (opt.progress) bo.progress = [p = opt.progress](const std::string& s) { p("reference: " + s); };
-  return diagnose::fit_baseline(b.recording, b.config, bo);
+  const diagnose::BaselineTransfer transfer = o.baseline_transfer == "line_ratio"
+                                                  ? diagnose::BaselineTransfer::LineRatio
+                                                  : diagnose::BaselineTransfer::Additive;
+  return diagnose::fit_baseline(b.recording, b.config, bo, transfer);
 }
 
 /// Rank 0: the diagnosis (simulations through `remote` when other ranks serve) and the report.

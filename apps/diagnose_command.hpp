@@ -42,6 +42,8 @@ struct DiagnoseCommandOptions {
   /// --baseline FILE: a healthy recording at the same operating point (differential diagnosis,
   /// src/diagnose/baseline.hpp); --baseline-meta its sidecar (default: its name with .json).
   std::string baseline, baseline_meta;
+  /// --baseline-transfer: "additive" (default) or "line_ratio" (diagnose::BaselineTransfer).
+  std::string baseline_transfer = "additive";
   /// --calibration-reference: "auto" takes the calibration's own healthy recording at the
   /// recording's operating point as the reference (docs/diagnose.md §6a item 7), "none" judges
   /// against the calibration's budget alone.

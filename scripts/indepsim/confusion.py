@@ -201,6 +201,9 @@ def main(argv=None):
     ap.add_argument("--differential", action="store_true",
                     help="diagnose each recording against its operating point's healthy baseline (--baseline); "
                          "outputs under DIR/diagnosis_diff/")
+    ap.add_argument("--baseline-transfer", choices=("additive", "line_ratio"), default="additive",
+                    help="with --differential: planetwear diagnose --baseline-transfer (docs/diagnose.md section 6b "
+                         "item 9); line_ratio writes under DIR/diagnosis_diff_ratio*/")
     ap.add_argument("--timeout", type=float, default=3 * 3600)
     ap.add_argument("--only", default="", help="comma-separated gearset/rec_NN keys")
     ap.add_argument("--gearset", default="")
@@ -236,6 +239,10 @@ def main(argv=None):
         ap.error("--rig-elements needs --calibrate")
     outroot = ("diagnosis_calibrated" if a.calibrate else "diagnosis_cal" if a.calibration_per_rig
                else "diagnosis_diff" if a.differential else "diagnosis")
+    if a.baseline_transfer != "additive":
+        if not a.differential:
+            ap.error("--baseline-transfer needs --differential")
+        outroot += "_ratio"
     if a.rig_elements:
         outroot += "_" + a.rig_elements.replace(",", "+")
     if a.sensors != "all":
@@ -317,7 +324,8 @@ def main(argv=None):
     elif a.differential:
         def baseline_args(k):
             b = recs[recs[k]["baseline"]]["csv"]
-            return ["--baseline", os.path.join(a.corpus, b), "--baseline-meta", sidecar(a.corpus, b, outroot, a.sensors)]
+            return ["--baseline", os.path.join(a.corpus, b), "--baseline-meta", sidecar(a.corpus, b, outroot, a.sensors),
+                    "--baseline-transfer", a.baseline_transfer]
         keys[:] = [k for k in keys if recs[k]["role"] != "baseline" and recs[k].get("baseline")]
         jobs_for(keys, extra=baseline_args)
     else:

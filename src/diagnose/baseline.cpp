@@ -4,10 +4,12 @@
 #include "diagnose/order_analysis.hpp"
 
 #include "core/format.hpp"
+#include "core/statistics.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <map>
 
 namespace pw::diagnose {
 
@@ -24,6 +26,38 @@ BaselineCell baseline_cell(const CalibrationCell& c) {
   return b;
 }
 
+void line_ratio_transfer(std::vector<BaselineCell>& cells, const std::vector<CalibrationCell>& source, double alpha) {
+  const double z = normal_quantile(alpha / 2);  // upper quantile: z_{1-alpha/2}
+  std::map<std::string, std::vector<std::size_t>> by_channel;  // cell indices, in order of carrier order
+  for (std::size_t i = 0; i < cells.size(); ++i) by_channel[cells[i].channel].push_back(i);
+  for (auto& [name, idx] : by_channel) {
+    std::sort(idx.begin(), idx.end(), [&](std::size_t a, std::size_t b) { return cells[a].order < cells[b].order; });
+    // Measured ratios, ln(A_base / M_base), where both lines are detectable at the diagnosis's alpha.
+    std::vector<std::pair<double, double>> known;  // (order, ln ratio)
+    for (std::size_t i : idx) {
+      const double floor = z * std::sqrt(source[i].noise_variance);
+      const double a = cells[i].offset + cells[i].model;  // the de-biased baseline amplitude
+      if (a > floor && cells[i].model > floor) known.emplace_back(cells[i].order, std::log(a / cells[i].model));
+    }
+    if (known.empty()) continue;
+    std::size_t k = 0;
+    for (std::size_t i : idx) {
+      const double o = cells[i].order;
+      while (k + 1 < known.size() && known[k + 1].first <= o) ++k;
+      double ln_t = known[k].second;
+      if (o > known[k].first && k + 1 < known.size()) {
+        const double u = (o - known[k].first) / (known[k + 1].first - known[k].first);
+        ln_t = (1 - u) * known[k].second + u * known[k + 1].second;
+      } else if (o < known[k].first) {
+        ln_t = known[k].second;  // below the first measured line: its ratio
+      }
+      const double a = cells[i].offset + cells[i].model;
+      cells[i].transfer = std::exp(ln_t);
+      cells[i].offset = a - cells[i].transfer * cells[i].model;
+    }
+  }
+}
+
 std::vector<std::string> bound_texts(const std::vector<FittedParameter>& parameters) {
   std::vector<std::string> out;
   for (const FittedParameter& p : parameters) {
@@ -35,12 +69,13 @@ std::vector<std::string> bound_texts(const std::vector<FittedParameter>& paramet
 }
 
 BaselineReference fit_baseline(const Recording& baseline, const model::SimulationConfig& config,
-                               DiagnoseOptions options) {
+                               DiagnoseOptions options, BaselineTransfer transfer) {
   options.nuisance_only = true;
   const Diagnosis d = diagnose(baseline, config, options);
   BaselineReference ref;
   ref.overrides = d.final_overrides;
   for (const CalibrationCell& c : d.calibration_cells) ref.cells.push_back(baseline_cell(c));
+  if (transfer == BaselineTransfer::LineRatio) line_ratio_transfer(ref.cells, d.calibration_cells, options.alpha);
   // The baseline's relative model-form error, estimated as a calibration on it alone would
   // (calibration.hpp), is the budget for how far the model's predicted change may be off: a
   // fault's change reaches the sensors through the same model-form error as the healthy lines.

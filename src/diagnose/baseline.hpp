@@ -20,6 +20,17 @@
 
 namespace pw::diagnose {
 
+/// How the model's change from the baseline's model reaches the compared amplitude
+/// (docs/diagnose.md section 6b item 9).
+enum class BaselineTransfer {
+  /// Unscaled: A_rec - A_base against M(theta) - M(theta_base).
+  Additive,
+  /// Scaled per cell by the rig's measured-to-model ratio of the baseline's lines at that
+  /// frequency (BaselineCell::transfer, line_ratio_transfer): a transfer the model gets wrong by
+  /// a factor gets a fault's change near that frequency wrong by the same factor.
+  LineRatio,
+};
+
 struct BaselineReference {
   std::vector<std::string> overrides;  ///< the nuisance values fitted to the baseline (`--set` lines)
   std::vector<BaselineCell> cells;     ///< per channel and carrier order: offset e_i and its variance
@@ -48,9 +59,16 @@ std::vector<std::string> bound_texts(const std::vector<FittedParameter>& paramet
 /// amplitude; its variance is that of a mean of two independent halves, (D_fit + D_held) / 4.
 BaselineCell baseline_cell(const CalibrationCell& c);
 
+/// Sets each cell's transfer to the ratio of the baseline's de-biased amplitude to its fitted
+/// model's, measured where both lines stand above z_{1-alpha/2} noise standard deviations and
+/// interpolated (linearly in the logarithm, over carrier order, within a channel) between the
+/// nearest such cells elsewhere; 1 on a channel without one. Each offset becomes the baseline's
+/// amplitude minus transfer x model, so the baseline's own lines are compared as before.
+void line_ratio_transfer(std::vector<BaselineCell>& cells, const std::vector<CalibrationCell>& source, double alpha);
+
 /// Fits the nuisance parameters to the healthy `baseline` (options.nuisance_only is forced) and
 /// returns the offsets the diagnosis of another recording takes as CompareOptions::baseline.
 BaselineReference fit_baseline(const Recording& baseline, const model::SimulationConfig& config,
-                               DiagnoseOptions options);
+                               DiagnoseOptions options, BaselineTransfer transfer = BaselineTransfer::Additive);
 
 } // namespace pw::diagnose

@@ -250,7 +250,7 @@ void ModelComparison::set_discrepancy_reference(const std::vector<std::vector<do
       // Relative to the line, or, differential, to the line's change from the baseline's model:
       // a model-form error common to both recordings cancels, its effect on a change does not.
       disc_sd_[f] = disc_[f] * (opt_.baseline.empty() ? model_amplitude(m, c, i, g)
-                                                      : std::fabs(raw_model_amplitude(m, c, i, g) - base_model_[f]));
+                                                      : transfer_[f] * std::fabs(raw_model_amplitude(m, c, i, g) - base_model_[f]));
       const double v = rice_ref_[f] + disc_sd_[f] * disc_sd_[f] + disc_abs_[f] + offset_variance(f, model_amplitude(m, c, i, g)) +
                        (leak_.empty() ? 0.0 : leak_[f]);
       for (int w = 0; w < 2; ++w) d_[static_cast<std::size_t>(w)][f] = v + vns_[f];
@@ -274,7 +274,7 @@ std::vector<std::vector<double>> ModelComparison::model_form_shifts(const std::v
         const double a = model_amplitude(m, c, i, g);
         // The budgeted amplitude error (signed, so that the cells of an entry move together),
         // as set_discrepancy_reference sizes it, and its effect on the expected amplitude.
-        const double line = opt_.baseline.empty() ? a : raw_model_amplitude(m, c, i, g) - base_model_[f];
+        const double line = opt_.baseline.empty() ? a : transfer_[f] * (raw_model_amplitude(m, c, i, g) - base_model_[f]);
         e[f] = -rice_mean_slope(a, s2_[f]) * disc_[f] * line;
         any = any || e[f] != 0;
       }
@@ -305,13 +305,14 @@ double ModelComparison::raw_model_amplitude(const std::vector<std::vector<double
 double ModelComparison::model_amplitude(const std::vector<std::vector<double>>& m, int c, int i, double g) const {
   const std::size_t f = static_cast<std::size_t>(c * cells() + i);
   const double a = raw_model_amplitude(m, c, i, g);
-  return offset_[f] == 0 ? a : std::max(0.0, a + offset_[f]);
+  return offset_[f] == 0 && transfer_[f] == 1 ? a : std::max(0.0, transfer_[f] * a + offset_[f]);
 }
 
 void ModelComparison::match_baseline() {
   const std::size_t m = static_cast<std::size_t>(features());
   offset_.assign(m, 0.0);
   offset_var_.assign(m, 0.0);
+  transfer_.assign(m, 1.0);
   base_model_.assign(m, 0.0);
   base_discretization_.assign(m, 0.0);
   if (opt_.baseline.empty()) return;
@@ -332,8 +333,9 @@ void ModelComparison::match_baseline() {
       const std::size_t f = static_cast<std::size_t>(c * ncell + i);
       offset_[f] = it->offset;
       offset_var_[f] = it->variance;
+      transfer_[f] = it->transfer;
       base_model_[f] = it->model;
-      base_discretization_[f] = it->discretization;
+      base_discretization_[f] = it->transfer * it->discretization;
     }
 }
 
@@ -440,7 +442,7 @@ std::vector<double> ModelComparison::fidelity_response(const std::vector<std::ve
     // there the null would fold z u at 0 into a bias the linear fidelity fit cannot take out.
     // (Alone this did not lower the inflated bounds of session 23; fidelity_value's cancelling did.)
     const bool live = model == nullptr || offset_[f] == 0 || model_amplitude(*model, c, i, g) > 0;
-    k[f] = live ? g : 0.0;
+    k[f] = live ? g * transfer_[f] : 0.0;
   }
   return k;
 }
@@ -525,7 +527,7 @@ WindowScore ModelComparison::score(const std::vector<std::vector<double>>& m, Ha
       double num = 0, den = 0;
       for (int i = 0; i < ncell; ++i) {
         const std::size_t f = static_cast<std::size_t>(c * ncell + i);
-        const double a = m[static_cast<std::size_t>(c)][static_cast<std::size_t>(spec_.layout.cells[static_cast<std::size_t>(i)].bin)];
+        const double a = transfer_[f] * m[static_cast<std::size_t>(c)][static_cast<std::size_t>(spec_.layout.cells[static_cast<std::size_t>(i)].bin)];
         num += (a_rec_[static_cast<std::size_t>(w)][f] - offset_[f]) * a / D[f];
         den += a * a / D[f];
       }

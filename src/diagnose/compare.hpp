@@ -87,13 +87,18 @@ struct DiscrepancyEntry {
 };
 
 /// One feature cell of a healthy baseline recording (differential diagnosis, baseline.hpp): what
-/// the model fitted to the baseline misses there. The comparison adds `offset` to the model's
-/// noise-free amplitude of the cell with the same channel and carrier order, and `variance` (the
-/// offset's own estimation error) to V and to the null's draws.
+/// the model fitted to the baseline misses there. The comparison takes `transfer` times the
+/// model's noise-free amplitude of the cell with the same channel and carrier order plus
+/// `offset`, and adds `variance` (the offset's own estimation error) to V and to the null's draws.
 struct BaselineCell {
   std::string channel;
   double order = 0;     ///< carrier order of the cell
-  double offset = 0;    ///< [channel unit] de-biased baseline amplitude - fitted model amplitude
+  /// [channel unit] de-biased baseline amplitude - transfer x fitted model amplitude
+  double offset = 0;
+  /// [-] factor on the model's amplitude and so on its change from the baseline's model: 1 for an
+  /// additive offset, the rig's measured-to-model line ratio at this frequency under
+  /// BaselineTransfer::LineRatio (docs/diagnose.md section 6b item 9)
+  double transfer = 1;
   double variance = 0;  ///< [channel unit^2]
   double model = 0;     ///< [channel unit] the baseline's fitted model amplitude (gain applied)
   /// [channel unit] the baseline model's discretization direction (CalibrationCell::discretization)
@@ -257,6 +262,8 @@ public:
   double nonstationary_variance(int feature) const { return vns_[static_cast<std::size_t>(feature)]; }
   /// Per feature: the baseline's offset added to the model amplitude (0 without a baseline).
   double baseline_offset(int feature) const { return offset_[static_cast<std::size_t>(feature)]; }
+  /// Per feature: the baseline's factor on the model amplitude (1 without a baseline, BaselineCell::transfer).
+  double baseline_transfer(int feature) const { return transfer_[static_cast<std::size_t>(feature)]; }
   int nonstationary_cells() const { return ns_cells_; }
   /// Per channel: the noise-variance scale phi measured between the recording's halves (1 when
   /// the halves agree within the noise floor's prediction; see the constructor).
@@ -302,6 +309,7 @@ private:
   std::vector<double> leak_;                 // [feature]: the reference model's window-start variance (empty: none)
   std::vector<double> rice_ref_;             // [feature]: Rician variance at the reference amplitude
   std::vector<double> offset_, offset_var_;  // [feature]: baseline offset and its variance
+  std::vector<double> transfer_;             // [feature]: the baseline's factor on the model (1: none)
   std::vector<double> base_model_;           // [feature]: the baseline's fitted model amplitude
   std::vector<double> dispersion_;           // [channel]
   int ns_cells_ = 0;

@@ -13,8 +13,10 @@ std::vector<std::vector<double>> scaled_housing(const ModelComparison& cmp, cons
   const auto& cells = cmp.spectra().layout.cells;
   for (std::size_t i = 0; i < cells.size(); ++i) {
     const std::size_t b = static_cast<std::size_t>(cells[i].bin);
-    const double e = cmp.baseline_offset(ch * cmp.cells() + static_cast<int>(i));
-    m[c][b] = rho * amp[c][b] + (rho - 1) * e / g0;
+    // rho times the baseline's lines, T g0 a + e: the compared amplitude is T g0 m + e.
+    const int f = ch * cmp.cells() + static_cast<int>(i);
+    const double e = cmp.baseline_offset(f);
+    m[c][b] = rho * amp[c][b] + (rho - 1) * e / (g0 * cmp.baseline_transfer(f));
   }
   return m;
 }

@@ -97,6 +97,74 @@ TEST(Baseline, AChangeFromTheBaselineStillStandsOut) {
   EXPECT_GT(chi2, 2 * bound);
 }
 
+TEST(Baseline, LineRatioTransferIsTheMeasuredRatioWhereBothLinesStandAboveTheNoiseAndLogLinearBetween) {
+  // One channel, noise standard deviation 1 (the detection floor z_0.995 = 2.576): lines at orders
+  // 2 (baseline 10, model 20: ratio 1/2) and 5 (40 against 10: ratio 4) are detectable in both; the
+  // others are not in one of them. A second channel has no detectable pair: it stays additive.
+  auto cell = [](std::string ch, double order, double baseline, double model) {
+    CalibrationCell c;
+    c.channel = std::move(ch);
+    c.order = order;
+    c.model = model;
+    c.noise_variance = 1.0;
+    c.recording[0] = c.recording[1] = std::sqrt(baseline * baseline + 1.0);  // de-biased: `baseline`
+    c.variance[0] = c.variance[1] = 1.0;
+    return c;
+  };
+  const std::vector<CalibrationCell> source = {
+      cell("a", 6, 1.0, 30.0), cell("a", 1, 1.0, 0.5), cell("a", 2, 10.0, 20.0), cell("a", 3, 0.0, 2.0),
+      cell("a", 4, 5.0, 1.0),  cell("a", 5, 40.0, 10.0), cell("b", 1, 30.0, 1.0), cell("b", 2, 1.0, 30.0)};
+  std::vector<BaselineCell> cells;
+  for (const CalibrationCell& c : source) cells.push_back(baseline_cell(c));
+  const std::vector<BaselineCell> additive = cells;
+  line_ratio_transfer(cells, source, 0.01);
+  const std::vector<double> expected = {4.0, 0.5, 0.5, 1.0, 2.0, 4.0, 1.0, 1.0};  // 0.5 * 8^(1/3) = 1, 0.5 * 8^(2/3) = 2
+  for (std::size_t i = 0; i < cells.size(); ++i) {
+    EXPECT_NEAR(cells[i].transfer, expected[i], 1e-12) << cells[i].channel << " order " << cells[i].order;
+    // The baseline's own amplitude is what the comparison takes at the baseline's model.
+    EXPECT_NEAR(cells[i].transfer * cells[i].model + cells[i].offset, additive[i].model + additive[i].offset, 1e-12);
+    EXPECT_EQ(cells[i].variance, additive[i].variance);
+  }
+  EXPECT_EQ(cells[6].offset, additive[6].offset);  // channel b: untouched
+}
+
+TEST(Baseline, AModelWhoseTransferIsTwiceTheRigsPredictsAChangeTwiceTooLargeUnlessScaledByTheLineRatio) {
+  // The model reads every line twice as strongly as the rig (a transfer it gets wrong by a factor,
+  // as a free sun does against a rig's heavy motor behind a shaft). The recording changed from its
+  // baseline by a carrier-family line the model predicts at twice its size too. Additive, the
+  // change is judged twice too large; scaled by the baseline's measured line ratio (the mesh
+  // harmonics around the new line: 1/2), it is explained.
+  const Recording clean_line = synthetic(3.0, 1, 1e-6, 1e-9);
+  const ModelComparison clean(clean_line, test::stage_1200rpm());
+  auto twice = [](std::vector<std::vector<double>> m) {
+    for (auto& ch : m)
+      for (double& a : ch) a *= 2.0;
+    return m;
+  };
+  const auto model_base = twice(perfect_model());
+  const auto model_changed = twice(clean.spectra().amplitude[0]);
+  const Recording base = synthetic(0.0, 12);
+  ModelComparison bc(base, test::stage_1200rpm());
+  bc.set_reference(model_base, {});
+  const std::vector<CalibrationCell> source = calibration_cells(bc, model_base, {1.0, 1.0});
+  std::vector<BaselineCell> cells;
+  for (const CalibrationCell& c : source) cells.push_back(baseline_cell(c));
+  CompareOptions additive;
+  additive.baseline = cells;
+  line_ratio_transfer(cells, source, 0.01);
+  CompareOptions ratio;
+  ratio.baseline = cells;
+  const Recording rec = synthetic(3.0, 11);
+  const auto [chi2_additive, bound_additive] = held_out(rec, model_changed, additive);
+  const auto [chi2_ratio, bound_ratio] = held_out(rec, model_changed, ratio);
+  EXPECT_GT(chi2_additive, 2 * bound_additive);
+  EXPECT_LE(chi2_ratio, bound_ratio);
+  // Where nothing changed both compare the baseline's own lines: the healthy recording passes both.
+  const Recording healthy = synthetic(0.0, 11);
+  EXPECT_LE(held_out(healthy, model_base, additive).first, held_out(healthy, model_base, additive).second);
+  EXPECT_LE(held_out(healthy, model_base, ratio).first, held_out(healthy, model_base, ratio).second);
+}
+
 TEST(Baseline, AHousingGainIsSearchedFromAPositiveStartWhenTheOffsetsExceedTheRecording) {
   // Found on an independent simulator's recording diagnosed against its baseline with rig keys
   // (session 23): the baseline's offsets exceeded the recording's housing lines, the weighted
