@@ -44,12 +44,10 @@ void line_ratio_transfer(std::vector<BaselineCell>& cells, const std::vector<Cal
     for (std::size_t i : idx) {
       const double o = cells[i].order;
       while (k + 1 < known.size() && known[k + 1].first <= o) ++k;
-      double ln_t = known[k].second;
+      double ln_t = known[k].second;  // at or beyond the last measured line, or below the first: its ratio
       if (o > known[k].first && k + 1 < known.size()) {
         const double u = (o - known[k].first) / (known[k + 1].first - known[k].first);
         ln_t = (1 - u) * known[k].second + u * known[k + 1].second;
-      } else if (o < known[k].first) {
-        ln_t = known[k].second;  // below the first measured line: its ratio
       }
       const double a = cells[i].offset + cells[i].model;
       cells[i].transfer = std::exp(ln_t);
