@@ -151,8 +151,10 @@ DiagnoseInputs read_diagnose_inputs(const DiagnoseCommandOptions& o) {
   require(o.baseline.empty() || o.calibration.empty(), "--baseline",
           "give either --baseline (differential) or --calibration (absolute with a discrepancy budget), not both");
   require(o.baseline_meta.empty() || !o.baseline.empty(), "--baseline-meta", "given without --baseline");
-  require(o.baseline_transfer == "additive" || !o.baseline.empty() || !o.calibration.empty(), "--baseline-transfer",
-          "'", o.baseline_transfer, "' acts on a reference recording: give --baseline (or --calibration with its reference)");
+  require(o.baseline_transfer == "additive" || !o.baseline.empty() ||
+              (!o.calibration.empty() && o.calibration_reference != "none"),
+          "--baseline-transfer", "'", o.baseline_transfer,
+          "' acts on a reference recording: give --baseline (or --calibration with --calibration-reference auto)");
   if (!o.baseline.empty()) {
     const std::filesystem::path meta = o.baseline_meta.empty() ? io::sidecar_path(o.baseline) : std::filesystem::path(o.baseline_meta);
     require(std::filesystem::exists(meta), "--baseline-meta", "no sidecar '", meta.string(),

@@ -64,6 +64,7 @@ BaselineCell baseline_cell(const CalibrationCell& c);
 /// interpolated (linearly in the logarithm, over carrier order, within a channel) between the
 /// nearest such cells elsewhere; 1 on a channel without one. Each offset becomes the baseline's
 /// amplitude minus transfer x model, so the baseline's own lines are compared as before.
+/// cells[i] is baseline_cell(source[i]) (fit_baseline builds them so); source gives the noise.
 void line_ratio_transfer(std::vector<BaselineCell>& cells, const std::vector<CalibrationCell>& source, double alpha);
 
 /// Fits the nuisance parameters to the healthy `baseline` (options.nuisance_only is forced) and

@@ -48,6 +48,7 @@ check baseline-and-calibration 1 "--baseline" cl_rep -- "$PW" diagnose -r cl.csv
 check baseline-meta-alone 1 "--baseline-meta" cl_rep -- "$PW" diagnose -r cl.csv -o cl_rep --baseline-meta x.json --column w=sun_speed,unit=rpm --speed-rpm 800 --power-w 2e4
 check baseline-no-sidecar 1 "--baseline-meta" cl_rep -- "$PW" diagnose -r cl.csv -o cl_rep --baseline cl.csv --column w=sun_speed,unit=rpm --speed-rpm 800 --power-w 2e4
 check baseline-transfer-alone 1 "--baseline-transfer" cl_rep -- "$PW" diagnose -r cl.csv -o cl_rep --baseline-transfer line_ratio --column w=sun_speed,unit=rpm --speed-rpm 800 --power-w 2e4
+check baseline-transfer-no-reference 1 "--baseline-transfer" cl_rep -- "$PW" diagnose -r cl.csv -o cl_rep --calibration badcal.toml --calibration-reference none --baseline-transfer line_ratio --column w=sun_speed,unit=rpm --speed-rpm 800 --power-w 2e4
 check calibration-reference-unknown 1 "--calibration-reference" cl_rep -- "$PW" diagnose -r cl.csv -o cl_rep --calibration-reference nearest --column w=sun_speed,unit=rpm --speed-rpm 800 --power-w 2e4
 check diagnose-bad-calibration 1 "calibration.recordings" cl_rep -- "$PW" diagnose -r cl.csv -o cl_rep --calibration badcal.toml --column w=sun_speed,unit=rpm --speed-rpm 800 --power-w 2e4
 # A failing run must not touch an existing file at the destination.

@@ -161,8 +161,10 @@ TEST(Baseline, AModelWhoseTransferIsTwiceTheRigsPredictsAChangeTwiceTooLargeUnle
   EXPECT_LE(chi2_ratio, bound_ratio);
   // Where nothing changed both compare the baseline's own lines: the healthy recording passes both.
   const Recording healthy = synthetic(0.0, 11);
-  EXPECT_LE(held_out(healthy, model_base, additive).first, held_out(healthy, model_base, additive).second);
-  EXPECT_LE(held_out(healthy, model_base, ratio).first, held_out(healthy, model_base, ratio).second);
+  const auto [chi2_healthy_additive, bound_healthy_additive] = held_out(healthy, model_base, additive);
+  const auto [chi2_healthy_ratio, bound_healthy_ratio] = held_out(healthy, model_base, ratio);
+  EXPECT_LE(chi2_healthy_additive, bound_healthy_additive);
+  EXPECT_LE(chi2_healthy_ratio, bound_healthy_ratio);
 }
 
 TEST(Baseline, AHousingGainIsSearchedFromAPositiveStartWhenTheOffsetsExceedTheRecording) {
