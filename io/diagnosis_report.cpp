@@ -532,6 +532,7 @@ void write_diagnosis_report(const std::filesystem::path& dir, const dg::Diagnosi
     const dg::CandidateResult& l = d.candidates.front();
     j["lead"] = {{"name", l.name}, {"variant", l.variant}, {"named", d.winner == 0}, {"counts", d.lead.counts},
                  {"held_out_chi2", num(d.lead.held_out_chi2)}, {"bound_held_out", num(d.lead.bound_held_out)},
+                 {"bound_held_out_folded", num(d.lead.bound_folded)},
                  {"replicate_chi2", num(d.lead.replicate_chi2)}, {"within_bound", d.lead.within_bound}, {"explained_fraction", num(d.lead.explained_fraction)},
                  {"at_bound", d.lead.at_bound}, {"posterior", num(d.lead.posterior)}, {"rival", d.lead.rival},
                  {"failed", d.lead.failed}};

@@ -571,7 +571,7 @@ double ModelComparison::replicate_chi2(const std::vector<double>& gains_in) cons
 }
 
 double ModelComparison::null_quantile(const std::vector<std::vector<double>>& m, const std::vector<double>& gains_in,
-                                      Half half, double alpha, int fitted_parameters) const {
+                                      Half half, double alpha, int fitted_parameters, FidelityDraw draw) const {
   const int w = window_index(half);
   const int nc = channels(), ncell = cells();
   std::vector<double> gains = gains_in;
@@ -603,8 +603,11 @@ double ModelComparison::null_quantile(const std::vector<std::vector<double>>& m,
     const double zd = drift.empty() ? 0.0 : nd(rng);
     for (std::size_t f = 0; f < nf; ++f) {
       const std::size_t c = f / static_cast<std::size_t>(ncell), i = f % static_cast<std::size_t>(ncell);
-      double af = a[f];
-      for (std::size_t k = 0; k < q; ++k) af += z[k] * fidelity_value(k, f, response);
+      // Accumulated term by term into the line as before the linear mode existed, so the folded
+      // null keeps its numbers to the last bit.
+      double af = a[f], fidelity = 0;
+      double& into = draw == FidelityDraw::Folded ? af : fidelity;
+      for (std::size_t k = 0; k < q; ++k) into += z[k] * fidelity_value(k, f, response);
       // Calibrated discrepancy: a relative amplitude error per cell (drawn only when present,
       // so that uncalibrated draws keep their random sequence), of the size V allows for it:
       // relative to the reference model's amplitude. Drawn relative to the scored model's own
@@ -621,6 +624,7 @@ double ModelComparison::null_quantile(const std::vector<std::vector<double>>& m,
       const double s = std::sqrt(0.5 * s2_[f] * scale);
       const double x = af + s * nd(rng), y = s * nd(rng);
       r[f] = std::hypot(x, y) - mu[f] + (drift.empty() ? 0.0 : zd * drift[f]);
+      if (draw == FidelityDraw::Linear) r[f] += fidelity;
       // Calibrated absolute discrepancy: excess variance of the amplitude residual itself.
       if (disc_abs_[f] > 0) r[f] += std::sqrt(disc_abs_[f]) * nd(rng);
       // The baseline offset's estimation error (differential diagnosis; drawn only when present).

@@ -136,6 +136,13 @@ constexpr Half half_of_window(int w) { return w == 0 ? Half::Fit : Half::HeldOut
 
 /// Whether a score fits the housing sensors' gains on its half or takes them as given.
 enum class HousingGains { Profile, Given };
+/// How a null draw's model-fidelity weights z enter the drawn amplitudes (null_quantile).
+/// Folded: into the line, |a + z u| (a model line moved by its own discretization or speed
+/// change cannot go below 0). Linear: added to the amplitude residual, r + z u -- the form
+/// chi2_of profiles z in, so the drawn statistic is the one its own algebra assumes.
+/// Where |u| is small beside a the two agree to first order; where it is not, the fold leaves
+/// a residual the linear profile cannot remove and the folded null grows with |u|.
+enum class FidelityDraw { Folded, Linear };
 
 /// One model scored on one window.
 struct WindowScore {
@@ -230,8 +237,11 @@ public:
   /// |(I-P)e|^2 + 2|P u|^2 = chi2(m-k) + 2 chi2(k) (P: projection on J's range, u ~ N(0, I)),
   /// which the draw |e|^2 + 2 chi2(k) dominates stochastically: a correct model exceeds
   /// the returned quantile with probability <= alpha. k = 0 leaves the draws unchanged.
+  /// draw: how the fidelity weights enter each draw (FidelityDraw); both modes use the same
+  /// random numbers, so their quantiles differ only by the fold.
   double null_quantile(const std::vector<std::vector<double>>& model_amplitude, const std::vector<double>& gains,
-                       Half half, double alpha, int fitted_parameters = 0) const;
+                       Half half, double alpha, int fitted_parameters = 0,
+                       FidelityDraw draw = FidelityDraw::Folded) const;
 
   /// chi2 of the recording's fit half used as the prediction of its held-out half
   /// (r = A_held - A_fit, the held-out window's V, housing gains `gains` for the fidelity

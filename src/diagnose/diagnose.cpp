@@ -885,9 +885,18 @@ private:
   /// guard only their own evaluations) gives no bound and says why: the lead is then not named,
   /// and the diagnosis still ends with its verdict instead of aborting (four-planet rec_27,
   /// docs/diagnose-log.md session 20).
+  /// The bound is the smaller of the null drawn with the fidelity weights folded into the lines
+  /// (FidelityDraw::Folded, the null of every other test) and drawn as chi2_of profiles them
+  /// (Linear). They agree where the candidate's lines are resolved; where its fidelity
+  /// directions are of the size of its lines, the folded null grows with them and a model that
+  /// misses the recording by 700 times the noise bound passed: seed3p rec_36 (uncalibrated, a
+  /// torque ripple named sun_runout, held-out 1 175 503 against a folded own null of 1 514 199;
+  /// docs/diagnose-log.md, session 34). A pass that rests on the fold is no evidence: the
+  /// statistic's own algebra does not describe that null.
   struct OwnModelScore {
     double held_out_chi2 = std::numeric_limits<double>::quiet_NaN();
-    double bound_held_out = std::numeric_limits<double>::quiet_NaN();
+    double bound_held_out = std::numeric_limits<double>::quiet_NaN();  ///< min(folded, linear)
+    double bound_folded = std::numeric_limits<double>::quiet_NaN();    ///< FidelityDraw::Folded
     std::string failure;  ///< the solver's message when the score could not be computed
   };
   OwnModelScore score_at_own_model(const CandidateResult& c, bool calibrated) {
@@ -913,8 +922,10 @@ private:
       const auto amp = cc && cc->sensor_only() ? ctx().amplitudes(c.config, true) : cmp().simulate(c.config)->amplitude;
       if (calibrated) cmp().set_discrepancy_reference(amp, c.gains);
       s.held_out_chi2 = cmp().score(amp, Half::HeldOut, c.gains, HousingGains::Given).chi2;
-      s.bound_held_out =
-          cmp().null_quantile(amp, c.gains, Half::HeldOut, o_.alpha / 2, static_cast<int>(c.parameters.size()));
+      const int k = static_cast<int>(c.parameters.size());
+      s.bound_folded = cmp().null_quantile(amp, c.gains, Half::HeldOut, o_.alpha / 2, k, FidelityDraw::Folded);
+      s.bound_held_out = std::min(
+          s.bound_folded, cmp().null_quantile(amp, c.gains, Half::HeldOut, o_.alpha / 2, k, FidelityDraw::Linear));
     } catch (const SolverError& e) {
       s = OwnModelScore{};
       s.failure = e.what();
@@ -959,6 +970,7 @@ private:
       const OwnModelScore lead = score_at_own_model(l, calibrated);
       vin.lead_held_out_chi2 = lead.held_out_chi2;
       vin.lead_bound_held_out = lead.bound_held_out;
+      vin.lead_bound_folded = lead.bound_folded;
       vin.lead_score_failure = lead.failure;
       if (calibrated && l.counts()) check_near_aliases(vin);
     }

@@ -183,6 +183,8 @@ struct LeadAssessment {
   double held_out_chi2 = std::numeric_limits<double>::quiet_NaN();
   /// B_lead: 1 - alpha/2 quantile of that chi2 under "its fitted model is the truth".
   double bound_held_out = std::numeric_limits<double>::quiet_NaN();
+  /// The folded own null (VerdictInputs::lead_bound_folded); >= bound_held_out.
+  double bound_folded = std::numeric_limits<double>::quiet_NaN();
   /// Share of the held-out excess over the noise bound it removes:
   /// (chi2_nuisance,h - chi2_lead,h) / (chi2_nuisance,h - bound_held_out); NaN without an excess.
   double explained_fraction = std::numeric_limits<double>::quiet_NaN();

@@ -127,9 +127,21 @@ Rivalry rivalry(const Diagnosis& d) {
   return r;
 }
 
+/// Condition (a) failed under the linear own null but would have held under the folded one: why
+/// that is no pass (diagnose.cpp, OwnModelScore).
+std::string folded_text(const LeadAssessment& a) {
+  if (!(std::isfinite(a.bound_folded) && a.held_out_chi2 <= a.bound_folded && a.bound_folded > a.bound_held_out))
+    return {};
+  return "; within " + fmt("%.0f", a.bound_folded) +
+         " only with its model-fidelity directions folded into its lines at 0: they are of the size of its "
+         "lines, its model is not resolved where it differs from the recording, and the statistic's own null "
+         "(those directions taken linearly, as chi2 profiles them) is the bound";
+}
+
 LeadAssessment assess_lead(Diagnosis& d, const VerdictInputs& in) {
   LeadAssessment a;
   a.bound_held_out = in.lead_bound_held_out;
+  a.bound_folded = in.lead_bound_folded;
   if (d.candidates.empty() || !d.candidates.front().failed.empty() ||
       !std::isfinite(d.candidates.front().held_out.chi2))
     return a;
@@ -161,7 +173,7 @@ LeadAssessment assess_lead(Diagnosis& d, const VerdictInputs& in) {
                             (std::isfinite(a.replicate_chi2)
                                  ? ", and > " + fmt("%.0f", a.replicate_chi2) + " of the recording's own fit half"
                                  : std::string()) +
-                            ")"
+                            ")" + folded_text(a)
                       : in.lead_score_failure.empty()
                             ? "its held-out bound was not computed"
                             : "its own model could not be simulated for the held-out test (" + in.lead_score_failure + ")");

@@ -13,6 +13,10 @@
 //       Both chi2_h and B_lead use the model-fidelity directions recomputed at
 //       the candidate's own fitted model: the nuisance model's directions hold
 //       no discretization or speed change of the lines the candidate adds.
+//       B_lead is the smaller of that null with the fidelity weights folded into
+//       the lines and with them added to the residual as chi2 profiles them
+//       (FidelityDraw): a pass owed to the fold alone is no evidence
+//       (diagnose.cpp, OwnModelScore).
 //       The budget is max(B_lead, chi2_rep): chi2_rep is the held-out chi2 of
 //       the recording's own fit half used as the prediction (model-free, E ~ 2m
 //       for a stationary recording). Why: own-simulator findings leave 2-9 %
@@ -69,6 +73,9 @@ struct VerdictInputs {
   double lead_held_out_chi2 = std::numeric_limits<double>::quiet_NaN();
   /// B_lead: 1 - alpha/2 null quantile of that chi2 (NaN: no lead or not computed).
   double lead_bound_held_out = std::numeric_limits<double>::quiet_NaN();
+  /// The same quantile with the fidelity weights folded into the lines (FidelityDraw::Folded;
+  /// B_lead is the smaller of the two): for the reason when only the folded one holds it.
+  double lead_bound_folded = std::numeric_limits<double>::quiet_NaN();
   /// Why B_lead could not be computed (the solver's message on the lead's model or one of its
   /// fidelity variants); empty when it was.
   std::string lead_score_failure;

@@ -198,5 +198,53 @@ TEST(Compare, ASimulationThatRunsAwayAtTheBandStepIsRunAgainAtTheModelsOwnStep) 
     for (double v : channel) ASSERT_TRUE(std::isfinite(v));
 }
 
+// The own null of a fitted model (verdict.hpp, condition (a)) is drawn with its model-fidelity
+// weights z folded into its lines, |a + z u|, or added to the residual as chi2_of profiles them.
+// Where |u| is small beside the lines the two agree; where u is of the lines' size the fold
+// leaves residuals the linear profile cannot take out and the folded quantile grows with |u|,
+// so that a model wrong by far more than the noise passes it (seed3p rec_36, session 34). The
+// linear one stays near the noise quantile: under r = noise + z u, chi2 = r'(D + u u')^-1 r is
+// chi2(m) whatever |u|.
+TEST(Compare, AFoldedOwnNullGrowsWithFidelityOfTheLinesSizeWhileTheLinearOneStaysWithTheNoise) {
+  const Recording rec = synthetic(0.0, 0.0, 11);
+  const Recording clean = synthetic(0.0, 0.0, 1, 0.0, 1e-6, 1e-9);
+  const auto model = ModelComparison(clean, stage_1200rpm()).spectra().amplitude[0];
+  ModelComparison cmp(rec, stage_1200rpm());
+  cmp.set_reference(model, {});
+  auto set_u = [&](double scale) {
+    std::vector<std::vector<double>> u(1, std::vector<double>(static_cast<std::size_t>(cmp.features()), 0.0));
+    for (int c = 0; c < cmp.channels(); ++c)
+      for (int i = 0; i < cmp.cells(); ++i) {
+        const auto bin = static_cast<std::size_t>(cmp.spectra().layout.cells[static_cast<std::size_t>(i)].bin);
+        // Of either sign from cell to cell, as a discretization change of many lines is: a
+        // column proportional to the lines would only rescale them, which the fold keeps linear.
+        u[0][static_cast<std::size_t>(c * cmp.cells() + i)] = (i % 2 ? -scale : scale) * model[static_cast<std::size_t>(c)][bin];
+      }
+    cmp.set_fidelity(u, {"discretization"}, 0);
+  };
+  constexpr double alpha_half = 0.005;
+  auto bound = [&](FidelityDraw draw) { return cmp.null_quantile(model, {}, Half::HeldOut, alpha_half, 1, draw); };
+  const double m = cmp.features();
+  set_u(0.01);
+  const double folded_small = bound(FidelityDraw::Folded), linear_small = bound(FidelityDraw::Linear);
+  // The same random numbers: only the fold and the second order of the hypot differ.
+  EXPECT_NEAR(folded_small, linear_small, 0.02 * linear_small);
+  // m features of mean 1, a 1 - 0.005 quantile a few sqrt(2 m) above, + 2 chi2(1).
+  EXPECT_NEAR(linear_small, m + 2.58 * std::sqrt(2 * m), 4 * std::sqrt(2 * m));
+  set_u(3.0);
+  const double folded_large = bound(FidelityDraw::Folded), linear_large = bound(FidelityDraw::Linear);
+  EXPECT_NEAR(linear_large, linear_small, 4 * std::sqrt(2 * m));
+  EXPECT_GT(folded_large, 3 * linear_large) << "m " << m;
+  // A model with its lines at half the recording's, scored against it with u three times its
+  // lines: its chi2 is many times the linear null, and still under the folded one.
+  auto half = model;
+  for (auto& channel : half)
+    for (double& v : channel) v *= 0.5;
+  cmp.set_reference(half, {});
+  const double chi2 = cmp.score(half, Half::HeldOut, {}, HousingGains::Given).chi2;
+  EXPECT_GT(chi2, 10 * cmp.null_quantile(half, {}, Half::HeldOut, alpha_half, 1, FidelityDraw::Linear));
+  EXPECT_LT(chi2, cmp.null_quantile(half, {}, Half::HeldOut, alpha_half, 1, FidelityDraw::Folded));
+}
+
 } // namespace
 } // namespace pw::diagnose

@@ -125,6 +125,34 @@ TEST(Verdict, AFitHalfOnlyExcessIsNotConfirmedByTheHeldOutHalfAndNamesNothing) {
   EXPECT_NE(u.summary.find("not a finding"), std::string::npos) << u.summary;
 }
 
+TEST(Verdict, AWinnerWithinOnlyItsFoldedOwnNullIsUnexplainedAndSaysItsModelIsNotResolved) {
+  // seed3p rec_36 without calibration (session 34): a torque ripple fitted as sun_runout left
+  // 1175503 held out, under its folded own null 1514199 and far above the noise bound 2001;
+  // the linear null of its fidelity directions is the bound, and the fold is the reason given.
+  Diagnosis d = counting_friction();
+  d.bound_held_out = 2001;
+  d.nuisance.held_out = score(5000000, 253561);
+  d.candidates.front().held_out = score(1000000, 175503);
+  VerdictInputs in = inputs(2100);
+  in.lead_held_out_chi2 = 1175503;
+  in.lead_bound_folded = 1514199;
+  in.replicate_chi2 = 5218;
+  decide_verdict(d, in);
+  EXPECT_EQ(d.verdict, Verdict::Unexplained) << d.summary;
+  EXPECT_FALSE(d.lead.within_bound);
+  EXPECT_DOUBLE_EQ(d.lead.bound_folded, 1514199);
+  EXPECT_NE(d.lead.failed.find("within 1514199 only with its model-fidelity directions folded"), std::string::npos)
+      << d.lead.failed;
+  // Beyond the folded null too, the fold is not the reason and is not mentioned.
+  Diagnosis e = counting_friction();
+  e.bound_held_out = 2001;
+  e.nuisance.held_out = score(5000000, 253561);
+  in.lead_held_out_chi2 = 1600000;
+  decide_verdict(e, in);
+  EXPECT_EQ(e.verdict, Verdict::Unexplained) << e.summary;
+  EXPECT_EQ(e.lead.failed.find("folded"), std::string::npos) << e.lead.failed;
+}
+
 TEST(Verdict, WinnerFarAboveItsBoundIsUnexplainedWithTheCandidateAsLead) {
   // Issue 18: chi2 87850377 -> 21281752 held out, bound 5828.
   Diagnosis d = counting_friction();
