@@ -1098,7 +1098,7 @@ private:
 
   /// Makes `w` the named finding of check_changes_since_baseline: first among the candidates,
   /// the lead whose held-out test (chi2 <= bound) it passed.
-  void adopt_change(CandidateResult w, double held_out_chi2, double bound_held_out) {
+  void adopt_change(CandidateResult w, double held_out_chi2, double bound_held_out, double bound_folded) {
     d_.candidates.insert(d_.candidates.begin(), std::move(w));
     d_.winner = 0;
     d_.verdict = Verdict::MissingPhysicsFound;
@@ -1106,6 +1106,7 @@ private:
     d_.lead.candidate = 0;
     d_.lead.held_out_chi2 = held_out_chi2;
     d_.lead.bound_held_out = bound_held_out;
+    d_.lead.bound_folded = bound_folded;
     d_.lead.counts = true;
     d_.lead.within_bound = true;
   }
@@ -1179,7 +1180,7 @@ private:
     w.reason = "named: the baseline's housing lines x" + fmt("%.4g", s.rho) + " explain the held-out half (chi2 " +
                fmt("%.0f", s.chi2_held) + " <= " + fmt("%.0f", s.bound_held) + "), x1 does not as well (" +
                fmt("%.0f", s.chi2_held_1) + ")";
-    adopt_change(std::move(w), s.chi2_held, s.bound_held);
+    adopt_change(std::move(w), s.chi2_held, s.bound_held, s.bound_held_folded);
     d_.summary = "Missing physics: sensor_transfer_path (the gain of " + channel + " changed since the baseline) — " +
                  channel + " reads the baseline's lines x" + fmt("%.4g", s.rho) + " ± " + fmt("%.2g", rho.std_error) +
                  "; chi2 " + fmt("%.0f", s.chi2_fit_1) + " -> " + fmt("%.0f", s.chi2_fit) + " on the fit half and " +
@@ -1270,7 +1271,7 @@ private:
                " explains the held-out half (chi2 " + fmt("%.0f", own.held_out_chi2) + " <= " +
                fmt("%.0f", own.bound_held_out) + " at its own model), the baseline's as it was does not as well (" +
                fmt("%.0f", lc.chi2_held_1) + ")";
-    adopt_change(std::move(w), own.held_out_chi2, own.bound_held_out);
+    adopt_change(std::move(w), own.held_out_chi2, own.bound_held_out, own.bound_folded);
     d_.final_overrides = lc.overrides;
     d_.summary = "Missing physics: " + lc.candidate + " (changed since the baseline) — " + lc.parameter + " = " +
                  fmt("%.4g", p.value) + " ± " + fmt("%.2g", p.std_error) + ", x" + fmt("%.3g", lc.rho) +

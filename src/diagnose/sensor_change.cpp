@@ -2,6 +2,7 @@
 
 #include "core/golden_section.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 namespace pw::diagnose {
@@ -40,7 +41,12 @@ SensorScale fit_sensor_scale(const ModelComparison& cmp, const std::vector<std::
   s.chi2_fit = chi2(x, Half::Fit);
   s.chi2_held_1 = chi2(0.0, Half::HeldOut);
   s.chi2_held = chi2(x, Half::HeldOut);
-  s.bound_held = cmp.null_quantile(scaled_housing(cmp, amp, g0, ch, s.rho), gains, Half::HeldOut, alpha / 2, 1);
+  // The smaller of the folded and the linear null, as for a lead's test (a): a pass owed to the
+  // fidelity draws' fold at 0 is no evidence (diagnose.cpp, OwnModelScore).
+  const auto scaled = scaled_housing(cmp, amp, g0, ch, s.rho);
+  s.bound_held_folded = cmp.null_quantile(scaled, gains, Half::HeldOut, alpha / 2, 1, FidelityDraw::Folded);
+  s.bound_held =
+      std::min(s.bound_held_folded, cmp.null_quantile(scaled, gains, Half::HeldOut, alpha / 2, 1, FidelityDraw::Linear));
   return s;
 }
 

@@ -19,7 +19,8 @@ struct SensorScale {
   double chi2_fit = 0;     ///< fit half at the fitted rho
   double chi2_held_1 = 0;  ///< held-out half at rho = 1
   double chi2_held = 0;    ///< held-out half at the fitted rho
-  double bound_held = 0;   ///< 1 - alpha/2 Monte-Carlo null of chi2_held (one fitted parameter)
+  double bound_held = 0;   ///< 1 - alpha/2 Monte-Carlo null of chi2_held (one fitted parameter): min(folded, linear)
+  double bound_held_folded = 0;  ///< the same with FidelityDraw::Folded alone (the report's)
   /// rho within the search's final bracket of kMinSensorScale or kMaxSensorScale: the channel
   /// reads more than 12x off the baseline, a broken channel rather than a changed path, and rho
   /// is only a bound.
