@@ -71,6 +71,16 @@ Diagnosis counting_friction() {
   return d;
 }
 
+/// counting_friction() with a noise bound and nuisance-only and lead held-out chi2 (per channel)
+/// of a recording far from its model.
+Diagnosis far_from_the_model(double bound, double nuisance_a, double nuisance_b, double lead_a, double lead_b) {
+  Diagnosis d = counting_friction();
+  d.bound_held_out = bound;
+  d.nuisance.held_out = score(nuisance_a, nuisance_b);
+  d.candidates.front().held_out = score(lead_a, lead_b);
+  return d;
+}
+
 VerdictInputs inputs(double lead_bound) {
   VerdictInputs in;
   in.noise_consistent = false;
@@ -129,10 +139,7 @@ TEST(Verdict, AWinnerWithinOnlyItsFoldedOwnNullIsUnexplainedAndSaysItsModelIsNot
   // seed3p rec_36 without calibration (session 34): a torque ripple fitted as sun_runout left
   // 1175503 held out, under its folded own null 1514199 and far above the noise bound 2001;
   // the linear null of its fidelity directions is the bound, and the fold is the reason given.
-  Diagnosis d = counting_friction();
-  d.bound_held_out = 2001;
-  d.nuisance.held_out = score(5000000, 253561);
-  d.candidates.front().held_out = score(1000000, 175503);
+  Diagnosis d = far_from_the_model(2001, 5000000, 253561, 1000000, 175503);
   VerdictInputs in = inputs(2100);
   in.lead_held_out_chi2 = 1175503;
   in.lead_bound_folded = 1514199;
@@ -144,9 +151,7 @@ TEST(Verdict, AWinnerWithinOnlyItsFoldedOwnNullIsUnexplainedAndSaysItsModelIsNot
   EXPECT_NE(d.lead.failed.find("within 1514199 only with its model-fidelity directions folded"), std::string::npos)
       << d.lead.failed;
   // Beyond the folded null too, the fold is not the reason and is not mentioned.
-  Diagnosis e = counting_friction();
-  e.bound_held_out = 2001;
-  e.nuisance.held_out = score(5000000, 253561);
+  Diagnosis e = far_from_the_model(2001, 5000000, 253561, 1000000, 175503);
   in.lead_held_out_chi2 = 1600000;
   decide_verdict(e, in);
   EXPECT_EQ(e.verdict, Verdict::Unexplained) << e.summary;
@@ -155,10 +160,7 @@ TEST(Verdict, AWinnerWithinOnlyItsFoldedOwnNullIsUnexplainedAndSaysItsModelIsNot
 
 TEST(Verdict, WinnerFarAboveItsBoundIsUnexplainedWithTheCandidateAsLead) {
   // Issue 18: chi2 87850377 -> 21281752 held out, bound 5828.
-  Diagnosis d = counting_friction();
-  d.bound_held_out = 5828;
-  d.nuisance.held_out = score(80000000, 7850377);
-  d.candidates.front().held_out = score(20000000, 1281752);
+  Diagnosis d = far_from_the_model(5828, 80000000, 7850377, 20000000, 1281752);
   VerdictInputs in = inputs(5828);
   in.replicate_chi2 = 11500;  // about 2m: the recording's fit half predicting its held-out half
   decide_verdict(d, in);
