@@ -645,4 +645,13 @@ double ModelComparison::null_quantile(const std::vector<std::vector<double>>& m,
   return chi[idx];
 }
 
+ModelComparison::OwnNull ModelComparison::own_null(const std::vector<std::vector<double>>& m,
+                                                   const std::vector<double>& gains, Half half, double alpha,
+                                                   int fitted_parameters) const {
+  OwnNull n;
+  n.folded = null_quantile(m, gains, half, alpha, fitted_parameters, FidelityDraw::Folded);
+  n.bound = std::min(n.folded, null_quantile(m, gains, half, alpha, fitted_parameters, FidelityDraw::Linear));
+  return n;
+}
+
 } // namespace pw::diagnose

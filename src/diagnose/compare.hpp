@@ -242,6 +242,15 @@ public:
   double null_quantile(const std::vector<std::vector<double>>& model_amplitude, const std::vector<double>& gains,
                        Half half, double alpha, int fitted_parameters = 0,
                        FidelityDraw draw = FidelityDraw::Folded) const;
+  /// A fitted model's own null: the smaller of the folded and the linear null_quantile
+  /// (`bound`), and the folded one alone (`folded`, for the report). A pass owed to the fold at
+  /// 0 is no evidence: where the fidelity directions are of the size of the lines the folded
+  /// null grows with them, which the linear profile in chi2_of does not (docs/diagnose.md §5 (a)).
+  struct OwnNull {
+    double bound = 0, folded = 0;
+  };
+  OwnNull own_null(const std::vector<std::vector<double>>& model_amplitude, const std::vector<double>& gains,
+                   Half half, double alpha, int fitted_parameters) const;
 
   /// chi2 of the recording's fit half used as the prediction of its held-out half
   /// (r = A_held - A_fit, the held-out window's V, housing gains `gains` for the fidelity

@@ -922,10 +922,10 @@ private:
       const auto amp = cc && cc->sensor_only() ? ctx().amplitudes(c.config, true) : cmp().simulate(c.config)->amplitude;
       if (calibrated) cmp().set_discrepancy_reference(amp, c.gains);
       s.held_out_chi2 = cmp().score(amp, Half::HeldOut, c.gains, HousingGains::Given).chi2;
-      const int k = static_cast<int>(c.parameters.size());
-      s.bound_folded = cmp().null_quantile(amp, c.gains, Half::HeldOut, o_.alpha / 2, k, FidelityDraw::Folded);
-      s.bound_held_out = std::min(
-          s.bound_folded, cmp().null_quantile(amp, c.gains, Half::HeldOut, o_.alpha / 2, k, FidelityDraw::Linear));
+      const ModelComparison::OwnNull own =
+          cmp().own_null(amp, c.gains, Half::HeldOut, o_.alpha / 2, static_cast<int>(c.parameters.size()));
+      s.bound_held_out = own.bound;
+      s.bound_folded = own.folded;
     } catch (const SolverError& e) {
       s = OwnModelScore{};
       s.failure = e.what();

@@ -2,7 +2,6 @@
 
 #include "core/golden_section.hpp"
 
-#include <algorithm>
 #include <cmath>
 
 namespace pw::diagnose {
@@ -41,12 +40,11 @@ SensorScale fit_sensor_scale(const ModelComparison& cmp, const std::vector<std::
   s.chi2_fit = chi2(x, Half::Fit);
   s.chi2_held_1 = chi2(0.0, Half::HeldOut);
   s.chi2_held = chi2(x, Half::HeldOut);
-  // The smaller of the folded and the linear null, as for a lead's test (a): a pass owed to the
-  // fidelity draws' fold at 0 is no evidence (diagnose.cpp, OwnModelScore).
-  const auto scaled = scaled_housing(cmp, amp, g0, ch, s.rho);
-  s.bound_held_folded = cmp.null_quantile(scaled, gains, Half::HeldOut, alpha / 2, 1, FidelityDraw::Folded);
-  s.bound_held =
-      std::min(s.bound_held_folded, cmp.null_quantile(scaled, gains, Half::HeldOut, alpha / 2, 1, FidelityDraw::Linear));
+  // Its own null as a lead's test (a) takes it (ModelComparison::own_null).
+  const ModelComparison::OwnNull own =
+      cmp.own_null(scaled_housing(cmp, amp, g0, ch, s.rho), gains, Half::HeldOut, alpha / 2, 1);
+  s.bound_held = own.bound;
+  s.bound_held_folded = own.folded;
   return s;
 }
 
