@@ -585,7 +585,10 @@ void write_diagnosis_report(const std::filesystem::path& dir, const dg::Diagnosi
   j["features"] = {{"cells_per_channel", d.cells}, {"total", d.features}, {"max_carrier_order", d.max_order},
                    {"max_frequency_Hz", d.max_frequency_Hz}, {"mesh_harmonics", d.mesh_harmonics},
                    {"non_stationary", d.nonstationary_features}, {"fidelity_directions", d.fidelity}};
-  j["noise_bound"] = {{"fit", d.bound_fit}, {"held_out", d.bound_held_out}};
+  j["noise_bound"] = {{"fit", d.bound_fit},
+                      {"held_out", d.bound_held_out},
+                      {"fit_linear", d.bound_fit_linear},
+                      {"held_out_linear", d.bound_held_out_linear}};
   j["residual"] = {{"nominal", {{"fit", score_json(d.nominal_fit, d.channels)},
                                 {"held_out", score_json(d.nominal_held_out, d.channels)}}},
                    {"nuisance_fitted", {{"fit", score_json(d.nuisance.fit, d.channels)},

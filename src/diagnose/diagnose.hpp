@@ -275,6 +275,9 @@ struct Diagnosis {
   int mesh_harmonics = 0, cells = 0, features = 0, nonstationary_features = 0;
   std::vector<std::string> fidelity;     ///< names of the fidelity directions
   double bound_fit = 0, bound_held_out = 0;  ///< null quantiles (1 - alpha/2) of the nuisance-fitted model
+  /// The same quantiles with the fidelity weights drawn linearly (FidelityDraw::Linear), reported
+  /// beside the folded bounds above, which decide (diagnose.md §5 step 4): not yet acted on.
+  double bound_fit_linear = 0, bound_held_out_linear = 0;
   double model_speed_rpm = 0;            ///< mean speed of the simulated baseline
   ScoreSummary nominal_fit, nominal_held_out;
   CandidateResult nuisance;              ///< nuisance-only model

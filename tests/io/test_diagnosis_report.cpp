@@ -6,6 +6,7 @@
 #include "test_support.hpp"
 
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 
 #include <fstream>
 #include <regex>
@@ -76,4 +77,25 @@ TEST(DiagnosisReport, WithPlotsLinksEachDrawnImage) {
   pw::io::write_diagnosis_documents(tmp.path(), d, ctx);
   EXPECT_NE(read(tmp / "report.md").find("spectrum_w_sun.png"), std::string::npos);
   expect_links_resolve(tmp.path());
+}
+
+// report.json carries the nuisance-fitted model's noise bounds both ways: the folded quantiles,
+// which decide "no missing physics", and the linear ones beside them (docs/diagnose.md §5 step 4),
+// each under its own key, so that a reader can compare them without recomputing anything.
+TEST(DiagnosisReport, JsonKeepsTheFoldedAndTheLinearNoiseBoundsUnderTheirOwnKeys) {
+  pw::test::TempDir tmp;
+  pw::io::ReportContext ctx;
+  ctx.plots_available = false;
+  auto d = with_one_plot();
+  d.bound_fit = 2201.5;
+  d.bound_held_out = 2203.25;
+  d.bound_fit_linear = 2101.5;
+  d.bound_held_out_linear = 2103.75;
+  pw::io::write_diagnosis_report(tmp.path(), d, ctx);
+  const auto j = nlohmann::json::parse(read(tmp / "report.json"));
+  const auto& b = j.at("noise_bound");
+  EXPECT_EQ(b.at("fit").get<double>(), 2201.5);
+  EXPECT_EQ(b.at("held_out").get<double>(), 2203.25);
+  EXPECT_EQ(b.at("fit_linear").get<double>(), 2101.5);
+  EXPECT_EQ(b.at("held_out_linear").get<double>(), 2103.75);
 }
