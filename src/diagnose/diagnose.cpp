@@ -708,6 +708,7 @@ private:
     const auto t = Clock::now();
     step(7, "grid starts of the one-parameter candidates");
     screening_->grid_starts(shortlist_, [&](const std::string& s) { say(s); });
+    screening_->backtrack_starts(shortlist_, d_.nuisance.fit.chi2, [&](const std::string& s) { say(s); });
     d_.candidates.resize(shortlist_.size());
     step(8, "fitting " + std::to_string(shortlist_.size()) + " candidates");
     fits_done_ = 0;
@@ -740,6 +741,7 @@ private:
         "'s predicted improvement " + fmt("%.1f", lead.predicted_improvement) + ", beyond the cap of " +
         std::to_string(o_.max_candidates));
     screening_->grid_starts(rivals, [&](const std::string& s) { say(s); });
+    screening_->backtrack_starts(rivals, d_.nuisance.fit.chi2, [&](const std::string& s) { say(s); });
     const std::size_t first = d_.candidates.size();
     shortlist_.insert(shortlist_.end(), rivals.begin(), rivals.end());
     d_.candidates.resize(first + rivals.size());

@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <limits>
 
 namespace pw::diagnose {
@@ -237,6 +238,72 @@ namespace {
 /// A shortlisted variant whose start comes from the grid: one parameter, simulated.
 bool gridded(const Screen& sc) { return !sc.failed && sc.spec.size() == 1 && !sc.c->sensor_only(); }
 } // namespace
+
+namespace {
+/// The point a fraction t of the way from `from` to `to`, geometric where the parameter is
+/// fitted on a log scale (both ends positive there: the box's lower bound is > 0).
+double along(const ParameterSpec& ps, double from, double to, double t) {
+  if (ps.log_scale && from > 0 && to > 0) return from * std::pow(to / from, t);
+  return from + t * (to - from);
+}
+} // namespace
+
+BacktrackedStart backtrack_start(const std::vector<ParameterSpec>& spec, const std::vector<double>& start,
+                                 const std::vector<double>& absent, double absent_chi2, int max_halvings,
+                                 const std::function<double(const std::vector<double>&)>& chi2) {
+  BacktrackedStart b;
+  b.x = start;
+  b.chi2 = b.start_chi2 = chi2(start);
+  b.evaluations = 1;
+  std::vector<double> x = start;
+  double t = 1;
+  for (int k = 0; k < max_halvings && !(b.chi2 < absent_chi2); ++k) {
+    t *= 0.5;
+    for (std::size_t i = 0; i < x.size(); ++i) x[i] = along(spec[i], absent[i], start[i], t);
+    const double c = chi2(x);
+    ++b.evaluations;
+    if (c < b.chi2) b.chi2 = c, b.fraction = t, b.x = x;
+  }
+  return b;
+}
+
+void Screening::backtrack_starts(const std::vector<std::size_t>& list, double absent_chi2,
+                                 const std::function<void(const std::string&)>& say) {
+  if (!std::isfinite(absent_chi2)) return;
+  std::vector<std::string> moved(list.size());
+  parallel_for(static_cast<int>(list.size()), ctx_.threads, [&](int li) {
+    Screen& sc = screens_[list[static_cast<std::size_t>(li)]];
+    if (sc.failed || sc.c->sensor_only() || any_saturates(sc.spec) || sc.start.size() != sc.spec.size()) return;
+    // One vector: the candidate's own parameters, then the nuisance ones where its start moves
+    // them (the joint step), each interpolated on its own scale.
+    const std::size_t nc = sc.spec.size();
+    const bool joint = sc.nuisance_start.size() == ctx_.nuisance_x.size() && sc.nuisance_start.size() == nspec_.size();
+    std::vector<ParameterSpec> spec = sc.spec;
+    std::vector<double> start = sc.start, absent;
+    for (const ParameterSpec& ps : sc.spec) absent.push_back(ps.null_value);
+    if (joint) {
+      spec.insert(spec.end(), nspec_.begin(), nspec_.end());
+      start.insert(start.end(), sc.nuisance_start.begin(), sc.nuisance_start.end());
+      absent.insert(absent.end(), ctx_.nuisance_x.begin(), ctx_.nuisance_x.end());
+    }
+    const auto chi2 = [&](const std::vector<double>& x) {
+      const std::span<const double> all(x);
+      return ctx_.fit_chi2(sc.c, sc.v, all.first(nc), joint ? all.subspan(nc) : std::span<const double>(sc.nuisance_start));
+    };
+    const BacktrackedStart b = backtrack_start(spec, start, absent, absent_chi2, kBacktracks, chi2);
+    if (b.fraction == 1) return;
+    sc.start.assign(b.x.begin(), b.x.begin() + static_cast<long>(nc));
+    if (joint) sc.nuisance_start.assign(b.x.begin() + static_cast<long>(nc), b.x.end());
+    char line[320];
+    std::snprintf(line, sizeof line,
+                  "%s: its linearized start fits the fit half worse than its absence (chi2 %.6g >= %.6g); "
+                  "started at %g of that step instead (chi2 %.6g)",
+                  sc.c->name().c_str(), b.start_chi2, absent_chi2, b.fraction, b.chi2);
+    moved[static_cast<std::size_t>(li)] = line;
+  });
+  for (const std::string& m : moved)
+    if (!m.empty()) say(m);
+}
 
 std::size_t Screening::grid_simulations(const std::vector<std::size_t>& shortlist) const {
   std::size_t n = 0;

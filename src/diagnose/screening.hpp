@@ -49,6 +49,21 @@ std::vector<std::size_t> shortlist(const std::vector<Screen>& screens, const std
 std::vector<std::size_t> screened_rivals(const std::vector<Screen>& screens, const std::vector<std::size_t>& best,
                                          const std::vector<std::size_t>& shortlist, double lead_S, double margin);
 
+/// Where a fit starts after backtrack_start: x, its chi2, the fraction of the step it lies at
+/// (1: the start as given), the given start's chi2 and the chi2 evaluations made.
+struct BacktrackedStart {
+  std::vector<double> x;
+  double chi2 = 0, fraction = 1, start_chi2 = 0;
+  int evaluations = 0;
+};
+/// The backtracking of Screening::backtrack_starts, pure: from `start`, while chi2 is not below
+/// `absent_chi2` (the chi2 at `absent`), the step from `absent` is halved, up to max_halvings
+/// times (geometrically for log-scale parameters); the first point below `absent_chi2`, else the
+/// best point tried (the start itself when none is better).
+BacktrackedStart backtrack_start(const std::vector<ParameterSpec>& spec, const std::vector<double>& start,
+                                 const std::vector<double>& absent, double absent_chi2, int max_halvings,
+                                 const std::function<double(const std::vector<double>&)>& chi2);
+
 class Screening {
 public:
   Screening(FitContext& ctx, double alpha);
@@ -81,6 +96,20 @@ public:
   /// contact pattern): the linearized step can start LM in the wrong basin near "absent".
   /// Their starts become the best of that step and a grid over the box (fit-half chi2).
   void grid_starts(const std::vector<std::size_t>& shortlist, const std::function<void(const std::string&)>& say);
+  /// A start that fits the fit half worse than the candidate at its 'absent' values with the
+  /// nuisance-fitted values (chi2 `absent_chi2`, the nuisance-only model) is a Gauss-Newton step
+  /// that overshot: it is moved back towards 'absent' along the same step, halving it up to
+  /// kBacktracks times (the backtracking line search of damped Gauss-Newton, Nocedal & Wright
+  /// 2006, Alg. 3.1, with the sufficient-decrease constant 0), to the first point that fits
+  /// better than 'absent'; where none does, to the best point tried. Without it LM descends from
+  /// the overshoot into a far basin and returns a fit worse than the candidate's own absence:
+  /// a 4 um carrier runout of the independent corpus (seed3p rec_35) was fitted at 39 um with
+  /// chi2 41.9 M against the nuisance-only 8.55 M (docs/diagnose-log.md, session 35).
+  /// Saturating and sensor-only variants keep their starts (no step to shorten).
+  void backtrack_starts(const std::vector<std::size_t>& list, double absent_chi2,
+                        const std::function<void(const std::string&)>& say);
+  /// Halvings of an overshooting start's step (backtrack_starts): down to 1/64 of it.
+  static constexpr int kBacktracks = 6;
   /// Simulations grid_starts(shortlist) runs (the grid and each linearized start).
   std::size_t grid_simulations(const std::vector<std::size_t>& shortlist) const;
   /// Values per one-parameter candidate in the grid of starts (at the centres of equal cells).

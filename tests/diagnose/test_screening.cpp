@@ -78,4 +78,65 @@ TEST(Screening, AFailedScreenIsNeverARival) {
 }
 
 } // namespace
+
+// backtrack_start: an overshooting linearized step is shortened towards 'absent' until it fits
+// better than 'absent' (damped Gauss-Newton's backtracking line search, screening.hpp).
+ParameterSpec linear_spec(double null_value) {
+  ParameterSpec p;
+  p.lower = -100, p.upper = 100, p.null_value = null_value;
+  return p;
+}
+
+TEST(Screening, AStartThatFitsBetterThanAbsentIsKeptWithOneEvaluation) {
+  // chi2(x) = (x - 1)^2 + 10: absent (x = 0) scores 11, the start x = 1.5 scores 10.25.
+  const auto chi2 = [](const std::vector<double>& x) { return (x[0] - 1) * (x[0] - 1) + 10; };
+  const BacktrackedStart b = backtrack_start({linear_spec(0)}, {1.5}, {0}, 11, 6, chi2);
+  EXPECT_EQ(b.x, std::vector<double>{1.5});
+  EXPECT_EQ(b.fraction, 1);
+  EXPECT_EQ(b.evaluations, 1);
+}
+
+TEST(Screening, AnOvershootingStartIsHalvedTowardsAbsentUntilItFitsBetterThanAbsent) {
+  // The step to x = 6 overshoots the minimum at 1 (chi2 35 >= absent's 11); halving gives 3
+  // (chi2 14, still worse), then 1.5 (10.25 < 11): the first point better than absent is taken.
+  const auto chi2 = [](const std::vector<double>& x) { return (x[0] - 1) * (x[0] - 1) + 10; };
+  const BacktrackedStart b = backtrack_start({linear_spec(0)}, {6}, {0}, 11, 6, chi2);
+  EXPECT_DOUBLE_EQ(b.x[0], 1.5);
+  EXPECT_DOUBLE_EQ(b.fraction, 0.25);
+  EXPECT_DOUBLE_EQ(b.chi2, 10.25);
+  EXPECT_DOUBLE_EQ(b.start_chi2, 35);
+  EXPECT_EQ(b.evaluations, 3);
+}
+
+TEST(Screening, BacktrackingMovesEveryParameterAlongTheStepAndLogScaleOnesGeometrically) {
+  // Two parameters, the second fitted on a log scale from 'absent' 1e-8: halving the step
+  // from (8, 1e-4) gives (4, 1e-6), the geometric mean of 1e-8 and 1e-4.
+  ParameterSpec logp;
+  logp.lower = 1e-8, logp.upper = 1e-3, logp.log_scale = true, logp.null_value = 1e-8;
+  std::vector<std::vector<double>> tried;
+  const auto chi2 = [&](const std::vector<double>& x) {
+    tried.push_back(x);
+    return x[0] > 5 ? 100.0 : 1.0;  // only the first halving fits better than absent (chi2 50)
+  };
+  const BacktrackedStart b = backtrack_start({linear_spec(0), logp}, {8, 1e-4}, {0, 1e-8}, 50, 6, chi2);
+  ASSERT_EQ(tried.size(), 2u);
+  EXPECT_DOUBLE_EQ(b.x[0], 4);
+  EXPECT_NEAR(b.x[1], 1e-6, 1e-18);
+  EXPECT_DOUBLE_EQ(b.fraction, 0.5);
+}
+
+TEST(Screening, WhereNoHalvingFitsBetterThanAbsentTheBestPointTriedIsTheStart) {
+  // chi2 falls towards absent but never below it: every halving is tried, the last is best.
+  const auto chi2 = [](const std::vector<double>& x) { return 20 + x[0]; };
+  const BacktrackedStart b = backtrack_start({linear_spec(0)}, {64}, {0}, 20, 6, chi2);
+  EXPECT_EQ(b.evaluations, 7);
+  EXPECT_DOUBLE_EQ(b.x[0], 1);  // 64 / 2^6
+  EXPECT_DOUBLE_EQ(b.fraction, 1.0 / 64);
+  // A start whose step leads only to worse points is kept.
+  const auto worse = [](const std::vector<double>& x) { return x[0] < 64 ? 1e9 : 30.0; };
+  const BacktrackedStart k = backtrack_start({linear_spec(0)}, {64}, {0}, 20, 6, worse);
+  EXPECT_EQ(k.x, std::vector<double>{64});
+  EXPECT_EQ(k.fraction, 1);
+}
+
 } // namespace pw::diagnose
