@@ -42,6 +42,7 @@ json candidate_json(const dg::CandidateResult& r, const std::vector<std::string>
   j["families"] = r.families;
   j["evidence_z"] = num(r.evidence_z);
   j["predicted_improvement"] = num(r.predicted_improvement);
+  j["start_step_fraction"] = num(r.start_step_fraction);
   json ps = json::array();
   for (const auto& p : r.parameters) {
     json pj = {{"name", p.name}, {"unit", p.unit}, {"value", num(p.value)}, {"std_error", num(p.std_error)},

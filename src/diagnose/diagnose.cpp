@@ -689,6 +689,7 @@ private:
     for (Component f : sc.c->families()) z = std::max(z, d_.location.evidence.family_z[static_cast<int>(f)]);
     r.evidence_z = z;
     r.predicted_improvement = sc.S;
+    r.start_step_fraction = sc.start_step_fraction;
     r.seconds = seconds_since(tc);
     // Fits run in parallel: the phase's remaining time is its elapsed time per finished fit
     // times the fits still to finish.

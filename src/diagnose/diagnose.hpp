@@ -124,6 +124,9 @@ struct CandidateResult {
   std::vector<std::string> families;
   double evidence_z = 0;                 ///< located evidence for its families
   double predicted_improvement = 0;      ///< screening: linearized chi2 improvement S
+  /// Fraction of the screening's step its fit started at: 1, or less where that step fitted
+  /// worse than the candidate's absence and was backtracked (Screening::backtrack_starts).
+  double start_step_fraction = 1;
   std::vector<FittedParameter> parameters;  ///< its own, then the nuisance ones
   std::vector<std::string> overrides;    ///< `--set` assignments reproducing the fitted model
   int own_parameters = 0;

@@ -294,6 +294,7 @@ void Screening::backtrack_starts(const std::vector<std::size_t>& list, double ab
     if (b.fraction == 1) return;
     sc.start.assign(b.x.begin(), b.x.begin() + static_cast<long>(nc));
     if (joint) sc.nuisance_start.assign(b.x.begin() + static_cast<long>(nc), b.x.end());
+    sc.start_step_fraction = b.fraction;
     char line[320];
     std::snprintf(line, sizeof line,
                   "%s: its linearized start fits the fit half worse than its absence (chi2 %.6g >= %.6g); "

@@ -24,6 +24,7 @@ struct Screen {
   std::vector<ParameterSpec> spec;
   std::vector<std::vector<double>> cols;      ///< secant of each own parameter (whitened residual per unit)
   std::vector<double> start, nuisance_start;  ///< where its fit starts
+  double start_step_fraction = 1;             ///< of the linearized step (backtrack_starts)
   double S = 0;                               ///< predicted chi2 improvement
   bool failed = false;                        ///< a screening simulation failed
   /// Saturating: its effect, beyond what the nuisance can mimic, exceeds chi2_{1-alpha}(k).
