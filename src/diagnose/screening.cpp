@@ -237,9 +237,7 @@ std::vector<std::size_t> screened_rivals(const std::vector<Screen>& screens, con
 namespace {
 /// A shortlisted variant whose start comes from the grid: one parameter, simulated.
 bool gridded(const Screen& sc) { return !sc.failed && sc.spec.size() == 1 && !sc.c->sensor_only(); }
-} // namespace
 
-namespace {
 /// The point a fraction t of the way from `from` to `to`, geometric where the parameter is
 /// fitted on a log scale (both ends positive there: the box's lower bound is > 0).
 double along(const ParameterSpec& ps, double from, double to, double t) {

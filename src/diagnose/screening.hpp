@@ -109,7 +109,10 @@ public:
   /// Saturating and sensor-only variants keep their starts (no step to shorten).
   void backtrack_starts(const std::vector<std::size_t>& list, double absent_chi2,
                         const std::function<void(const std::string&)>& say);
-  /// Halvings of an overshooting start's step (backtrack_starts): down to 1/64 of it.
+  /// Halvings of an overshooting start's step (backtrack_starts): down to 1/64 of it. A cost
+  /// cap, one simulation each, not a tuned value: where 1/64 of the step still fits no better
+  /// than 'absent', the step's direction is not one along which the candidate improves the fit
+  /// near 'absent', and LM starts from the best point tried.
   static constexpr int kBacktracks = 6;
   /// Simulations grid_starts(shortlist) runs (the grid and each linearized start).
   std::size_t grid_simulations(const std::vector<std::size_t>& shortlist) const;
