@@ -295,7 +295,7 @@ void Screening::backtrack_starts(const std::vector<std::size_t>& list, double ab
     sc.start_step_fraction = b.fraction;
     char line[320];
     std::snprintf(line, sizeof line,
-                  "%s: its linearized start fits the fit half worse than its absence (chi2 %.6g >= %.6g); "
+                  "%s: its start fits the fit half worse than its absence (chi2 %.6g >= %.6g); "
                   "started at %g of that step instead (chi2 %.6g)",
                   sc.c->name().c_str(), b.start_chi2, absent_chi2, b.fraction, b.chi2);
     moved[static_cast<std::size_t>(li)] = line;
@@ -315,7 +315,7 @@ std::vector<double> Screening::grid_values(const ParameterSpec& ps) {
   std::vector<double> out;
   for (int g = 0; g < kGridPoints; ++g) {
     const double f = (g + 0.5) / kGridPoints;
-    out.push_back(ps.log_scale ? ps.lower * std::pow(ps.upper / ps.lower, f) : ps.lower + f * (ps.upper - ps.lower));
+    out.push_back(along(ps, ps.lower, ps.upper, f));
   }
   return out;
 }
