@@ -519,7 +519,19 @@ void write_diagnosis_report(const std::filesystem::path& dir, const dg::Diagnosi
   j["command_line"] = ctx.command_line;
   j["verdict"] = dg::to_string(d.verdict);
   j["summary"] = d.summary;
-  j["missing_physics"] = d.winner == 0 ? json(d.candidates.front().name) : json(nullptr);
+  // A class finding (src/diagnose/verdict.hpp) names the class; the lead that was fitted is "lead".
+  j["missing_physics"] = d.winner != 0                  ? json(nullptr)
+                         : !d.lead.named_class.empty() ? json(d.lead.named_class)
+                                                       : json(d.candidates.front().name);
+  if (d.winner == 0 && !d.lead.named_class.empty()) {
+    json size = json::array();
+    for (const auto& [name, value] : d.lead.class_size) size.push_back({{"name", name}, {"value", num(value)}});
+    j["finding_class"] = {{"name", d.lead.named_class}, {"members", d.lead.class_members},
+                          {"posterior", num(d.lead.class_posterior)}, {"size", size},
+                          {"size_unit", d.lead.class_size_unit}};
+  } else {
+    j["finding_class"] = nullptr;
+  }
   j["variant"] = d.winner == 0 ? json(d.candidates.front().variant) : json(nullptr);
   json moved = json::array();
   for (const auto& p : d.nuisance.parameters)
@@ -535,7 +547,8 @@ void write_diagnosis_report(const std::filesystem::path& dir, const dg::Diagnosi
                  {"held_out_chi2", num(d.lead.held_out_chi2)}, {"bound_held_out", num(d.lead.bound_held_out)},
                  {"bound_held_out_folded", num(d.lead.bound_folded)},
                  {"replicate_chi2", num(d.lead.replicate_chi2)}, {"within_bound", d.lead.within_bound}, {"explained_fraction", num(d.lead.explained_fraction)},
-                 {"at_bound", d.lead.at_bound}, {"posterior", num(d.lead.posterior)}, {"rival", d.lead.rival},
+                 {"at_bound", d.lead.at_bound}, {"posterior", num(d.lead.posterior)},
+                 {"class_posterior", num(d.lead.class_posterior)}, {"rival", d.lead.rival},
                  {"failed", d.lead.failed}};
   } else {
     j["lead"] = nullptr;

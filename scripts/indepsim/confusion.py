@@ -11,8 +11,9 @@ For each recording DIR/<gearset>/recordings/rec_NN.csv (sidecar rec_NN.json) it 
                         -o DIR/diagnosis/<gearset>/rec_NN --threads T --no-plots -q
 unless DIR/diagnosis/<gearset>/rec_NN/report.json exists (resumable), reads the report
 (docs/diagnose.md section 6), prints a confusion matrix truth effect x reported verdict
-(candidate name, "none" for no_missing_physics, "unexplained", "refused", "failed") and
-the counts: named right, controls clean, confident wrong names, refusals. Writes
+(candidate name, "class:a|b" for a class finding, "none" for no_missing_physics, "unexplained",
+"refused", "failed") and the counts: named right (of which as a class: the truth is a member of
+the class named), controls clean, confident wrong names, refusals. Writes
 DIR/diagnosis/results.csv and results.json. Held-out recordings (truth "held_out") are
 skipped unless --include-held-out.
 
@@ -105,6 +106,12 @@ def read_report(path):
         if name is None:
             name = find_key(rep, ("winner", "candidate", "missing_physics_name"))
         label = str(name) if name else "missing_physics(?)"
+        # A class finding (docs/diagnose.md section 5, "Class findings") names a class of candidates
+        # the data do not tell apart: "class:member1|member2" so that scoring can check the truth's
+        # membership and the table keeps class names apart from single names.
+        fc = rep.get("finding_class")
+        if isinstance(fc, dict) and fc.get("members"):
+            label = "class:" + "|".join(sorted(fc["members"]))
     # the nuisance-only model's --set overrides (report.json "nuisance" -> "overrides")
     nu = rep.get("nuisance")
     ov = nu.get("overrides") if isinstance(nu, dict) else None
@@ -348,6 +355,8 @@ def main(argv=None):
                                                                else "control_false_name")
         elif label == truth_eff:
             outcome = "named_right"
+        elif label.startswith("class:") and truth_eff in label[len("class:"):].split("|"):
+            outcome = "named_right_as_class"
         elif label == "none":
             outcome = "missed"
         elif label == "unexplained":
@@ -379,7 +388,8 @@ def main(argv=None):
     n_ctl = sum(1 for r in rows if r["truth"] == "none" and r["outcome"] not in ("refused", "failed"))
     summary = dict(
         recordings=len(rows), effects_scored=n_eff, controls_scored=n_ctl,
-        named_right=counts.get("named_right", 0), controls_clean=counts.get("control_clean", 0),
+        named_right=counts.get("named_right", 0) + counts.get("named_right_as_class", 0),
+        named_right_as_class=counts.get("named_right_as_class", 0), controls_clean=counts.get("control_clean", 0),
         confident_wrong_names=counts.get("wrong_name", 0) + counts.get("control_false_name", 0),
         unexplained=counts.get("unexplained", 0) + counts.get("control_unexplained", 0),
         missed=counts.get("missed", 0), refusals=counts.get("refused", 0), failures=counts.get("failed", 0),

@@ -12,6 +12,14 @@ parameter is compared with truth.json:
                    standard deviation the report gives under a calibration or a baseline
                    (docs/diagnose.md section 5, "model-form uncertainty").
 
+A class finding (report.json "finding_class", docs/diagnose.md section 5) whose members include the
+true effect is scored by the class's size: for planet_position_error the planets' tangential
+position errors, the report's pin pattern (relative to planet 0) against the truth's (pin errors,
+or a carrier runout's tangential part -e sin(psi_i - phi)), each with its mean removed (a common
+offset is a rotation of the carrier); severity error = (|fitted| - |true|) / |true| with |.| the
+Euclidean norm over the planets (a convention-free size: the two simulators need not number the
+planets or measure the runout's phase alike).
+
 A size is "covered" when |z (total)| <= z_{1-alpha/2} with the diagnosis's alpha = 0.01 (2.576)
 (linear), and "in range" when the truth lies in the report's model_form_range (the lopsided range
 a relative error of the model's change allows, docs/diagnose.md section 5; computed here by the same
@@ -41,6 +49,9 @@ MAIN = {
     "stiffness_level": ("stiffness.scale", "stiffness_scale", 1.0),
 }
 
+# effects scored only as members of a class finding
+CLASS_EFFECTS = ("carrier_runout", "pin_error")
+
 
 def size_range(value, absent, se, mf, lower, upper):
     """fit_context.cpp model_form_range, at z_{1-alpha/2}."""
@@ -54,6 +65,38 @@ def size_range(value, absent, se, mf, lower, upper):
     lo = min(max(min(near, far) - Z_COVER * se, lower), upper)
     hi = min(max(max(near, far) + Z_COVER * se, lower), upper)
     return lo, hi
+
+
+def tangential_pattern(t, planets):
+    """The truth's planet tangential position errors with their mean removed [m]."""
+    p = t.get("parameters", t.get("params", {}))
+    if "pin_error_m" in p:
+        x = list(p["pin_error_m"])
+    elif "carrier_ecc_m" in p:
+        e, ph = p["carrier_ecc_m"], p.get("carrier_ecc_phase_rad", 0.0)
+        x = [-e * math.sin(2 * math.pi * i / planets - ph) for i in range(planets)]
+    else:
+        return None
+    m = sum(x) / len(x)
+    return [v - m for v in x]
+
+
+def class_size_row(key, t, rep):
+    """A planet_position_error class finding against its truth (norms of the mean-free patterns)."""
+    fc = rep.get("finding_class") or {}
+    size = fc.get("size") or []
+    if fc.get("name") != "planet_position_error" or not size:
+        return None
+    fitted = [0.0] + [s["value"] for s in size]
+    m = sum(fitted) / len(fitted)
+    fitted = [v - m for v in fitted]
+    true = tangential_pattern(t, len(fitted))
+    if true is None:
+        return None
+    nf, nt = math.sqrt(sum(v * v for v in fitted)), math.sqrt(sum(v * v for v in true))
+    return dict(recording=key, effect=t["effect"] + " (class)", parameter="|tangential pattern|", true=nt,
+                fitted=nf, std_error=None, model_form_std=None, severity_error=(nf - nt) / nt if nt else None,
+                z_noise=None, z_total=None, covered=False, range=[float("nan"), float("nan")], in_range=False)
 
 
 def documented_friction(gearset_dir):
@@ -79,9 +122,14 @@ def main():
     for key, t in sorted(truth.items()):
         effect = t.get("effect")
         rep_path = a.dir / a.reports / key / "report.json"
-        if effect not in MAIN or not rep_path.exists():
+        if (effect not in MAIN and effect not in CLASS_EFFECTS) or not rep_path.exists():
             continue
         rep = json.loads(rep_path.read_text())
+        if effect in (rep.get("finding_class") or {}).get("members", []):
+            row = class_size_row(key, t, rep)
+            if row:
+                rows.append(row)
+            continue
         if rep.get("missing_physics") != effect:
             continue
         pname, tkey, absent = MAIN[effect]

@@ -201,6 +201,16 @@ struct LeadAssessment {
   double posterior = 1.0;
   std::string rival;
   std::string failed;                 ///< which condition failed, with numbers (empty: named)
+  /// Class finding (verdict.hpp): the lead's FindingClass name when its only failed conditions
+  /// are (d) and (e) against members of its own class, which is then named; empty otherwise.
+  std::string named_class;
+  std::vector<std::string> class_members;  ///< the lead, then the members that blocked its own name
+  /// BIC posterior probability of the lead's class among the lead and its rivals of condition (d).
+  double class_posterior = 1.0;
+  /// The class's size: the lead's fitted parameters mapped onto the class's canonical member
+  /// (FindingClass::canonical, Candidate::start_from), "name" and value in its unit.
+  std::vector<std::pair<std::string, double>> class_size;
+  std::string class_size_unit;
 };
 
 /// A channel's share of the held-out chi2 excess of the nuisance-fitted model.

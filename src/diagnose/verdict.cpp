@@ -102,14 +102,24 @@ std::string located_text(const Diagnosis& d) {
 /// session 28).
 struct Rivalry {
   double posterior = 1.0;
+  /// The lead's class's posterior: the weights of the lead and of its rivals of the same
+  /// FindingClass over all (Bayesian model averaging over the class's members; 1 without a class
+  /// is the lead's own posterior).
+  double class_posterior = 1.0;
   const CandidateResult* rival = nullptr;
 };
+
+/// Whether candidates `a` and `b` belong to one FindingClass.
+bool same_class(const std::string& a, const std::string& b) {
+  const auto ca = finding_class_of(a), cb = finding_class_of(b);
+  return ca && cb && ca->name == cb->name;
+}
 
 Rivalry rivalry(const Diagnosis& d) {
   Rivalry r;
   const CandidateResult& w = d.candidates.front();
   const double bw = w.bic + w.bic_held_out;
-  double sum = 1.0;
+  double sum = 1.0, in_class = 1.0;
   for (std::size_t i = 1; i < d.candidates.size(); ++i) {
     const CandidateResult& c = d.candidates[i];
     if (!(c.significant && c.holds) || c.name == w.name || !c.failed.empty()) continue;
@@ -120,11 +130,29 @@ Rivalry rivalry(const Diagnosis& d) {
     // resonance (ctest Diagnose.BacklashAtTheMeshResonance...) beside a sun tooth within 5 % of
     // absent, 10.4 higher in BIC, which as a rival took its posterior to 0.986.
     if (!c.counts() && delta >= 0) continue;
-    sum += std::exp(-0.5 * std::max(delta, -1400.0));
+    const double weight = std::exp(-0.5 * std::max(delta, -1400.0));
+    sum += weight;
+    if (same_class(c.name, w.name)) in_class += weight;
     if (!r.rival || delta < r.rival->bic + r.rival->bic_held_out - bw) r.rival = &c;
   }
   r.posterior = 1.0 / sum;
+  r.class_posterior = in_class / sum;
   return r;
+}
+
+/// The lead's fitted parameters mapped onto its class's canonical member (FindingClass::canonical):
+/// the class's size whichever member led. Empty if the mapping does not exist.
+void class_size(LeadAssessment& a, const CandidateResult& w, const FindingClass& fc) {
+  const Candidate* canonical = find_candidate(fc.canonical);
+  if (canonical == nullptr) return;
+  std::vector<double> own;
+  for (const FittedParameter& p : w.parameters)
+    if (!p.nuisance) own.push_back(p.value);
+  const std::vector<double> x = w.name == fc.canonical ? own : canonical->start_from(w.name, own, w.config);
+  const std::vector<ParameterSpec> specs = canonical->parameters(w.config);
+  if (x.size() != specs.size()) return;
+  for (std::size_t i = 0; i < x.size(); ++i) a.class_size.emplace_back(specs[i].name, x[i]);
+  a.class_size_unit = specs.empty() ? "" : specs.front().unit;
 }
 
 /// Condition (a) failed under the linear own null but would have held under the folded one: why
@@ -163,7 +191,12 @@ LeadAssessment assess_lead(Diagnosis& d, const VerdictInputs& in) {
     if (p.nuisance && !p.moved) continue;      // not what the finding rests on
     a.at_bound.push_back(at_bound_text(p));
   }
+  // Why it is not named; `other` marks a reason that is not a member of the lead's own class
+  // (conditions (d) and (e) against such a member are the class finding's, below).
   std::vector<std::string> why;
+  bool other = false;
+  std::vector<std::string> class_blockers;
+  const std::optional<FindingClass> lead_class = finding_class_of(w.name);
   if (!a.counts) why.push_back("it does not count: " + w.reason);
   if (!a.within_bound)
     why.push_back(std::isfinite(a.bound_held_out)
@@ -178,6 +211,7 @@ LeadAssessment assess_lead(Diagnosis& d, const VerdictInputs& in) {
                             ? "its held-out bound was not computed"
                             : "its own model could not be simulated for the held-out test (" + in.lead_score_failure + ")");
   for (const auto& s : a.at_bound) why.push_back(s);
+  other = !why.empty();
   // (d) The data tell it apart from every other counting explanation: its BIC posterior
   // probability among them is at least 1 - alpha/2, the confidence every other step of the
   // decision asks for (two candidates: a BIC lead of 2 ln((1 - alpha/2) / (alpha/2)) = 10.6
@@ -187,8 +221,14 @@ LeadAssessment assess_lead(Diagnosis& d, const VerdictInputs& in) {
   if (a.counts) {
     const Rivalry r = rivalry(d);
     a.posterior = r.posterior;
+    a.class_posterior = r.class_posterior;
     if (r.rival) a.rival = r.rival->name;
-    if (r.rival && r.posterior < 1 - in.alpha / 2)
+    if (r.rival && r.posterior < 1 - in.alpha / 2) {
+      // The rivals of the lead's own class carry the rest of the posterior: the class is told apart.
+      if (lead_class && r.class_posterior >= 1 - in.alpha / 2)
+        class_blockers.push_back(r.rival->name);
+      else
+        other = true;
       why.push_back("the data do not tell it from " + r.rival->name + ": BIC " + fmt("%.1f", w.bic + w.bic_held_out) +
                     " against " + fmt("%.1f", r.rival->bic + r.rival->bic_held_out) +
                     " (both halves), posterior probability " + fmt("%.3f", r.posterior) + " < " +
@@ -196,6 +236,7 @@ LeadAssessment assess_lead(Diagnosis& d, const VerdictInputs& in) {
                     (r.rival->counts() ? std::string()
                                        : " (" + r.rival->name + " improves both halves with its own parameters within "
                                          "their errors of 'absent': the nuisance model refitted reaches as low)"));
+    }
   }
   // (e) Under a discrepancy budget (a calibration, or a baseline's budget on the change), a
   // near-alias of the lead that counts -- the same planet-centre displacements read as pin
@@ -213,6 +254,12 @@ LeadAssessment assess_lead(Diagnosis& d, const VerdictInputs& in) {
   // profile were both named friction (0.057 for the documented 0.06), a worn profile counting
   // beside it (session 22).
   if (!in.counting_alias.empty()) {
+    // A displacement alias of the lead's own class is the class finding's; a mesh-shape rival is
+    // never (friction, wear and levels are different physics that only share their lines).
+    if (lead_class && !in.alias_mesh_shape && same_class(in.counting_alias, w.name))
+      class_blockers.push_back(in.counting_alias);
+    else
+      other = true;
     const std::string at = in.differential ? "at its own fitted change with the baseline's discrepancy"
                                            : "at its own fitted model with the calibrated discrepancy";
     const std::string score =
@@ -239,11 +286,25 @@ LeadAssessment assess_lead(Diagnosis& d, const VerdictInputs& in) {
   // held-out half exceeds its bound too. Otherwise the held-out half cannot confirm anything
   // (an improvement there is not the explanation of an excess), and a fit-half-only excess is
   // what the noise test admits with probability alpha/2.
-  if (!(excess > 0))
+  if (!(excess > 0)) {
+    other = true;
     why.push_back("the held-out half shows no excess with the nuisance parameters alone (chi2 " +
                   fmt("%.0f", d.nuisance.held_out.chi2) + " <= its bound " + fmt("%.0f", d.bound_held_out) +
                   "): the fit half's excess did not replicate, so nothing is confirmed on held-out data");
+  }
   for (std::size_t i = 0; i < why.size(); ++i) a.failed += (i ? "; " : "") + why[i];
+  // Class finding: every condition of the lead's own holds, and what withholds its name is only
+  // that other members of its class explain the recording too. The class is then what the data
+  // establish (its posterior, summed over its members, is at least 1 - alpha/2 against every
+  // other rival, and no candidate of another class blocks).
+  if (!other && !class_blockers.empty()) {
+    a.named_class = lead_class->name;
+    a.class_members.push_back(w.name);
+    for (const std::string& m : class_blockers)
+      if (std::find(a.class_members.begin(), a.class_members.end(), m) == a.class_members.end())
+        a.class_members.push_back(m);
+    class_size(a, w, *lead_class);
+  }
   return a;
 }
 
@@ -264,8 +325,26 @@ std::string named_summary(const Diagnosis& d, bool calibrated, bool differential
     where = " Located in the " + std::string(to_string(static_cast<Component>(d.location.screened_family))) +
             " family (the signature of " + d.location.screened_candidate + " explains " +
             fmt("%.0f", d.location.screened_S) + " of the chi2 excess at first order).";
-  return "Missing physics: " + w.name + (w.variant.empty() ? "" : " (" + w.variant + ")") + " — " + w.physics +
-         "; fitted " + ps + "; chi2 " + fmt("%.0f", d.nuisance.fit.chi2) + " -> " + fmt("%.0f", w.fit.chi2) +
+  std::string head = "Missing physics: " + w.name + (w.variant.empty() ? "" : " (" + w.variant + ")") + " — " + w.physics;
+  if (!d.lead.named_class.empty()) {
+    // A class finding (verdict.hpp): the class first, its size in the canonical member's terms,
+    // then the lead's own fit as what was fitted.
+    const std::optional<FindingClass> fc = finding_class_of(w.name);
+    std::string members;
+    for (std::size_t i = 1; i < d.lead.class_members.size(); ++i)
+      members += (i > 1 ? " or " : "") + d.lead.class_members[i];
+    std::string size;
+    for (const auto& [name, value] : d.lead.class_size)
+      size += (size.empty() ? "" : ", ") + name + " = " + fmt("%.3g", value);
+    head = "Missing physics: " + d.lead.named_class + " — " + (fc ? fc->physics : std::string()) +
+           "; the data do not tell " + w.name + " from " + members +
+           " within the model's fidelity, so the class is the finding, not either member (" + d.lead.failed + ")" +
+           (size.empty() ? std::string()
+                         : "; as " + (fc ? fc->canonical : std::string()) + " (mapped from the " + w.name +
+                               " fit): " + size + (d.lead.class_size_unit == "1" ? "" : " " + d.lead.class_size_unit));
+  }
+  return head + "; fitted " + (d.lead.named_class.empty() ? "" : w.name + ": ") + ps + "; chi2 " +
+         fmt("%.0f", d.nuisance.fit.chi2) + " -> " + fmt("%.0f", w.fit.chi2) +
          " on the fit half and " + fmt("%.0f", d.nuisance.held_out.chi2) + " -> " + fmt("%.0f", w.held_out.chi2) +
          " held out (noise bound " + fmt("%.0f", d.bound_held_out) + "; against its own null " +
          fmt("%.0f", d.lead.held_out_chi2) +
@@ -325,8 +404,14 @@ std::string verdict_rule(const Diagnosis& d) {
   r += "; and (e) under a discrepancy budget (a calibration or a baseline), no near-alias of it (the same "
        "displacements read as another physics; for a candidate acting on the mesh harmonics alone, any other such "
        "candidate) counts, or stays unrefuted because its fit did not converge";
+  r += ". If (a)-(c) hold and (d) and (e) fail only against members of the lead's own class of findings (pin "
+       "errors and a carrier runout: planet centres displaced in the carrier), and the class's BIC posterior "
+       "(its members' summed) is >= 1 - alpha/2, the class is named";
+  if (d.lead.candidate == 0 && d.lead.counts && finding_class_of(d.candidates.front().name))
+    r += " — class posterior " + fmt("%.4f", d.lead.class_posterior);
   r += ". Otherwise 'unexplained residual' with the best candidate as a lead. Result: " +
-       std::string(to_string(d.verdict)) + (d.lead.failed.empty() ? "" : " (" + d.lead.failed + ")") + ".";
+       std::string(to_string(d.verdict)) + (d.lead.named_class.empty() ? "" : ", the class " + d.lead.named_class) +
+       (d.lead.failed.empty() ? "" : " (" + d.lead.failed + ")") + ".";
   return r;
 }
 
@@ -407,9 +492,13 @@ NearAlias blocking_near_alias(const std::vector<CandidateResult>& ranked, const 
 void decide_verdict(Diagnosis& d, const VerdictInputs& in) {
   d.excess_by_channel = channel_excess(d);
   d.lead = assess_lead(d, in);
-  const bool named = d.lead.candidate == 0 && d.lead.failed.empty();
+  const bool class_named = d.lead.candidate == 0 && !d.lead.named_class.empty();
+  const bool named = d.lead.candidate == 0 && (d.lead.failed.empty() || class_named);
   d.winner = named ? 0 : -1;
-  if (d.lead.counts && !named) d.candidates.front().reason += "; not named, a lead only: " + d.lead.failed;
+  if (class_named)
+    d.candidates.front().reason += "; named as its class " + d.lead.named_class + ", not alone: " + d.lead.failed;
+  else if (d.lead.counts && !named)
+    d.candidates.front().reason += "; not named, a lead only: " + d.lead.failed;
   if (named) {
     d.verdict = Verdict::MissingPhysicsFound;
     d.summary = named_summary(d, !in.discrepancy.empty(), in.differential);

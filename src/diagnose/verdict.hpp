@@ -42,6 +42,17 @@
 //       the other steps ask for. Two near-equivalent explanations (a carrier
 //       runout is a pin-error pattern plus a small radial part) are a lead, not
 //       a finding.
+// Class finding: when (a)-(c) hold and (d) and (e) fail only against members of the
+// lead's own FindingClass (candidate.hpp: pin errors and a carrier runout, both planet
+// centres displaced in the carrier), the class is named -- "planet_position_error" --
+// with the lead's fit as its model and its size in the class's canonical member's terms.
+// Its BIC posterior, summed over its members (Bayesian model averaging), must reach
+// 1 - alpha/2 against every rival of another class. Why: the members differ only by the
+// radial part of the displacements, which the budget says the model cannot resolve
+// (condition (e)); refusing both names then withholds what the data do establish -- that
+// the planets are off their positions -- while naming either member would overstate.
+// Measured on the independent corpus, differential, sensors a rig has: 8 runouts and pin
+// errors with the pair as lead and rival (docs/diagnose-log.md, session 36).
 // Otherwise the verdict is "unexplained residual", with the best candidate
 // reported as a lead, never as a finding.
 //

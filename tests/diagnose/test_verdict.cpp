@@ -616,3 +616,124 @@ TEST(NearAlias, AScreenedLibraryAliasWhoseFitDidNotCountBlocksUnscoredAndOnlyThe
 
 } // namespace
 } // namespace pw::diagnose
+
+namespace pw::diagnose {
+namespace {
+
+/// counting_friction() with the lead a carrier runout (x, y) = (3, -1) um on the default
+/// three-planet stage, and a counting pin-error pattern [1, 2] um `delta` above it in BIC.
+Diagnosis runout_with_pin_rival(double delta) {
+  Diagnosis d = counting_friction();
+  CandidateResult& w = d.candidates.front();
+  w.name = "carrier_runout";
+  w.physics = "the carrier is eccentric";
+  w.own_parameters = 2;
+  w.parameters.front() = parameter("carrier_eccentricity_x_m", 3e-6, 1e-7, -4e-5, 4e-5, 0.0, false);
+  w.parameters.insert(w.parameters.begin() + 1, parameter("carrier_eccentricity_y_m", -1e-6, 1e-7, -4e-5, 4e-5, 0.0, false));
+  w.bic = 1200;
+  w.bic_held_out = 1150;
+  CandidateResult pin = w;
+  pin.name = "pin_error";
+  pin.parameters.front() = parameter("pin_error_m[1]", 1e-6, 1e-7, -4e-5, 4e-5, 0.0, false);
+  pin.parameters[1] = parameter("pin_error_m[2]", 2e-6, 1e-7, -4e-5, 4e-5, 0.0, false);
+  pin.bic_held_out += delta;
+  d.candidates.push_back(pin);
+  return d;
+}
+
+/// Condition (e)'s input for a counting displacement alias within its own bound.
+VerdictInputs with_alias(const std::string& alias) {
+  VerdictInputs in = inputs(1110);
+  in.differential = true;
+  in.counting_alias = alias;
+  in.alias_held_out_chi2 = 1080;
+  in.alias_bound_held_out = 1095;
+  return in;
+}
+
+} // namespace
+
+TEST(Verdict, ARunoutAndAPinPatternTheDataCannotTellApartNameTheirClassWithTheSizeAsPinErrors) {
+  // The independent corpus's eight planet-position recordings (docs/diagnose-log.md, session 36):
+  // every condition of the lead's own holds, and only its alias of the same class withholds it.
+  Diagnosis d = runout_with_pin_rival(30);  // far behind in BIC: only (e) blocks
+  decide_verdict(d, with_alias("pin_error"));
+  EXPECT_EQ(d.verdict, Verdict::MissingPhysicsFound) << d.summary;
+  EXPECT_EQ(d.winner, 0);
+  EXPECT_EQ(d.lead.named_class, "planet_position_error");
+  ASSERT_EQ(d.lead.class_members.size(), 2u);
+  EXPECT_EQ(d.lead.class_members[0], "carrier_runout");
+  EXPECT_EQ(d.lead.class_members[1], "pin_error");
+  EXPECT_EQ(d.summary.rfind("Missing physics: planet_position_error — ", 0), 0u) << d.summary;
+  EXPECT_NE(d.summary.find("the data do not tell carrier_runout from pin_error"), std::string::npos) << d.summary;
+  // The size in pin terms: planet i's tangential displacement -x sin psi_i + y cos psi_i relative
+  // to planet 0's (psi = 0, 120, 240 deg): (-3 sin 120 - cos 120) - (-1) = -1.098 um, and
+  // (-3 sin 240 - cos 240) + 1 = 4.098 um.
+  ASSERT_EQ(d.lead.class_size.size(), 2u);
+  EXPECT_EQ(d.lead.class_size[0].first, "pin_error_m[1]");
+  const double s3 = std::sqrt(3.0) / 2;
+  EXPECT_NEAR(d.lead.class_size[0].second, -3e-6 * s3 + 0.5e-6 + 1e-6, 1e-15);
+  EXPECT_NEAR(d.lead.class_size[1].second, 3e-6 * s3 + 0.5e-6 + 1e-6, 1e-15);
+  EXPECT_EQ(d.lead.class_size_unit, "m");
+}
+
+TEST(Verdict, APinRivalCloseInBicIsPartOfTheClassPosteriorSoTheClassIsNamed) {
+  // Condition (d) alone: the two members 0.3 apart in BIC (posterior 0.54 each way); the class
+  // holds all of it.
+  Diagnosis d = runout_with_pin_rival(0.3);
+  decide_verdict(d, inputs(1100));
+  EXPECT_EQ(d.verdict, Verdict::MissingPhysicsFound) << d.summary;
+  EXPECT_EQ(d.lead.named_class, "planet_position_error");
+  EXPECT_NEAR(d.lead.posterior, 1.0 / (1.0 + std::exp(-0.15)), 1e-12);
+  EXPECT_NEAR(d.lead.class_posterior, 1.0, 1e-12);
+}
+
+TEST(Verdict, ARivalOfAnotherClassCloseInBicKeepsEvenTheClassUnnamed) {
+  // A sun tooth 0.3 behind too: the class's posterior is (1 + e^-0.15) / (1 + 2 e^-0.15) = 0.70.
+  Diagnosis d = runout_with_pin_rival(0.3);
+  CandidateResult tooth = d.candidates[1];
+  tooth.name = "sun_tooth_damage";
+  d.candidates.push_back(tooth);
+  decide_verdict(d, inputs(1100));
+  EXPECT_EQ(d.verdict, Verdict::Unexplained) << d.summary;
+  EXPECT_TRUE(d.lead.named_class.empty());
+  const double w = std::exp(-0.15);
+  EXPECT_NEAR(d.lead.class_posterior, (1 + w) / (1 + 2 * w), 1e-12);
+}
+
+TEST(Verdict, AClassIsNotNamedWhenTheLeadFailsAConditionOfItsOwn) {
+  // The lead's own model leaves more than its bound (and more than the recording's own half):
+  // its class explains the recording no better than the lead does.
+  Diagnosis far = runout_with_pin_rival(30);
+  far.candidates.front().held_out = score(900, 500);
+  VerdictInputs in = with_alias("pin_error");
+  in.lead_held_out_chi2 = 1400;
+  in.replicate_chi2 = 1300;
+  decide_verdict(far, in);
+  EXPECT_EQ(far.verdict, Verdict::Unexplained) << far.summary;
+  EXPECT_TRUE(far.lead.named_class.empty());
+  // A recalibrated nuisance parameter at its bound: likewise.
+  Diagnosis edge = runout_with_pin_rival(30);
+  FittedParameter& k = edge.candidates.front().parameters[2];  // stiffness.scale
+  k.value = 2.0;
+  k.at_bound = true;
+  decide_verdict(edge, with_alias("pin_error"));
+  EXPECT_EQ(edge.verdict, Verdict::Unexplained) << edge.summary;
+  EXPECT_TRUE(edge.lead.named_class.empty());
+}
+
+TEST(Verdict, AnAliasOfAnotherKindNeverMakesAClassFinding) {
+  // A mesh-shape rival of a class member (not a displacement alias), or a lead without a class
+  // blocked by a class member: unexplained, as before classes.
+  Diagnosis d = runout_with_pin_rival(30);
+  VerdictInputs in = with_alias("friction");
+  in.alias_mesh_shape = true;
+  decide_verdict(d, in);
+  EXPECT_EQ(d.verdict, Verdict::Unexplained) << d.summary;
+  Diagnosis f = counting_friction();
+  decide_verdict(f, with_alias("pin_error"));
+  EXPECT_EQ(f.verdict, Verdict::Unexplained) << f.summary;
+  EXPECT_TRUE(f.lead.named_class.empty());
+}
+
+} // namespace pw::diagnose

@@ -99,3 +99,39 @@ TEST(DiagnosisReport, JsonKeepsTheFoldedAndTheLinearNoiseBoundsUnderTheirOwnKeys
   EXPECT_EQ(b.at("fit_linear").get<double>(), 2101.5);
   EXPECT_EQ(b.at("held_out_linear").get<double>(), 2103.75);
 }
+
+TEST(DiagnosisReport, AClassFindingNamesTheClassAndKeepsItsMembersSizeAndLead) {
+  // src/diagnose/verdict.hpp, "class finding": missing_physics is the class, the fitted lead
+  // stays under "lead", and the class's size is given in its canonical member's parameters.
+  pw::test::TempDir tmp;
+  pw::io::ReportContext ctx;
+  ctx.plots_available = false;
+  auto d = with_one_plot();
+  pw::diagnose::CandidateResult lead;
+  lead.name = "carrier_runout";
+  d.candidates.push_back(lead);
+  d.winner = 0;
+  d.verdict = pw::diagnose::Verdict::MissingPhysicsFound;
+  d.lead.candidate = 0;
+  d.lead.named_class = "planet_position_error";
+  d.lead.class_members = {"carrier_runout", "pin_error"};
+  d.lead.class_posterior = 0.999;
+  d.lead.class_size = {{"pin_error_m[1]", 1.5e-6}, {"pin_error_m[2]", -0.5e-6}};
+  d.lead.class_size_unit = "m";
+  pw::io::write_diagnosis_report(tmp.path(), d, ctx);
+  const auto j = nlohmann::json::parse(read(tmp / "report.json"));
+  EXPECT_EQ(j.at("missing_physics").get<std::string>(), "planet_position_error");
+  const auto& c = j.at("finding_class");
+  EXPECT_EQ(c.at("members").at(1).get<std::string>(), "pin_error");
+  EXPECT_EQ(c.at("size").at(0).at("name").get<std::string>(), "pin_error_m[1]");
+  EXPECT_EQ(c.at("size").at(1).at("value").get<double>(), -0.5e-6);
+  EXPECT_EQ(c.at("size_unit").get<std::string>(), "m");
+  EXPECT_EQ(j.at("lead").at("name").get<std::string>(), "carrier_runout");
+  // Without a class the candidate is the name and finding_class is null.
+  d.lead.named_class.clear();
+  pw::test::TempDir tmp2;
+  pw::io::write_diagnosis_report(tmp2.path(), d, ctx);
+  const auto j2 = nlohmann::json::parse(read(tmp2 / "report.json"));
+  EXPECT_EQ(j2.at("missing_physics").get<std::string>(), "carrier_runout");
+  EXPECT_TRUE(j2.at("finding_class").is_null());
+}

@@ -17,6 +17,7 @@
 #include "diagnose/recording.hpp"
 
 #include <memory>
+#include <optional>
 #include <span>
 #include <string>
 #include <string_view>
@@ -45,6 +46,16 @@ struct ParameterSpec {
   /// stiffness does): fitted as nuisance, its start is the best of a coarse scan over its box
   /// (nuisance_start.hpp), not a local step from 'absent' or its screening value.
   bool scan_at_start = false;
+};
+
+/// A class of findings whose members describe one physical state at the level a recording
+/// resolves: when the data do not tell the lead from another member within the model's fidelity,
+/// the class is named instead of neither (verdict.hpp, "class finding"). Every member maps its
+/// parameters onto the canonical member's (Candidate::start_from), which states the class's size.
+struct FindingClass {
+  std::string name;       ///< what a class finding reports, e.g. "planet_position_error"
+  std::string physics;    ///< what the members share, one sentence
+  std::string canonical;  ///< the member whose parameters describe the class (e.g. "pin_error")
 };
 
 /// What locate() found, as far as candidates need it to propose variants.
@@ -141,6 +152,8 @@ public:
     (void)other, (void)other_x, (void)base;
     return {};
   }
+  /// The class of findings this candidate belongs to (none by default).
+  virtual std::optional<FindingClass> finding_class() const { return std::nullopt; }
 };
 
 /// Planet carrier angles psi_i [rad] of the stage (equal spacing when not given).
@@ -150,6 +163,15 @@ std::vector<double> planet_angles_rad(const model::SimulationConfig& base);
 const std::vector<std::unique_ptr<Candidate>>& candidate_library();
 /// nullptr if no candidate has that name.
 const Candidate* find_candidate(const std::string& name);
+
+/// The planet centres displaced in the carrier: pin position errors and a carrier runout (a pin
+/// pattern plus a radial part). The canonical member is pin_error (tangential offsets relative to
+/// planet 0), onto which a runout maps exactly for three planets and as a least-squares pattern
+/// for more.
+FindingClass planet_position_class();
+
+/// The class of the candidate called `name`; nullopt if it has none or is not in the library.
+std::optional<FindingClass> finding_class_of(const std::string& name);
 
 /// True if the candidate's lines are the mesh harmonics alone (Component::Mesh only): two such
 /// candidates differ only in how their change is shared among the harmonics and channels, the

@@ -38,6 +38,7 @@ public:
     for (std::size_t i = 1; i < psi.size(); ++i) x.push_back(t(i) - t(0));
     return x;
   }
+  std::optional<FindingClass> finding_class() const override { return planet_position_class(); }
   void apply(model::SimulationConfig& c, const Variant&, std::span<const double> x,
              std::vector<std::string>* o) const override {
     c.imperfections.pin_error_m.assign(static_cast<std::size_t>(c.stage.planet_count), 0.0);

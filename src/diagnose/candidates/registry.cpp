@@ -69,6 +69,18 @@ const Candidate* find_candidate(const std::string& name) {
   return nullptr;
 }
 
+FindingClass planet_position_class() {
+  return {.name = "planet_position_error",
+          .physics = "the planet centres sit off their nominal positions in the carrier -- pin position errors or "
+                     "a carrier runout, which displace the planets alike and unequalise their load sharing",
+          .canonical = "pin_error"};
+}
+
+std::optional<FindingClass> finding_class_of(const std::string& name) {
+  const Candidate* c = find_candidate(name);
+  return c ? c->finding_class() : std::nullopt;
+}
+
 bool acts_on_mesh_harmonics_only(const Candidate& c) {
   const std::vector<Component> f = c.families();
   return !f.empty() && std::all_of(f.begin(), f.end(), [](Component x) { return x == Component::Mesh; });

@@ -53,6 +53,10 @@ public:
     const Eigen::VectorXd s = A.colPivHouseholderQr().solve(p);
     return {s(0), s(1)};
   }
+  std::optional<FindingClass> finding_class() const override {
+    if (sun_) return std::nullopt;  // the sun's runout rotates with the sun: lines of its own
+    return planet_position_class();
+  }
   void apply(model::SimulationConfig& c, const Variant&, std::span<const double> x,
              std::vector<std::string>* o) const override {
     const double e = sun_ ? x[0] : std::hypot(x[0], x[1]);
