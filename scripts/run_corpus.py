@@ -18,6 +18,9 @@ How a diagnosis is read as a named effect (the mapping is fixed, not tuned):
     corpus's effect names (pin_error -> planet_pin_error, sun_runout ->
     sun_eccentricity, carrier_runout -> carrier_eccentricity, torque_ripple ->
     input_torque_ripple, friction -> friction_coefficient);
+  * a class finding (report.json "finding_class") -> "class:a|b" of its members'
+    effects; right when the truth is a member, counted apart ("as a class"), no
+    parameter error (the class's size is not one parameter);
   * otherwise, if a nuisance parameter moved from its nominal value (the gear
     set's, reported as "initial" in report.json) by more than 3 standard
     errors and 5 %, that recalibration is the named effect (stiffness.scale ->
@@ -94,8 +97,15 @@ def find_planetwear(given):
     sys.exit("run_corpus: no planetwear executable (pass --planetwear)")
 
 
+CLASS_PREFIX = "class:"
+
+
 def named_effect(report):
     if report.get("verdict") == "missing_physics_found":
+        fc = report.get("finding_class")
+        if isinstance(fc, dict) and fc.get("members"):
+            # A class finding (docs/diagnose.md section 5): the members the data did not tell apart.
+            return CLASS_PREFIX + "|".join(sorted(CANDIDATE_TO_EFFECT.get(m, m) for m in fc["members"]))
         name = report.get("missing_physics")
         return CANDIDATE_TO_EFFECT.get(name, name)
     for p in report.get("nuisance", {}).get("parameters", []):
@@ -241,12 +251,18 @@ def main():
         print(f"{te:<{width}}" + " ".join(f"{c:>8}" for c in counts))
     effect_rows = [r for r in rows if r["truth"] != "none"]
     control_rows = [r for r in rows if r["truth"] == "none"]
-    correct = sum(1 for r in effect_rows if r["named"] == r["truth"])
+    def in_class(r):
+        return r["named"].startswith(CLASS_PREFIX) and r["truth"] in r["named"][len(CLASS_PREFIX):].split("|")
+
+    as_class = sum(1 for r in effect_rows if in_class(r))
+    correct = sum(1 for r in effect_rows if r["named"] == r["truth"]) + as_class
     accuracy = correct / len(effect_rows) if effect_rows else 1.0
     controls_ok = sum(1 for r in control_rows if r["named"] == "none")
-    print(f"\nNamed the right effect: {correct}/{len(effect_rows)} = {100 * accuracy:.0f} %")
+    print(f"\nNamed the right effect: {correct}/{len(effect_rows)} = {100 * accuracy:.0f} %"
+          f"{f' ({as_class} of them as a class of findings the truth belongs to)' if as_class else ''}")
     print(f"Controls answered 'no missing physics': {controls_ok}/{len(control_rows)}")
-    wrong = [r["recording"] for r in rows if r["named"] not in (r["truth"], "none", "unexplained", "crashed")]
+    wrong = [r["recording"] for r in rows
+             if r["named"] not in (r["truth"], "none", "unexplained", "crashed") and not in_class(r)]
     lead_right = sum(1 for r in effect_rows if r["named"] == "unexplained" and r.get("lead") == r["truth"])
     print(f"Confident wrong names: {len(wrong)}{' ' + str(wrong) if wrong else ''}; "
           f"'unexplained' with the right lead: {lead_right}")
@@ -276,7 +292,7 @@ def main():
     else:
         print(f"\nElapsed: {elapsed:.0f} s for {len(rows)} recordings with --jobs {args.jobs} --threads {args.threads}")
     print(f"Summed per-recording wall time: {summed:.0f} s ({summed / max(1, len(rows)):.0f} s each)")
-    summary = {"elapsed_s": None if reused else round(elapsed, 1), "summed_wall_s": round(summed, 1), "rows": rows, "accuracy": accuracy, "correct": correct, "effects": len(effect_rows),
+    summary = {"elapsed_s": None if reused else round(elapsed, 1), "summed_wall_s": round(summed, 1), "rows": rows, "accuracy": accuracy, "correct": correct, "correct_as_class": as_class, "effects": len(effect_rows),
                "controls_ok": controls_ok, "controls": len(control_rows), "parameters_within_20pct": within,
                "parameters_checked": len(with_param) - len(with_limit), "lower_limits_ok": limits_ok,
                "lower_limits_checked": len(with_limit), "crashed": crashed, "confident_wrong_names": wrong,

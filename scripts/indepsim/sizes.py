@@ -96,7 +96,7 @@ def class_size_row(key, t, rep):
     nf, nt = math.sqrt(sum(v * v for v in fitted)), math.sqrt(sum(v * v for v in true))
     return dict(recording=key, effect=t["effect"] + " (class)", parameter="|tangential pattern|", true=nt,
                 fitted=nf, std_error=None, model_form_std=None, severity_error=(nf - nt) / nt if nt else None,
-                z_noise=None, z_total=None, covered=False, range=[float("nan"), float("nan")], in_range=False)
+                z_noise=None, z_total=None, covered=None, range=None, in_range=None)
 
 
 def documented_friction(gearset_dir):
@@ -158,14 +158,18 @@ def main():
         f = lambda v, p=".3g": "—" if v is None else format(v, p)
         print(f"{r['recording']:16s} {r['effect']:20s} {f(r['true']):>10s} {f(r['fitted'], '.4g'):>10s} "
               f"{f(r['std_error'], '.2g'):>9s} {f(r['model_form_std'], '.2g'):>9s} {f(r['severity_error'], '+.2f'):>8s} "
-              f"{f(r['z_noise'], '+.1f'):>8s} {f(r['z_total'], '+.1f'):>8s} {'yes' if r['covered'] else 'NO ':7s}  "
-              f"{r['range'][0]:.3g} to {r['range'][1]:.3g} ({'yes' if r['in_range'] else 'NO'})")
+              f"{f(r['z_noise'], '+.1f'):>8s} {f(r['z_total'], '+.1f'):>8s} "
+              + ("—        —" if r["range"] is None else  # a class's size has no standard error or range
+                 f"{'yes' if r['covered'] else 'NO ':7s}  {r['range'][0]:.3g} to {r['range'][1]:.3g} "
+                 f"({'yes' if r['in_range'] else 'NO'})"))
     n = len(rows)
     within = sum(1 for r in rows if r["severity_error"] is not None and abs(r["severity_error"]) <= 0.2)
     cov = sum(1 for r in rows if r["covered"])
     inr = sum(1 for r in rows if r["in_range"])
+    n_cls = sum(1 for r in rows if r["range"] is None)
     print(f"\n{n} sizes: {within} within 20 % of the true severity; {cov} covered by "
-          f"value ± {Z_COVER:.3f} x sqrt(noise^2 + model form^2); {inr} inside the model-form range")
+          f"value ± {Z_COVER:.3f} x sqrt(noise^2 + model form^2); {inr} inside the model-form range"
+          + (f" ({n_cls} class sizes have neither)" if n_cls else ""))
     if a.json:
         a.json.write_text(json.dumps(dict(rows=rows, within_20_percent=within, covered=cov, in_range=inr),
                                      indent=1) + "\n")

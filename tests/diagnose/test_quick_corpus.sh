@@ -5,8 +5,10 @@
 # every control "no missing physics", every correctly named parameter within
 # 20 %, no effect named wrongly with confidence, >= 3 of the 4 effects named right. The
 # fourth, a 1 um pin error in 0.78 s at 1200 rpm, fits as well as a carrier runout (BIC
-# 0.04 apart, docs/diagnose-log.md session 12): the verdict's condition (d) then reports it
-# as "unexplained" with both as the lead and its rival; naming either would be a coin toss.
+# 0.04 apart, docs/diagnose-log.md session 12): naming either would be a coin toss, so the
+# verdict names their class, planet_position_error (docs/diagnose.md section 5, "Class
+# findings"), which run_corpus.py counts as right "as a class" (before session 36: "unexplained"
+# with both as the lead and its rival).
 # Usage: test_quick_corpus.sh <planetwear> <workdir> <scripts dir>
 set -u
 PW=$1; W=$2; S=$3
