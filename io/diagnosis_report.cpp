@@ -206,6 +206,13 @@ void add_kinematics(Doc& doc, const dg::Diagnosis& d) {
 
 }
 
+/// "a or b or c".
+std::string join_members(const std::vector<std::string>& members) {
+  std::string s;
+  for (const std::string& m : members) s += (s.empty() ? "" : " or ") + m;
+  return s;
+}
+
 void add_residual(Doc& doc, const dg::Diagnosis& d) {
   doc.h2("Residual before and after");
   std::vector<std::vector<std::string>> rows{{"model", "chi2 fit half", "chi2 held out", "null bound (fit / held out)"}};
@@ -222,8 +229,11 @@ void add_residual(Doc& doc, const dg::Diagnosis& d) {
     doc.p("Best candidate `" + d.candidates.front().name + "`: explains " +
           (std::isfinite(d.lead.explained_fraction) ? g(100 * d.lead.explained_fraction, 3) + " %" : std::string("n/a")) +
           " of the held-out excess over the noise bound; " +
-          (d.lead.failed.empty() ? std::string("named (within its own bound, no parameter at a bound).")
-                                 : "not named: " + d.lead.failed + "."));
+          (d.lead.failed.empty()       ? std::string("named (within its own bound, no parameter at a bound).")
+           : !d.lead.named_class.empty() ? "named as its class " + d.lead.named_class + " (" +
+                                               join_members(d.lead.class_members) +
+                                               "), not alone: " + d.lead.failed + "."
+                                         : "not named: " + d.lead.failed + "."));
   if (!d.excess_by_channel.empty() && d.verdict != dg::Verdict::NoMissingPhysics) {
     std::vector<std::vector<std::string>> ex{{"channel", "held-out chi2 excess (nuisance fitted)", "share"}};
     for (const auto& e : d.excess_by_channel) ex.push_back({e.channel, g(e.excess, 5), g(100 * e.share, 3) + " %"});

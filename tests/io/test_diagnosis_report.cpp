@@ -127,6 +127,11 @@ TEST(DiagnosisReport, AClassFindingNamesTheClassAndKeepsItsMembersSizeAndLead) {
   EXPECT_EQ(c.at("size").at(1).at("value").get<double>(), -0.5e-6);
   EXPECT_EQ(c.at("size_unit").get<std::string>(), "m");
   EXPECT_EQ(j.at("lead").at("name").get<std::string>(), "carrier_runout");
+  d.lead.failed = "its near-alias pin_error explains the excess too";
+  pw::test::TempDir tmp_md;
+  pw::io::write_diagnosis_report(tmp_md.path(), d, ctx);
+  EXPECT_NE(read(tmp_md / "report.md").find("named as its class planet_position_error (carrier_runout or pin_error)"),
+            std::string::npos);
   // Without a class the candidate is the name and finding_class is null.
   d.lead.named_class.clear();
   pw::test::TempDir tmp2;
