@@ -510,6 +510,15 @@ json location_json(const dg::Diagnosis& d) {
                    {"rotations", rot}, {"input_orders", d.location.input_orders}};
 }
 
+/// report.json "finding_class": the class a class finding named (null otherwise).
+json finding_class_json(const dg::Diagnosis& d) {
+  if (d.winner != 0 || d.lead.named_class.empty()) return nullptr;
+  json size = json::array();
+  for (const auto& [name, value] : d.lead.class_size) size.push_back({{"name", name}, {"value", num(value)}});
+  return {{"name", d.lead.named_class}, {"members", d.lead.class_members}, {"posterior", num(d.lead.class_posterior)},
+          {"size", size}, {"size_unit", d.lead.class_size_unit}};
+}
+
 } // namespace
 
 void write_diagnosis_report(const std::filesystem::path& dir, const dg::Diagnosis& d, const ReportContext& ctx) {
@@ -533,15 +542,7 @@ void write_diagnosis_report(const std::filesystem::path& dir, const dg::Diagnosi
   j["missing_physics"] = d.winner != 0                  ? json(nullptr)
                          : !d.lead.named_class.empty() ? json(d.lead.named_class)
                                                        : json(d.candidates.front().name);
-  if (d.winner == 0 && !d.lead.named_class.empty()) {
-    json size = json::array();
-    for (const auto& [name, value] : d.lead.class_size) size.push_back({{"name", name}, {"value", num(value)}});
-    j["finding_class"] = {{"name", d.lead.named_class}, {"members", d.lead.class_members},
-                          {"posterior", num(d.lead.class_posterior)}, {"size", size},
-                          {"size_unit", d.lead.class_size_unit}};
-  } else {
-    j["finding_class"] = nullptr;
-  }
+  j["finding_class"] = finding_class_json(d);
   j["variant"] = d.winner == 0 ? json(d.candidates.front().variant) : json(nullptr);
   json moved = json::array();
   for (const auto& p : d.nuisance.parameters)
