@@ -106,6 +106,7 @@ struct Rivalry {
   /// FindingClass over all (Bayesian model averaging over the class's members; 1 without a class
   /// is the lead's own posterior).
   double class_posterior = 1.0;
+  std::vector<std::string> class_rivals;  ///< the rivals of the lead's own class, in ranked order
   const CandidateResult* rival = nullptr;
 };
 
@@ -132,7 +133,10 @@ Rivalry rivalry(const Diagnosis& d) {
     if (!c.counts() && delta >= 0) continue;
     const double weight = std::exp(-0.5 * std::max(delta, -1400.0));
     sum += weight;
-    if (same_class(c.name, w.name)) in_class += weight;
+    if (same_class(c.name, w.name)) {
+      in_class += weight;
+      r.class_rivals.push_back(c.name);
+    }
     if (!r.rival || delta < r.rival->bic + r.rival->bic_held_out - bw) r.rival = &c;
   }
   r.posterior = 1.0 / sum;
@@ -226,7 +230,7 @@ LeadAssessment assess_lead(Diagnosis& d, const VerdictInputs& in) {
     if (r.rival && r.posterior < 1 - in.alpha / 2) {
       // The rivals of the lead's own class carry the rest of the posterior: the class is told apart.
       if (lead_class && r.class_posterior >= 1 - in.alpha / 2)
-        class_blockers.push_back(r.rival->name);
+        class_blockers.insert(class_blockers.end(), r.class_rivals.begin(), r.class_rivals.end());
       else
         other = true;
       why.push_back("the data do not tell it from " + r.rival->name + ": BIC " + fmt("%.1f", w.bic + w.bic_held_out) +

@@ -701,6 +701,24 @@ TEST(Verdict, ARivalOfAnotherClassCloseInBicKeepsEvenTheClassUnnamed) {
   EXPECT_NEAR(d.lead.class_posterior, (1 + w) / (1 + 2 * w), 1e-12);
 }
 
+TEST(Verdict, AClassNamesOnlyItsOwnMembersEvenWhenTheStrongestRivalIsOfAnotherClass) {
+  // A pin rival 11 behind in BIC (weight e^-5.5) and a sun tooth 10.9 behind (e^-5.45, the
+  // strongest rival): the lead's posterior 0.9917 < 0.995, the class's (1 + e^-5.5) / (1 + e^-5.5
+  // + e^-5.45) = 0.9957 >= 0.995. The class is named, and its members are its own.
+  Diagnosis d = runout_with_pin_rival(11.0);
+  CandidateResult tooth = d.candidates[1];
+  tooth.name = "sun_tooth_damage";
+  tooth.bic_held_out -= 0.1;
+  d.candidates.push_back(tooth);
+  decide_verdict(d, inputs(1100));
+  EXPECT_EQ(d.verdict, Verdict::MissingPhysicsFound) << d.summary;
+  EXPECT_EQ(d.lead.rival, "sun_tooth_damage");
+  EXPECT_LT(d.lead.posterior, 0.995);
+  EXPECT_GE(d.lead.class_posterior, 0.995);
+  ASSERT_EQ(d.lead.class_members.size(), 2u);
+  EXPECT_EQ(d.lead.class_members[1], "pin_error");
+}
+
 TEST(Verdict, AClassIsNotNamedWhenTheLeadFailsAConditionOfItsOwn) {
   // The lead's own model leaves more than its bound (and more than the recording's own half):
   // its class explains the recording no better than the lead does.
