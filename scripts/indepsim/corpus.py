@@ -226,7 +226,11 @@ def run_batch(job):
     return job["name"], fs, res, info
 
 
-def build(out, quick=False, jobs=1, seed=1, limit=None, duration=None):
+def plan_entries(quick=False, seed=1, limit=None, duration=None):
+    """The corpus's recordings before simulation: (entries, held-out indices, batches, job list).
+
+    Every random choice of the corpus (sensor angles, noise seeds, held-out set, names) is made
+    here, in a fixed order, so that another script (observability.py) can rebuild the same cases."""
     rnd = random.Random(seed)
     gsets = gearsets()
     P = plan(quick)
@@ -282,6 +286,12 @@ def build(out, quick=False, jobs=1, seed=1, limit=None, duration=None):
                                                     sensor_angle_deg=entries[i]["sensor_angle_phys_deg"],
                                                     seed=entries[i]["seed"]),
                                           faults=entries[i]["fk"]) for i in idx], idx=idx))
+    return entries, held, batches, joblist
+
+
+def build(out, quick=False, jobs=1, seed=1, limit=None, duration=None):
+    gsets = gearsets()
+    entries, held, batches, joblist = plan_entries(quick, seed, limit, duration)
     os.makedirs(out, exist_ok=True)
     log = open(os.path.join(out, "corpus.log"), "a")
 

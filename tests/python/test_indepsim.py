@@ -203,3 +203,39 @@ def test_quick_corpus_smoke_writes_documented_format(tmp_path):
     g = sim.read_gearset_toml(os.path.join(out, "seed3p", "gearset.toml"))
     assert (g.sun.teeth, g.planet.teeth, g.ring.teeth, g.planet_count) == (21, 30, 81, 3)
     assert g.friction_coefficient == 0.06
+
+
+import observability  # noqa: E402
+
+
+def test_deflection_of_a_sinusoid_is_its_energy_over_the_noise_variance():
+    # Whole periods of A sin: sum(Delta^2) = N A^2 / 2 exactly; an added constant is removed.
+    n, A, sigma = 4000, 0.3, 0.05
+    t = np.arange(n)
+    d = A * np.sin(2 * np.pi * 7 * t / n) + 5.0
+    assert observability.deflection(d, sigma) == pytest.approx(n * A * A / 2 / sigma ** 2, rel=1e-12)
+
+
+def test_unobservable_bound_is_the_squared_normal_quantile():
+    # z_0.99 = 2.326348 (any normal table); z_0.95 = 1.644854
+    assert observability.unobservable_below(0.01) == pytest.approx(2.326348 ** 2, rel=1e-6)
+    assert observability.unobservable_below(0.05) == pytest.approx(1.644854 ** 2, rel=1e-6)
+
+
+def test_signature_of_an_effect_free_twin_is_zero_and_grows_with_the_effect(tmp_path):
+    # The twin of a recording without effect is itself (d2 = 0 exactly: the batch's cases are
+    # integrated independently); a stiffer tooth fault is more visible than a milder one.
+    st = sim.Stage(SEED)
+    base = dict(speed_rpm=600.0, power_W=5000.0, duration_s=0.05, sensor_angle_deg=40.0, seed=3)
+    cases = [sim.Case(**base), sim.Case(**base),
+             sim.Case(**base, faults=sim.Faults(tooth_body="sun", tooth_index=2, tooth_stiffness_factor=0.9)),
+             sim.Case(**base, faults=sim.Faults(tooth_body="sun", tooth_index=2, tooth_stiffness_factor=0.5))]
+    fs, res, _ = sim.simulate_batch(st, cases, warmup_s=0.02, fs=20000.0, D=6)
+    same = observability.signature(res[0], res[1], 0.05)
+    assert all(v["d2_model"] == 0 and v["d2_baseline"] == 0 for v in same.values())
+    mild = observability.signature(res[2], res[0], 0.05)
+    severe = observability.signature(res[3], res[0], 0.05)
+    total = lambda s, k: sum(s[c][k] for c in observability.RIG_CHANNELS)  # noqa: E731
+    assert 0 < total(mild, "d2_model") < total(severe, "d2_model")
+    # against a noisy baseline the variance doubles (nearly: the two channels' sigmas differ a little)
+    assert total(mild, "d2_baseline") == pytest.approx(total(mild, "d2_model") / 2, rel=0.05)
