@@ -15,7 +15,9 @@ unless DIR/diagnosis/<gearset>/rec_NN/report.json exists (resumable), reads the 
 "refused", "failed") and the counts: named right (of which as a class: the truth is a member of
 the class named), controls clean, confident wrong names, refusals. Writes
 DIR/diagnosis/results.csv and results.json. Held-out recordings (truth "held_out") are
-skipped unless --include-held-out.
+skipped unless --include-held-out. With DIR/observability.json (observability.py), an effect
+that no test could see in its recording is scored apart: "no missing physics" is right there
+(unobservable_clean), a name counts as a confident wrong name.
 
 --calibration-per-rig: the healthy baseline of each operating point is diagnosed first;
 the nuisance values it recalibrated (the report's --set overrides of stiffness.scale,
@@ -339,6 +341,15 @@ def main(argv=None):
         jobs_for(keys)
 
     # ---- scoring
+    # An effect whose signature no test could see in its recording (observability.py: matched-filter
+    # deflection below z_{1-alpha}^2 on every channel against a noise-free model) is scored apart:
+    # "no missing physics" is the right answer there, a name a confident wrong one.
+    unobservable = set()
+    obs_path = os.path.join(a.corpus, "observability.json")
+    if os.path.exists(obs_path):
+        with open(obs_path) as f:
+            obs = json.load(f)
+        unobservable = {r["key"] for r in obs["rows"] if r["d2_model_all"] < obs["unobservable_below_d2"]}
     rows = []
     for k in keys:
         if k not in results:
@@ -353,6 +364,10 @@ def main(argv=None):
         elif truth_eff == "none":
             outcome = "control_clean" if label == "none" else ("control_unexplained" if label == "unexplained"
                                                                else "control_false_name")
+        elif k in unobservable:
+            outcome = "unobservable_clean" if label == "none" else ("unobservable_unexplained"
+                                                                     if label == "unexplained" else
+                                                                     "unobservable_named")
         elif label == truth_eff:
             outcome = "named_right"
         elif label.startswith("class:") and truth_eff in label[len("class:"):].split("|"):
@@ -386,11 +401,14 @@ def main(argv=None):
         counts[r["outcome"]] = counts.get(r["outcome"], 0) + 1
     n_eff = sum(1 for r in rows if r["truth"] != "none" and r["outcome"] not in ("refused", "failed"))
     n_ctl = sum(1 for r in rows if r["truth"] == "none" and r["outcome"] not in ("refused", "failed"))
+    n_unobs = sum(1 for r in rows if r["outcome"].startswith("unobservable_"))
     summary = dict(
         recordings=len(rows), effects_scored=n_eff, controls_scored=n_ctl,
         named_right=counts.get("named_right", 0) + counts.get("named_right_as_class", 0),
         named_right_as_class=counts.get("named_right_as_class", 0), controls_clean=counts.get("control_clean", 0),
-        confident_wrong_names=counts.get("wrong_name", 0) + counts.get("control_false_name", 0),
+        effects_observable=n_eff - n_unobs, unobservable_clean=counts.get("unobservable_clean", 0),
+        confident_wrong_names=counts.get("wrong_name", 0) + counts.get("control_false_name", 0)
+        + counts.get("unobservable_named", 0),
         unexplained=counts.get("unexplained", 0) + counts.get("control_unexplained", 0),
         missed=counts.get("missed", 0), refusals=counts.get("refused", 0), failures=counts.get("failed", 0),
         refusals_expected=sum(1 for r in rows if r["outcome"] == "refused" and r["reader_should_refuse"]),

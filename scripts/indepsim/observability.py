@@ -191,6 +191,7 @@ def main(argv=None):
                        noise_ratio=noise_ratio(os.path.join(a.corpus, recs[key]["csv"]), res[2 * k], nf))
             row["observable_rig_baseline"] = row["d2_baseline_rig"] >= bound
             row["observable_rig_model"] = row["d2_model_rig"] >= bound
+            row["observable_any"] = row["d2_model_all"] >= bound  # the most generous: every channel, no baseline noise
             v = verdicts.get(key)
             if v:
                 row["reported"], row["outcome"] = v["reported"], v["outcome"]
