@@ -127,6 +127,23 @@ def read_report(path):
     return label, verdict, summary, overrides
 
 
+def score(label, truth_effect, unobservable=False):
+    """The outcome of one diagnosis: its reported label against the truth's effect ("none" for a
+    control); unobservable: the effect leaves no signature any test could see (observability.py)."""
+    if label in ("refused", "failed"):
+        return label
+    if truth_effect == "none":
+        return {"none": "control_clean", "unexplained": "control_unexplained"}.get(label, "control_false_name")
+    if unobservable:
+        return {"none": "unobservable_clean", "unexplained": "unobservable_unexplained"}.get(label,
+                                                                                           "unobservable_named")
+    if label == truth_effect:
+        return "named_right"
+    if label.startswith("class:") and truth_effect in label[len("class:"):].split("|"):
+        return "named_right_as_class"
+    return {"none": "missed", "unexplained": "unexplained"}.get(label, "wrong_name")
+
+
 def run_one(exe, corpus, key, rec, outroot, threads, timeout, extra_args=(), sensors="all"):
     g, name = rec["gearset"], rec["name"]
     out = os.path.join(corpus, outroot, g, name)
@@ -357,27 +374,7 @@ def main(argv=None):
         how, (label, verdict, summary, ov), dt = results[k]
         r = recs[k]
         truth_eff = r["effect"]
-        if label == "refused":
-            outcome = "refused"
-        elif label in ("failed",):
-            outcome = "failed"
-        elif truth_eff == "none":
-            outcome = "control_clean" if label == "none" else ("control_unexplained" if label == "unexplained"
-                                                               else "control_false_name")
-        elif k in unobservable:
-            outcome = "unobservable_clean" if label == "none" else ("unobservable_unexplained"
-                                                                     if label == "unexplained" else
-                                                                     "unobservable_named")
-        elif label == truth_eff:
-            outcome = "named_right"
-        elif label.startswith("class:") and truth_eff in label[len("class:"):].split("|"):
-            outcome = "named_right_as_class"
-        elif label == "none":
-            outcome = "missed"
-        elif label == "unexplained":
-            outcome = "unexplained"
-        else:
-            outcome = "wrong_name"
+        outcome = score(label, truth_eff, k in unobservable)
         rows.append(dict(key=k, gearset=r["gearset"], name=r["name"], role=r["role"], truth=truth_eff,
                          reported=label, verdict=verdict, outcome=outcome, held_out=r.get("held_out", False),
                          reader_should_refuse=r.get("reader_should_refuse", False), op=r["operating_point"],

@@ -239,3 +239,19 @@ def test_signature_of_an_effect_free_twin_is_zero_and_grows_with_the_effect(tmp_
     assert 0 < total(mild, "d2_model") < total(severe, "d2_model")
     # against a noisy baseline the variance doubles (nearly: the two channels' sigmas differ a little)
     assert total(mild, "d2_baseline") == pytest.approx(total(mild, "d2_model") / 2, rel=0.05)
+
+
+import confusion  # noqa: E402
+
+
+def test_scoring_counts_a_class_right_only_for_its_members_and_an_invisible_effect_apart():
+    s = confusion.score
+    assert s("sun_runout", "sun_runout") == "named_right"
+    assert s("class:carrier_runout|pin_error", "pin_error") == "named_right_as_class"
+    assert s("class:carrier_runout|pin_error", "sun_runout") == "wrong_name"
+    assert s("none", "friction") == "missed" and s("unexplained", "friction") == "unexplained"
+    assert s("friction", "none") == "control_false_name" and s("none", "none") == "control_clean"
+    # an effect without a signature: "no missing physics" is right, a name is wrong, even the true one
+    assert s("none", "backlash", unobservable=True) == "unobservable_clean"
+    assert s("backlash", "backlash", unobservable=True) == "unobservable_named"
+    assert s("refused", "backlash", unobservable=True) == "refused"
