@@ -40,7 +40,12 @@ def gearsets():
     four = sim.GearSet("four4p", 4, sim.Gear(20, 0.002, face_width_m=0.03), sim.Gear(30, 0.002, face_width_m=0.03),
                        sim.Gear(80, 0.002, face_width_m=0.03), friction_coefficient=0.06,
                        backlash_sun_planet_m=8e-6, backlash_planet_ring_m=8e-6)
-    return {"seed3p": seed, "four4p": four}
+    # Added in session 37 for a final check no development run has seen (--plan fresh): five
+    # planets, (Zs + Zr) / 5 = 18 (equal spacing), other module and face width.
+    five = sim.GearSet("fresh5p", 5, sim.Gear(25, 0.0025, face_width_m=0.04), sim.Gear(20, 0.0025, face_width_m=0.04),
+                       sim.Gear(65, 0.0025, face_width_m=0.04), friction_coefficient=0.05,
+                       backlash_sun_planet_m=12e-6, backlash_planet_ring_m=12e-6)
+    return {"seed3p": seed, "four4p": four, "fresh5p": five}
 
 
 # operating points: name -> (rpm, W, duration of its recordings [s])
@@ -48,12 +53,41 @@ OPS = {
     "seed3p": {"A": (100, 1000, 10.0), "B": (200, 1000, 6.0), "C": (400, 1000, 3.0), "D": (200, 10000, 5.0),
                "E": (300, 20000, 4.0), "F": (400, 5000, 3.0), "H1": (9500, 2000, 2.0), "H2": (9000, 5000, 2.0)},
     "four4p": {"a": (100, 1000, 10.0), "b": (250, 3000, 5.0), "c": (400, 8000, 3.0), "d": (300, 10000, 4.0)},
+    "fresh5p": {"a": (150, 2000, 8.0), "b": (350, 6000, 4.0), "c": (500, 12000, 3.0)},
 }
+PLANS = ("main", "fresh")
 HIGH = {"H1", "H2"}
 
 
-def plan(quick=False):
+def plan_fresh():
+    """A final check (session 37): a gear set, operating points and sizes no development run has
+    used; every effect once, a control per operating point. Run it once per change of the
+    diagnosis that is to be judged, not while developing."""
+    F = "fresh5p"
+    P = [
+        (F, "c", "sun_tooth_damage", dict(tooth_body="sun", tooth_index=9, tooth_stiffness_factor=0.6), None),
+        (F, "b", "planet_tooth_damage", dict(tooth_body="planet", tooth_planet=3, tooth_index=8,
+                                             tooth_stiffness_factor=0.55), None),
+        (F, "a", "ring_tooth_damage", dict(tooth_body="ring", tooth_index=20, tooth_stiffness_factor=0.6), None),
+        (F, "b", "pin_error", dict(pin_error_m=(0.0, 0.0, 2.5e-6, 0.0, 0.0)), None),
+        (F, "b", "sun_runout", dict(sun_ecc_m=2e-6, sun_ecc_phase_rad=2.5), None),
+        (F, "c", "carrier_runout", dict(carrier_ecc_m=2.5e-6, carrier_ecc_phase_rad=1.0), None),
+        (F, "c", "stiffness_level", dict(stiffness_scale=0.85), None),
+        (F, "b", "damping_level", dict(damping_scale=2.0), None),
+        (F, "b", "friction", dict(friction_coefficient=0.1), None),
+        (F, "c", "torque_ripple", dict(ripple_fraction=0.06, ripple_order=1.0), None),
+        (F, "c", "worn_profile", dict(worn_depth_m=2e-6), None),
+        (F, "a", "sensor_transfer_path", dict(housing_gain_scale=0.6), None),
+    ]
+    for op in ("a", "b", "c"):
+        P.append((F, op, "none", {}, None))
+    return P
+
+
+def plan(quick=False, variant="main"):
     """List of (gearset, op, effect, faults kwargs, parameters for truth, duration override)."""
+    if variant == "fresh":
+        return plan_fresh()
     P = []
     if quick:
         for eff, kw in (("none", {}), ("sun_tooth_damage", dict(tooth_body="sun", tooth_index=5,
@@ -226,14 +260,14 @@ def run_batch(job):
     return job["name"], fs, res, info
 
 
-def plan_entries(quick=False, seed=1, limit=None, duration=None):
+def plan_entries(quick=False, seed=1, limit=None, duration=None, variant="main"):
     """The corpus's recordings before simulation: (entries, held-out indices, batches, job list).
 
     Every random choice of the corpus (sensor angles, noise seeds, held-out set, names) is made
     here, in a fixed order, so that another script (observability.py) can rebuild the same cases."""
     rnd = random.Random(seed)
     gsets = gearsets()
-    P = plan(quick)
+    P = plan(quick, variant)
     ops = dict(OPS)
     if quick:
         ops = {"seed3p": QUICK_OPS}
@@ -289,9 +323,9 @@ def plan_entries(quick=False, seed=1, limit=None, duration=None):
     return entries, held, batches, joblist
 
 
-def build(out, quick=False, jobs=1, seed=1, limit=None, duration=None):
+def build(out, quick=False, jobs=1, seed=1, limit=None, duration=None, variant="main"):
     gsets = gearsets()
-    entries, held, batches, joblist = plan_entries(quick, seed, limit, duration)
+    entries, held, batches, joblist = plan_entries(quick, seed, limit, duration, variant)
     os.makedirs(out, exist_ok=True)
     log = open(os.path.join(out, "corpus.log"), "a")
 
@@ -316,7 +350,7 @@ def build(out, quick=False, jobs=1, seed=1, limit=None, duration=None):
             say(f"  batch {name}: {info['batch']} recordings, {info['simulated_s']:.2f} s simulated, "
                 f"dt {info['dt'] * 1e6:.2f} us, fs {fs:.0f} Hz, cpu {info['cpu_s']:.0f} s, wall {info['wall_s']:.0f} s")
     # write
-    truth = {"generator": "scripts/indepsim/corpus.py", "seed": seed, "quick": quick,
+    truth = {"generator": "scripts/indepsim/corpus.py", "seed": seed, "quick": quick, "plan": variant,
              "noise": "5 % of each channel's RMS about its mean; accelerometer DC offsets +-(10-50) % of RMS",
              "gearsets": {}, "recordings": {}, "batches": []}
     rig = sim.Rig()
@@ -392,8 +426,13 @@ def main(argv=None):
     ap.add_argument("--quick", action="store_true", help="6 recordings of 2 s (CI)")
     ap.add_argument("--jobs", type=int, default=1)
     ap.add_argument("--seed", type=int, default=1)
+    ap.add_argument("--plan", choices=PLANS, default="main",
+                    help="main: the development corpus (two gear sets, 77 recordings); fresh: a final check on a "
+                         "five-planet gear set no development run has used (18 recordings)")
     a = ap.parse_args(argv)
-    build(a.out, a.quick, a.jobs, a.seed)
+    if a.quick and a.plan != "main":
+        ap.error("--quick is a variant of the main plan")
+    build(a.out, a.quick, a.jobs, a.seed, variant=a.plan)
 
 
 if __name__ == "__main__":

@@ -135,7 +135,8 @@ def main(argv=None):
 
     with open(os.path.join(a.corpus, "truth.json")) as f:
         truth = json.load(f)
-    entries, _, batches, joblist = corpus.plan_entries(truth.get("quick", False), truth.get("seed", 1))
+    entries, _, batches, joblist = corpus.plan_entries(truth.get("quick", False), truth.get("seed", 1),
+                                                        variant=truth.get("plan", "main"))
     recs = truth["recordings"]
     for e in entries:  # the corpus must be the one these entries describe
         r = recs.get(f"{e['gearset']}/{e['name']}")

@@ -255,3 +255,18 @@ def test_scoring_counts_a_class_right_only_for_its_members_and_an_invisible_effe
     assert s("none", "backlash", unobservable=True) == "unobservable_clean"
     assert s("backlash", "backlash", unobservable=True) == "unobservable_named"
     assert s("refused", "backlash", unobservable=True) == "refused"
+
+
+def test_fresh_plan_has_every_effect_once_a_baseline_per_operating_point_and_equal_planet_spacing():
+    entries, _, _, _ = corpus.plan_entries(seed=7, variant="fresh")
+    effects = [e["effect"] for e in entries if e["role"] == "effect"]
+    assert len(effects) == len(set(effects)) == 12
+    ops = {e["op"] for e in entries}
+    assert {e["op"] for e in entries if e["role"] == "baseline"} == ops == {e["op"] for e in entries
+                                                                           if e["role"] == "control"}
+    gs = corpus.gearsets()["fresh5p"]
+    assert (gs.sun.teeth + gs.ring.teeth) % gs.planet_count == 0
+    assert gs.ring.teeth == gs.sun.teeth + 2 * gs.planet.teeth
+    # no gear set, operating point or size of the development corpus
+    main = corpus.plan()
+    assert all(g != "fresh5p" for (g, *_rest) in main)
