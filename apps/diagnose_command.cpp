@@ -203,29 +203,6 @@ bool same_file(const std::string& a, const std::string& b) {
                     std::istreambuf_iterator<char>(fb));
 }
 
-/// The cell-by-cell comparison finds every channel and cell of the recording `a` in its
-/// reference `b` (ModelComparison::match_baseline; b may have more), both in windows of the same
-/// length: a line off the window's bins (sun, planet and input-shaft families) leaks into the
-/// cells around it by a sinc of the window length, so equal orders of unequal windows do not
-/// hold the same amplitudes.
-bool covers(const diagnose::RecordingSpectra& b, const diagnose::RecordingSpectra& a) {
-  if (a.layout.revolutions != b.layout.revolutions || a.layout.mesh_cycles != b.layout.mesh_cycles) return false;
-  for (const std::string& c : a.channel_names)
-    if (std::find(b.channel_names.begin(), b.channel_names.end(), c) == b.channel_names.end()) return false;
-  for (const diagnose::FeatureCell& ca : a.layout.cells) {
-    const auto same = [&](const diagnose::FeatureCell& cb) {  // as match_baseline matches them
-      return std::fabs(cb.order - ca.order) <= 1e-9 * std::max(1.0, std::fabs(ca.order));
-    };
-    if (std::none_of(b.layout.cells.begin(), b.layout.cells.end(), same)) return false;
-  }
-  return true;
-}
-
-/// The longest analysis halves in which the recording and its reference share their cells: the
-/// default first; else both in halves of the shorter one's whole carrier revolutions, or, when
-/// either is shorter than two (halves of mesh cycles, §2 "Short recordings"), both in halves of
-/// its mesh cycles (a 10 s healthy recording is the reference of a 3 s one). None when even that
-/// does not match (another band or other channels).
 diagnose::RecordingSpectra analyse(const RecordingInputs& r, const diagnose::OrderAnalysisOptions& o = {}) {
   return diagnose::analyse_recording(r.recording, r.config.stage, o);
 }
@@ -234,19 +211,7 @@ diagnose::RecordingSpectra analyse(const RecordingInputs& r, const diagnose::Ord
 std::optional<diagnose::OrderAnalysisOptions> common_windows(const RecordingInputs& self,
                                                              const diagnose::RecordingSpectra& a,
                                                              const RecordingInputs& ref) {
-  diagnose::OrderAnalysisOptions o;
-  const auto b = analyse(ref, o);
-  if (covers(b, a)) return o;
-  if (a.layout.mesh_cycles == 0 && b.layout.mesh_cycles == 0) {
-    o.max_window_revolutions = std::min(a.layout.revolutions, b.layout.revolutions);
-  } else {
-    const auto q = [](const diagnose::RecordingSpectra& s) {
-      return s.layout.mesh_cycles > 0 ? s.layout.mesh_cycles : std::numeric_limits<int>::max();
-    };
-    o.mesh_cycles = std::min(q(a), q(b));
-  }
-  if (covers(analyse(ref, o), analyse(self, o))) return o;
-  return std::nullopt;
+  return diagnose::common_analysis_options(self.recording, self.config.stage, a, ref.recording, ref.config.stage);
 }
 
 RecordingInputs read_self(const DiagnoseCommandOptions& o) {

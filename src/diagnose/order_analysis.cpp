@@ -11,6 +11,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <map>
 #include <numeric>
 #include <numbers>
@@ -413,7 +414,14 @@ FeatureLayout layout_for_window(const Kinematics& k, int planets, double R, doub
       if (b >= 1 && b <= L.max_bin) bins[static_cast<int>(b)].push_back(static_cast<int>(i));
     };
     add(b0);
-    if (std::fabs(d) > 0.25) add(b0 + (d > 0 ? 1 : -1));
+    // A line more than a quarter bin off its bin also counts in the neighbour. Line orders are
+    // ratios of tooth counts computed from the measured speeds, so a line exactly a quarter bin
+    // off (planet lines Zr R / Zp = 65 * 3 / 20 = 9.75 bins apart, say) lands at 0.25 +- round-off:
+    // the round-off decided, and two recordings of one operating point got different cells and
+    // could not be compared (session 37). Within 1e-9 bin of the quarter it is the quarter: the
+    // family ratios' denominators are Zs, Zp (and 1), so a distance that is not the quarter differs
+    // from it by at least 1 / (4 Zs Zp), far above 1e-9.
+    if (std::fabs(d) > 0.25 + 1e-9) add(b0 + (d > 0 ? 1 : -1));
   }
   L.family_cells.assign(5, {});
   for (auto& [b, lines] : bins) {
@@ -491,7 +499,8 @@ void choose_layout(const Recording& rec, const model::StageSpec& stage, const Or
   const double total = s.carrier_angle.back() - s.carrier_angle.front();
   const int revs = static_cast<int>(std::floor(total / (2 * kPi) + 1e-9));
   const double fs = 1.0 / dt;
-  const double max_order = o.layout.band_fraction * fs / s.kinematics.carrier_Hz;
+  const double edge = o.layout.band_fraction * fs / s.kinematics.carrier_Hz;
+  const double max_order = o.max_order > 0 ? std::min(edge, o.max_order) : edge;
   if (revs >= 2 && o.mesh_cycles == 0) {
     const int R = std::max(1, std::min(revs / 2, o.max_window_revolutions));
     s.layout = make_layout(s.kinematics, stage.planet_count, R, max_order, o.layout);
@@ -974,6 +983,50 @@ std::vector<double> housing_spectrum(const ModelSpectra& m, const model::SensorS
   for (const auto& v : m.ring_force) f.emplace_back(v);
   const auto y = model::housing_acceleration_history(s, m.planet_angles_rad, m.carrier_angle, f);
   return angle_spectrum(y, ModelAngle{m.angle_theta}, revolutions, max_bin);
+}
+
+bool reference_covers(const RecordingSpectra& reference, const RecordingSpectra& recording) {
+  const FeatureLayout& a = recording.layout;
+  const FeatureLayout& b = reference.layout;
+  if (a.revolutions != b.revolutions || a.mesh_cycles != b.mesh_cycles) return false;
+  for (const std::string& c : recording.channel_names)
+    if (std::find(reference.channel_names.begin(), reference.channel_names.end(), c) == reference.channel_names.end())
+      return false;
+  for (const FeatureCell& ca : a.cells) {
+    const auto same = [&](const FeatureCell& cb) {  // as ModelComparison::match_baseline matches them
+      return std::fabs(cb.order - ca.order) <= 1e-9 * std::max(1.0, std::fabs(ca.order));
+    };
+    if (std::none_of(b.cells.begin(), b.cells.end(), same)) return false;
+  }
+  return true;
+}
+
+std::optional<OrderAnalysisOptions> common_analysis_options(const Recording& recording, const model::StageSpec& stage,
+                                                            const RecordingSpectra& recording_default,
+                                                            const Recording& reference,
+                                                            const model::StageSpec& reference_stage) {
+  OrderAnalysisOptions o;
+  const RecordingSpectra& a = recording_default;
+  const RecordingSpectra b = analyse_recording(reference, reference_stage, o);
+  if (reference_covers(b, a)) return o;
+  if (a.layout.mesh_cycles == 0 && b.layout.mesh_cycles == 0) {
+    o.max_window_revolutions = std::min(a.layout.revolutions, b.layout.revolutions);
+  } else {
+    const auto q = [](const RecordingSpectra& s) {
+      return s.layout.mesh_cycles > 0 ? s.layout.mesh_cycles : std::numeric_limits<int>::max();
+    };
+    o.mesh_cycles = std::min(q(a), q(b));
+  }
+  const RecordingSpectra a2 = analyse_recording(recording, stage, o);
+  const RecordingSpectra b2 = analyse_recording(reference, reference_stage, o);
+  if (reference_covers(b2, a2)) return o;
+  // The band edges: both up to the lower one. The edge is max_bin / W; a relative 1e-9 above it
+  // keeps floor(edge W) at max_bin against the round-off of the division (W <= 3 revolutions or
+  // Q / Zr, max_bin < 1e6: far below 1e-9 of a bin).
+  o.max_order = std::min(a2.layout.max_order, b2.layout.max_order) * (1 + 1e-9);
+  if (reference_covers(analyse_recording(reference, reference_stage, o), analyse_recording(recording, stage, o)))
+    return o;
+  return std::nullopt;
 }
 
 } // namespace pw::diagnose

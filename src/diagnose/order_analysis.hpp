@@ -45,6 +45,7 @@
 #include <algorithm>
 #include <cmath>
 #include <complex>
+#include <optional>
 #include <span>
 #include <string>
 #include <vector>
@@ -214,6 +215,10 @@ struct OrderAnalysisOptions {
   /// > 0: halves of this many whole mesh cycles whatever the recording's length (housing channels
   /// dropped, as for a short recording): a long reference analysed in a short recording's windows.
   int mesh_cycles = 0;
+  /// > 0: the analysed band ends at this carrier order if the sample rate's edge
+  /// (LayoutOptions::band_fraction fs over the measured carrier speed) lies above it: a recording
+  /// and its healthy reference, whose measured speeds differ a little, analysed up to one edge.
+  double max_order = 0;
 };
 
 /// Speed, angle, windows, amplitudes and noise of a recording: halves of R whole carrier
@@ -222,6 +227,26 @@ struct OrderAnalysisOptions {
 /// min_recording_mesh_cycles mesh cycles.
 RecordingSpectra analyse_recording(const Recording& recording, const model::StageSpec& stage,
                                    const OrderAnalysisOptions& options = {});
+
+/// True when every channel and cell of `recording`'s analysis is in `reference`'s, in windows of
+/// the same length: what a cell-by-cell comparison of a recording with a healthy reference
+/// needs (the reference may have more). A line off the window's bins (sun, planet and
+/// input-shaft families) leaks into the cells around it by a sinc of the window length, so equal
+/// orders of unequal windows do not hold the same amplitudes.
+bool reference_covers(const RecordingSpectra& reference, const RecordingSpectra& recording);
+
+/// The analysis under which `recording` and its healthy `reference` share their cells
+/// (docs/diagnose.md section 6b item 8), given the recording's default analysis: the default
+/// first; else both in halves of the shorter one's whole carrier revolutions, or, when either is
+/// shorter than two (halves of mesh cycles), both in halves of its mesh cycles (a 10 s healthy
+/// recording is the reference of a 3 s one); else, as well, both up to the lower of their two
+/// band edges (each recording's edge is band_fraction fs over its own measured carrier speed, so
+/// two recordings of one operating point can differ by the cell at the edge). None when even
+/// that does not match (other channels, another sample rate).
+std::optional<OrderAnalysisOptions> common_analysis_options(const Recording& recording, const model::StageSpec& stage,
+                                                            const RecordingSpectra& recording_default,
+                                                            const Recording& reference,
+                                                            const model::StageSpec& reference_stage);
 
 /// What a simulation contributes to the comparison: for each recording
 /// channel the amplitude of every bin 0 .. max_bin over the first W carrier

@@ -7,6 +7,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <initializer_list>
@@ -406,6 +407,63 @@ TEST(OrderAnalysis, ALongReferenceInAShortRecordingsMeshCycleWindowsHasItsCellsA
   // Asked for more than fits twice: an input error naming the recording.
   o.mesh_cycles = 4 * shrt.layout.mesh_cycles;
   EXPECT_THROW(analyse_recording(part, cfg.stage, o), InputError);
+}
+
+TEST(OrderAnalysis, ALineAQuarterBinOffGetsTheSameCellsWhateverTheRoundOffOfTheMeasuredSpeed) {
+  // Five planets, Zs 25, Zp 20, Zr 65 (the independent corpus's fresh gear set): over R = 3 carrier
+  // revolutions the planet lines lie Zr R / Zp = 9.75 bins apart, so every fourth one is exactly a
+  // quarter bin off its bin. Measured speeds a few ulp apart put it at 0.25 +- 1e-15; both
+  // recordings of the operating point must get the same cells (before session 37 one of them had
+  // neighbour cells the other lacked: 1194 against 1199 cells, and --baseline refused the pair).
+  model::StageSpec st = model::SimulationConfig{}.stage;
+  st.planet_count = 5;
+  st.sun.teeth = 25;
+  st.planet.teeth = 20;
+  st.ring.teeth = 65;
+  const double rpm = 350;
+  const FeatureLayout ref = make_layout(kinematics(st, rpm), 5, 3, 925.0);
+  for (double rel : {-3e-12, -1e-15, 1e-15, 2e-14, 5e-12}) {
+    const FeatureLayout L = make_layout(kinematics(st, rpm * (1 + rel)), 5, 3, 925.0);
+    ASSERT_EQ(L.cells.size(), ref.cells.size()) << "speed x (1 + " << rel << ")";
+    for (std::size_t i = 0; i < L.cells.size(); ++i) ASSERT_EQ(L.cells[i].bin, ref.cells[i].bin);
+  }
+  // The quarter itself gets no neighbour: the planet line f_pr (3.25 carrier orders, 9.75 bins)
+  // counts in bin 10 and not in bin 9.
+  const auto line = std::find_if(ref.lines.begin(), ref.lines.end(), [](const auto& l) {
+    return l.family == Component::Planet && l.mesh_harmonic == 0 && l.sideband == 1;
+  });
+  ASSERT_NE(line, ref.lines.end());
+  EXPECT_NEAR(line->order * 3, 9.75, 1e-12);
+  const int index = static_cast<int>(line - ref.lines.begin());
+  std::vector<int> bins_of_line;
+  for (const FeatureCell& c : ref.cells)
+    if (std::find(c.lines.begin(), c.lines.end(), index) != c.lines.end()) bins_of_line.push_back(c.bin);
+  EXPECT_EQ(bins_of_line, std::vector<int>{10});
+}
+
+TEST(OrderAnalysis, ARecordingAndItsReferenceWithBandEdgesEitherSideOfACellAreComparedUpToTheLowerEdge) {
+  // The band ends at 0.3 fs over each recording's own measured carrier speed: 728.6 carrier
+  // orders for the 1200 rpm stage at 10 kHz. A recording whose speed channel reads 0.1 % low has
+  // its edge at 729.3 and holds the cell of mesh harmonic 9 (order 729) that its reference lacks.
+  const model::SimulationConfig cfg = test::stage_1200rpm();
+  const Recording reference = test::synthetic(0.0, 0.0, 3);
+  const Recording recording = test::synthetic(0.0, 0.0, 4, -1e-3);
+  const RecordingSpectra a = analyse_recording(recording, cfg.stage);
+  const RecordingSpectra b = analyse_recording(reference, cfg.stage);
+  ASSERT_EQ(a.layout.max_bin, 729);
+  ASSERT_EQ(b.layout.max_bin, 728);
+  EXPECT_FALSE(reference_covers(b, a));
+  const auto o = common_analysis_options(recording, cfg.stage, a, reference, cfg.stage);
+  ASSERT_TRUE(o.has_value());
+  const RecordingSpectra a2 = analyse_recording(recording, cfg.stage, *o);
+  const RecordingSpectra b2 = analyse_recording(reference, cfg.stage, *o);
+  EXPECT_EQ(a2.layout.max_bin, 728);
+  EXPECT_TRUE(reference_covers(b2, a2));
+  EXPECT_EQ(a2.layout.cells.size(), b2.layout.cells.size());
+  // Recordings of the same edge keep the default analysis (no cap).
+  const auto same = common_analysis_options(reference, cfg.stage, b, test::synthetic(0.0, 0.0, 5), cfg.stage);
+  ASSERT_TRUE(same.has_value());
+  EXPECT_EQ(same->max_order, 0.0);
 }
 
 } // namespace
