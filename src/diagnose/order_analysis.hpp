@@ -239,10 +239,11 @@ bool reference_covers(const RecordingSpectra& reference, const RecordingSpectra&
 /// (docs/diagnose.md section 6b item 8), given the recording's default analysis: the default
 /// first; else both in halves of the shorter one's whole carrier revolutions, or, when either is
 /// shorter than two (halves of mesh cycles), both in halves of its mesh cycles (a 10 s healthy
-/// recording is the reference of a 3 s one); else, as well, both up to the lower of their two
-/// band edges (each recording's edge is band_fraction fs over its own measured carrier speed, so
-/// two recordings of one operating point can differ by the cell at the edge). None when even
-/// that does not match (other channels, another sample rate).
+/// recording is the reference of a 3 s one); else, when the two share their sample rate, as
+/// well both up to the lower of their two band edges (each recording's edge is band_fraction fs
+/// over its own measured carrier speed, so two recordings of one operating point can differ by
+/// the cell at the edge). None when even that does not match (other channels, another sample
+/// rate).
 std::optional<OrderAnalysisOptions> common_analysis_options(const Recording& recording, const model::StageSpec& stage,
                                                             const RecordingSpectra& recording_default,
                                                             const Recording& reference,
