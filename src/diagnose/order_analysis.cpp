@@ -1022,10 +1022,10 @@ std::optional<OrderAnalysisOptions> common_analysis_options(const Recording& rec
   if (reference_covers(b2, a2)) return o;
   // The band edges: both up to the lower one, when the two share their sample rate (to 0.1 %:
   // the first time step of a column printed to 1e-8 s at 25 kHz is known to 2.5e-4 of itself),
-  // so that the edges differ only by the measured speeds. Another sample rate stays refused: its anti-aliasing and its noise per bin
-  // are another recording chain. The edge is max_bin / W; a relative 1e-9 above it keeps
-  // floor(edge W) at max_bin against the round-off of the division (W <= 3 revolutions or
-  // Q / Zr, max_bin < 1e6: far below 1e-9 of a bin).
+  // so that the edges differ only by the measured speeds. Another sample rate stays refused: its
+  // anti-aliasing and its noise per bin are another recording chain. The edge is max_bin / W; a
+  // relative 1e-9 above it keeps floor(edge W) at max_bin against the round-off of the division
+  // (W <= 3 revolutions or Q / Zr, max_bin < 1e6: far below 1e-9 of a bin).
   if (std::fabs(recording.sample_interval_s() / reference.sample_interval_s() - 1) > 1e-3) return std::nullopt;
   o.max_order = std::min(a2.layout.max_order, b2.layout.max_order) * (1 + 1e-9);
   if (reference_covers(analyse_recording(reference, reference_stage, o), analyse_recording(recording, stage, o)))
