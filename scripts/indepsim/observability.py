@@ -66,15 +66,8 @@ def deflection(delta, sigma):
 
 def unobservable_below(alpha):
     """d2 under which no level-alpha test detects a known waveform with probability >= 1/2:
-    z_{1-alpha}^2 (the one-sided normal quantile, by bisection on erfc: no scipy needed)."""
-    lo, hi = 0.0, 40.0
-    for _ in range(200):
-        mid = 0.5 * (lo + hi)
-        if 0.5 * math.erfc(mid / math.sqrt(2.0)) > alpha:
-            lo = mid
-        else:
-            hi = mid
-    return lo * lo
+    z_{1-alpha}^2, z the standard normal quantile."""
+    return statistics.NormalDist().inv_cdf(1.0 - alpha) ** 2
 
 
 def signature(effect, twin, noise_fraction):

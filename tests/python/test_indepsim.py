@@ -267,6 +267,6 @@ def test_fresh_plan_has_every_effect_once_a_baseline_per_operating_point_and_equ
     gs = corpus.gearsets()["fresh5p"]
     assert (gs.sun.teeth + gs.ring.teeth) % gs.planet_count == 0
     assert gs.ring.teeth == gs.sun.teeth + 2 * gs.planet.teeth
-    # no gear set, operating point or size of the development corpus
+    # a gear set the development corpus does not use
     main = corpus.plan()
     assert all(g != "fresh5p" for (g, *_rest) in main)
