@@ -243,6 +243,8 @@ void ModelComparison::set_discrepancy_reference(const std::vector<std::vector<do
   const int nc = channels(), ncell = cells();
   std::vector<double> gains = gains_in;
   if (gains.empty()) gains.assign(static_cast<std::size_t>(nc), 1.0);
+  disc_ref_model_ = m;
+  disc_ref_gains_ = gains;
   for (int c = 0; c < nc; ++c)
     for (int i = 0; i < ncell; ++i) {
       const std::size_t f = static_cast<std::size_t>(c * ncell + i);
@@ -255,6 +257,17 @@ void ModelComparison::set_discrepancy_reference(const std::vector<std::vector<do
                        (leak_.empty() ? 0.0 : leak_[f]);
       for (int w = 0; w < 2; ++w) d_[static_cast<std::size_t>(w)][f] = v + vns_[f];
     }
+}
+
+ScopedDiscrepancyReference::ScopedDiscrepancyReference(ModelComparison& cmp,
+                                                       const std::vector<std::vector<double>>& model_amplitude,
+                                                       const std::vector<double>& gains)
+    : cmp_(cmp), model_(cmp.discrepancy_reference_model()), gains_(cmp.discrepancy_reference_gains()) {
+  cmp_.set_discrepancy_reference(model_amplitude, gains);
+}
+
+ScopedDiscrepancyReference::~ScopedDiscrepancyReference() {
+  if (!model_.empty()) cmp_.set_discrepancy_reference(model_, gains_);
 }
 
 std::vector<std::vector<double>> ModelComparison::model_form_shifts(const std::vector<std::vector<double>>& m,

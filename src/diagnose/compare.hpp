@@ -206,6 +206,10 @@ public:
   /// alike (one allowance, charged and drawn consistently). set_reference restores it.
   void set_discrepancy_reference(const std::vector<std::vector<double>>& model_amplitude,
                                  const std::vector<double>& gains);
+  /// The model and gains the discrepancy term of V was last taken at (set_reference or
+  /// set_discrepancy_reference; empty before either).
+  const std::vector<std::vector<double>>& discrepancy_reference_model() const { return disc_ref_model_; }
+  const std::vector<double>& discrepancy_reference_gains() const { return disc_ref_gains_; }
 
   /// Fidelity columns (per feature, at gain 1) and their names.
   /// The model-fidelity directions (columns [feature], raw amplitude changes without gains) and
@@ -337,11 +341,32 @@ private:
   std::vector<std::string> u_names_;
   int u_discretization_ = -1;
   std::vector<double> base_discretization_;  // [feature]: the baseline model's discretization direction
+  std::vector<std::vector<double>> disc_ref_model_;  // set_discrepancy_reference's model
+  std::vector<double> disc_ref_gains_;               // and its gains
 
   mutable std::mutex mutex_;
   mutable std::map<std::string, std::shared_ptr<const ModelSpectra>> cache_;
   mutable long sims_ = 0;
   mutable double sim_seconds_ = 0;
+};
+
+/// The discrepancy term of a comparison's V taken at one model for a scope, and put back at the
+/// model it was taken at before when the scope ends (however it ends). A hypothesis is judged
+/// by its own V: the calibrated relative discrepancy scales with the lines of the model under
+/// test (differential: with their change from the baseline's model), not with those of the
+/// model the comparison last fitted.
+class ScopedDiscrepancyReference {
+public:
+  ScopedDiscrepancyReference(ModelComparison& cmp, const std::vector<std::vector<double>>& model_amplitude,
+                             const std::vector<double>& gains);
+  ~ScopedDiscrepancyReference();
+  ScopedDiscrepancyReference(const ScopedDiscrepancyReference&) = delete;
+  ScopedDiscrepancyReference& operator=(const ScopedDiscrepancyReference&) = delete;
+
+private:
+  ModelComparison& cmp_;
+  std::vector<std::vector<double>> model_;
+  std::vector<double> gains_;
 };
 
 /// The simulation cache key: every key of the configuration schema

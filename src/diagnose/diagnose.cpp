@@ -1052,6 +1052,7 @@ private:
   /// Why not the nuisance fit's profiled gain: on the independent corpus it moved by 5-23 % on
   /// healthy controls (z up to 227), taking up the model-form difference between the recording's
   /// nuisance fit and the baseline's (docs/diagnose-log.md, session 26).
+  /// Its V is its own model's (fit_sensor_scale), not the nuisance fit's: see sensor_change.hpp.
   void sensor_hypotheses(std::vector<ChangeHypothesis>& out) {
     const auto& amp = nominal_->amplitude;  // differential: the baseline's fitted model at this speed
     // Only channels the baseline gave a gain are tested.

@@ -21,8 +21,9 @@ std::vector<std::vector<double>> scaled_housing(const ModelComparison& cmp, cons
   return m;
 }
 
-SensorScale fit_sensor_scale(const ModelComparison& cmp, const std::vector<std::vector<double>>& amp,
+SensorScale fit_sensor_scale(ModelComparison& cmp, const std::vector<std::vector<double>>& amp,
                              const std::vector<double>& gains, int ch, double alpha) {
+  const ScopedDiscrepancyReference own_v(cmp, amp, gains);
   const double g0 = gains[static_cast<std::size_t>(ch)];
   auto chi2 = [&](double ln_rho, Half h) {
     return cmp.score(scaled_housing(cmp, amp, g0, ch, std::exp(ln_rho)), h, gains, HousingGains::Given).chi2;

@@ -41,7 +41,19 @@ std::vector<std::vector<double>> scaled_housing(const ModelComparison& cmp, cons
 /// `amp` at the baseline's gains: golden section in ln rho over [kMinSensorScale,
 /// kMaxSensorScale], its standard error from the curvature as compare.cpp profiles a housing
 /// gain; then both halves at rho = 1 and at the fit, and the held-out null at the fit.
-SensorScale fit_sensor_scale(const ModelComparison& cmp, const std::vector<std::vector<double>>& amp,
+///
+/// Every score is taken with the hypothesis's own V: the discrepancy term at `amp`
+/// (ScopedDiscrepancyReference; the caller's reference is back when this returns). Under the
+/// hypothesis the gears are as in the baseline, so the model is the baseline's at this speed,
+/// its change from the baseline's model is the speed's alone, and every other channel is judged
+/// against the baseline recording with the two recordings' noise. Taken at the nuisance fit's
+/// model instead (session 37), the budget sat on that model's change from the baseline's: a
+/// stiffness level 1.4 % lower, with the baseline's 95 % relative budget on the sun encoder's
+/// mesh lines (its model's lines 17 times the rig's), let a 22 % rise of those lines (z ~ 170
+/// against the noise) pass as "as in the baseline"; a stiffness change x0.85 and a friction
+/// change were named the housing sensor's gain, and a true gain x0.6 read x0.32 (fresh corpus
+/// rec_15, rec_16, rec_08; docs/diagnose-log.md, session 38).
+SensorScale fit_sensor_scale(ModelComparison& cmp, const std::vector<std::vector<double>>& amp,
                              const std::vector<double>& gains, int ch, double alpha);
 
 } // namespace pw::diagnose
