@@ -45,7 +45,13 @@ def gearsets():
     five = sim.GearSet("fresh5p", 5, sim.Gear(25, 0.0025, face_width_m=0.04), sim.Gear(20, 0.0025, face_width_m=0.04),
                        sim.Gear(65, 0.0025, face_width_m=0.04), friction_coefficient=0.05,
                        backlash_sun_planet_m=12e-6, backlash_planet_ring_m=12e-6)
-    return {"seed3p": seed, "four4p": four, "fresh5p": five}
+    # Added in session 38 for the next final check (--plan fresh2), after fresh5p had been seen:
+    # three planets again but another tooth set, module, face width, friction and backlash;
+    # (Zs + Zr) / 3 = 36 (equal spacing).
+    three = sim.GearSet("fresh3p", 3, sim.Gear(24, 0.00225, face_width_m=0.035), sim.Gear(30, 0.00225, face_width_m=0.035),
+                        sim.Gear(84, 0.00225, face_width_m=0.035), friction_coefficient=0.07,
+                        backlash_sun_planet_m=15e-6, backlash_planet_ring_m=15e-6)
+    return {"seed3p": seed, "four4p": four, "fresh5p": five, "fresh3p": three}
 
 
 # operating points: name -> (rpm, W, duration of its recordings [s])
@@ -54,8 +60,9 @@ OPS = {
                "E": (300, 20000, 4.0), "F": (400, 5000, 3.0), "H1": (9500, 2000, 2.0), "H2": (9000, 5000, 2.0)},
     "four4p": {"a": (100, 1000, 10.0), "b": (250, 3000, 5.0), "c": (400, 8000, 3.0), "d": (300, 10000, 4.0)},
     "fresh5p": {"a": (150, 2000, 8.0), "b": (350, 6000, 4.0), "c": (500, 12000, 3.0)},
+    "fresh3p": {"a": (120, 1500, 8.0), "b": (300, 5000, 5.0), "c": (600, 15000, 3.0)},
 }
-PLANS = ("main", "fresh")
+PLANS = ("main", "fresh", "fresh2")
 HIGH = {"H1", "H2"}
 
 
@@ -84,10 +91,39 @@ def plan_fresh():
     return P
 
 
+def plan_fresh2():
+    """The next final check (session 38), made after plan_fresh had been diagnosed: a gear set,
+    operating points and sizes no development run has used; every effect once, one of them
+    also in a recording under two carrier revolutions (1.5 s at 300 rpm: 1.67 revolutions), a
+    control per operating point. Run it once per change of the diagnosis that is to be judged."""
+    F = "fresh3p"
+    P = [
+        (F, "a", "sun_tooth_damage", dict(tooth_body="sun", tooth_index=17, tooth_stiffness_factor=0.65), None),
+        (F, "b", "sun_tooth_damage", dict(tooth_body="sun", tooth_index=4, tooth_stiffness_factor=0.55), 1.5),
+        (F, "c", "planet_tooth_damage", dict(tooth_body="planet", tooth_planet=1, tooth_index=12,
+                                             tooth_stiffness_factor=0.6), None),
+        (F, "b", "ring_tooth_damage", dict(tooth_body="ring", tooth_index=41, tooth_stiffness_factor=0.5), None),
+        (F, "c", "pin_error", dict(pin_error_m=(0.0, 3e-6, 0.0)), None),
+        (F, "a", "sun_runout", dict(sun_ecc_m=2.5e-6, sun_ecc_phase_rad=0.8), None),
+        (F, "b", "carrier_runout", dict(carrier_ecc_m=3e-6, carrier_ecc_phase_rad=2.2), None),
+        (F, "b", "stiffness_level", dict(stiffness_scale=1.2), None),
+        (F, "c", "damping_level", dict(damping_scale=0.5), None),
+        (F, "c", "friction", dict(friction_coefficient=0.035), None),
+        (F, "a", "torque_ripple", dict(ripple_fraction=0.08, ripple_order=2.0, ripple_phase_rad=1.1), None),
+        (F, "b", "worn_profile", dict(worn_depth_m=2.5e-6), None),
+        (F, "c", "sensor_transfer_path", dict(housing_gain_scale=1.5), None),
+    ]
+    for op in ("a", "b", "c"):
+        P.append((F, op, "none", {}, None))
+    return P
+
+
 def plan(quick=False, variant="main"):
     """List of (gearset, op, effect, faults kwargs, parameters for truth, duration override)."""
     if variant == "fresh":
         return plan_fresh()
+    if variant == "fresh2":
+        return plan_fresh2()
     P = []
     if quick:
         for eff, kw in (("none", {}), ("sun_tooth_damage", dict(tooth_body="sun", tooth_index=5,
@@ -428,7 +464,9 @@ def main(argv=None):
     ap.add_argument("--seed", type=int, default=1)
     ap.add_argument("--plan", choices=PLANS, default="main",
                     help="main: the development corpus (two gear sets, 77 recordings); fresh: a final check on a "
-                         "five-planet gear set no development run has used (18 recordings)")
+                         "five-planet gear set (18 recordings, seen in sessions 37-38); fresh2: the next final check, "
+                         "a three-planet gear set no development run has used (19 recordings, one under two carrier "
+                         "revolutions)")
     a = ap.parse_args(argv)
     if a.quick and a.plan != "main":
         ap.error("--quick is a variant of the main plan")

@@ -270,3 +270,20 @@ def test_fresh_plan_has_every_effect_once_a_baseline_per_operating_point_and_equ
     # a gear set the development corpus does not use
     main = corpus.plan()
     assert all(g != "fresh5p" for (g, *_rest) in main)
+
+
+def test_second_fresh_plan_has_every_effect_a_short_recording_and_a_gear_set_no_other_plan_uses():
+    entries, _, _, _ = corpus.plan_entries(seed=11, variant="fresh2")
+    effects = [e["effect"] for e in entries if e["role"] == "effect"]
+    assert set(effects) == {eff for (_g, _op, eff, _kw, _d) in corpus.plan_fresh() if eff != "none"}
+    ops = {e["op"] for e in entries}
+    assert {e["op"] for e in entries if e["role"] == "baseline"} == ops == {e["op"] for e in entries
+                                                                           if e["role"] == "control"}
+    gs = corpus.gearsets()["fresh3p"]
+    assert (gs.sun.teeth + gs.ring.teeth) % gs.planet_count == 0
+    assert gs.ring.teeth == gs.sun.teeth + 2 * gs.planet.teeth
+    # one recording under two carrier revolutions (the short recordings)
+    carrier_rev_s = [60.0 / (e["rpm"] * gs.sun.teeth / (gs.sun.teeth + gs.ring.teeth)) for e in entries]
+    assert any(e["duration_s"] < 2 * t for e, t in zip(entries, carrier_rev_s))
+    for other in ("main", "fresh"):
+        assert all(g != "fresh3p" for (g, *_rest) in corpus.plan(variant=other))
