@@ -516,7 +516,7 @@ json finding_class_json(const dg::Diagnosis& d) {
   json size = json::array();
   for (const auto& [name, value] : d.lead.class_size) size.push_back({{"name", name}, {"value", num(value)}});
   return {{"name", d.lead.named_class}, {"members", d.lead.class_members}, {"posterior", num(d.lead.class_posterior)},
-          {"size", size}, {"size_unit", d.lead.class_size_unit}};
+          {"covers", d.lead.class_covers}, {"size", size}, {"size_unit", d.lead.class_size_unit}};
 }
 
 } // namespace

@@ -109,11 +109,13 @@ def read_report(path):
             name = find_key(rep, ("winner", "candidate", "missing_physics_name"))
         label = str(name) if name else "missing_physics(?)"
         # A class finding (docs/diagnose.md section 5, "Class findings") names a class of candidates
-        # the data do not tell apart: "class:member1|member2" so that scoring can check the truth's
-        # membership and the table keeps class names apart from single names.
+        # the data do not tell apart: "class:member1|member2|..." over the members the report
+        # names and every physics the class stands for ("covers": tooth_contact_change covers a
+        # stiffness level too), so that scoring can check the truth's membership and the table
+        # keeps class names apart from single names.
         fc = rep.get("finding_class")
         if isinstance(fc, dict) and fc.get("members"):
-            label = "class:" + "|".join(sorted(fc["members"]))
+            label = "class:" + "|".join(sorted(set(fc["members"]) | set(fc.get("covers") or [])))
     # the nuisance-only model's --set overrides (report.json "nuisance" -> "overrides")
     nu = rep.get("nuisance")
     ov = nu.get("overrides") if isinstance(nu, dict) else None

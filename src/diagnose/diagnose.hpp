@@ -205,6 +205,8 @@ struct LeadAssessment {
   /// are (d) and (e) against members of its own class, which is then named; empty otherwise.
   std::string named_class;
   std::vector<std::string> class_members;  ///< the lead, then the members that blocked its own name
+  /// Every physics the named class stands for (FindingClass::covers), its members among them.
+  std::vector<std::string> class_covers;
   /// BIC posterior probability of the lead's class among the lead and its rivals of condition (d).
   double class_posterior = 1.0;
   /// The class's size: the lead's fitted parameters mapped onto the class's canonical member

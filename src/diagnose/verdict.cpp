@@ -258,9 +258,12 @@ LeadAssessment assess_lead(Diagnosis& d, const VerdictInputs& in) {
   // profile were both named friction (0.057 for the documented 0.06), a worn profile counting
   // beside it (session 22).
   if (!in.counting_alias.empty()) {
-    // A displacement alias of the lead's own class is the class finding's; a mesh-shape rival is
-    // never (friction, wear and levels are different physics that only share their lines).
-    if (lead_class && !in.alias_mesh_shape && same_class(in.counting_alias, w.name))
+    // An alias of the lead's own class is the class finding's: a displacement alias of a
+    // planet-position lead, or a mesh-shape alias of a tooth-contact lead (friction, wear,
+    // relief, clearance: different physics that share their lines, and the class says only what
+    // they share). A mesh-shape alias of another kind (a rig element such as an encoder's
+    // bandwidth or a machine's inertia) is not: the change may be the rig's, not the gears'.
+    if (lead_class && same_class(in.counting_alias, w.name))
       class_blockers.push_back(in.counting_alias);
     else
       other = true;
@@ -303,6 +306,7 @@ LeadAssessment assess_lead(Diagnosis& d, const VerdictInputs& in) {
   // other rival, and no candidate of another class blocks).
   if (!other && !class_blockers.empty()) {
     a.named_class = lead_class->name;
+    a.class_covers = lead_class->covers;
     a.class_members.push_back(w.name);
     for (const std::string& m : class_blockers)
       if (std::find(a.class_members.begin(), a.class_members.end(), m) == a.class_members.end())

@@ -26,6 +26,7 @@ public:
            "(the mesh force cannot pull) and re-engage with an impact";
   }
   std::vector<Component> families() const override { return {Component::Mesh}; }
+  std::optional<FindingClass> finding_class() const override { return tooth_contact_class(); }
   std::vector<ParameterSpec> parameters(const model::SimulationConfig& b) const override {
     auto spec = [&](const char* key, double b0) {
       const double upper = std::max(0.1 * b.stage.sun.module_m, 2 * b0);  // [m] the configuration allows < 1 module

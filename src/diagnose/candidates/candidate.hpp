@@ -55,7 +55,10 @@ struct ParameterSpec {
 struct FindingClass {
   std::string name;       ///< what a class finding reports, e.g. "planet_position_error"
   std::string physics;    ///< what the members share, one sentence
-  std::string canonical;  ///< the member whose parameters describe the class (e.g. "pin_error")
+  std::string canonical;  ///< the member whose parameters describe the class (e.g. "pin_error"); empty: none
+  /// Every physics the class stands for (candidate names, the nuisance levels included): what a
+  /// class finding asserts one of is there, so a recording of any of them is rightly named by it.
+  std::vector<std::string> covers;
 };
 
 /// What locate() found, as far as candidates need it to propose variants.
@@ -169,6 +172,13 @@ const Candidate* find_candidate(const std::string& name);
 /// planet 0), onto which a runout maps exactly for three planets and as a least-squares pattern
 /// for more.
 FindingClass planet_position_class();
+
+/// The tooth contacts changed alike on every tooth: friction, profile wear or modification,
+/// clearance, the mesh stiffness or damping level. Each changes the mesh harmonics alone; how
+/// it shares the change among them is what tells them apart, and that is the shape the model's
+/// stiffness law fixes (verdict.hpp, condition (e)). No canonical member: a friction
+/// coefficient and a wear depth are not one size.
+FindingClass tooth_contact_class();
 
 /// The class of the candidate called `name`; nullopt if it has none or is not in the library.
 std::optional<FindingClass> finding_class_of(const std::string& name);

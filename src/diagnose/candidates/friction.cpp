@@ -12,6 +12,7 @@ public:
            "friction reverses at the pitch point and excites the mesh harmonics";
   }
   std::vector<Component> families() const override { return {Component::Mesh}; }
+  std::optional<FindingClass> finding_class() const override { return tooth_contact_class(); }
   std::vector<ParameterSpec> parameters(const model::SimulationConfig& b) const override {
     const double mu = b.contact.friction_coefficient;
     return {ParameterSpec{.name = "contact.friction_coefficient", .unit = "1", .lower = 0.0, .upper = 0.4,

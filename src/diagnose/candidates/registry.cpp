@@ -73,7 +73,18 @@ FindingClass planet_position_class() {
   return {.name = "planet_position_error",
           .physics = "the planet centres sit off their nominal positions in the carrier -- pin position errors or "
                      "a carrier runout, which displace the planets alike and unequalise their load sharing",
-          .canonical = "pin_error"};
+          .canonical = "pin_error",
+          .covers = {"pin_error", "carrier_runout"}};
+}
+
+FindingClass tooth_contact_class() {
+  return {.name = "tooth_contact_change",
+          .physics = "the tooth contacts differ alike on every tooth -- friction, profile wear or modification, "
+                     "clearance, or the mesh stiffness or damping level: each changes the mesh harmonics alone, and "
+                     "what tells them apart, how the change is shared among the harmonics, is the shape the model's "
+                     "stiffness law fixes",
+          .canonical = "",
+          .covers = {"friction", "worn_profile", "tip_relief", "backlash", "stiffness_level", "damping_level"}};
 }
 
 std::optional<FindingClass> finding_class_of(const std::string& name) {

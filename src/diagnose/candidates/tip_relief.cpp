@@ -34,6 +34,7 @@ public:
            "gradually, so the higher mesh harmonics fall off faster than the unmodified involutes' do";
   }
   std::vector<Component> families() const override { return {Component::Mesh}; }
+  std::optional<FindingClass> finding_class() const override { return tooth_contact_class(); }
   bool rig_design() const override { return true; }
   std::vector<ParameterSpec> parameters(const model::SimulationConfig& b) const override {
     const double configured = b.contact.tip_relief_m;

@@ -13,6 +13,7 @@ public:
            "ratio), which acts like uneven tip and root relief and changes every mesh harmonic";
   }
   std::vector<Component> families() const override { return {Component::Mesh}; }
+  std::optional<FindingClass> finding_class() const override { return tooth_contact_class(); }
   std::vector<ParameterSpec> parameters(const model::SimulationConfig& b) const override {
     return {ParameterSpec{.name = "worn_profile_depth_m", .unit = "m", .lower = 1e-7,
         .upper = 0.02 * b.stage.sun.module_m,
