@@ -52,7 +52,10 @@
 // (condition (e)); refusing both names then withholds what the data do establish -- that
 // the planets are off their positions -- while naming either member would overstate.
 // Measured on the independent corpus, differential, sensors a rig has: 8 runouts and pin
-// errors with the pair as lead and rival (docs/diagnose-log.md, session 36).
+// errors with the pair as lead and rival (docs/diagnose-log.md, session 36). The second class,
+// tooth_contact_change (friction, wear, relief, clearance; covering the stiffness and damping
+// levels), on the same grounds: its members change the mesh harmonics alone, and (e) holds them
+// undecidable from each other under a budget (session 38).
 // Otherwise the verdict is "unexplained residual", with the best candidate
 // reported as a lead, never as a finding.
 //
