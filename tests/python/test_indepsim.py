@@ -287,3 +287,23 @@ def test_second_fresh_plan_has_every_effect_a_short_recording_and_a_gear_set_no_
     assert any(e["duration_s"] < 2 * t for e, t in zip(entries, carrier_rev_s))
     for other in ("main", "fresh"):
         assert all(g != "fresh3p" for (g, *_rest) in corpus.plan(variant=other))
+
+
+def test_a_class_finding_is_scored_right_for_what_it_covers_and_wrong_for_anything_else(tmp_path):
+    rep = {"verdict": "missing_physics_found", "missing_physics": "tooth_contact_change", "summary": "",
+           "finding_class": {"name": "tooth_contact_change", "members": ["friction", "worn_profile"],
+                             "covers": ["friction", "worn_profile", "tip_relief", "backlash", "stiffness_level",
+                                        "damping_level"]}}
+    p = tmp_path / "report.json"
+    p.write_text(json.dumps(rep))
+    label = confusion.read_report(str(p))[0]
+    assert confusion.score(label, "stiffness_level") == "named_right_as_class"
+    assert confusion.score(label, "worn_profile") == "named_right_as_class"
+    assert confusion.score(label, "torque_ripple") == "wrong_name"
+    assert confusion.score(label, "none") == "control_false_name"
+    # a report without "covers" (before session 38) is scored by its members alone
+    del rep["finding_class"]["covers"]
+    p.write_text(json.dumps(rep))
+    label = confusion.read_report(str(p))[0]
+    assert confusion.score(label, "stiffness_level") == "wrong_name"
+    assert confusion.score(label, "friction") == "named_right_as_class"
