@@ -116,6 +116,7 @@ TEST(DiagnosisReport, AClassFindingNamesTheClassAndKeepsItsMembersSizeAndLead) {
   d.lead.named_class = "planet_position_error";
   d.lead.class_members = {"carrier_runout", "pin_error"};
   d.lead.class_posterior = 0.999;
+  d.lead.class_covers = {"pin_error", "carrier_runout"};
   d.lead.class_size = {{"pin_error_m[1]", 1.5e-6}, {"pin_error_m[2]", -0.5e-6}};
   d.lead.class_size_unit = "m";
   pw::io::write_diagnosis_report(tmp.path(), d, ctx);
@@ -123,6 +124,7 @@ TEST(DiagnosisReport, AClassFindingNamesTheClassAndKeepsItsMembersSizeAndLead) {
   EXPECT_EQ(j.at("missing_physics").get<std::string>(), "planet_position_error");
   const auto& c = j.at("finding_class");
   EXPECT_EQ(c.at("members").at(1).get<std::string>(), "pin_error");
+  EXPECT_EQ(c.at("covers").at(1).get<std::string>(), "carrier_runout");
   EXPECT_EQ(c.at("size").at(0).at("name").get<std::string>(), "pin_error_m[1]");
   EXPECT_EQ(c.at("size").at(1).at("value").get<double>(), -0.5e-6);
   EXPECT_EQ(c.at("size_unit").get<std::string>(), "m");
