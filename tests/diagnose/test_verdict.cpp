@@ -454,18 +454,28 @@ TEST(Verdict, ACountingNearAliasBlocksTheNameUnderABudgetEvenWhenItFailsTheLeads
       << d.lead.failed;
 }
 
+namespace {
+
+/// Condition (e)'s input, differential, for a counting mesh-shape alias of the lead (both change
+/// the mesh harmonics alone) within its own bound.
+VerdictInputs with_mesh_alias(const std::string& alias) {
+  VerdictInputs in = inputs(1110);
+  in.differential = true;
+  in.counting_alias = alias;
+  in.alias_mesh_shape = true;
+  in.alias_held_out_chi2 = 4300;
+  in.alias_bound_held_out = 4500;
+  return in;
+}
+
+} // namespace
+
 TEST(Verdict, ACountingMeshOnlyRigElementBlocksTheNameUnderABudgetAndSaysWhy) {
   // Both act on the mesh harmonics alone, which the budget leaves undecided between them; the
   // rig element (a motor's inertia) is not a change of the tooth contacts, so not even the
   // class tooth_contact_change is named: the change may be the rig's.
   Diagnosis d = counting_friction();
-  VerdictInputs in = inputs(1110);
-  in.differential = true;
-  in.counting_alias = "motor_inertia";
-  in.alias_mesh_shape = true;
-  in.alias_held_out_chi2 = 4300;
-  in.alias_bound_held_out = 4500;
-  decide_verdict(d, in);
+  decide_verdict(d, with_mesh_alias("motor_inertia"));
   EXPECT_EQ(d.verdict, Verdict::Unexplained) << d.summary;
   EXPECT_EQ(d.winner, -1);
   EXPECT_TRUE(d.lead.named_class.empty());
@@ -749,13 +759,7 @@ TEST(Verdict, FrictionAndAWornProfileTheDataCannotTellApartNameTheToothContactCl
   // for the documented 0.06) with worn_profile counting too (session 22); stiffness levels
   // likewise (session 37). Both change the mesh harmonics alone; the class says only that.
   Diagnosis d = counting_friction();
-  VerdictInputs in = inputs(1110);
-  in.differential = true;
-  in.counting_alias = "worn_profile";
-  in.alias_mesh_shape = true;
-  in.alias_held_out_chi2 = 4300;
-  in.alias_bound_held_out = 4500;
-  decide_verdict(d, in);
+  decide_verdict(d, with_mesh_alias("worn_profile"));
   EXPECT_EQ(d.verdict, Verdict::MissingPhysicsFound) << d.summary;
   EXPECT_EQ(d.lead.named_class, "tooth_contact_change");
   ASSERT_EQ(d.lead.class_members.size(), 2u);

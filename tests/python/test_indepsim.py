@@ -257,36 +257,36 @@ def test_scoring_counts_a_class_right_only_for_its_members_and_an_invisible_effe
     assert s("refused", "backlash", unobservable=True) == "refused"
 
 
-def test_fresh_plan_has_every_effect_once_a_baseline_per_operating_point_and_equal_planet_spacing():
-    entries, _, _, _ = corpus.plan_entries(seed=7, variant="fresh")
+def final_check_plan(variant, seed, gearset):
+    """A final-check plan's entries after the checks every such plan must pass: each effect once,
+    a baseline and a control at every operating point, a gear set with equally spaced planets
+    that no other plan uses."""
+    entries, _, _, _ = corpus.plan_entries(seed=seed, variant=variant)
     effects = [e["effect"] for e in entries if e["role"] == "effect"]
-    assert len(effects) == len(set(effects)) == 12
+    assert len(set(effects)) == 12
     ops = {e["op"] for e in entries}
     assert {e["op"] for e in entries if e["role"] == "baseline"} == ops == {e["op"] for e in entries
                                                                            if e["role"] == "control"}
-    gs = corpus.gearsets()["fresh5p"]
+    gs = corpus.gearsets()[gearset]
     assert (gs.sun.teeth + gs.ring.teeth) % gs.planet_count == 0
     assert gs.ring.teeth == gs.sun.teeth + 2 * gs.planet.teeth
-    # a gear set the development corpus does not use
-    main = corpus.plan()
-    assert all(g != "fresh5p" for (g, *_rest) in main)
+    for other in corpus.PLANS:
+        if other != variant:
+            assert all(g != gearset for (g, *_rest) in corpus.plan(variant=other))
+    return entries, effects, gs
+
+
+def test_fresh_plan_has_every_effect_once_a_baseline_per_operating_point_and_equal_planet_spacing():
+    _, effects, _ = final_check_plan("fresh", 7, "fresh5p")
+    assert len(effects) == 12
 
 
 def test_second_fresh_plan_has_every_effect_a_short_recording_and_a_gear_set_no_other_plan_uses():
-    entries, _, _, _ = corpus.plan_entries(seed=11, variant="fresh2")
-    effects = [e["effect"] for e in entries if e["role"] == "effect"]
+    entries, effects, gs = final_check_plan("fresh2", 11, "fresh3p")
     assert set(effects) == {eff for (_g, _op, eff, _kw, _d) in corpus.plan_fresh() if eff != "none"}
-    ops = {e["op"] for e in entries}
-    assert {e["op"] for e in entries if e["role"] == "baseline"} == ops == {e["op"] for e in entries
-                                                                           if e["role"] == "control"}
-    gs = corpus.gearsets()["fresh3p"]
-    assert (gs.sun.teeth + gs.ring.teeth) % gs.planet_count == 0
-    assert gs.ring.teeth == gs.sun.teeth + 2 * gs.planet.teeth
     # one recording under two carrier revolutions (the issue's short recordings)
     carrier_rev_s = [60.0 / (e["rpm"] * gs.sun.teeth / (gs.sun.teeth + gs.ring.teeth)) for e in entries]
     assert any(e["duration_s"] < 2 * t for e, t in zip(entries, carrier_rev_s))
-    for other in ("main", "fresh"):
-        assert all(g != "fresh3p" for (g, *_rest) in corpus.plan(variant=other))
 
 
 def test_a_class_finding_is_scored_right_for_what_it_covers_and_wrong_for_anything_else(tmp_path):
