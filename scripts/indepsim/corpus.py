@@ -51,7 +51,13 @@ def gearsets():
     three = sim.GearSet("fresh3p", 3, sim.Gear(24, 0.00225, face_width_m=0.035), sim.Gear(30, 0.00225, face_width_m=0.035),
                         sim.Gear(84, 0.00225, face_width_m=0.035), friction_coefficient=0.07,
                         backlash_sun_planet_m=15e-6, backlash_planet_ring_m=15e-6)
-    return {"seed3p": seed, "four4p": four, "fresh5p": five, "fresh3p": three}
+    # Added in session 39 for the next final check (--plan fresh3), after fresh3p had been seen:
+    # four planets with another tooth set (Zs 21 / Zp 27 / Zr 75, (Zs + Zr) / 4 = 24), a coarser
+    # module, friction and backlash no other set uses.
+    four_b = sim.GearSet("fresh4p", 4, sim.Gear(21, 0.00275, face_width_m=0.032),
+                         sim.Gear(27, 0.00275, face_width_m=0.032), sim.Gear(75, 0.00275, face_width_m=0.032),
+                         friction_coefficient=0.055, backlash_sun_planet_m=10e-6, backlash_planet_ring_m=10e-6)
+    return {"seed3p": seed, "four4p": four, "fresh5p": five, "fresh3p": three, "fresh4p": four_b}
 
 
 # operating points: name -> (rpm, W, duration of its recordings [s])
@@ -61,8 +67,9 @@ OPS = {
     "four4p": {"a": (100, 1000, 10.0), "b": (250, 3000, 5.0), "c": (400, 8000, 3.0), "d": (300, 10000, 4.0)},
     "fresh5p": {"a": (150, 2000, 8.0), "b": (350, 6000, 4.0), "c": (500, 12000, 3.0)},
     "fresh3p": {"a": (120, 1500, 8.0), "b": (300, 5000, 5.0), "c": (600, 15000, 3.0)},
+    "fresh4p": {"a": (180, 3000, 6.0), "b": (420, 9000, 3.0), "c": (800, 4000, 2.0)},
 }
-PLANS = ("main", "fresh", "fresh2")
+PLANS = ("main", "fresh", "fresh2", "fresh3")
 HIGH = {"H1", "H2"}
 
 
@@ -118,12 +125,42 @@ def plan_fresh2():
     return P
 
 
+def plan_fresh3():
+    """The next final check (session 39), made after plan_fresh2 had been diagnosed: four planets
+    with a tooth set, module, speeds and sizes no development run has used; every effect once, a
+    sun tooth also in a recording under two carrier revolutions (1.2 s at 420 rpm: 1.84
+    revolutions), a control per operating point. Run it once per change of the diagnosis that is
+    to be judged."""
+    F = "fresh4p"
+    P = [
+        (F, "b", "sun_tooth_damage", dict(tooth_body="sun", tooth_index=11, tooth_stiffness_factor=0.6), None),
+        (F, "b", "sun_tooth_damage", dict(tooth_body="sun", tooth_index=2, tooth_stiffness_factor=0.5), 1.2),
+        (F, "a", "planet_tooth_damage", dict(tooth_body="planet", tooth_planet=2, tooth_index=19,
+                                             tooth_stiffness_factor=0.55), None),
+        (F, "c", "ring_tooth_damage", dict(tooth_body="ring", tooth_index=58, tooth_stiffness_factor=0.6), None),
+        (F, "a", "pin_error", dict(pin_error_m=(0.0, 0.0, 0.0, 3.5e-6)), None),
+        (F, "c", "sun_runout", dict(sun_ecc_m=3.5e-6, sun_ecc_phase_rad=0.3), None),
+        (F, "a", "carrier_runout", dict(carrier_ecc_m=3.5e-6, carrier_ecc_phase_rad=1.7), None),
+        (F, "c", "stiffness_level", dict(stiffness_scale=0.75), None),
+        (F, "a", "damping_level", dict(damping_scale=3.0), None),
+        (F, "b", "friction", dict(friction_coefficient=0.11), None),
+        (F, "b", "torque_ripple", dict(ripple_fraction=0.05, ripple_order=3.0, ripple_phase_rad=0.4), None),
+        (F, "a", "worn_profile", dict(worn_depth_m=3.5e-6), None),
+        (F, "b", "sensor_transfer_path", dict(housing_kappa_scale=0.5), None),
+    ]
+    for op in ("a", "b", "c"):
+        P.append((F, op, "none", {}, None))
+    return P
+
+
 def plan(quick=False, variant="main"):
     """List of (gearset, op, effect, faults kwargs, parameters for truth, duration override)."""
     if variant == "fresh":
         return plan_fresh()
     if variant == "fresh2":
         return plan_fresh2()
+    if variant == "fresh3":
+        return plan_fresh3()
     P = []
     if quick:
         for eff, kw in (("none", {}), ("sun_tooth_damage", dict(tooth_body="sun", tooth_index=5,
@@ -464,9 +501,9 @@ def main(argv=None):
     ap.add_argument("--seed", type=int, default=1)
     ap.add_argument("--plan", choices=PLANS, default="main",
                     help="main: the development corpus (two gear sets, 77 recordings); fresh: a final check on a "
-                         "five-planet gear set (18 recordings, seen in sessions 37-38); fresh2: the next final check, "
-                         "a three-planet gear set no development run has used (19 recordings, one under two carrier "
-                         "revolutions)")
+                         "five-planet gear set (18 recordings, seen in sessions 37-38); fresh2: a three-planet gear set "
+                         "(19 recordings, seen in session 38); fresh3: the next final check, a four-planet gear set no "
+                         "development run has used (19 recordings, one under two carrier revolutions)")
     a = ap.parse_args(argv)
     if a.quick and a.plan != "main":
         ap.error("--quick is a variant of the main plan")

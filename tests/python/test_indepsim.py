@@ -289,6 +289,14 @@ def test_second_fresh_plan_has_every_effect_a_short_recording_and_a_gear_set_no_
     assert any(e["duration_s"] < 2 * t for e, t in zip(entries, carrier_rev_s))
 
 
+def test_third_fresh_plan_has_every_effect_a_short_recording_and_four_planets_no_other_plan_uses():
+    entries, effects, gs = final_check_plan("fresh3", 13, "fresh4p")
+    assert set(effects) == {eff for (_g, _op, eff, _kw, _d) in corpus.plan_fresh() if eff != "none"}
+    assert gs.planet_count == 4
+    carrier_rev_s = [60.0 / (e["rpm"] * gs.sun.teeth / (gs.sun.teeth + gs.ring.teeth)) for e in entries]
+    assert any(e["duration_s"] < 2 * t for e, t in zip(entries, carrier_rev_s))
+
+
 def test_a_class_finding_is_scored_right_for_what_it_covers_and_wrong_for_anything_else(tmp_path):
     rep = {"verdict": "missing_physics_found", "missing_physics": "tooth_contact_change", "summary": "",
            "finding_class": {"name": "tooth_contact_change", "members": ["friction", "worn_profile"],
