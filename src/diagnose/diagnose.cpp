@@ -990,23 +990,10 @@ private:
     d_.final_overrides = d_.winner == 0 ? d_.candidates.front().overrides : d_.nuisance.overrides;
   }
 
-  /// Where the differential checks of a change since the baseline run (the sensor's gain, the
-  /// levels): after a "no missing physics", and after an "unexplained residual" no candidate
-  /// counts for. Tried and withdrawn in session 28 for the second: it named four4p rec_33's
-  /// housing x1.8 right, and seed3p rec_44's stiffness x0.8 (400 rpm) wrongly as the housing
-  /// sensor's gain x1.09. That wrong name was the sensor hypothesis scored under the nuisance
-  /// fit's V, whose discrepancy budget let the speed channels' change pass (found in session 38
-  /// on the fresh corpus, where it named two gear changes after a "no missing physics"). Each
-  /// hypothesis is now judged by its own V (fit_sensor_scale; a level by score_at_own_model):
-  /// passing its held-out test means it explains the whole recording, every other channel
-  /// against the baseline recording within the noise, so a change it passes is a complete
-  /// explanation, not one part of one (docs/diagnose-log.md, session 38).
+  /// Where the differential checks of a change since the baseline run (verdict.hpp,
+  /// change_since_baseline_testable: the scope and why).
   bool change_since_baseline_testable() const {
-    if (co_.baseline.empty()) return false;
-    if (d_.verdict == Verdict::NoMissingPhysics) return true;
-    const bool any_counts = std::any_of(d_.candidates.begin(), d_.candidates.end(),
-                                        [](const CandidateResult& c) { return c.counts(); });
-    return d_.verdict == Verdict::Unexplained && !any_counts;
+    return diagnose::change_since_baseline_testable(!co_.baseline.empty(), d_.verdict, d_.candidates);
   }
   /// The baseline's housing gains per channel, 1 where it has none (has_gain: it gave one).
   std::vector<double> baseline_gain_vector(std::vector<bool>* has_gain = nullptr) const {

@@ -431,6 +431,14 @@ bool recalibrated(const FittedParameter& p, double z) {
          shift > kRecalibration * std::fabs(p.initial);
 }
 
+bool change_since_baseline_testable(bool has_baseline, Verdict verdict, const std::vector<CandidateResult>& candidates) {
+  if (!has_baseline) return false;
+  if (verdict == Verdict::NoMissingPhysics) return true;
+  const bool any_counts =
+      std::any_of(candidates.begin(), candidates.end(), [](const CandidateResult& c) { return c.counts(); });
+  return verdict == Verdict::Unexplained && !any_counts;
+}
+
 std::string budget_sensitivity_text(const std::vector<DiscrepancyEntry>& budgets) {
   // A relative budget s lets a line differ from the model by about s (one standard deviation
   // of the model-form term) without counting; below 10 % that is of the order of the model's

@@ -140,6 +140,19 @@ NearAlias blocking_near_alias(const std::vector<CandidateResult>& ranked, const 
                               const model::SimulationConfig& base,
                               const std::function<bool(const Candidate&)>& screened);
 
+/// Where the differential checks of a change since the baseline (a housing sensor's gain, a
+/// level) run: with a baseline, after a "no missing physics", and after an "unexplained residual"
+/// that no candidate counts for -- never after a finding, and never beside a counting candidate,
+/// whose own verdict (a lead or a finding) stands. Why the second: each hypothesis is judged by
+/// its own V (fit_sensor_scale; a level by its own model's score), so passing its held-out test
+/// means it explains the whole recording, every other channel against the baseline recording
+/// within the noise: a complete explanation, not one part of one. Tried and withdrawn in session
+/// 28, when the sensor hypothesis was scored under the nuisance fit's V, whose discrepancy budget
+/// let a gear change in the speed channels pass (a stiffness x0.8 named the housing gain x1.09);
+/// restored in session 38 with the own V (four4p rec_33's housing x1.8 named, x1.8 +- 0.0008;
+/// docs/diagnose-log.md).
+bool change_since_baseline_testable(bool has_baseline, Verdict verdict, const std::vector<CandidateResult>& candidates);
+
 /// " Under the calibration's discrepancy budget ... not detectable" for the largest relative
 /// budgets (at least kReportedBudget), or "" if none is that large.
 std::string budget_sensitivity_text(const std::vector<DiscrepancyEntry>& budgets);

@@ -792,4 +792,29 @@ TEST(Verdict, AnAliasOfAnotherKindNeverMakesAClassFinding) {
   EXPECT_TRUE(f.lead.named_class.empty());
 }
 
+TEST(ChangeSinceBaseline, IsTestedAfterNoMissingPhysicsAndAfterAnUnexplainedResidualNoCandidateCountsFor) {
+  // A lead far above its bound: "unexplained", its candidate counting -- its verdict stands.
+  Diagnosis lead = far_from_the_model(1100, 40000, 8000, 9000, 3000);
+  decide_verdict(lead, inputs(1500));
+  ASSERT_EQ(lead.verdict, Verdict::Unexplained) << lead.summary;
+  ASSERT_TRUE(lead.candidates.front().counts());
+  EXPECT_FALSE(change_since_baseline_testable(true, lead.verdict, lead.candidates));
+  // The same excess with no candidate that counts (it does not hold on the held-out half):
+  // the checks of a change since the baseline run.
+  Diagnosis none = far_from_the_model(1100, 40000, 8000, 9000, 3000);
+  none.candidates.front().holds = false;
+  none.winner = -1;
+  decide_verdict(none, inputs(1500));
+  ASSERT_EQ(none.verdict, Verdict::Unexplained) << none.summary;
+  EXPECT_TRUE(change_since_baseline_testable(true, none.verdict, none.candidates));
+  // A finding is never second-guessed; nothing runs without a baseline.
+  Diagnosis named = counting_friction();
+  decide_verdict(named, inputs(1100));
+  ASSERT_EQ(named.verdict, Verdict::MissingPhysicsFound) << named.summary;
+  EXPECT_FALSE(change_since_baseline_testable(true, named.verdict, named.candidates));
+  EXPECT_TRUE(change_since_baseline_testable(true, Verdict::NoMissingPhysics, {}));
+  EXPECT_FALSE(change_since_baseline_testable(false, Verdict::NoMissingPhysics, {}));
+  EXPECT_FALSE(change_since_baseline_testable(false, none.verdict, none.candidates));
+}
+
 } // namespace pw::diagnose
