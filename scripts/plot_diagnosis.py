@@ -10,6 +10,7 @@ io/diagnosis_report.hpp) and writes one PNG per plotted series into REPORT/:
                              and after (nuisance + found physics), log scale
     residual_<channel>.png   whitened residual rho per feature (held-out half)
                              for the nominal, nuisance-fitted and final model
+                             (and the lead, when it leads unnamed)
     tsa_<component>_<channel>.png   the recording's synchronous average over the
                              located component's period (no reference mark:
                              positions from the recording's start)
@@ -59,7 +60,8 @@ def main():
     title = f"{os.path.basename(meta.get('recording', ''))}: {meta.get('verdict', '')}"
     styles = {"recording": ("k-", "recording"), "model_before": ("C1-", "model before (nominal)"),
               "model_after": ("C0--", "model after"), "nominal": ("C1.", "nominal"),
-              "nuisance_fitted": ("C2.", "nuisance fitted"), "final": ("C0.", "final")}
+              "nuisance_fitted": ("C2.", "nuisance fitted"), "final": ("C0.", "final"),
+              "lead_not_named": ("C3x", "the lead (not named)")}
     for p in meta.get("plots", []):
         if p.get("kind") == "table":
             continue

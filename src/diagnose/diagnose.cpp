@@ -1304,7 +1304,23 @@ private:
     const Candidate* fc = named ? find_candidate(d_.candidates.front().name) : nullptr;
     const auto after = fc && fc->sensor_only() ? ctx().amplitudes(final_config, true)
                                                : cmp().simulate(final_config)->amplitude;
-    tabulate_plots(d_, cmp(), recording_, {nominal_->amplitude, ctx().nuisance_sim->amplitude, after, final_gains});
+    ReportedModels models{nominal_->amplitude, ctx().nuisance_sim->amplitude, after, final_gains};
+    // The lead's fit, when one leads unnamed: one more simulation, at the report's end only.
+    std::shared_ptr<const ModelSpectra> lead;
+    std::vector<std::vector<double>> lead_amplitude;
+    if (!named && d_.lead.candidate >= 0 && static_cast<std::size_t>(d_.lead.candidate) < d_.candidates.size() &&
+        d_.candidates[static_cast<std::size_t>(d_.lead.candidate)].failed.empty()) {
+      const CandidateResult& lc = d_.candidates[static_cast<std::size_t>(d_.lead.candidate)];
+      const Candidate* c = find_candidate(lc.name);
+      try {
+        lead_amplitude = c && c->sensor_only() ? ctx().amplitudes(lc.config, true) : cmp().simulate(lc.config)->amplitude;
+        models.lead = &lead_amplitude;
+        models.lead_gains = &lc.gains;
+      } catch (const SolverError& e) {
+        say(std::string("the lead's model could not be simulated for the plots: ") + e.what());
+      }
+    }
+    tabulate_plots(d_, cmp(), recording_, models);
     d_.timing.report_s = seconds_since(t);
   }
 

@@ -1,6 +1,7 @@
 #include "diagnose/diagnosis_plots.hpp"
 
 #include <cmath>
+#include <optional>
 #include <string>
 
 namespace pw::diagnose {
@@ -31,7 +32,7 @@ PlotSeries spectrum_series(const Diagnosis& d, const ModelComparison& cmp, std::
 
 /// Whitened held-out residual per feature cell of channel c for the three models.
 PlotSeries residual_series(const Diagnosis& d, const ModelComparison& cmp, std::size_t c, const WindowScore& nominal,
-                           const WindowScore& nuisance, const WindowScore& after) {
+                           const WindowScore& nuisance, const WindowScore& after, const WindowScore* lead) {
   const RecordingSpectra& sp = cmp.spectra();
   const int ncell = cmp.cells();
   PlotSeries pr;
@@ -39,15 +40,17 @@ PlotSeries residual_series(const Diagnosis& d, const ModelComparison& cmp, std::
   pr.kind = "residual";
   pr.x_label = "carrier order";
   pr.y_label = "whitened residual rho (held-out half)";
-  std::vector<double> rb, rn, ra;
+  std::vector<double> rb, rn, ra, rl;
   for (int i = 0; i < ncell; ++i) {
     const std::size_t f = static_cast<std::size_t>(static_cast<int>(c) * ncell + i);
     pr.x.push_back(sp.layout.cells[static_cast<std::size_t>(i)].order);
     rb.push_back(nominal.rho[f]);
     rn.push_back(nuisance.rho[f]);
     ra.push_back(after.rho[f]);
+    if (lead) rl.push_back(lead->rho[f]);
   }
   pr.columns = {{"nominal", rb}, {"nuisance_fitted", rn}, {"final", ra}};
+  if (lead) pr.columns.emplace_back("lead_not_named", std::move(rl));
   return pr;
 }
 
@@ -61,7 +64,7 @@ PlotSeries feature_table(const Diagnosis& d, const ModelComparison& cmp, std::si
   pt.kind = "table";
   pt.x_label = "carrier order";
   pt.y_label = "amplitude [" + unit + "]";
-  std::vector<double> r0, r1, mn, mu, mf, sd, ns;
+  std::vector<double> r0, r1, mn, mu, mf, ml, sd, ns;
   for (int i = 0; i < ncell; ++i) {
     const int f = static_cast<int>(c) * ncell + i;
     const std::size_t b = static_cast<std::size_t>(sp.layout.cells[static_cast<std::size_t>(i)].bin);
@@ -71,11 +74,13 @@ PlotSeries feature_table(const Diagnosis& d, const ModelComparison& cmp, std::si
     mn.push_back(d.nuisance.gains[c] * m.nominal[c][b]);
     mu.push_back(d.nuisance.gains[c] * m.nuisance[c][b]);
     mf.push_back(m.final_gains[c] * m.final_model[c][b]);
+    if (m.lead) ml.push_back((*m.lead_gains)[c] * (*m.lead)[c][b]);
     sd.push_back(std::sqrt(cmp.noise_variance(f)));
     ns.push_back(std::sqrt(cmp.nonstationary_variance(f)));
   }
   pt.columns = {{"recording_fit", r0}, {"recording_held_out", r1}, {"model_nominal", mn},
                 {"model_nuisance", mu}, {"model_final", mf}, {"noise_rms", sd}, {"nonstationary_sd", ns}};
+  if (m.lead) pt.columns.emplace_back("model_lead_not_named", std::move(ml));
   return pt;
 }
 
@@ -86,11 +91,13 @@ void tabulate_plots(Diagnosis& d, const ModelComparison& cmp, const Recording& r
   const WindowScore nominal = cmp.score(m.nominal, Half::HeldOut, d.nuisance.gains, HousingGains::Given);
   const WindowScore nuisance = cmp.score(m.nuisance, Half::HeldOut, d.nuisance.gains, HousingGains::Given);
   const WindowScore after = cmp.score(m.final_model, Half::HeldOut, m.final_gains, HousingGains::Given);
+  std::optional<WindowScore> lead;
+  if (m.lead) lead = cmp.score(*m.lead, Half::HeldOut, *m.lead_gains, HousingGains::Given);
   for (int ch = 0; ch < cmp.channels(); ++ch) {
     const std::size_t c = static_cast<std::size_t>(ch);
     const std::string unit = recording.channels[static_cast<std::size_t>(sp.channels[c])].unit;
     d.plots.push_back(spectrum_series(d, cmp, c, unit, m));
-    d.plots.push_back(residual_series(d, cmp, c, nominal, nuisance, after));
+    d.plots.push_back(residual_series(d, cmp, c, nominal, nuisance, after, lead ? &*lead : nullptr));
     d.plots.push_back(feature_table(d, cmp, c, unit, m));
   }
   for (const auto& re : d.location.rotations) {

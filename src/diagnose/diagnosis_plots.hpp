@@ -16,6 +16,10 @@ struct ReportedModels {
   const std::vector<std::vector<double>>& nuisance;  ///< nuisance-fitted (nuisance gains)
   const std::vector<std::vector<double>>& final_model;  ///< the named winner's, else the nuisance-fitted
   const std::vector<double>& final_gains;
+  /// The lead's fitted model when a candidate leads but is not named (else null): where it falls
+  /// short is what a reader of an "unexplained residual" looks for first.
+  const std::vector<std::vector<double>>* lead = nullptr;
+  const std::vector<double>* lead_gains = nullptr;
 };
 
 /// Appends the plot series of diagnosis d to d.plots.

@@ -37,5 +37,25 @@ if r["lead"] is not None and r["lead"]["named"]:
     sys.exit("the lead is marked as named")
 if not r["summary"].startswith("Unexplained residual:") or ("not a finding" not in r["summary"] and r["lead"]):
     sys.exit("summary does not say unexplained / not a finding: " + r["summary"][:200])
+# The lead's own fit, line by line, beside the others (docs/diagnose.md section 7): present, finite
+# and not a copy of the final (= nuisance-fitted) model.
+if r["lead"] is not None:
+    import csv, glob, math
+    files = sorted(glob.glob("report/data/residual_*.csv"))
+    if not files:
+        sys.exit("no residual tables written")
+    differs = False
+    for path in files:
+        rows = list(csv.DictReader(l for l in open(path) if not l.startswith("#")))
+        if "lead_not_named" not in rows[0]:
+            sys.exit(f"{path}: no lead_not_named column beside an unnamed lead")
+        if not all(math.isfinite(float(x["lead_not_named"])) for x in rows):
+            sys.exit(f"{path}: non-finite lead residual")
+        differs = differs or any(x["lead_not_named"] != x["final"] for x in rows)
+    if not differs:
+        sys.exit("the lead's residual equals the final model's everywhere: not the lead's own fit")
+    for path in glob.glob("report/data/features_*.csv"):
+        if "model_lead_not_named" not in open(path).read().split("\n")[1]:
+            sys.exit(f"{path}: no model_lead_not_named column")
 print(r["summary"][:300])
 PY
