@@ -30,6 +30,7 @@ void assess_candidate(CandidateResult& r, const RankingBasis& b, const std::vect
       // change, each named friction (docs/diagnose-log.md, session 22).
       const double zw = normal_quantile(b.alpha / (2.0 * k));
       for (std::size_t i = 0; i < own_spec->size() && i < r.parameters.size(); ++i) {
+        if ((*own_spec)[i].transfer) continue;  // how it reaches the sensors, not whether it is there
         const FittedParameter& p = r.parameters[i];
         const double absent = (*own_spec)[i].null_value;
         const double shift = std::fabs(p.value - absent);

@@ -266,6 +266,47 @@ TEST(Candidates, RigInertiasAreScaledByTheBodysOwnInertiaAndAbsentAtTheBottomOfT
   EXPECT_GT(carrier, sun);
 }
 
+TEST(Candidates, ATorqueRippleFitsTheLoadMachinesInertiaAsATransferOnlyWhereNoneIsConfiguredOrHeld) {
+  // The ripple's split between the speeds and the mesh forces is the load machine's inertia's
+  // (test_rig.cpp, Rig.UnderConstantPower...): fitted beside the fraction on load_inertia's box,
+  // a transfer parameter (not tested against 'absent', not the size). A configured inertia, or a
+  // carrier held by a speed-controlled machine behind a shaft, leaves the fraction alone.
+  const Candidate* c = find_candidate("torque_ripple");
+  ASSERT_NE(c, nullptr);
+  const Candidate* load = find_candidate("load_inertia");
+  ASSERT_NE(load, nullptr);
+  model::SimulationConfig b;
+  const auto p = c->parameters(b);
+  ASSERT_EQ(p.size(), 2u);
+  EXPECT_EQ(p[0].name, "torque_ripple_fraction");
+  EXPECT_FALSE(p[0].transfer);
+  EXPECT_EQ(p[1].name, "stage.output_inertia_kgm2");
+  EXPECT_TRUE(p[1].transfer && p[1].log_scale);
+  const auto l = load->parameters(b);
+  EXPECT_EQ(p[1].lower, l[0].lower);
+  EXPECT_EQ(p[1].upper, l[0].upper);
+  EXPECT_EQ(p[1].null_value, l[0].null_value);
+  model::SimulationConfig applied = b;
+  std::vector<std::string> o;
+  const double x[] = {0.05, 0.8};
+  Variant v;
+  v.order = 2;
+  c->apply(applied, v, x, &o);
+  EXPECT_EQ(applied.stage.output_inertia_kgm2, 0.8);
+  EXPECT_EQ(applied.imperfections.torque_ripple_fraction, 0.05);
+  EXPECT_EQ(applied.imperfections.torque_ripple_order, 2.0);
+  EXPECT_NO_THROW(model::validate(applied));
+  EXPECT_EQ(o.back(), "stage.output_inertia_kgm2=0.8");
+  model::SimulationConfig configured = b;
+  configured.stage.output_inertia_kgm2 = 0.3;
+  EXPECT_EQ(c->parameters(configured).size(), 1u);
+  model::SimulationConfig held = b;
+  held.stage.output_inertia_kgm2 = 0.0;
+  held.rig.load_control = model::LoadControl::Speed;
+  held.rig.output_shaft_stiffness_N_m_rad = 1e5;
+  EXPECT_EQ(c->parameters(held).size(), 1u);
+}
+
 TEST(Candidates, RigShaftsAreBoundedByTheBodysModeOnThemAndPutASpeedSourceBehindThem) {
   // Stiffness k over J_b (2 pi f)^2 for f from f_m / 4 (the bottom, its null) to 30 f_m,
   // screened at f_m, scanned at the nuisance start; damping c over 2 zeta sqrt(k J_b) from 5 %

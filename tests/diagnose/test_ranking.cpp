@@ -84,6 +84,27 @@ TEST(Ranking, WaldTestOfAbsentUsesTheBonferroniZOfTheOwnParameters) {
   EXPECT_FALSE(no_error.non_null) << "a zero standard error is no evidence";
 }
 
+TEST(Ranking, ATransferParameterMovingAloneIsNoEvidenceThatThePhysicsIsThere) {
+  // A torque ripple at 'absent' whose load inertia (how a ripple would reach the sensors) moved
+  // far: the gain is the inertia's, a rig property, not a ripple (ParameterSpec::transfer).
+  std::vector<ParameterSpec> spec{own_spec(0.0), own_spec(0.0)};
+  spec[1].transfer = true;
+  CandidateResult r = fitted(900, 900, 0.0, 1.0);
+  r.own_parameters = 2;
+  FittedParameter inertia;
+  inertia.name = "stage.output_inertia_kgm2";
+  inertia.value = 0.8;
+  inertia.std_error = 0.001;
+  r.parameters.push_back(inertia);
+  assess_candidate(r, basis(), &spec);
+  EXPECT_TRUE(r.significant && r.holds);
+  EXPECT_FALSE(r.non_null);
+  EXPECT_FALSE(r.counts());
+  r.parameters[0].value = 5.0;  // the fraction itself away from 'absent' by 5 standard errors
+  assess_candidate(r, basis(), &spec);
+  EXPECT_TRUE(r.non_null);
+}
+
 TEST(Ranking, ALevelMustMoveByMoreThanFivePercentOfItselfBesidesItsStandardErrors) {
   // A friction coefficient documented 0.06 fitted to 0.0574 +- 0.00013 (20 standard errors, 4.4 %)
   // against a healthy baseline of an independent simulator's worn profile (session 22): no finding.

@@ -46,6 +46,12 @@ struct ParameterSpec {
   /// stiffness does): fitted as nuisance, its start is the best of a coarse scan over its box
   /// (nuisance_start.hpp), not a local step from 'absent' or its screening value.
   bool scan_at_start = false;
+  /// How the candidate's excitation reaches the sensors rather than the excitation itself: a rig
+  /// property the healthy recordings cannot calibrate because only this physics excites it (the
+  /// load machine's inertia, which splits an input torque ripple between the speeds and the mesh
+  /// forces). Fitted with the candidate; never what makes it differ from 'absent' (the Wald test of
+  /// CandidateResult::non_null skips it) and never its size.
+  bool transfer = false;
 };
 
 /// A class of findings whose members describe one physical state at the level a recording
