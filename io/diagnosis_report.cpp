@@ -55,6 +55,7 @@ json candidate_json(const dg::CandidateResult& r, const std::vector<std::string>
       pj["saturates"] = true;
       pj["lower_limit"] = num(p.lower_limit);
     }
+    if (p.transfer) pj["transfer"] = true;  // how the physics reaches the sensors, not the finding
     ps.push_back(std::move(pj));
   }
   j["parameters"] = ps;
@@ -633,6 +634,7 @@ void write_diagnosis_report(const std::filesystem::path& dir, const dg::Diagnosi
         pj["saturates"] = true;
         pj["lower_limit"] = num(p.lower_limit);
       }
+      if (p.transfer) pj["transfer"] = true;
       ps.push_back(std::move(pj));
     }
     j["fitted_parameters"] = ps;

@@ -103,6 +103,8 @@ struct FittedParameter {
   bool sensor_gain = false;
   bool moved = false;           ///< nuisance: differs from its start by > z_{1-alpha/2} standard errors and > 5 %
   bool saturates = false;       ///< ParameterSpec::saturates: only a lower limit is identifiable
+  /// ParameterSpec::transfer: how the candidate reaches the sensors (a rig property), not the finding.
+  bool transfer = false;
   /// Saturating parameter of the winner: the smallest value whose fit-half chi2 is within
   /// chi2_{1-alpha}(1) of the fit (profile along the line from 'absent' to the fit); NaN if not computed.
   double lower_limit = std::numeric_limits<double>::quiet_NaN();

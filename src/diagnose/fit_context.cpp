@@ -124,6 +124,7 @@ std::vector<FittedParameter> describe(const std::vector<ParameterSpec>& specs, c
     p.at_bound = r.at_bound[offset + i];
     p.nuisance = nuisance;
     p.saturates = specs[i].saturates;
+    p.transfer = specs[i].transfer;
     out.push_back(p);
   }
   return out;

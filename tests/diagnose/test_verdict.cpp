@@ -234,6 +234,31 @@ TEST(Verdict, WinnerWithAMovedNuisanceParameterAtABoundIsUnexplained) {
   EXPECT_EQ(d.lead.at_bound.front(), "stiffness.scale at its bound 2");
 }
 
+TEST(Verdict, ATransferParameterAtAnEndOfItsBoxDoesNotBlockTheFindingAndIsSaidToBeNoSize) {
+  // A torque ripple recorded without a load machine: the load inertia it fits beside the fraction
+  // (how the ripple reaches the sensors) stops at the bottom of its box, "no machine"; the ends of
+  // that box are limits where the response flattens, not a fit that stopped short. The same
+  // parameter as a finding's own would block the name (WinnerWithItsOwnParameterAtABound...).
+  Diagnosis d = counting_friction();
+  FittedParameter j = parameter("stage.output_inertia_kgm2", 1e-6, 1e-3, 1e-6, 1e2, 1e-2, false);
+  j.unit = "kg m^2";
+  j.at_bound = true;
+  j.transfer = true;
+  auto& ps = d.candidates.front().parameters;
+  ps.insert(ps.begin() + 1, j);
+  d.candidates.front().own_parameters = 2;
+  decide_verdict(d, inputs(1110));
+  EXPECT_EQ(d.verdict, Verdict::MissingPhysicsFound) << d.summary;
+  EXPECT_TRUE(d.lead.at_bound.empty());
+  EXPECT_NE(d.summary.find("stage.output_inertia_kgm2 = 1e-06 ± 0.001 kg m^2 (how it reaches the sensors, not its size)"),
+            std::string::npos)
+      << d.summary;
+  Diagnosis own = d;
+  own.candidates.front().parameters[1].transfer = false;
+  decide_verdict(own, inputs(1110));
+  EXPECT_EQ(own.verdict, Verdict::Unexplained) << own.summary;
+}
+
 TEST(Verdict, ASaturatingParameterAtItsUpperBoundDoesNotBlockTheFinding) {
   // Backlash wider than the teeth ever separate: any larger value fits as well, only the lower
   // limit is claimed, so the fit may stop at the top of its box.
@@ -776,6 +801,45 @@ TEST(Verdict, FrictionAndAWornProfileTheDataCannotTellApartNameTheToothContactCl
   Diagnosis other = counting_friction();
   decide_verdict(other, with_alias("pin_error"));
   EXPECT_EQ(other.verdict, Verdict::Unexplained) << other.summary;
+}
+
+TEST(Verdict, AFrictionLeadWhoseStiffnessLevelMovedSinceTheBaselineNamesTheToothContactClass) {
+  // fresh4p rec_13 (session 39): every mesh stiffness x0.75 since the baseline; the nuisance fit
+  // moved stiffness.scale 2 -> 1.66 and friction took the rest of the excess. Under the baseline's
+  // budget the split is not resolved: the class is named, without a size. Without a budget, or
+  // with the level where it started, friction keeps its name.
+  auto moved_stiffness = [] {
+    Diagnosis d = counting_friction();
+    FittedParameter& k = d.candidates.front().parameters[1];
+    k.initial = 2.0;
+    k.value = 1.673;
+    k.std_error = 0.011;
+    return d;
+  };
+  Diagnosis d = moved_stiffness();
+  VerdictInputs in = inputs(1110);
+  in.differential = true;
+  decide_verdict(d, in);
+  EXPECT_EQ(d.verdict, Verdict::MissingPhysicsFound) << d.summary;
+  EXPECT_EQ(d.lead.named_class, "tooth_contact_change") << d.summary;
+  EXPECT_NE(std::find(d.lead.class_members.begin(), d.lead.class_members.end(), "stiffness_level"),
+            d.lead.class_members.end());
+  EXPECT_NE(d.lead.failed.find("stiffness_level moved with it (stiffness.scale 2 -> 1.673"), std::string::npos)
+      << d.lead.failed;
+  Diagnosis no_budget = moved_stiffness();
+  decide_verdict(no_budget, inputs(1110));
+  EXPECT_EQ(no_budget.verdict, Verdict::MissingPhysicsFound);
+  EXPECT_TRUE(no_budget.lead.named_class.empty()) << no_budget.summary;
+  Diagnosis unmoved = counting_friction();
+  decide_verdict(unmoved, in);
+  EXPECT_TRUE(unmoved.lead.named_class.empty()) << unmoved.summary;
+  // A lead without a class covering the levels (a runout) keeps its name beside a moved level.
+  Diagnosis runout = moved_stiffness();
+  runout.candidates.front().name = "sun_runout";
+  runout.candidates.front().parameters.front().name = "sun_eccentricity_m";
+  decide_verdict(runout, in);
+  EXPECT_EQ(runout.verdict, Verdict::MissingPhysicsFound) << runout.summary;
+  EXPECT_TRUE(runout.lead.named_class.empty());
 }
 
 TEST(Verdict, AnAliasOfAnotherKindNeverMakesAClassFinding) {
