@@ -189,6 +189,66 @@ std::string folded_text(const LeadAssessment& a) {
          "(those directions taken linearly, as chi2 profiles them) is the bound";
 }
 
+// (e) Under a discrepancy budget (a calibration, or a baseline's budget on the change), a
+// near-alias of the lead that counts -- the same planet-centre displacements read as pin
+// errors or as a carrier runout -- blocks the name. The two differ only by the radial part of
+// the displacements (sin alpha_w, about a third, of the tangential one for three planets; none
+// for four, where every runout is a pin pattern), and the budget says the model's lines are
+// uncertain by about as much: which of the two the noise-only BIC prefers is decided by the
+// model-form error, not the data. Measured: carrier runouts named pin_error with posterior 1
+// under a calibration (both gear sets, session 20), whether or not the alias passed (a) too; a
+// seed-gear pin error [0, 5, 0] um named carrier_runout (BIC gap 3564 in a fit-half chi2 of
+// 670 000, 150 times the noise bound) with the baseline's budget, its alias failing (a)
+// (docs/diagnose-log.md, session 21). Candidates acting on the mesh harmonics alone (friction,
+// worn profile, stiffness and damping levels, ...) are each other's aliases in the same sense:
+// against healthy baselines an independent simulator's 30 % stiffness change and its worn
+// profile were both named friction (0.057 for the documented 0.06), a worn profile counting
+// beside it (session 22). The reason, with the alias's own score.
+std::string alias_reason(const VerdictInputs& in) {
+  const std::string at = in.differential ? "at its own fitted change with the baseline's discrepancy"
+                                         : "at its own fitted model with the calibrated discrepancy";
+  const std::string score =
+      !std::isfinite(in.alias_bound_held_out)
+          ? "it could not be simulated for the lead's test"
+          : "held-out chi2 " + fmt("%.0f", in.alias_held_out_chi2) +
+                (in.alias_held_out_chi2 <= in.alias_bound_held_out ? " <= " : " > ") +
+                fmt("%.0f", in.alias_bound_held_out) + " " + at;
+  if (in.alias_mesh_shape)
+    return in.counting_alias + " explains the excess too (it improves both halves; " + score +
+           "): both change the mesh harmonics alone, and what tells them apart -- how the change is shared among "
+           "the harmonics -- is the shape the model's stiffness law fixes, uncertain under the budget by more than "
+           "the difference";
+  if (in.alias_counts)
+    return "its near-alias " + in.counting_alias + " explains the excess too (it counts; " + score +
+           "): the part that tells them apart is of the size of the model's fidelity, so the data do not";
+  return "its near-alias " + in.counting_alias +
+         " (the same displacements read otherwise) is not ruled out: its fit did not converge to one that counts, "
+         "and the part that tells them apart is of the size of the model's fidelity";
+}
+
+// (e') Under a budget, a level the lead's class covers that moved with it is an alias too: the
+// nuisance fit took part of the change since the baseline (or the calibration) into the
+// stiffness or damping level, and the lead explains the rest. Both act on the mesh harmonics
+// alone; how the change splits between them is the shape the model's stiffness law fixes,
+// uncertain under the budget by more than the difference (as for (e)). Found on the
+// independent simulator's fresh four-planet rig (a final check, unseen before): every mesh
+// stiffness x0.75 against its baseline, the nuisance fit moved stiffness.scale 2 -> 1.66 and
+// friction took the remaining excess (0.087 for the documented 0.055): named friction, a
+// confident wrong name (docs/diagnose-log.md, session 39). The class covers both, and is what
+// the data establish. Each moved level's candidate name with the reason.
+std::vector<std::pair<std::string, std::string>> moved_level_reasons(const CandidateResult& w, const VerdictInputs& in,
+                                                                     const FindingClass& lead_class) {
+  std::vector<std::pair<std::string, std::string>> out;
+  if (!in.differential && in.discrepancy.empty()) return out;
+  for (const auto& [level, p] : moved_covered_levels(w, lead_class))
+    out.emplace_back(level, level + " moved with it (" + p->name + " " + fmt("%.4g", p->initial) + " -> " +
+                                fmt("%.4g", p->value) + " ± " + fmt("%.2g", p->std_error) +
+                                "): both change the mesh harmonics alone, and how the change since the reference "
+                                "splits between them is the shape the model's stiffness law fixes, uncertain under "
+                                "the budget by more than the difference");
+  return out;
+}
+
 LeadAssessment assess_lead(Diagnosis& d, const VerdictInputs& in) {
   LeadAssessment a;
   a.bound_held_out = in.lead_bound_held_out;
@@ -265,21 +325,7 @@ LeadAssessment assess_lead(Diagnosis& d, const VerdictInputs& in) {
                                          "their errors of 'absent': the nuisance model refitted reaches as low)"));
     }
   }
-  // (e) Under a discrepancy budget (a calibration, or a baseline's budget on the change), a
-  // near-alias of the lead that counts -- the same planet-centre displacements read as pin
-  // errors or as a carrier runout -- blocks the name. The two differ only by the radial part of
-  // the displacements (sin alpha_w, about a third, of the tangential one for three planets; none
-  // for four, where every runout is a pin pattern), and the budget says the model's lines are
-  // uncertain by about as much: which of the two the noise-only BIC prefers is decided by the
-  // model-form error, not the data. Measured: carrier runouts named pin_error with posterior 1
-  // under a calibration (both gear sets, session 20), whether or not the alias passed (a) too; a
-  // seed-gear pin error [0, 5, 0] um named carrier_runout (BIC gap 3564 in a fit-half chi2 of
-  // 670 000, 150 times the noise bound) with the baseline's budget, its alias failing (a)
-  // (docs/diagnose-log.md, session 21). Candidates acting on the mesh harmonics alone (friction,
-  // worn profile, stiffness and damping levels, ...) are each other's aliases in the same sense:
-  // against healthy baselines an independent simulator's 30 % stiffness change and its worn
-  // profile were both named friction (0.057 for the documented 0.06), a worn profile counting
-  // beside it (session 22).
+  // (e) and (e'): what the budget does not tell from the lead (alias_reason, moved_level_reasons).
   if (!in.counting_alias.empty()) {
     // An alias of the lead's own class is the class finding's: a displacement alias of a
     // planet-position lead, or a mesh-shape alias of a tooth-contact lead (friction, wear,
@@ -290,46 +336,12 @@ LeadAssessment assess_lead(Diagnosis& d, const VerdictInputs& in) {
       class_blockers.push_back(in.counting_alias);
     else
       other = true;
-    const std::string at = in.differential ? "at its own fitted change with the baseline's discrepancy"
-                                           : "at its own fitted model with the calibrated discrepancy";
-    const std::string score =
-        !std::isfinite(in.alias_bound_held_out)
-            ? "it could not be simulated for the lead's test"
-            : "held-out chi2 " + fmt("%.0f", in.alias_held_out_chi2) +
-                  (in.alias_held_out_chi2 <= in.alias_bound_held_out ? " <= " : " > ") +
-                  fmt("%.0f", in.alias_bound_held_out) + " " + at;
-    why.push_back(in.alias_mesh_shape
-                      ? in.counting_alias + " explains the excess too (it improves both halves; " + score +
-                            "): both change the mesh harmonics alone, and what tells them apart -- how the change is "
-                            "shared among the harmonics -- is the shape the model's stiffness law fixes, uncertain "
-                            "under the budget by more than the difference"
-                  : in.alias_counts
-                      ? "its near-alias " + in.counting_alias + " explains the excess too (it counts; " + score +
-                            "): the part that tells them apart is of the size of the model's fidelity, so the data "
-                            "do not"
-                      : "its near-alias " + in.counting_alias +
-                            " (the same displacements read otherwise) is not ruled out: its fit did not converge to "
-                            "one that counts, and the part that tells them apart is of the size of the model's "
-                            "fidelity");
+    why.push_back(alias_reason(in));
   }
-  // (e') Under a budget, a level the lead's class covers that moved with it is an alias too: the
-  // nuisance fit took part of the change since the baseline (or the calibration) into the
-  // stiffness or damping level, and the lead explains the rest. Both act on the mesh harmonics
-  // alone; how the change splits between them is the shape the model's stiffness law fixes,
-  // uncertain under the budget by more than the difference (as for (e)). Found on the
-  // independent simulator's fresh four-planet rig (a final check, unseen before): every mesh
-  // stiffness x0.75 against its baseline, the nuisance fit moved stiffness.scale 2 -> 1.66 and
-  // friction took the remaining excess (0.087 for the documented 0.055): named friction, a
-  // confident wrong name (docs/diagnose-log.md, session 39). The class covers both, and is what
-  // the data establish.
-  if (lead_class && (in.differential || !in.discrepancy.empty()))
-    for (const auto& [level, p] : moved_covered_levels(w, *lead_class)) {
+  if (lead_class)
+    for (const auto& [level, text] : moved_level_reasons(w, in, *lead_class)) {
       class_blockers.push_back(level);
-      why.push_back(level + " moved with it (" + p->name + " " + fmt("%.4g", p->initial) + " -> " +
-                    fmt("%.4g", p->value) + " ± " + fmt("%.2g", p->std_error) +
-                    "): both change the mesh harmonics alone, and how the change since the reference splits between "
-                    "them is the shape the model's stiffness law fixes, uncertain under the budget by more than the "
-                    "difference");
+      why.push_back(text);
     }
   // (c) The excess it was called in for replicated: with the nuisance parameters alone the
   // held-out half exceeds its bound too. Otherwise the held-out half cannot confirm anything
