@@ -1306,7 +1306,6 @@ private:
                                                : cmp().simulate(final_config)->amplitude;
     ReportedModels models{nominal_->amplitude, ctx().nuisance_sim->amplitude, after, final_gains};
     // The lead's fit, when one leads unnamed: one more simulation, at the report's end only.
-    std::shared_ptr<const ModelSpectra> lead;
     std::vector<std::vector<double>> lead_amplitude;
     if (!named && d_.lead.candidate >= 0 && static_cast<std::size_t>(d_.lead.candidate) < d_.candidates.size() &&
         d_.candidates[static_cast<std::size_t>(d_.lead.candidate)].failed.empty()) {
