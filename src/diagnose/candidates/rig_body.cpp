@@ -15,4 +15,10 @@ double own_inertia_kgm2(const model::SimulationConfig& b, RigEnd end) {
   return p.carrier_inertia_kgm2 + b.stage.planet_count * p.planet_mass_kg * rc * rc;
 }
 
+bool machine_inertia_acts(const model::SimulationConfig& b, RigEnd end) {
+  if (end == RigEnd::Input)
+    return !(b.rig.input_control == model::InputControl::Speed && b.rig.input_shaft_stiffness_N_m_rad > 0);
+  return !(b.rig.load_control == model::LoadControl::Speed && b.rig.output_shaft_stiffness_N_m_rad > 0);
+}
+
 } // namespace pw::diagnose::candidates

@@ -29,9 +29,6 @@
 namespace pw::diagnose::candidates {
 namespace {
 
-constexpr double kAbsentOfOwnInertia = 1e-4;
-constexpr double kScreenOfOwnInertia = 1.0;
-
 class RigInertia final : public Candidate {
 public:
   explicit RigInertia(RigEnd m) : machine_(m) {}
@@ -47,11 +44,7 @@ public:
   bool rig_design() const override { return true; }
   /// Not behind a flexible shaft held at the nominal speed (rig.X_control = "speed"): the far
   /// end turns at the set speed whatever the machine's inertia.
-  bool acts_on(const model::SimulationConfig& b) const override {
-    if (machine_ == RigEnd::Input)
-      return !(b.rig.input_control == model::InputControl::Speed && b.rig.input_shaft_stiffness_N_m_rad > 0);
-    return !(b.rig.load_control == model::LoadControl::Speed && b.rig.output_shaft_stiffness_N_m_rad > 0);
-  }
+  bool acts_on(const model::SimulationConfig& b) const override { return machine_inertia_acts(b, machine_); }
   std::vector<ParameterSpec> parameters(const model::SimulationConfig& b) const override {
     const double own = own_inertia_kgm2(b, machine_);
     const double configured = configured_kgm2(b);

@@ -29,11 +29,6 @@
 namespace pw::diagnose::candidates {
 namespace {
 
-/// The load inertia's box and screening value relative to the carrier's own inertia: those of
-/// the load_inertia rig element (rig_inertia.cpp), so that the two read the same machine alike.
-constexpr double kLoadAbsentOfOwnInertia = 1e-4;
-constexpr double kLoadScreenOfOwnInertia = 1.0;
-
 class TorqueRipple final : public Candidate {
 public:
   std::string name() const override { return "torque_ripple"; }
@@ -47,9 +42,10 @@ public:
         .upper = 0.5, .log_scale = true, .initial = 0.01, .null_value = 1e-4, .screen_value = 0.02}};
     if (fits_load_inertia(b)) {
       const double own = own_inertia_kgm2(b, RigEnd::Output);
-      ParameterSpec j{.name = "stage.output_inertia_kgm2", .unit = "kg m^2", .lower = kLoadAbsentOfOwnInertia * own,
-          .upper = kSpeedSourceOfOwnInertia * own, .log_scale = true, .initial = kLoadScreenOfOwnInertia * own,
-          .null_value = kLoadAbsentOfOwnInertia * own, .screen_value = kLoadScreenOfOwnInertia * own};
+      // load_inertia's box and screening value (rig_body.hpp): the two read the same machine alike.
+      ParameterSpec j{.name = "stage.output_inertia_kgm2", .unit = "kg m^2", .lower = kAbsentOfOwnInertia * own,
+          .upper = kSpeedSourceOfOwnInertia * own, .log_scale = true, .initial = kScreenOfOwnInertia * own,
+          .null_value = kAbsentOfOwnInertia * own, .screen_value = kScreenOfOwnInertia * own};
       j.transfer = true;
       out.push_back(j);
     }
@@ -84,8 +80,7 @@ private:
   /// not held at its speed by a speed-controlled machine behind a shaft (whose far end turns at the
   /// set speed whatever its inertia).
   static bool fits_load_inertia(const model::SimulationConfig& b) {
-    if (b.stage.output_inertia_kgm2 > 0) return false;
-    return !(b.rig.load_control == model::LoadControl::Speed && b.rig.output_shaft_stiffness_N_m_rad > 0);
+    return b.stage.output_inertia_kgm2 <= 0 && machine_inertia_acts(b, RigEnd::Output);
   }
 };
 
