@@ -56,6 +56,7 @@ json candidate_json(const dg::CandidateResult& r, const std::vector<std::string>
       pj["lower_limit"] = num(p.lower_limit);
     }
     if (p.transfer) pj["transfer"] = true;  // how the physics reaches the sensors, not the finding
+    if (!p.size_conditional_on.empty()) pj["size_conditional_on"] = p.size_conditional_on;
     ps.push_back(std::move(pj));
   }
   j["parameters"] = ps;
@@ -110,6 +111,7 @@ std::string param_cell(const dg::FittedParameter& p) {
     s += " (model form ± " + g(p.model_form_std, 2) + unit + ": " + g(p.model_form_lower, 3) + " to " +
          g(p.model_form_upper, 3) + unit + ")";
   if (p.at_bound) s += " (at bound)";
+  if (!p.size_conditional_on.empty()) s += " (the size for " + p.size_conditional_on + ")";
   return s;
 }
 
@@ -635,6 +637,7 @@ void write_diagnosis_report(const std::filesystem::path& dir, const dg::Diagnosi
         pj["lower_limit"] = num(p.lower_limit);
       }
       if (p.transfer) pj["transfer"] = true;
+      if (!p.size_conditional_on.empty()) pj["size_conditional_on"] = p.size_conditional_on;
       ps.push_back(std::move(pj));
     }
     j["fitted_parameters"] = ps;

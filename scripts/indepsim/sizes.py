@@ -151,7 +151,8 @@ def main():
                          model_form_std=mf, severity_error=dev / (true - absent) if true != absent else None,
                          z_noise=dev / se if se > 0 else None, z_total=dev / total if total > 0 else None,
                          covered=bool(total > 0 and abs(dev) <= Z_COVER * total), range=list(rng),
-                         in_range=bool(rng[0] <= true <= rng[1])))
+                         in_range=bool(rng[0] <= true <= rng[1]),
+                         conditional_on=par.get("size_conditional_on")))
     print(f"{'recording':16s} {'effect':20s} {'true':>10s} {'fitted':>10s} {'± noise':>9s} {'± model':>9s} "
           f"{'sev.err':>8s} {'z noise':>8s} {'z total':>8s} covered  range (in range)")
     for r in rows:
@@ -167,7 +168,11 @@ def main():
     cov = sum(1 for r in rows if r["covered"])
     inr = sum(1 for r in rows if r["in_range"])
     n_cls = sum(1 for r in rows if r["range"] is None)
-    print(f"\n{n} sizes: {within} within 20 % of the true severity; {cov} covered by "
+    for r in rows:
+        if r.get("conditional_on"):
+            print(f"  {r['recording']}: the report gives this size for {r['conditional_on']}")
+    n_cond = sum(1 for r in rows if r.get("conditional_on"))
+    print(f"\n{n} sizes ({n_cond} stated as conditional on the configured rig): {within} within 20 % of the true severity; {cov} covered by "
           f"value ± {Z_COVER:.3f} x sqrt(noise^2 + model form^2); {inr} inside the model-form range"
           + (f" ({n_cls} class sizes have neither)" if n_cls else ""))
     if a.json:

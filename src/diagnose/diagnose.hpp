@@ -105,6 +105,8 @@ struct FittedParameter {
   bool saturates = false;       ///< ParameterSpec::saturates: only a lower limit is identifiable
   /// ParameterSpec::transfer: how the candidate reaches the sensors (a rig property), not the finding.
   bool transfer = false;
+  /// ParameterSpec::size_conditional_on: the configured rig element the value is the size for.
+  std::string size_conditional_on;
   /// Saturating parameter of the winner: the smallest value whose fit-half chi2 is within
   /// chi2_{1-alpha}(1) of the fit (profile along the line from 'absent' to the fit); NaN if not computed.
   double lower_limit = std::numeric_limits<double>::quiet_NaN();

@@ -125,6 +125,7 @@ std::vector<FittedParameter> describe(const std::vector<ParameterSpec>& specs, c
     p.nuisance = nuisance;
     p.saturates = specs[i].saturates;
     p.transfer = specs[i].transfer;
+    p.size_conditional_on = specs[i].size_conditional_on;
     out.push_back(p);
   }
   return out;

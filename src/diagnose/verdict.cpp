@@ -32,6 +32,7 @@ std::string param_text(const FittedParameter& p) {
   std::string s = buf;
   while (!s.empty() && s.back() == ' ') s.pop_back();
   if (p.transfer) s += " (how it reaches the sensors, not its size)";
+  if (!p.size_conditional_on.empty()) s += " (the size for " + p.size_conditional_on + ")";
   return s;
 }
 

@@ -266,6 +266,31 @@ TEST(Candidates, RigInertiasAreScaledByTheBodysOwnInertiaAndAbsentAtTheBottomOfT
   EXPECT_GT(carrier, sun);
 }
 
+TEST(Candidates, ATorqueRipplesSizeIsConditionalOnTheInputSideWhereTheMotorsInertiaActsUnstated) {
+  // The speed lines fix r / |Z_in(w)|: without the motor's inertia in the configuration the fitted
+  // fraction is the size for the configured input only (ParameterSpec::size_conditional_on). A
+  // stated inertia, or a motor whose far end an ideal speed control holds, makes it the size.
+  const Candidate* c = find_candidate("torque_ripple");
+  ASSERT_NE(c, nullptr);
+  model::SimulationConfig b;
+  const std::string why = c->parameters(b)[0].size_conditional_on;
+  EXPECT_NE(why.find("constant power"), std::string::npos) << why;
+  EXPECT_NE(why.find("stage.input_inertia_kgm2"), std::string::npos) << why;
+  model::SimulationConfig torque = b;
+  torque.rig.input_control = model::InputControl::Torque;
+  EXPECT_EQ(c->parameters(torque)[0].size_conditional_on.find("constant power"), std::string::npos);
+  EXPECT_FALSE(c->parameters(torque)[0].size_conditional_on.empty());
+  model::SimulationConfig motor = b;
+  motor.stage.input_inertia_kgm2 = 0.12;
+  EXPECT_TRUE(c->parameters(motor)[0].size_conditional_on.empty());
+  model::SimulationConfig held = b;
+  held.rig.input_control = model::InputControl::Speed;
+  held.rig.input_shaft_stiffness_N_m_rad = 2e5;
+  EXPECT_TRUE(c->parameters(held)[0].size_conditional_on.empty());
+  // Only the fraction: the load inertia beside it is a transfer parameter, never the size.
+  EXPECT_TRUE(c->parameters(b)[1].size_conditional_on.empty());
+}
+
 TEST(Candidates, ATorqueRippleFitsTheLoadMachinesInertiaAsATransferOnlyWhereNoneIsConfiguredOrHeld) {
   // The ripple's split between the speeds and the mesh forces is the load machine's inertia's
   // (test_rig.cpp, Rig.UnderConstantPower...): fitted beside the fraction on load_inertia's box,

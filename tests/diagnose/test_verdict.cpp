@@ -259,6 +259,20 @@ TEST(Verdict, ATransferParameterAtAnEndOfItsBoxDoesNotBlockTheFindingAndIsSaidTo
   EXPECT_EQ(own.verdict, Verdict::Unexplained) << own.summary;
 }
 
+TEST(Verdict, ASizeConditionalOnTheConfiguredInputIsNamedWithWhatItIsTheSizeFor) {
+  // A ripple fraction read against an input side the configuration leaves at the seed's law: the
+  // name stands (the verdict's rules are unchanged), and the summary says what the number is the
+  // size for instead of presenting it as the rig's.
+  Diagnosis d = counting_friction();
+  d.candidates.front().parameters.front().size_conditional_on = "the configured input";
+  decide_verdict(d, inputs(1110));
+  EXPECT_EQ(d.verdict, Verdict::MissingPhysicsFound) << d.summary;
+  EXPECT_NE(d.summary.find("0.05 ± 0.001 (the size for the configured input)"), std::string::npos) << d.summary;
+  Diagnosis plain = counting_friction();
+  decide_verdict(plain, inputs(1110));
+  EXPECT_EQ(plain.summary.find("the size for"), std::string::npos) << plain.summary;
+}
+
 TEST(Verdict, ASaturatingParameterAtItsUpperBoundDoesNotBlockTheFinding) {
   // Backlash wider than the teeth ever separate: any larger value fits as well, only the lower
   // limit is claimed, so the fit may stop at the top of its box.

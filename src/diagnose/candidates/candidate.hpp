@@ -52,6 +52,12 @@ struct ParameterSpec {
   /// forces). Fitted with the candidate; never what makes it differ from 'absent' (the Wald test of
   /// CandidateResult::non_null skips it) and never its size.
   bool transfer = false;
+  /// Non-empty: the fitted value is the size only for a rig element the configuration leaves at
+  /// the model's idealization, and a real value of that element rescales it (how a ripple reads
+  /// in the speeds is set by the input machine's inertia and control law: without the motor's
+  /// inertia, the fitted fraction is the one the configured input would need). Names what the size
+  /// is conditional on, for the report; the fit, the tests and the verdict are unchanged.
+  std::string size_conditional_on = {};
 };
 
 /// A class of findings whose members describe one physical state at the level a recording

@@ -20,11 +20,24 @@
 // the fraction, as a transfer parameter (ParameterSpec::transfer): on load_inertia's box (1e-4 to
 // 1e4 times the carrier's own inertia, rig_inertia.cpp), not tested against 'absent', not the
 // finding's size. A configured (calibrated) inertia is used as it is.
+//
+// The fraction's size is read against the input side's dynamics the same way: at k f_s the ripple
+// torque r T moves the sun's speed by r T / |P / W^2 + i w J_in| under the seed's constant-power law
+// (test_rig.cpp), by r T / (w J_in) under a torque-controlled motor, with J_in everything the input
+// turns (the motor's rotor included). The speed lines fix r / |Z_in(w)|, one number for two
+// unknowns: a motor inertia the configuration does not state rescales the fraction, and nothing in
+// the recording separates the two (both act on the same lines in the same ratio). So the fitted
+// fraction is reported as the size for the configured input (ParameterSpec::size_conditional_on)
+// whenever the motor's inertia acts and is not configured. Measured on the independent simulator's
+// rigs (a 0.12 kg m^2 torque-controlled motor; docs/diagnose-log.md, sessions 39-40): 0.0829 for
+// 0.08 where P / W^2 = 10 N m s happened to lie near w J_m = 7.5 N m s (four4p, 300 rpm, 10 kW,
+// order 2), 0.0192 for 0.05 where 4.6 stood against 16 (fresh4p, 420 rpm, 9 kW, order 3).
 #include "diagnose/candidates/factories.hpp"
 #include "diagnose/candidates/rig_body.hpp"
 
 #include <algorithm>
 #include <cmath>
+#include <string>
 
 namespace pw::diagnose::candidates {
 namespace {
@@ -40,6 +53,7 @@ public:
   std::vector<ParameterSpec> parameters(const model::SimulationConfig& b) const override {
     std::vector<ParameterSpec> out{ParameterSpec{.name = "torque_ripple_fraction", .unit = "1", .lower = 1e-4,
         .upper = 0.5, .log_scale = true, .initial = 0.01, .null_value = 1e-4, .screen_value = 0.02}};
+    out[0].size_conditional_on = input_side_unstated(b);
     if (fits_load_inertia(b)) {
       const double own = own_inertia_kgm2(b, RigEnd::Output);
       // load_inertia's box and screening value (rig_body.hpp): the two read the same machine alike.
@@ -76,6 +90,14 @@ public:
   }
 
 private:
+  /// What the fraction's size is conditional on: the input law as configured without the motor's
+  /// inertia, when that inertia acts (not behind a shaft whose far end an ideal speed control holds)
+  /// and the configuration states none; empty when the input side is stated.
+  static std::string input_side_unstated(const model::SimulationConfig& b) {
+    if (b.stage.input_inertia_kgm2 > 0 || !machine_inertia_acts(b, RigEnd::Input)) return {};
+    const std::string law = b.rig.input_control == model::InputControl::Power ? "constant power, " : "";
+    return "the configured input: " + law + "no motor inertia; a motor's inertia (stage.input_inertia_kgm2) rescales it";
+  }
   /// The load machine's inertia is fitted where the configuration states none and the carrier is
   /// not held at its speed by a speed-controlled machine behind a shaft (whose far end turns at the
   /// set speed whatever its inertia).
