@@ -56,7 +56,6 @@ for _v in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS"):
 
 import argparse
 import json
-import math
 import sys
 import time
 
@@ -78,87 +77,26 @@ def simulate_windows(gs, cases, windows, fs=10000.0, oversample=4, rig=None, rto
     """One Batch with one column per case; windows: list of dicts {col, start_s, duration_s,
     housing_gain_scale, sensor_angle_housing_deg}. Returns the noise-free channels of each window
     (w_s, w_c in rad/s, acc in m/s^2), theta_c0, and the batch. The integration and the sensor chain
-    are those of sim.simulate_batch (same calls, same settings), with a column index per window."""
+    are sim.simulate_batch's own (sim.integrate_stage, sim.sensor_window), with a column per window."""
     bt = sim.Batch(gs, cases, rig=rig)
     rigp = bt.rig
-    fs_int = fs * oversample
-    pre = 0.05
-    t_end = max(w["start_s"] + w["duration_s"] for w in windows) + 2.0 / fs
-    L = bt.lin
-    IS, IR, IC = L["IS"], L["IR"], L["IC"]
-    store = {"t": [], "ths": [], "thc": [], "ax": [], "ay": [], "vx": [], "vy": [], "x": [], "y": [], "frp": []}
-    t_first_store = min(w["start_s"] for w in windows) - pre - 1.0 / fs
-
-    def on_chunk(te, Ys):
-        keep = te >= t_first_store
-        if not np.any(keep):
-            return
-        te = te[keep]
-        Ys = Ys[:, :, keep]
-        A, Frp = bt.accelerations(te, Ys)
-        store["frp"].append(Frp)
-        nd = L["nd"]
-        store["t"].append(te)
-        store["ths"].append(Ys[IS + 2])
-        store["thc"].append(Ys[IC + 2])
-        store["x"].append(Ys[IR]); store["y"].append(Ys[IR + 1])
-        store["vx"].append(Ys[nd + IR]); store["vy"].append(Ys[nd + IR + 1])
-        store["ax"].append(A[IR]); store["ay"].append(A[IR + 1])
-
-    t0 = time.time()
-    bt.integrate(t_end, fs_int, on_chunk=on_chunk, rtol=rtol)
-    log(f"  integrated {t_end:.2f} s for {bt.B} cases: {bt.nfev} RHS calls, {time.time() - t0:.0f} s")
-    t = np.concatenate(store["t"])
-    cat = {k: np.concatenate(v, axis=1) for k, v in store.items() if k not in ("t", "frp")}
-    frp = np.concatenate(store["frp"], axis=2)
+    t, cat, frp = sim.integrate_stage(bt, windows, fs, oversample, rtol, log)
     rim = sim.rim_parameters(bt)
     out = []
     for r in windows:
-        b = r["col"]
-        Om_s, Om_c = bt.Om_s[b], bt.Om_c[b]
-        ths = Om_s * t + cat["ths"][b]
-        thc = Om_c * t + cat["thc"][b]
-        ph = Om_c * t
-        ax = cat["ax"][b] - 2 * Om_c * cat["vy"][b] - Om_c ** 2 * cat["x"][b]
-        ay = cat["ay"][b] + 2 * Om_c * cat["vx"][b] - Om_c ** 2 * cat["y"][b]
-        AX = np.cos(ph) * ax - np.sin(ph) * ay
-        AY = np.sin(ph) * ax + np.cos(ph) * ay
-        phs = math.radians(r.get("sensor_angle_housing_deg", rigp["sensor_angle_housing_deg"]))
-        a_rigid = AX * math.cos(phs) + AY * math.sin(phs)
-        w_loc = sim.rim_deflection_at_sensor(rim, thc, bt.lin["psi"], phs,
-                                             frp[:, b, :] * math.sin(bt.par["alpha"]))
-        a_loc = np.zeros_like(w_loc)
-        a_loc[1:-1] = (w_loc[2:] - 2 * w_loc[1:-1] + w_loc[:-2]) * fs_int ** 2
-        a_loc[0], a_loc[-1] = a_loc[1], a_loc[-2]
-        a_rad = a_rigid + a_loc
-        i_pre = int(np.searchsorted(t, r["start_s"] - pre - 0.5 / fs_int))
-        i_0 = int(np.searchsorted(t, r["start_s"] - 0.5 / fs_int))
-        nout = int(round(r["duration_s"] * fs))
-        gain = rigp["housing_gain"] * r.get("housing_gain_scale", 1.0)
-        acc = gain * sim.accelerometer_chain(a_rad[i_pre:], fs_int, rigp["acc_resonance_Hz"],
-                                             rigp["acc_resonance_zeta"], rigp["acc_antialias_Hz"])
-        acc = acc[(i_0 - i_pre)::oversample][:nout]
-        ths_s = ths[i_pre:][::oversample]
-        thc_s = thc[i_pre:][::oversample]
-        w_s, _ = sim.encoder_speed(ths_s, fs, rigp["encoder_lines"], rigp["encoder_interp"], rigp["encoder_lp_Hz"],
-                                   zi_value=Om_s)
-        w_c, _ = sim.encoder_speed(thc_s, fs, rigp["encoder_lines"], rigp["encoder_interp"], rigp["encoder_lp_Hz"],
-                                   zi_value=Om_c)
-        k0 = (i_0 - i_pre) // oversample - 1
-        w_s = w_s[k0:k0 + nout]
-        w_c = w_c[k0:k0 + nout]
+        sw = sim.sensor_window(bt, t, cat, frp, rim, r["col"], r, fs, oversample)
+        w_s, w_c, acc, nout, k0 = sw["w_s"], sw["w_c"], sw["acc"], sw["nout"], sw["k0"]
         # diagnostic only: the same encoders without their angle quantisation (2^43 counts/rev)
-        w_su, _ = sim.encoder_speed(ths_s, fs, rigp["encoder_lines"], rigp["encoder_interp"] * UNQ,
-                                    rigp["encoder_lp_Hz"], zi_value=Om_s)
-        w_cu, _ = sim.encoder_speed(thc_s, fs, rigp["encoder_lines"], rigp["encoder_interp"] * UNQ,
-                                    rigp["encoder_lp_Hz"], zi_value=Om_c)
+        w_su, _ = sim.encoder_speed(sw["ths_s"], fs, rigp["encoder_lines"], rigp["encoder_interp"] * UNQ,
+                                    rigp["encoder_lp_Hz"], zi_value=sw["Om_s"])
+        w_cu, _ = sim.encoder_speed(sw["thc_s"], fs, rigp["encoder_lines"], rigp["encoder_interp"] * UNQ,
+                                    rigp["encoder_lp_Hz"], zi_value=sw["Om_c"])
         w_su = w_su[k0:k0 + nout]
         w_cu = w_cu[k0:k0 + nout]
         if len(acc) != nout or len(w_s) != nout:
             raise RuntimeError(f"window {r} is short: {len(acc)}, {len(w_s)} of {nout} samples")
-        theta_c0 = thc[i_0]
-        out.append(dict(w_s=w_s, w_c=w_c, acc=acc, w_s_u=w_su, w_c_u=w_cu, acc_u=acc, theta_c0=float(theta_c0),
-                        sensor_angle_deg=(math.degrees(phs - theta_c0)) % 360.0))
+        out.append(dict(w_s=w_s, w_c=w_c, acc=acc, w_s_u=w_su, w_c_u=w_cu, acc_u=acc,
+                        theta_c0=float(sw["theta_c0"]), sensor_angle_deg=sw["sensor_angle_deg"]))
     return out, bt
 
 

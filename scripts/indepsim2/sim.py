@@ -777,21 +777,21 @@ def mesh_frequency(gs, rpm):
 # ----------------------------------------------------------------------------------------
 # run a batch of recordings
 # ----------------------------------------------------------------------------------------
-def simulate_batch(gs, recs, fs=10000.0, oversample=4, rig=None, rtol=1e-7, log=print):
-    """recs: list of dicts {case (for Batch), start_s, duration_s, noise_seed, housing_gain_scale,
-    sensor_angle_housing_deg}. Returns list of dicts with t, w_sun_rpm, w_carrier, acc_g,
-    sensor_angle_deg (sidecar, relative to planet 0 at the record's t = 0), theta_c0 and
-    noise-free channels."""
+SENSOR_PRE_ROLL_S = 0.05   # filter pre-roll inside the warm-up [s]
+
+
+def integrate_stage(bt, windows, fs, oversample, rtol, log=print):
+    """Integrates the Batch bt to the end of the latest window and stores, from the earliest window's
+    filter pre-roll on, what the sensors need: the sun and carrier angles, the ring's displacement,
+    velocity and acceleration (rotating frame) and the planet-ring mesh forces. windows: dicts with
+    start_s, duration_s. Returns (t, channels (B, S) by name, planet-ring forces (N, B, S))."""
     import time as _time
-    bt = Batch(gs, [r["case"] for r in recs], rig=rig)
-    rigp = bt.rig
-    fs_int = fs * oversample
-    pre = 0.05            # filter pre-roll inside the warm-up [s]
-    t_end = max(r["start_s"] + r["duration_s"] for r in recs) + 2.0 / fs
     L = bt.lin
     IS, IR, IC = L["IS"], L["IR"], L["IC"]
+    fs_int = fs * oversample
+    t_end = max(r["start_s"] + r["duration_s"] for r in windows) + 2.0 / fs
     store = {"t": [], "ths": [], "thc": [], "ax": [], "ay": [], "vx": [], "vy": [], "x": [], "y": [], "frp": []}
-    t_first_store = min(r["start_s"] for r in recs) - pre - 1.0 / fs
+    t_first_store = min(r["start_s"] for r in windows) - SENSOR_PRE_ROLL_S - 1.0 / fs
 
     def on_chunk(te, Ys):
         keep = te >= t_first_store
@@ -815,45 +815,71 @@ def simulate_batch(gs, recs, fs=10000.0, oversample=4, rig=None, rtol=1e-7, log=
     t = np.concatenate(store["t"])
     cat = {k: np.concatenate(v, axis=1) for k, v in store.items() if k not in ("t", "frp")}
     frp = np.concatenate(store["frp"], axis=2)          # (N, B, S) planet-ring mesh forces
+    return t, cat, frp
+
+
+def sensor_window(bt, t, cat, frp, rim, b, r, fs, oversample):
+    """The noise-free sensor channels of column b of an integrated Batch over the window r (start_s,
+    duration_s, optional housing_gain_scale, sensor_angle_housing_deg): encoder speeds w_s, w_c
+    [rad/s] and the housing acceleration acc [m/s^2] at fs; also the absolute angles at the window's
+    first sample, the sidecar's sensor angle and the encoders' angle samples (ths_s, thc_s from one
+    sample before the window; w[j] of encoder_speed belongs to sample j + 1, so the window is
+    w[k0:k0 + nout])."""
+    rigp = bt.rig
+    fs_int = fs * oversample
+    pre = SENSOR_PRE_ROLL_S
+    Om_s, Om_c = bt.Om_s[b], bt.Om_c[b]
+    # absolute angles
+    ths = Om_s * t + cat["ths"][b]
+    thc = Om_c * t + cat["thc"][b]
+    # ring acceleration in the housing frame: X = R(Om_c t) x
+    ph = Om_c * t
+    ax = cat["ax"][b] - 2 * Om_c * cat["vy"][b] - Om_c ** 2 * cat["x"][b]
+    ay = cat["ay"][b] + 2 * Om_c * cat["vx"][b] - Om_c ** 2 * cat["y"][b]
+    AX = np.cos(ph) * ax - np.sin(ph) * ay
+    AY = np.sin(ph) * ax + np.cos(ph) * ay
+    phs = math.radians(r.get("sensor_angle_housing_deg", rigp["sensor_angle_housing_deg"]))
+    a_rigid = AX * math.cos(phs) + AY * math.sin(phs)
+    # local radial rim deflection at the sensor (quasi-static beam on elastic foundation)
+    w_loc = rim_deflection_at_sensor(rim, thc, bt.lin["psi"], phs, frp[:, b, :] * math.sin(bt.par["alpha"]))
+    a_loc = np.zeros_like(w_loc)
+    a_loc[1:-1] = (w_loc[2:] - 2 * w_loc[1:-1] + w_loc[:-2]) * fs_int ** 2
+    a_loc[0], a_loc[-1] = a_loc[1], a_loc[-2]
+    a_rad = a_rigid + a_loc
+    # window: from start - pre (filter settling) to start + duration
+    i_pre = int(np.searchsorted(t, r["start_s"] - pre - 0.5 / fs_int))
+    i_0 = int(np.searchsorted(t, r["start_s"] - 0.5 / fs_int))
+    nout = int(round(r["duration_s"] * fs))
+    gain = rigp["housing_gain"] * r.get("housing_gain_scale", 1.0)
+    acc = gain * accelerometer_chain(a_rad[i_pre:], fs_int, rigp["acc_resonance_Hz"],
+                                     rigp["acc_resonance_zeta"], rigp["acc_antialias_Hz"])
+    acc = acc[(i_0 - i_pre)::oversample][:nout]
+    # encoders at fs: angle samples from one sample before the record's start
+    ths_s = ths[i_pre:][::oversample]
+    thc_s = thc[i_pre:][::oversample]
+    w_s, _ = encoder_speed(ths_s, fs, rigp["encoder_lines"], rigp["encoder_interp"], rigp["encoder_lp_Hz"],
+                           zi_value=Om_s)
+    w_c, _ = encoder_speed(thc_s, fs, rigp["encoder_lines"], rigp["encoder_interp"], rigp["encoder_lp_Hz"],
+                           zi_value=Om_c)
+    k0 = (i_0 - i_pre) // oversample - 1      # w[j] belongs to sample j+1
+    theta_c0 = thc[i_0]
+    return dict(w_s=w_s[k0:k0 + nout], w_c=w_c[k0:k0 + nout], acc=acc, nout=nout, k0=k0, ths_s=ths_s,
+                thc_s=thc_s, theta_c0=theta_c0, theta_s0=ths[i_0], phs=phs,
+                sensor_angle_deg=(math.degrees(phs - theta_c0)) % 360.0, Om_s=Om_s, Om_c=Om_c)
+
+
+def simulate_batch(gs, recs, fs=10000.0, oversample=4, rig=None, rtol=1e-7, log=print):
+    """recs: list of dicts {case (for Batch), start_s, duration_s, noise_seed, housing_gain_scale,
+    sensor_angle_housing_deg}. Returns list of dicts with t, w_sun_rpm, w_carrier, acc_g,
+    sensor_angle_deg (sidecar, relative to planet 0 at the record's t = 0), theta_c0 and
+    noise-free channels."""
+    bt = Batch(gs, [r["case"] for r in recs], rig=rig)
+    t, cat, frp = integrate_stage(bt, recs, fs, oversample, rtol, log)
     rim = rim_parameters(bt)
     out = []
     for b, r in enumerate(recs):
-        Om_s, Om_c = bt.Om_s[b], bt.Om_c[b]
-        # absolute angles
-        ths = Om_s * t + cat["ths"][b]
-        thc = Om_c * t + cat["thc"][b]
-        # ring acceleration in the housing frame: X = R(Om_c t) x
-        ph = Om_c * t
-        ax = cat["ax"][b] - 2 * Om_c * cat["vy"][b] - Om_c ** 2 * cat["x"][b]
-        ay = cat["ay"][b] + 2 * Om_c * cat["vx"][b] - Om_c ** 2 * cat["y"][b]
-        AX = np.cos(ph) * ax - np.sin(ph) * ay
-        AY = np.sin(ph) * ax + np.cos(ph) * ay
-        phs = math.radians(r.get("sensor_angle_housing_deg", rigp["sensor_angle_housing_deg"]))
-        a_rigid = AX * math.cos(phs) + AY * math.sin(phs)
-        # local radial rim deflection at the sensor (quasi-static beam on elastic foundation)
-        w_loc = rim_deflection_at_sensor(rim, thc, bt.lin["psi"], phs, frp[:, b, :] * math.sin(bt.par["alpha"]))
-        a_loc = np.zeros_like(w_loc)
-        a_loc[1:-1] = (w_loc[2:] - 2 * w_loc[1:-1] + w_loc[:-2]) * fs_int ** 2
-        a_loc[0], a_loc[-1] = a_loc[1], a_loc[-2]
-        a_rad = a_rigid + a_loc
-        # window: from start - pre (filter settling) to start + duration
-        i_pre = int(np.searchsorted(t, r["start_s"] - pre - 0.5 / fs_int))
-        i_0 = int(np.searchsorted(t, r["start_s"] - 0.5 / fs_int))
-        nout = int(round(r["duration_s"] * fs))
-        gain = rigp["housing_gain"] * r.get("housing_gain_scale", 1.0)
-        acc = gain * accelerometer_chain(a_rad[i_pre:], fs_int, rigp["acc_resonance_Hz"],
-                                         rigp["acc_resonance_zeta"], rigp["acc_antialias_Hz"])
-        acc = acc[(i_0 - i_pre)::oversample][:nout]
-        # encoders at fs: angle samples from one sample before the record's start
-        ths_s = ths[i_pre:][::oversample]
-        thc_s = thc[i_pre:][::oversample]
-        w_s, _ = encoder_speed(ths_s, fs, rigp["encoder_lines"], rigp["encoder_interp"], rigp["encoder_lp_Hz"],
-                               zi_value=Om_s)
-        w_c, _ = encoder_speed(thc_s, fs, rigp["encoder_lines"], rigp["encoder_interp"], rigp["encoder_lp_Hz"],
-                               zi_value=Om_c)
-        k0 = (i_0 - i_pre) // oversample - 1      # w[j] belongs to sample j+1
-        w_s = w_s[k0:k0 + nout]
-        w_c = w_c[k0:k0 + nout]
+        sw = sensor_window(bt, t, cat, frp, rim, b, r, fs, oversample)
+        w_s, w_c, acc, nout = sw["w_s"], sw["w_c"], sw["acc"], sw["nout"]
         tt = np.arange(nout) / fs
         clean = dict(w_s=w_s.copy(), w_c=w_c.copy(), acc=acc.copy())
         rng = np.random.default_rng(r["noise_seed"])
@@ -866,9 +892,7 @@ def simulate_batch(gs, recs, fs=10000.0, oversample=4, rig=None, rtol=1e-7, log=
         acc_n = noisy(acc)
         dc = r.get("dc_offset_fraction", 0.0) * np.std(acc)
         acc_n = acc_n + dc
-        theta_c0 = thc[i_0]
-        sensor_deg = (math.degrees(phs - theta_c0)) % 360.0
         out.append(dict(t=tt, w_sun_rpm=w_s_n * 60 / TWO_PI, w_carrier=w_c_n, acc_g=acc_n / G0,
-                        clean=clean, sensor_angle_deg=sensor_deg, theta_c0=theta_c0,
-                        theta_s0=ths[i_0], fs=fs, Om_s=Om_s, Om_c=Om_c))
+                        clean=clean, sensor_angle_deg=sw["sensor_angle_deg"], theta_c0=sw["theta_c0"],
+                        theta_s0=sw["theta_s0"], fs=fs, Om_s=sw["Om_s"], Om_c=sw["Om_c"]))
     return out, bt
