@@ -1,15 +1,19 @@
 """Checks of the second independent simulator scripts/indepsim2/sim.py (pytest, < 30 s)."""
+import importlib.util
 import json
 import math
 import os
-import sys
 
 import numpy as np
 import pytest
 
 HERE = os.path.dirname(os.path.abspath(__file__))
-sys.path.insert(0, os.path.join(HERE, "..", "..", "scripts", "indepsim2"))
-import sim  # noqa: E402
+# Loaded under a name of its own: test_indepsim.py puts the first simulator's `sim` module into
+# sys.modules of the same pytest run, and a plain `import sim` would return that one.
+_SPEC = importlib.util.spec_from_file_location("indepsim2_sim",
+                                               os.path.join(HERE, "..", "..", "scripts", "indepsim2", "sim.py"))
+sim = importlib.util.module_from_spec(_SPEC)
+_SPEC.loader.exec_module(sim)
 
 
 def gearset(N=3, Zs=19, Zp=35, Zr=89, m=0.0025, b=0.04, mu=0.06, backlash=1.2e-5):
