@@ -111,6 +111,7 @@ std::string param_cell(const dg::FittedParameter& p) {
     s += " (model form ± " + g(p.model_form_std, 2) + unit + ": " + g(p.model_form_lower, 3) + " to " +
          g(p.model_form_upper, 3) + unit + ")";
   if (p.at_bound) s += " (at bound)";
+  if (p.transfer) s += " (how it reaches the sensors, not its size)";
   if (!p.size_conditional_on.empty()) s += " (the size for " + p.size_conditional_on + ")";
   return s;
 }

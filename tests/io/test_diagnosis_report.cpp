@@ -142,3 +142,46 @@ TEST(DiagnosisReport, AClassFindingNamesTheClassAndKeepsItsMembersSizeAndLead) {
   EXPECT_EQ(j2.at("missing_physics").get<std::string>(), "carrier_runout");
   EXPECT_TRUE(j2.at("finding_class").is_null());
 }
+
+TEST(DiagnosisReport, ASizesConditionAndATransferParameterReachTheJsonAndTheTable) {
+  // A torque ripple named on a rig whose input side the configuration leaves at the seed's law:
+  // the fraction is the size only for that input (ParameterSpec::size_conditional_on), the load
+  // inertia beside it says how the ripple reaches the sensors (ParameterSpec::transfer). Both
+  // statements reach report.json (the winner's fitted_parameters and its candidate entry) and the
+  // candidates table of report.md, as the summary carries them (test_verdict.cpp).
+  pw::test::TempDir tmp;
+  pw::io::ReportContext ctx;
+  ctx.plots_available = false;
+  auto d = with_one_plot();
+  pw::diagnose::CandidateResult ripple;
+  ripple.name = "torque_ripple";
+  pw::diagnose::FittedParameter fraction;
+  fraction.name = "torque_ripple_fraction";
+  fraction.unit = "1";
+  fraction.value = 0.0192;
+  fraction.std_error = 8e-5;
+  fraction.size_conditional_on = "the configured input";
+  pw::diagnose::FittedParameter inertia;
+  inertia.name = "stage.output_inertia_kgm2";
+  inertia.unit = "kg m^2";
+  inertia.value = 1.02;
+  inertia.std_error = 0.007;
+  inertia.transfer = true;
+  ripple.parameters = {fraction, inertia};
+  ripple.own_parameters = 2;
+  d.candidates.push_back(ripple);
+  d.winner = 0;
+  d.verdict = pw::diagnose::Verdict::MissingPhysicsFound;
+  d.lead.candidate = 0;
+  pw::io::write_diagnosis_report(tmp.path(), d, ctx);
+  const auto j = nlohmann::json::parse(read(tmp / "report.json"));
+  for (const auto* ps : {&j.at("fitted_parameters"), &j.at("candidates").at(0).at("parameters")}) {
+    EXPECT_EQ(ps->at(0).at("size_conditional_on").get<std::string>(), "the configured input");
+    EXPECT_FALSE(ps->at(0).contains("transfer"));
+    EXPECT_TRUE(ps->at(1).at("transfer").get<bool>());
+    EXPECT_FALSE(ps->at(1).contains("size_conditional_on"));
+  }
+  const std::string md = read(tmp / "report.md");
+  EXPECT_NE(md.find("(the size for the configured input)"), std::string::npos) << md;
+  EXPECT_NE(md.find("kg m^2 (how it reaches the sensors, not its size)"), std::string::npos) << md;
+}
