@@ -550,7 +550,6 @@ class Batch:
         dd = self.GT @ v
         Fd = gate * (C["beta"][None, :] * self.kbar) * C["kscale"][None, :] * dd
         # friction (arctan-smoothed Coulomb, pair-wise moment arms xi1, xi2)
-        Fs = np.zeros((0,))
         if np.any(C["mu"] != 0):
             w_s = C["Om_s"] - C["Om_c"] + v[IS + 2] - v[IC + 2]
             w_r = -C["Om_c"] + v[IR + 2] - v[IC + 2]

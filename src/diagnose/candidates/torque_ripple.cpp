@@ -35,7 +35,6 @@
 #include "diagnose/candidates/factories.hpp"
 #include "diagnose/candidates/rig_body.hpp"
 
-#include <algorithm>
 #include <cmath>
 #include <string>
 
