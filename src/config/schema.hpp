@@ -158,6 +158,9 @@ void visit_config(V& v, Config& c) {
   v.field("ring_N_m", c.bearings.ring_N_m, "ring support stiffness k_r [N/m]", above(0, "N/m"));
   v.field("planet_N_m", c.bearings.planet_N_m, "planet bearing stiffness k_p [N/m]", above(0, "N/m"));
   v.field("ring_torsional_N_m", c.bearings.ring_torsional_N_m, "ring torsional support k_ru [N/m]", above(0, "N/m"));
+  v.field("damping_ratio", c.bearings.damping_ratio,
+          "viscous damping ratio of every bearing and support, c = 2 zeta sqrt(k m) [-]; 0 = undamped (lateral_torsional only)",
+          interval(0, 1, Ends::Closed, "-"));
 
   v.section("solver");
   v.field("level", c.solver.level, "model: \"torsional\" or \"lateral_torsional\"");

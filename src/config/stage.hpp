@@ -171,6 +171,11 @@ struct BearingSettings {
   double ring_N_m = 1e8;      ///< k_r [N/m]
   double planet_N_m = 1e8;    ///< k_p [N/m]
   double ring_torsional_N_m = 1e9;  ///< k_ru [N/m] on u_r = r_br theta_r (Lin & Parker 1999 form); ring held torsionally
+  /// Viscous damping ratio zeta of every bearing and support [-]: a damper c = 2 zeta sqrt(k m)
+  /// in parallel with each spring, m the mass (inertia, for a torsional support) of the body it
+  /// holds, or the two bodies' reduced mass for a planet bearing. 0 (default): undamped supports,
+  /// Lin & Parker's model; damping then acts on the meshes alone.
+  double damping_ratio = 0.0;
 };
 
 /// Time integration and output.

@@ -194,6 +194,9 @@ struct Bearings {
   double sun_torsional_N_m = 0;      ///< k_su on u = r_bs theta [N/m] (0: free)
   double ring_torsional_N_m = 0;     ///< k_ru on u = r_br theta [N/m]
   double carrier_torsional_N_m = 0;  ///< k_cu on u = a theta [N/m]
+  /// Damping ratio of every support [-]: c = 2 zeta sqrt(k m), m the held body's mass (inertia
+  /// for a torsional support), the reduced mass of planet and carrier for a planet bearing.
+  double damping_ratio = 0;
 };
 
 /// Purely torsional model (seed Eq. 1 re-derived): q = (theta_s, theta_c,

@@ -231,6 +231,7 @@ PreparedStage prepare(const SimulationConfig& c) {
     b.ring_N_m = c.bearings.ring_N_m;
     b.planet_N_m = c.bearings.planet_N_m;
     b.ring_torsional_N_m = c.bearings.ring_torsional_N_m;
+    b.damping_ratio = c.bearings.damping_ratio;
     structure = dynamics::build_lateral_torsional(l, b, rig);
   }
 

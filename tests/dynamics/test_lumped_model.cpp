@@ -3,6 +3,7 @@
 #include "dynamics/lumped_model.hpp"
 #include "dynamics/modal.hpp"
 
+#include <Eigen/Eigenvalues>
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -145,4 +146,41 @@ TEST(LumpedModel, FrictionArmsAreFlankCurvatureRadiiAndVanishAtPitchPoint) {
   // The friction moment arm vectors h agree with the nominal sliding: the
   // sun's entry of h(xi) is the sun flank's radius of curvature, xi.
   EXPECT_NEAR(std::fabs((sp.h0 + 0.02 * sp.h1)(0)), 0.02, 1e-12);
+}
+
+// bearings.damping_ratio: every support gets c = 2 zeta sqrt(k m). With the meshes at zero
+// stiffness the sun's and the ring's supports hold single bodies, so each of their modes is a
+// one-degree-of-freedom oscillator whose damped eigenvalues satisfy |lambda| = sqrt(k/m) and
+// -Re(lambda)/|lambda| = zeta exactly (closed form); the state-space eigenvalues of the
+// assembled M, C, K must show both. zeta = 0 must leave the support damping exactly zero (the
+// default reproduces Lin & Parker's undamped supports bit for bit).
+TEST(LumpedModel, SupportDampingRatioGivesEachSingleBodySupportModeThatRatio) {
+  const StageLayout l = lin_parker_layout();
+  Bearings b;
+  b.sun_N_m = b.ring_N_m = b.carrier_N_m = b.planet_N_m = 1e8;
+  b.ring_torsional_N_m = 1e9;
+  EXPECT_EQ(build_lateral_torsional(l, b).support_damping.norm(), 0.0);
+  const double zeta = 0.05;
+  b.damping_ratio = zeta;
+  const LumpedStructure s = build_lateral_torsional(l, b);
+  const int n = s.dofs;
+  const Eigen::MatrixXd K = s.support_stiffness + mesh_stiffness_matrix(s, std::vector<double>(6, 0.0));
+  const Eigen::MatrixXd Minv = s.mass.inverse();
+  Eigen::MatrixXd A = Eigen::MatrixXd::Zero(2 * n, 2 * n);
+  A.topRightCorner(n, n) = Eigen::MatrixXd::Identity(n, n);
+  A.bottomLeftCorner(n, n) = -Minv * K;
+  A.bottomRightCorner(n, n) = -Minv * s.support_damping;
+  const Eigen::VectorXcd lambda = Eigen::EigenSolver<Eigen::MatrixXd>(A).eigenvalues();
+  // sun lateral, ring lateral, ring torsional (k_ru r^2 on I_r = m_eq r^2): sqrt(k/m) [rad/s]
+  const double omega[] = {std::sqrt(b.sun_N_m / l.sun_mass_kg), std::sqrt(b.ring_N_m / l.ring_mass_kg),
+                          std::sqrt(b.ring_torsional_N_m * std::pow(l.ring_base_radius_m, 2) / l.ring_inertia_kgm2)};
+  for (double w : omega) {
+    int found = 0;
+    for (Eigen::Index i = 0; i < lambda.size(); ++i)
+      if (std::abs(std::abs(lambda[i]) / w - 1) < 1e-9) {
+        ++found;
+        EXPECT_NEAR(-lambda[i].real() / std::abs(lambda[i]), zeta, 1e-9) << "mode at " << w << " rad/s";
+      }
+    EXPECT_GE(found, 2) << "no conjugate pair at the closed-form " << w << " rad/s";
+  }
 }
