@@ -102,7 +102,7 @@ TEST(ConfigToml, ConfigStructsHaveNoFieldsUnknownToTheSchema) {
     EXPECT_EQ(sizeof(model::ContactSettings), 72u);
     EXPECT_EQ(sizeof(model::ToothModifier), 32u);
     EXPECT_EQ(sizeof(model::Imperfections), 104u);
-    EXPECT_EQ(sizeof(model::BearingSettings), 40u);
+    EXPECT_EQ(sizeof(model::BearingSettings), 48u);  // + damping_ratio
     EXPECT_EQ(sizeof(model::SolverSettings), 80u);
     EXPECT_EQ(sizeof(model::WearSettings), 88u);  // + snapshot_record_mesh_cycles (int, padded)
     EXPECT_EQ(sizeof(model::SensorSettings), 48u);
