@@ -42,7 +42,8 @@ CLI::App* add_calibrate_command(CLI::App& app, CalibrateCommandOptions& o) {
                 "candidates fitted as nuisance parameters when the recording can see them (default: "
                 "encoder_bandwidth; motor_inertia, load_inertia (rigidly coupled machines) or input_shaft, "
                 "output_shaft (machines behind flexible shafts), tip_relief and mesh_stiffness_harmonics (the "
-                "stiffness law's shape) may be added, docs/diagnose.md section 6a; 'none' for none)")
+                "stiffness law's shape), bearing_damping (solver.level = lateral_torsional) may be added, "
+                "docs/diagnose.md section 6a; 'none' for none)")
       ->delimiter(',');
   c->add_option("--threads", o.threads, "OpenMP threads (default: OMP_NUM_THREADS or all cores)")
       ->check(CLI::Range(0, 1024));

@@ -473,6 +473,33 @@ TEST(Candidates, EveryCandidatesSetLinesReproduceTheConfigurationItsApplyWrites)
 } // namespace
 } // namespace pw::diagnose
 
+TEST(Candidates, BearingDampingActsOnlyOnTheLateralTorsionalModelAndIsAbsentAtTheConfiguredValue) {
+  const Candidate* c = find_candidate("bearing_damping");
+  ASSERT_NE(c, nullptr);
+  model::SimulationConfig b = stage(3);
+  EXPECT_FALSE(c->acts_on(b)) << "the torsional model has no bearings: the default diagnosis must not screen it";
+  b.solver.level = model::ModelLevel::LateralTorsional;
+  EXPECT_TRUE(c->acts_on(b));
+  EXPECT_TRUE(c->rig_design());
+  for (double configured : {0.0, 0.08}) {
+    b.bearings.damping_ratio = configured;
+    const std::vector<ParameterSpec> p = c->parameters(b);
+    ASSERT_EQ(p.size(), 1u);
+    EXPECT_EQ(p[0].null_value, configured) << "'absent' is the configured damping";
+    EXPECT_GE(p[0].lower, 0.0);
+    EXPECT_LE(p[0].upper, 1.0) << "inside the key's documented range [0, 1]";
+    EXPECT_GT(p[0].screen_value, configured) << "the screening step moves away from 'absent'";
+    EXPECT_GE(p[0].initial, p[0].lower);
+    EXPECT_LE(p[0].initial, p[0].upper);
+  }
+  std::vector<std::string> o;
+  const double x[] = {0.04};
+  c->apply(b, Variant{}, x, &o);
+  EXPECT_EQ(b.bearings.damping_ratio, 0.04);
+  ASSERT_EQ(o.size(), 1u);
+  EXPECT_EQ(o[0], "bearings.damping_ratio=0.04");
+}
+
 TEST(Candidates, OnlyTheMeshLevelCandidatesActOnTheMeshHarmonicsAlone) {
   // Verdict condition (e) treats two such candidates as aliases under a budget: the level
   // candidates are, every fault with a rotation family of its own (teeth, runouts, pin errors,

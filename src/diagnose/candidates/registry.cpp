@@ -51,6 +51,7 @@ const std::vector<std::unique_ptr<Candidate>>& candidate_library() {
     t.push_back(candidates::input_shaft());
     t.push_back(candidates::output_shaft());
     t.push_back(candidates::mesh_stiffness_harmonics());
+    t.push_back(candidates::bearing_damping());
     return t;
   }();
   return table;
