@@ -10,6 +10,26 @@ namespace {
 /// A chord iteration (an earlier step's factorization) that reduces the residual at least this
 /// much per iteration is kept; a weaker one refreshes the tangents (a pair entered contact).
 constexpr double kChordContraction = 0.1;
+
+// The vector updates below are plain loops over restrict pointers: Eigen's dynamic-size
+// assignment costs a size check and a vectorized loop's set-up on every call, more than the five
+// to eighteen doubles of a step's vectors (callgrind, session 41); without `restrict` GCC adds
+// run-time overlap checks to each loop instead. The same operations per entry as the Eigen
+// expressions they replace.
+
+/// dst = src (same length).
+inline void copy_n(const double* __restrict src, double* __restrict dst, int n) {
+  for (int i = 0; i < n; ++i) dst[i] = src[i];
+}
+/// out = x - lambda d, lambda d first as Eigen's `x - lambda * d` (lambda = 1 multiplies exactly).
+inline void subtract_scaled(const double* __restrict x, double lambda, const double* __restrict d,
+                            double* __restrict out, int n) {
+  for (int i = 0; i < n; ++i) out[i] = x[i] - lambda * d[i];
+}
+/// x -= d in place.
+inline void subtract_in_place(double* __restrict x, const double* __restrict d, int n) {
+  for (int i = 0; i < n; ++i) x[i] -= d[i];
+}
 } // namespace
 
 NewmarkSolver::NewmarkSolver(SecondOrderSystem& system, double dt_s, NewmarkScheme scheme, NewtonSettings newton)
@@ -50,16 +70,20 @@ double NewmarkSolver::residual(double t1, double& scale, bool tangents) {
     sys_.force(t1, q_, v_, g_, &K_, &C_);
   else
     sys_.force(t1, q_, v_, g_, nullptr, nullptr);
-  r_ = mass_diagonal_.cwiseProduct(a_);
+  const int n = static_cast<int>(r_.size());
+  double* __restrict r = r_.data();
+  const double* __restrict g = g_.data();
+  {
+    const double* __restrict md = mass_diagonal_.data();
+    const double* __restrict a = a_.data();
+    for (int i = 0; i < n; ++i) r[i] = md[i] * a[i];  // the diagonal of M a, as cwiseProduct
+  }
   // A lateral-torsional mass matrix has a few dozen off-diagonal non-zeros among 324 entries:
   // the dense product was 9 % of its step (perf, session 23).
   for (const MassEntry& e : mass_off_diagonal_) r_(e.row) += e.m * a_(e.col);
   // |M a|_inf, |g|_inf and |M a - g|_inf in one pass over the n entries (Eigen's three
   // reductions on a length-5 vector cost more in set-up than in arithmetic); max is exact, so
   // the figures are those of lpNorm<Infinity>. A NaN entry is caught by the finiteness test.
-  const int n = static_cast<int>(r_.size());
-  double* r = r_.data();
-  const double* g = g_.data();
   double ma = 0, gn = 0, res = 0;
   bool finite = true;
   for (int i = 0; i < n; ++i) {
@@ -108,7 +132,8 @@ int NewmarkSolver::step(NewmarkState& s) {
   // outside (or a halved step) starts from a_n instead.
   const int max_history = newton_.start == NewtonStart::Quadratic ? 2 : newton_.start == NewtonStart::Linear ? 1 : 0;
   const int history = s.t == t_end_ ? std::min(history_, max_history) : 0;
-  a_n_ = s.a;  // kept for the next step's extrapolation
+  a_n_.resize(s.a.size());  // kept for the next step's extrapolation (a no-op at the same length)
+  copy_n(s.a.data(), a_n_.data(), static_cast<int>(s.a.size()));
   int it = attempt(s, history);
   if (it < 0) it = halved_steps(s, 1);
   ++stats_.steps;
@@ -175,11 +200,14 @@ int NewmarkSolver::attempt(NewmarkState& s, int history) {
     ++evaluations;
     return residual(t1, scale, tangents);
   };
+  const int n = static_cast<int>(a_.size());
+  // The accepted iterate is handed over by swapping storage, not copied: q_, v_ and a_ are
+  // written whole by the next attempt's predict() and set_iterate() before they are read.
   auto accept = [&] {
     s.t = t1;
-    s.q = q_;
-    s.v = v_;
-    s.a = a_;
+    s.q.swap(q_);
+    s.v.swap(v_);
+    s.a.swap(a_);
     stats_.force_evaluations += evaluations;
     return evaluations;
   };
@@ -194,23 +222,25 @@ int NewmarkSolver::attempt(NewmarkState& s, int history) {
   bool fresh = false;  // the factorization belongs to this state
   for (int it = 1; it <= newton_.max_iterations; ++it) {
     if (res <= newton_.relative_tolerance * scale) return accept();
-    a_prev_ = a_;
+    // a_prev_ = a_ by a swap: every path below writes a_ whole before reading it (the chord
+    // update, the line search) or copies a_prev_ back.
+    a_prev_.swap(a_);
     if (!fresh) {
       lu_.apply_inverse(r_, da_);
-      a_ = a_prev_ - da_;
+      subtract_scaled(a_prev_.data(), 1.0, da_.data(), a_.data(), n);
       const double trial = evaluate(false);
       if (trial < kChordContraction * res) {
         const double tolerance = newton_.relative_tolerance * scale;
         if (newton_.predicted_stop && trial > tolerance && trial * (trial / res) <= tolerance) {
           lu_.apply_inverse(r_, da_);  // r_ is the residual at a_: one more chord update, not evaluated
-          a_ -= da_;
+          subtract_in_place(a_.data(), da_.data(), n);
           set_iterate(b * dt * dt, gm * dt);
           return accept();
         }
         res = trial;
         continue;
       }
-      a_ = a_prev_;
+      copy_n(a_prev_.data(), a_.data(), n);  // a_prev_ stays the line search's base
       res = evaluate(true);
       factor_jacobian();
       fresh = true;
@@ -222,7 +252,7 @@ int NewmarkSolver::attempt(NewmarkState& s, int history) {
     // the pitch point, where the sliding speed changes sign.
     double lambda = 1.0;
     for (int ls = 0; ls < 12; ++ls) {
-      a_ = a_prev_ - lambda * da_;
+      subtract_scaled(a_prev_.data(), lambda, da_.data(), a_.data(), n);
       const double trial = evaluate(false);
       if (trial < (1.0 - 1e-4 * lambda) * res || ls == 11) {
         res = trial;
