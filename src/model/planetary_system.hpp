@@ -170,13 +170,10 @@ private:
   /// update_contact_geometry for mesh m of NE coupled coordinates (0: any, SparseCoupling::entries).
   template <int NE>
   void update_mesh_geometry(int m, double t, const Eigen::Vector2d& sun_runout_m);
-  /// Adds mesh m's normal, damping and friction forces at (q, v) to g (and tangents).
-  void add_mesh_force(int m, const Eigen::VectorXd& q, const Eigen::VectorXd& v, Eigen::VectorXd& g,
-                      Eigen::MatrixXd* K, Eigen::MatrixXd* C);
-  /// add_mesh_force for meshes of NE coupled coordinates (0: any, SparseCoupling::entries).
+  /// Adds mesh m's normal, damping and friction forces at (q, v) to g (and tangents), for meshes
+  /// of NE coupled coordinates (0: any, SparseCoupling::entries); q, v, g the vectors' data.
   template <int NE>
-  void add_mesh_force_n(int m, const Eigen::VectorXd& q, const Eigen::VectorXd& v, Eigen::VectorXd& g,
-                        Eigen::MatrixXd* K, Eigen::MatrixXd* C);
+  void add_mesh_force_n(int m, const double* q, const double* v, double* g, Eigen::MatrixXd* K, Eigen::MatrixXd* C);
   const FlankSet& flank_a(int mesh) const;
   const FlankSet& flank_b(int mesh) const;
   /// Displacement of the sun by its runout at time t (carrier frame) [m]; zero without one.
