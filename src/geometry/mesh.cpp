@@ -204,12 +204,6 @@ MeshGeometry make_mesh(const GearSpec& a, const GearSpec& b, double centre_dista
   return m;
 }
 
-double curvature_radius_a(const MeshGeometry&, double xi_m) { return xi_m; }
-
-double curvature_radius_b(const MeshGeometry& mesh, double xi_m) {
-  return mesh.kind == GearKind::Internal ? mesh.tangent_distance_m + xi_m : mesh.tangent_distance_m - xi_m;
-}
-
 double contact_radius_a(const MeshGeometry& mesh, double xi_m) {
   return std::hypot(mesh.base_radius_a_m, curvature_radius_a(mesh, xi_m));
 }

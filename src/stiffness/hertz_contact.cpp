@@ -9,10 +9,6 @@ double contact_modulus(double E1, double nu1, double E2, double nu2) {
   return 1.0 / ((1 - nu1 * nu1) / E1 + (1 - nu2 * nu2) / E2);
 }
 
-double equivalent_radius(double rho_a, double rho_b, bool internal) {
-  return internal ? 1.0 / (1.0 / rho_a - 1.0 / rho_b) : 1.0 / (1.0 / rho_a + 1.0 / rho_b);
-}
-
 HertzLineContact hertz_line_contact(double w, double R, double Es) {
   HertzLineContact h;
   if (w <= 0) return h;

@@ -15,8 +15,11 @@ struct HertzLineContact {
 double contact_modulus(double E1_Pa, double nu1, double E2_Pa, double nu2);
 
 /// Equivalent radius [m]: 1/R = 1/rho_a + 1/rho_b (external, convex-convex)
-/// or 1/rho_a - 1/rho_b (internal: the ring flank is concave, rho_b > rho_a).
-double equivalent_radius(double rho_a_m, double rho_b_m, bool internal);
+/// or 1/rho_a - 1/rho_b (internal: the ring flank is concave, rho_b > rho_a). Inline for the
+/// mesh-load summary's per-pair, per-step use (see geometry::curvature_radius_a).
+inline double equivalent_radius(double rho_a_m, double rho_b_m, bool internal) {
+  return internal ? 1.0 / (1.0 / rho_a_m - 1.0 / rho_b_m) : 1.0 / (1.0 / rho_a_m + 1.0 / rho_b_m);
+}
 
 /// a = sqrt(4 F' R / (pi E*)) for load per unit width F' [N/m] >= 0 (Johnson Eq. 4.45).
 HertzLineContact hertz_line_contact(double load_per_width_N_m, double radius_m, double contact_modulus_Pa);
