@@ -97,6 +97,10 @@ void visit_config(V& v, Config& c) {
   v.field("planet_angles_rad", c.stage.planet_angles_rad, "planet angles psi_i [rad]; [] = equally spaced", rule("rad; [] or one per planet, the first 0, increasing, below 2 pi"));
   v.field("carrier_inertia_kgm2", c.stage.carrier_inertia_kgm2, "carrier inertia without planets [kg m^2]; 0 = derived", at_least(0, "kg m^2; 0 = derived"));
   v.field("carrier_mass_kg", c.stage.carrier_mass_kg, "carrier mass without planets [kg]; 0 = derived", at_least(0, "kg; 0 = derived"));
+  v.field("sun_inertia_kgm2", c.stage.sun_inertia_kgm2, "sun inertia with its shaft or hub [kg m^2]; 0 = derived", at_least(0, "kg m^2; 0 = derived"));
+  v.field("sun_mass_kg", c.stage.sun_mass_kg, "sun mass with its shaft or hub [kg]; 0 = derived", at_least(0, "kg; 0 = derived"));
+  v.field("ring_inertia_kgm2", c.stage.ring_inertia_kgm2, "ring inertia with its housing [kg m^2]; 0 = derived", at_least(0, "kg m^2; 0 = derived"));
+  v.field("ring_mass_kg", c.stage.ring_mass_kg, "ring mass with its housing [kg]; 0 = derived", at_least(0, "kg; 0 = derived"));
   v.field("input_inertia_kgm2", c.stage.input_inertia_kgm2,
           "inertia on the input shaft besides the sun (motor, coupling) [kg m^2]", at_least(0, "kg m^2"));
   v.field("output_inertia_kgm2", c.stage.output_inertia_kgm2,

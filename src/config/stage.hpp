@@ -33,6 +33,15 @@ struct StageSpec {
   /// (docs/derivation.md: two steel side plates of radius 1.2 a, 10 mm thick).
   double carrier_inertia_kgm2 = 0.0;
   double carrier_mass_kg = 0.0;  ///< without planets [kg]; 0: derived as above
+  /// Sun torsional inertia with what turns rigidly with it (its shaft, a hub) [kg m^2]. 0:
+  /// derived (docs/derivation.md: a steel disc from the bore to the reference circle).
+  double sun_inertia_kgm2 = 0.0;
+  double sun_mass_kg = 0.0;  ///< sun mass with its shaft or hub [kg] (lateral_torsional); 0: derived as above
+  /// Ring torsional inertia with what is fixed to it (housing) [kg m^2]; 0: derived (a steel
+  /// rim three modules thick beyond the root circle). Lateral_torsional only (the ring is fixed
+  /// in the torsional model).
+  double ring_inertia_kgm2 = 0.0;
+  double ring_mass_kg = 0.0;  ///< ring mass with its housing [kg] (lateral_torsional); 0: derived as above
   /// Inertia on the input shaft besides the sun (motor rotor, coupling)
   /// [kg m^2]; 0 (the seed's model: the sun alone takes the input power).
   double input_inertia_kgm2 = 0.0;

@@ -144,6 +144,8 @@ MassProperties mass_properties(const SimulationConfig& c, const geometry::StageG
     inertia = 0.5 * mass * (ro * ro + ri * ri);
   };
   disc(st.sun, g.sun, m.sun_mass_kg, m.sun_inertia_kgm2);
+  if (st.sun_mass_kg > 0) m.sun_mass_kg = st.sun_mass_kg;
+  if (st.sun_inertia_kgm2 > 0) m.sun_inertia_kgm2 = st.sun_inertia_kgm2;
   // A rigid input shaft adds the motor to the sun; a flexible one puts it on its own coordinate.
   if (c.rig.input_shaft_stiffness_N_m_rad == 0) m.sun_inertia_kgm2 += st.input_inertia_kgm2;
   disc(st.planet, g.planet, m.planet_mass_kg, m.planet_inertia_kgm2);
@@ -155,6 +157,8 @@ MassProperties mass_properties(const SimulationConfig& c, const geometry::StageG
   const double ri = g.ring.root_radius_m, ro = ri + 3 * st.ring.module_m;
   m.ring_mass_kg = annulus_mass(st.ring.material.density_kg_m3, ro, ri, st.ring.face_width_m);
   m.ring_inertia_kgm2 = 0.5 * m.ring_mass_kg * (ro * ro + ri * ri);
+  if (st.ring_mass_kg > 0) m.ring_mass_kg = st.ring_mass_kg;
+  if (st.ring_inertia_kgm2 > 0) m.ring_inertia_kgm2 = st.ring_inertia_kgm2;
   return m;
 }
 

@@ -586,3 +586,23 @@ TEST(Rig, ShaftWithoutAMachineInertiaSpeedControlWithoutAShaftOrALoopWithoutItsG
     EXPECT_NE(std::string(e.what()).find("speed_loop"), std::string::npos) << e.what();
   }
 }
+
+TEST(Rig, StatedSunAndRingMassPropertiesReplaceTheDerivedOnesAndARigidMotorAddsToTheSun) {
+  // stage.sun_* and stage.ring_* (0 = derived) state what turns with the gear (a sun shaft or hub,
+  // a ring's housing); a motor on a rigid input shaft still adds to the sun's stated inertia.
+  SimulationConfig c = fast_seed();
+  const pw::geometry::StageGeometry g = pw::geometry::make_stage_geometry(c.stage);
+  const MassProperties derived = mass_properties(c, g);
+  c.stage.sun_inertia_kgm2 = 3 * derived.sun_inertia_kgm2;
+  c.stage.sun_mass_kg = 3 * derived.sun_mass_kg;
+  c.stage.ring_inertia_kgm2 = 2 * derived.ring_inertia_kgm2;
+  c.stage.ring_mass_kg = 2 * derived.ring_mass_kg + 5.0;
+  const MassProperties stated = mass_properties(c, g);
+  EXPECT_EQ(stated.sun_inertia_kgm2, 3 * derived.sun_inertia_kgm2);
+  EXPECT_EQ(stated.sun_mass_kg, 3 * derived.sun_mass_kg);
+  EXPECT_EQ(stated.ring_inertia_kgm2, 2 * derived.ring_inertia_kgm2);
+  EXPECT_EQ(stated.ring_mass_kg, 2 * derived.ring_mass_kg + 5.0);
+  EXPECT_EQ(stated.planet_inertia_kgm2, derived.planet_inertia_kgm2) << "the planets stay derived";
+  c.stage.input_inertia_kgm2 = 0.01;  // rigid input shaft: the motor turns with the sun
+  EXPECT_DOUBLE_EQ(mass_properties(c, g).sun_inertia_kgm2, 3 * derived.sun_inertia_kgm2 + 0.01);
+}
