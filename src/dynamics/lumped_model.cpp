@@ -50,7 +50,7 @@ void check_layout(const StageLayout& l) {
 /// Viscous damper of a support of stiffness k [N/m or N m/rad] holding a body of mass (or
 /// inertia) m at damping ratio zeta: c = 2 zeta sqrt(k m), the single-degree-of-freedom
 /// oscillator's; 0 when zeta is 0, so that undamped supports stay exactly undamped.
-double support_damping(double zeta, double k, double m) { return zeta > 0 ? 2 * zeta * std::sqrt(k * m) : 0.0; }
+double damper_for_ratio(double zeta, double k, double m) { return zeta > 0 ? 2 * zeta * std::sqrt(k * m) : 0.0; }
 
 /// The rig's machines and shafts (RigLayout): bodies on their own rotation
 /// coordinates from `first_dof` on, and the shaft springs with their dampers.
@@ -335,7 +335,7 @@ LumpedStructure build_lateral_torsional(const StageLayout& l, const Bearings& k,
       sp.point_m = l.carrier_radius_m * er;
       sp.direction = d;
       sp.stiffness = k.planet_N_m;
-      sp.damping = support_damping(k.damping_ratio, k.planet_N_m,
+      sp.damping = damper_for_ratio(k.damping_ratio, k.planet_N_m,
                                    l.planet_mass_kg * l.carrier_mass_kg / (l.planet_mass_kg + l.carrier_mass_kg));
       s.springs.push_back(sp);
     }
@@ -347,7 +347,7 @@ LumpedStructure build_lateral_torsional(const StageLayout& l, const Bearings& k,
       sp.body_a = body;
       sp.direction = d;
       sp.stiffness = kk;
-      sp.damping = support_damping(k.damping_ratio, kk, s.bodies[static_cast<std::size_t>(body)].mass_kg);
+      sp.damping = damper_for_ratio(k.damping_ratio, kk, s.bodies[static_cast<std::size_t>(body)].mass_kg);
       s.springs.push_back(sp);
     }
   };
@@ -363,7 +363,7 @@ LumpedStructure build_lateral_torsional(const StageLayout& l, const Bearings& k,
     sp.body_a = body;
     sp.torsional = true;
     sp.stiffness = ku * r * r;
-    sp.damping = support_damping(k.damping_ratio, sp.stiffness, s.bodies[static_cast<std::size_t>(body)].inertia_kgm2);
+    sp.damping = damper_for_ratio(k.damping_ratio, sp.stiffness, s.bodies[static_cast<std::size_t>(body)].inertia_kgm2);
     s.springs.push_back(sp);
   };
   ground_theta(s.sun_body, k.sun_torsional_N_m, l.sun_base_radius_m, "sun_torsional");

@@ -112,7 +112,7 @@ struct LumpedStructure {
   std::vector<Spring> springs;
   Eigen::MatrixXd mass;              ///< assembled M
   Eigen::MatrixXd support_stiffness; ///< assembled bearing / support springs
-  Eigen::MatrixXd support_damping;   ///< assembled dampers of the springs (rig shafts)
+  Eigen::MatrixXd support_damping;   ///< assembled dampers of the springs (rig shafts; supports when bearings.damping_ratio > 0)
   int sun_body = 0, carrier_body = 0, ring_body = 0;
   /// Bodies the input and load torques act on: the motor and load machine when they sit
   /// behind flexible shafts (RigLayout), else the sun and carrier themselves.

@@ -135,7 +135,8 @@ MassProperties mass_properties(const SimulationConfig& c, const geometry::StageG
   // Sun and planets: steel discs between a bore (bore_ratio x root radius)
   // and the reference circle (teeth counted as half material). Carrier: two
   // side plates of radius 1.2 a', 10 mm thick. Ring: rim 3 modules thick
-  // beyond the root circle. The seed gives none of these (REFERENCE.md).
+  // beyond the root circle. The seed gives none of these (REFERENCE.md). A mass or
+  // inertia the configuration states (stage.sun_*, carrier_*, ring_*: > 0) replaces its estimate.
   MassProperties m;
   const auto& st = c.stage;
   auto disc = [&](const geometry::GearSpec& s, const geometry::GearGeometry& gg, double& mass, double& inertia) {
