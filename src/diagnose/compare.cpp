@@ -583,8 +583,80 @@ double ModelComparison::replicate_chi2(const std::vector<double>& gains_in) cons
   return chi2_of(r, 1, gains, fidelity_response(nullptr, gains), nullptr);
 }
 
-double ModelComparison::null_quantile(const std::vector<std::vector<double>>& m, const std::vector<double>& gains_in,
-                                      Half half, double alpha, int fitted_parameters, FidelityDraw draw) const {
+struct ModelComparison::Chi2Plan {
+  std::size_t q = 0;                 // fidelity columns + the drift column
+  std::vector<double> inv_d, sqrt_d;  // [feature]: 1 / D_i, sqrt(D_i) of the window
+  std::vector<double> u;              // [feature * q + column]: chi2_of's uval
+  Eigen::MatrixXd A;
+  Eigen::VectorXd b, z;
+  Eigen::LDLT<Eigen::MatrixXd, Eigen::Lower> ldlt;
+};
+
+namespace {
+/// The (1 - alpha) quantile of sorted draws, as every null of this file takes it.
+double upper_quantile(std::vector<double>& chi, double alpha) {
+  std::sort(chi.begin(), chi.end());
+  const std::size_t idx =
+      std::min(chi.size() - 1, static_cast<std::size_t>(std::ceil((1 - alpha) * static_cast<double>(chi.size()))));
+  return chi[idx];
+}
+} // namespace
+
+ModelComparison::Chi2Plan ModelComparison::chi2_plan(int w, const std::vector<double>& response) const {
+  // chi2_of's per-feature constants for a run of residuals scored on one window with one
+  // response: the same values it computes per call (1 / D, sqrt D, the fidelity columns), so
+  // chi2_planned returns its numbers to the last bit.
+  Chi2Plan p;
+  const auto& drift = drift_[static_cast<std::size_t>(w)];
+  const auto& D = d_[static_cast<std::size_t>(w)];
+  const std::size_t m = D.size();
+  p.q = u_.size() + (drift.empty() ? 0 : 1);
+  p.inv_d.resize(m);
+  p.sqrt_d.resize(m);
+  p.u.resize(m * p.q);
+  for (std::size_t f = 0; f < m; ++f) {
+    p.inv_d[f] = 1.0 / D[f];
+    p.sqrt_d[f] = std::sqrt(D[f]);
+    for (std::size_t a = 0; a < p.q; ++a) p.u[f * p.q + a] = a < u_.size() ? fidelity_value(a, f, response) : drift[f];
+  }
+  const auto qi = static_cast<Eigen::Index>(p.q);
+  p.A.resize(qi, qi);
+  p.b.resize(qi);
+  p.z.resize(qi);
+  p.ldlt = Eigen::LDLT<Eigen::MatrixXd, Eigen::Lower>(qi);
+  return p;
+}
+
+double ModelComparison::chi2_planned(Chi2Plan& p, const std::vector<double>& r) {
+  // chi2_of without its report (out == nullptr), operation for operation.
+  const std::size_t m = r.size(), q = p.q;
+  p.A.setIdentity();
+  p.b.setZero();
+  for (std::size_t f = 0; f < m; ++f) {
+    const double id = p.inv_d[f];
+    const double* uf = &p.u[f * q];
+    for (std::size_t a = 0; a < q; ++a) {
+      const double ua = uf[a];
+      p.b(static_cast<Eigen::Index>(a)) += ua * id * r[f];
+      for (std::size_t bb = 0; bb <= a; ++bb) p.A(static_cast<Eigen::Index>(a), static_cast<Eigen::Index>(bb)) += ua * id * uf[bb];
+    }
+  }
+  p.z.setZero();
+  if (q > 0) p.z = p.ldlt.compute(p.A).solve(p.b);
+  double chi2 = p.z.squaredNorm();
+  for (std::size_t f = 0; f < m; ++f) {
+    double e = r[f];
+    const double* uf = &p.u[f * q];
+    for (std::size_t a = 0; a < q; ++a) e -= uf[a] * p.z(static_cast<Eigen::Index>(a));
+    const double rho = e / p.sqrt_d[f];
+    chi2 += rho * rho;
+  }
+  return chi2;
+}
+
+ModelComparison::NullDraws ModelComparison::null_draws(const std::vector<std::vector<double>>& m,
+                                                       const std::vector<double>& gains_in, Half half,
+                                                       int fitted_parameters, bool folded, bool linear) const {
   const int w = window_index(half);
   const int nc = channels(), ncell = cells();
   std::vector<double> gains = gains_in;
@@ -593,34 +665,68 @@ double ModelComparison::null_quantile(const std::vector<std::vector<double>>& m,
   const auto& drift = drift_[static_cast<std::size_t>(w)];
   std::vector<double> a(nf), mu(nf);
   const std::vector<double> response = fidelity_response(&m, gains);
-  for (int c = 0; c < nc; ++c)
-    for (int i = 0; i < ncell; ++i) {
-      const std::size_t f = static_cast<std::size_t>(c * ncell + i);
-      a[f] = model_amplitude(m, c, i, gains[static_cast<std::size_t>(c)]);
-      mu[f] = rice_mean(a[f], s2_[f]);
-    }
-  std::mt19937_64 rng(opt_.seed + static_cast<std::uint64_t>(w));
-  std::normal_distribution<double> nd(0.0, 1.0);
-  std::vector<double> chi(static_cast<std::size_t>(opt_.null_draws));
-  std::vector<double> r(nf);
   // The noise estimates are uncertain too: each draw scales the true noise of every group of
   // cells that shares one estimate by 1 + eps, eps ~ N(0, relative standard error^2).
   int groups = 1;
   for (const auto& g : spec_.noise_group)
     for (int v : g) groups = std::max(groups, v + 1);
+  // What every draw shares, per feature f = (channel c, cell i): fixed before the draws (the
+  // same values the draw loop computed per draw before, so the draws keep their numbers).
+  struct Feature {
+    double half_s2 = 0, noise_rse = 0, disc_sd = 0, abs_sd = 0, offset_sd = 0, leak_sd = 0, drift = 0;
+    std::size_t eps_index = 0;
+    bool disc = false, abs = false, offset = false, leak = false;
+  };
+  std::vector<Feature> ft(nf);
+  std::vector<double> fid(nf * q);  // fidelity column k at feature f: fid[f q + k]
+  for (int c = 0; c < nc; ++c)
+    for (int i = 0; i < ncell; ++i) {
+      const std::size_t f = static_cast<std::size_t>(c * ncell + i);
+      a[f] = model_amplitude(m, c, i, gains[static_cast<std::size_t>(c)]);
+      mu[f] = rice_mean(a[f], s2_[f]);
+      Feature& e = ft[f];
+      e.half_s2 = 0.5 * s2_[f];
+      e.noise_rse = spec_.noise_relative_se[c][i];
+      e.eps_index = static_cast<std::size_t>(c) * static_cast<std::size_t>(groups) +
+                    static_cast<std::size_t>(spec_.noise_group[c][i]);
+      e.disc = disc_[f] > 0;
+      e.disc_sd = disc_sd_[f];
+      e.abs = disc_abs_[f] > 0;
+      if (e.abs) e.abs_sd = std::sqrt(disc_abs_[f]);
+      e.offset = offset_var_[f] > 0;
+      if (e.offset) e.offset_sd = std::sqrt(offset_variance(f, a[f]));
+      e.leak = !leak_.empty() && leak_[f] > 0;
+      if (e.leak) e.leak_sd = std::sqrt(leak_[f]);
+      e.drift = drift.empty() ? 0.0 : drift[f];
+      for (std::size_t k = 0; k < q; ++k) fid[f * q + k] = fidelity_value(k, f, response);
+    }
+  std::mt19937_64 rng(opt_.seed + static_cast<std::uint64_t>(w));
+  std::normal_distribution<double> nd(0.0, 1.0);
+  NullDraws out;
+  const auto draws = static_cast<std::size_t>(opt_.null_draws);
+  if (folded) out.folded.resize(draws);
+  if (linear) out.linear.resize(draws);
+  std::vector<double> r_fold(folded ? nf : 0), r_lin(linear ? nf : 0);
   std::vector<double> eps(static_cast<std::size_t>(nc * groups));
-  for (int d = 0; d < opt_.null_draws; ++d) {
-    std::vector<double> z(q);
+  std::vector<double> z(q);
+  Chi2Plan plan = chi2_plan(w, response);
+  // Both fidelity forms (FidelityDraw) from one sequence of random numbers: each number is drawn
+  // once, in the order a single form's draw takes it, and enters both, so each form's draws are
+  // those a call for it alone makes.
+  for (std::size_t d = 0; d < draws; ++d) {
     for (double& v : z) v = nd(rng);
     for (double& v : eps) v = nd(rng);
     const double zd = drift.empty() ? 0.0 : nd(rng);
     for (std::size_t f = 0; f < nf; ++f) {
-      const std::size_t c = f / static_cast<std::size_t>(ncell), i = f % static_cast<std::size_t>(ncell);
+      const Feature& e = ft[f];
+      const double* uf = &fid[f * q];
       // Accumulated term by term into the line as before the linear mode existed, so the folded
       // null keeps its numbers to the last bit.
-      double af = a[f], fidelity = 0;
-      double& into = draw == FidelityDraw::Folded ? af : fidelity;
-      for (std::size_t k = 0; k < q; ++k) into += z[k] * fidelity_value(k, f, response);
+      double af_fold = a[f], af_lin = a[f], fidelity = 0;
+      if (folded)
+        for (std::size_t k = 0; k < q; ++k) af_fold += z[k] * uf[k];
+      if (linear)
+        for (std::size_t k = 0; k < q; ++k) fidelity += z[k] * uf[k];
       // Calibrated discrepancy: a relative amplitude error per cell (drawn only when present,
       // so that uncalibrated draws keep their random sequence), of the size V allows for it:
       // relative to the reference model's amplitude. Drawn relative to the scored model's own
@@ -629,41 +735,72 @@ double ModelComparison::null_quantile(const std::vector<std::vector<double>>& m,
       // by V, never charges: measured, an independent recording's pin errors, fitted far from
       // the truth with 96x the noise bound left, passed their own bound of 850x the noise bound
       // (docs/diagnose-log.md, session 16).
-      if (disc_[f] > 0) af += disc_sd_[f] * nd(rng);
-      af = std::fabs(af);
-      const double scale = std::max(0.1, 1 + spec_.noise_relative_se[c][i] *
-                                                 eps[c * static_cast<std::size_t>(groups) +
-                                                     static_cast<std::size_t>(spec_.noise_group[c][i])]);
-      const double s = std::sqrt(0.5 * s2_[f] * scale);
-      const double x = af + s * nd(rng), y = s * nd(rng);
-      r[f] = std::hypot(x, y) - mu[f] + (drift.empty() ? 0.0 : zd * drift[f]);
-      if (draw == FidelityDraw::Linear) r[f] += fidelity;
+      if (e.disc) {
+        const double nd_disc = nd(rng);
+        af_fold += e.disc_sd * nd_disc;
+        af_lin += e.disc_sd * nd_disc;
+      }
+      af_fold = std::fabs(af_fold);
+      af_lin = std::fabs(af_lin);
+      const double scale = std::max(0.1, 1 + e.noise_rse * eps[e.eps_index]);
+      const double s = std::sqrt(e.half_s2 * scale);
+      const double nx = nd(rng);
+      const double y = s * nd(rng);
+      const double drift_term = drift.empty() ? 0.0 : zd * e.drift;
+      double extra[3];  // the additive terms below, in their order of drawing
+      int n_extra = 0;
       // Calibrated absolute discrepancy: excess variance of the amplitude residual itself.
-      if (disc_abs_[f] > 0) r[f] += std::sqrt(disc_abs_[f]) * nd(rng);
+      if (e.abs) extra[n_extra++] = e.abs_sd * nd(rng);
       // The baseline offset's estimation error (differential diagnosis; drawn only when present).
-      if (offset_var_[f] > 0) r[f] += std::sqrt(offset_variance(f, a[f])) * nd(rng);
+      if (e.offset) extra[n_extra++] = e.offset_sd * nd(rng);
       // The model's window-start variance (halves of Q mesh cycles; drawn only when present).
-      if (!leak_.empty() && leak_[f] > 0) r[f] += std::sqrt(leak_[f]) * nd(rng);
+      if (e.leak) extra[n_extra++] = e.leak_sd * nd(rng);
+      if (folded) {
+        double rf = std::hypot(af_fold + s * nx, y) - mu[f] + drift_term;
+        for (int k = 0; k < n_extra; ++k) rf += extra[k];
+        r_fold[f] = rf;
+      }
+      if (linear) {
+        double rl = std::hypot(af_lin + s * nx, y) - mu[f] + drift_term;
+        rl += fidelity;
+        for (int k = 0; k < n_extra; ++k) rl += extra[k];
+        r_lin[f] = rl;
+      }
     }
-    chi[static_cast<std::size_t>(d)] = chi2_of(r, w, gains, response, nullptr);
+    if (folded) out.folded[d] = chi2_planned(plan, r_fold);
+    if (linear) out.linear[d] = chi2_planned(plan, r_lin);
     // Parameters fitted on the other window (see the header): + 2 chi2(k), drawn after this
     // draw's other numbers so that k = 0 reproduces the plain null exactly.
     for (int k = 0; k < fitted_parameters; ++k) {
       const double v = nd(rng);
-      chi[static_cast<std::size_t>(d)] += 2 * v * v;
+      if (folded) out.folded[d] += 2 * v * v;
+      if (linear) out.linear[d] += 2 * v * v;
     }
   }
-  std::sort(chi.begin(), chi.end());
-  const std::size_t idx = std::min(chi.size() - 1, static_cast<std::size_t>(std::ceil((1 - alpha) * static_cast<double>(chi.size()))));
-  return chi[idx];
+  return out;
+}
+
+double ModelComparison::null_quantile(const std::vector<std::vector<double>>& m, const std::vector<double>& gains,
+                                      Half half, double alpha, int fitted_parameters, FidelityDraw draw) const {
+  const bool folded = draw == FidelityDraw::Folded;
+  NullDraws d = null_draws(m, gains, half, fitted_parameters, folded, !folded);
+  return upper_quantile(folded ? d.folded : d.linear, alpha);
+}
+
+ModelComparison::NullPair ModelComparison::null_quantiles(const std::vector<std::vector<double>>& m,
+                                                          const std::vector<double>& gains, Half half, double alpha,
+                                                          int fitted_parameters) const {
+  NullDraws d = null_draws(m, gains, half, fitted_parameters, true, true);
+  return {upper_quantile(d.folded, alpha), upper_quantile(d.linear, alpha)};
 }
 
 ModelComparison::OwnNull ModelComparison::own_null(const std::vector<std::vector<double>>& m,
                                                    const std::vector<double>& gains, Half half, double alpha,
                                                    int fitted_parameters) const {
+  const NullPair p = null_quantiles(m, gains, half, alpha, fitted_parameters);
   OwnNull n;
-  n.folded = null_quantile(m, gains, half, alpha, fitted_parameters, FidelityDraw::Folded);
-  n.bound = std::min(n.folded, null_quantile(m, gains, half, alpha, fitted_parameters, FidelityDraw::Linear));
+  n.folded = p.folded;
+  n.bound = std::min(n.folded, p.linear);
   return n;
 }
 

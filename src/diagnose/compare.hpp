@@ -255,6 +255,13 @@ public:
   };
   OwnNull own_null(const std::vector<std::vector<double>>& model_amplitude, const std::vector<double>& gains,
                    Half half, double alpha, int fitted_parameters) const;
+  /// The folded and the linear null_quantile of one model from one pass over the draws (both
+  /// forms take the same random numbers): each equals its null_quantile to the last bit.
+  struct NullPair {
+    double folded = 0, linear = 0;
+  };
+  NullPair null_quantiles(const std::vector<std::vector<double>>& model_amplitude, const std::vector<double>& gains,
+                          Half half, double alpha, int fitted_parameters = 0) const;
 
   /// chi2 of the recording's fit half used as the prediction of its held-out half
   /// (r = A_held - A_fit, the held-out window's V, housing gains `gains` for the fidelity
@@ -295,6 +302,17 @@ public:
 private:
   double chi2_of(const std::vector<double>& r, int window, const std::vector<double>& gains,
                  const std::vector<double>& response, WindowScore* out) const;
+  /// chi2_of's per-feature constants for many residuals scored alike (the null's draws), and
+  /// its work space: chi2_planned(plan, r) == chi2_of(r, window, gains, response, nullptr).
+  struct Chi2Plan;
+  Chi2Plan chi2_plan(int window, const std::vector<double>& response) const;
+  static double chi2_planned(Chi2Plan& plan, const std::vector<double>& r);
+  /// The null's chi2 draws (before sorting) in the folded and/or the linear form.
+  struct NullDraws {
+    std::vector<double> folded, linear;
+  };
+  NullDraws null_draws(const std::vector<std::vector<double>>& model_amplitude, const std::vector<double>& gains,
+                       Half half, int fitted_parameters, bool folded, bool linear) const;
   /// Per feature: how the compared amplitude responds to a change of the model's raw amplitude,
   /// the channel's gain, or 0 where a baseline's offset clips the model amplitude of `model` at
   /// 0 (null model: nothing clipped).

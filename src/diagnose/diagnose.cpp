@@ -527,15 +527,16 @@ private:
   /// The null bounds of the nuisance-fitted model, whether it is consistent, and the rule's text.
   void test_against_noise() {
     const auto& amp = ctx().nuisance_sim->amplitude;
-    d_.bound_fit = cmp().null_quantile(amp, ctx().nuisance_gains, Half::Fit, o_.alpha / 2);
-    d_.bound_held_out = cmp().null_quantile(amp, ctx().nuisance_gains, Half::HeldOut, o_.alpha / 2);
-    // Reported, not acted on: where the model's lines are unresolved, the folded draw |a + z u|
-    // widens the null that chi2 (which profiles z linearly) does not need (§5 test (a)); the
-    // linear quantiles show on real recordings how far the decision's bound stands above them.
-    d_.bound_fit_linear = cmp().null_quantile(amp, ctx().nuisance_gains, Half::Fit, o_.alpha / 2, 0,
-                                              FidelityDraw::Linear);
-    d_.bound_held_out_linear = cmp().null_quantile(amp, ctx().nuisance_gains, Half::HeldOut, o_.alpha / 2, 0,
-                                                   FidelityDraw::Linear);
+    // The folded null decides. Reported, not acted on: where the model's lines are unresolved,
+    // the folded draw |a + z u| widens the null that chi2 (which profiles z linearly) does not
+    // need (§5 test (a)); the linear quantiles show on real recordings how far the decision's
+    // bound stands above them. Both from one pass over each half's draws.
+    const ModelComparison::NullPair fit = cmp().null_quantiles(amp, ctx().nuisance_gains, Half::Fit, o_.alpha / 2);
+    const ModelComparison::NullPair held = cmp().null_quantiles(amp, ctx().nuisance_gains, Half::HeldOut, o_.alpha / 2);
+    d_.bound_fit = fit.folded;
+    d_.bound_held_out = held.folded;
+    d_.bound_fit_linear = fit.linear;
+    d_.bound_held_out_linear = held.linear;
     // The held-out half decides: the nuisance parameters were fitted on the other half, so only
     // this half tests them without bias. An excess on the fit half alone did not replicate (under
     // the null it happens with probability alpha/2) and is reported, not acted on; verdict

@@ -246,5 +246,40 @@ TEST(Compare, AFoldedOwnNullGrowsWithFidelityOfTheLinesSizeWhileTheLinearOneStay
   EXPECT_LT(chi2, cmp.null_quantile(half, {}, Half::HeldOut, alpha_half, 1, FidelityDraw::Folded));
 }
 
+// null_quantiles draws the folded and the linear null in one pass over one sequence of random
+// numbers; each must be the quantile a pass for that form alone gives, to the last bit, with
+// every optional draw present (fidelity column, calibrated relative and absolute discrepancy,
+// parameters fitted on the other half), so that the diagnosis's bounds did not move when the
+// two passes were merged.
+TEST(Compare, BothNullFormsFromOnePassEqualTheirSeparatePassesBitForBit) {
+  CompareOptions co;
+  co.discrepancy.push_back({Quantity::MeshAccelerationSunPlanet, Component::Mesh, 0.3, 1e-4});
+  const Recording rec = synthetic(0.0, 0.0, 11);
+  const Recording clean = synthetic(0.0, 0.0, 1, 0.0, 1e-6, 1e-9);
+  const auto model = ModelComparison(clean, stage_1200rpm()).spectra().amplitude[0];
+  ModelComparison cmp(rec, stage_1200rpm(), co);
+  cmp.set_reference(model, {});
+  std::vector<std::vector<double>> u(1, std::vector<double>(static_cast<std::size_t>(cmp.features()), 0.0));
+  for (int c = 0; c < cmp.channels(); ++c)
+    for (int i = 0; i < cmp.cells(); ++i) {
+      const auto bin = static_cast<std::size_t>(cmp.spectra().layout.cells[static_cast<std::size_t>(i)].bin);
+      u[0][static_cast<std::size_t>(c * cmp.cells() + i)] = (i % 2 ? -0.5 : 0.5) * model[static_cast<std::size_t>(c)][bin];
+    }
+  cmp.set_fidelity(u, {"discretization"}, 0);
+  constexpr double alpha_half = 0.005;
+  for (const Half half : {Half::Fit, Half::HeldOut})
+    for (int k : {0, 2}) {
+      const ModelComparison::NullPair both = cmp.null_quantiles(model, {}, half, alpha_half, k);
+      EXPECT_EQ(both.folded, cmp.null_quantile(model, {}, half, alpha_half, k, FidelityDraw::Folded)) << k;
+      EXPECT_EQ(both.linear, cmp.null_quantile(model, {}, half, alpha_half, k, FidelityDraw::Linear)) << k;
+      // The fidelity column is half the lines' size: the fold widens the folded null, so the two
+      // forms are different numbers and the equalities above compare each with its own pass.
+      EXPECT_NE(both.folded, both.linear);
+      const ModelComparison::OwnNull own = cmp.own_null(model, {}, half, alpha_half, k);
+      EXPECT_EQ(own.folded, both.folded);
+      EXPECT_EQ(own.bound, std::min(both.folded, both.linear));
+    }
+}
+
 } // namespace
 } // namespace pw::diagnose
