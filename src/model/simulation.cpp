@@ -2,6 +2,7 @@
 
 #include "core/constants.hpp"
 #include "core/error.hpp"
+#include "core/prefault.hpp"
 #include "dynamics/modal.hpp"
 #include "model/memory_estimate.hpp"
 #include "model/mesh_loads.hpp"
@@ -713,7 +714,7 @@ RecordStats record(Integration& r, int cycles, SimulationResult& out, const Outp
   const std::int64_t dec = std::max(1, sel.decimation);
   const std::int64_t nstore = (nrec + dec - 1) / dec;  // steps k = 0, dec, 2 dec, ... < nrec
   out.time_step_s = p.time_step_s * static_cast<double>(dec);
-  out.time_s.resize(static_cast<std::size_t>(nstore));
+  resize_prefaulted(out.time_s, static_cast<std::size_t>(nstore));
 
   std::vector<RecordChannel> ch = record_channels(S, N);
   const ChannelLayout at{S.meshes.size(), static_cast<std::size_t>(N)};
@@ -733,7 +734,8 @@ RecordStats record(Integration& r, int cycles, SimulationResult& out, const Outp
   for (std::size_t k = 0; k < ch.size(); ++k) {
     if (!needed[k] || k == g_housing) continue;
     stored_index[k] = out.channels.size();
-    out.channels.push_back({ch[k].name, ch[k].unit, ch[k].description, std::vector<double>(nstore)});
+    out.channels.push_back({ch[k].name, ch[k].unit, ch[k].description, {}});
+    resize_prefaulted(out.channels.back().values, static_cast<std::size_t>(nstore));
   }
   for (std::size_t k = 0; k < ch.size(); ++k)
     if (needed[k] && k != g_housing) ch[k].samples = out.channels[stored_index[k]].values.data();
