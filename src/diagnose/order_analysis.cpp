@@ -847,7 +847,7 @@ std::vector<double> whole_revolution_spectrum(std::span<const double> y, std::sp
   for (double v : z) mean += v;
   mean /= static_cast<double>(M);
   for (double& v : z) v -= mean;
-  signal::RealFft fft(M);
+  signal::RealFft& fft = signal::thread_real_fft(M);
   std::vector<std::complex<double>> Y(fft.bins());
   fft.forward(z, Y);
   std::vector<double> out(static_cast<std::size_t>(max_bin) + 1, 0.0);

@@ -50,9 +50,8 @@ struct RealFft::Impl {
       const std::lock_guard<std::mutex> lock(planner_mutex());
       // FFTW_ESTIMATE never overwrites the arrays during planning.
       forward_plan = fftw_plan_dft_r2c_1d(static_cast<int>(n), real, spec, FFTW_ESTIMATE);
-      inverse_plan = fftw_plan_dft_c2r_1d(static_cast<int>(n), spec, real, FFTW_ESTIMATE);
     }
-    if (forward_plan == nullptr || inverse_plan == nullptr) {
+    if (forward_plan == nullptr) {
       destroy_plans();
       release_buffers();
       throw SolverError(detail::concat("FFTW could not plan a real transform of length ", n));
@@ -65,6 +64,17 @@ struct RealFft::Impl {
   Impl(const Impl&) = delete;
   Impl& operator=(const Impl&) = delete;
 
+  /// The inverse plan on first use: most transforms are forward only (spectra), and planning
+  /// is the dearer part of a transform used once (the twiddle factors' sincos).
+  void plan_inverse() {
+    if (inverse_plan != nullptr) return;
+    {
+      const std::lock_guard<std::mutex> lock(planner_mutex());
+      inverse_plan = fftw_plan_dft_c2r_1d(static_cast<int>(n), spec, real, FFTW_ESTIMATE);
+    }
+    if (inverse_plan == nullptr)
+      throw SolverError(detail::concat("FFTW could not plan an inverse real transform of length ", n));
+  }
   void destroy_plans() noexcept {
     const std::lock_guard<std::mutex> lock(planner_mutex());
     if (forward_plan != nullptr) fftw_destroy_plan(forward_plan);
@@ -108,6 +118,7 @@ void RealFft::inverse(std::span<const std::complex<double>> X, std::span<double>
   require(X.size() == n / 2 + 1, "inverse fft input", "has ", X.size(), " bins, expected n/2+1 = ",
           n / 2 + 1);
   require(x.size() == n, "inverse fft output", "has ", x.size(), " samples, the plan expects ", n);
+  impl_->plan_inverse();
   // c2r destroys its input by default, so the copy into the work buffer is
   // needed anyway; it also keeps the caller's X const.
   for (std::size_t k = 0; k < X.size(); ++k) {
@@ -118,6 +129,32 @@ void RealFft::inverse(std::span<const std::complex<double>> X, std::span<double>
   // FFTW's c2r is unnormalized (returns n x); apply the 1/n here.
   const double scale = 1.0 / static_cast<double>(n);
   for (std::size_t j = 0; j < n; ++j) x[j] = impl_->real[j] * scale;
+}
+
+RealFft& thread_real_fft(std::size_t n) {
+  struct Entry {
+    RealFft fft;
+    unsigned long long last_use;
+  };
+  thread_local std::vector<Entry> cache;
+  thread_local unsigned long long uses = 0;
+  ++uses;
+  for (Entry& e : cache)
+    if (e.fft.size() == n) {
+      e.last_use = uses;
+      return e.fft;
+    }
+  if (cache.size() < kThreadFftPlans) {
+    cache.push_back({RealFft(n), uses});
+    return cache.back().fft;
+  }
+  // Replace the least recently used length.
+  Entry* oldest = &cache.front();
+  for (Entry& e : cache)
+    if (e.last_use < oldest->last_use) oldest = &e;
+  oldest->fft = RealFft(n);
+  oldest->last_use = uses;
+  return oldest->fft;
 }
 
 std::vector<std::complex<double>> real_fft(std::span<const double> x) {

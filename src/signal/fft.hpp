@@ -22,7 +22,8 @@ namespace pw::signal {
 /// its aligned work buffers). Create it once and call forward()/inverse() many
 /// times (Welch segments, per-channel spectra). Construction and destruction
 /// are serialized internally because FFTW's planner is not thread-safe;
-/// forward()/inverse() only call fftw_execute and may run concurrently on
+/// forward() only calls fftw_execute and inverse() plans its direction on first use (under the
+/// same serialization); both may run concurrently on
 /// *different* RealFft objects. One object must not be used by two threads at
 /// once (it owns the work buffers), hence the non-const members.
 class RealFft {
@@ -53,6 +54,18 @@ private:
   struct Impl;
   std::unique_ptr<Impl> impl_;
 };
+
+/// How many transform lengths thread_real_fft keeps per thread.
+inline constexpr std::size_t kThreadFftPlans = 8;
+
+/// A RealFft of length n owned by the calling thread and kept for its later calls: transforms
+/// of one length repeated many times (each channel of each simulation of a diagnosis) are
+/// planned once per thread instead of once per call. Planning a length that is not a product of
+/// small primes costs more than the transform itself (FFTW's twiddle factors: 5.7 % of a
+/// diagnosis's time, perf, session 42); a kept plan gives the numbers a fresh one gives (FFTW_ESTIMATE
+/// plans deterministically). The reference is valid until the thread has asked for
+/// kThreadFftPlans other lengths; it must not be handed to another thread.
+RealFft& thread_real_fft(std::size_t n);
 
 /// One-shot forward transform (see RealFft::forward); returns n/2 + 1 bins.
 std::vector<std::complex<double>> real_fft(std::span<const double> x);

@@ -93,7 +93,7 @@ Spectrum windowed_amplitude_spectrum(std::span<const double> x, double sample_in
   std::vector<double> xw(n);
   for (std::size_t j = 0; j < n; ++j) xw[j] = (x[j] - offset) * win[j];
 
-  RealFft fft(n);
+  RealFft& fft = thread_real_fft(n);  // the channels of one simulation share their length
   std::vector<std::complex<double>> X(fft.bins());
   fft.forward(xw, X);
 
