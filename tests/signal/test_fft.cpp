@@ -180,4 +180,40 @@ TEST(RfftFrequencies, AreBinIndexOverRecordLength) {
             std::string::npos);
 }
 
+// thread_real_fft keeps one plan per length and thread: asking again for a length returns the
+// same object, its transform equals a freshly planned one to the last bit (also of a length with
+// a large prime factor, 7 x 6379 x 8 as a simulation's record has), and more lengths than it
+// keeps replace the least recently used one without changing any result.
+TEST(ThreadRealFft, KeepsOnePlanPerLengthWhoseTransformIsAFreshPlansBitForBit) {
+  auto signal_of = [](std::size_t n) {
+    std::vector<double> x(n);
+    for (std::size_t j = 0; j < n; ++j) x[j] = std::sin(0.37 * static_cast<double>(j)) + 1e-3 * static_cast<double>(j % 7);
+    return x;
+  };
+  auto transform = [](pw::signal::RealFft& fft, const std::vector<double>& x) {
+    std::vector<cplx> X(fft.bins());
+    fft.forward(x, X);
+    return X;
+  };
+  const std::size_t odd = 8 * 7 * 6379;
+  pw::signal::RealFft& a = pw::signal::thread_real_fft(odd);
+  EXPECT_EQ(&a, &pw::signal::thread_real_fft(odd));
+  pw::signal::RealFft fresh(odd);
+  const auto x = signal_of(odd);
+  EXPECT_EQ(transform(a, x), transform(fresh, x));
+  // More lengths than are kept: each still transforms as a fresh plan does.
+  for (std::size_t k = 0; k < pw::signal::kThreadFftPlans + 3; ++k) {
+    const std::size_t n = 64 + 2 * k;
+    pw::signal::RealFft reference(n);
+    const auto y = signal_of(n);
+    EXPECT_EQ(transform(pw::signal::thread_real_fft(n), y), transform(reference, y)) << n;
+  }
+  // The inverse direction is planned on first use and inverts the forward one.
+  pw::signal::RealFft& b = pw::signal::thread_real_fft(96);
+  const auto y = signal_of(96);
+  std::vector<double> back(96);
+  b.inverse(transform(b, y), back);
+  for (std::size_t j = 0; j < y.size(); ++j) EXPECT_NEAR(back[j], y[j], 1e-12) << j;
+}
+
 } // namespace
