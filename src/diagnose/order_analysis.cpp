@@ -15,6 +15,7 @@
 #include <map>
 #include <numeric>
 #include <numbers>
+#include <optional>
 
 namespace pw::diagnose {
 namespace {
@@ -823,48 +824,61 @@ ModelAngle window_angle(const std::vector<double>& th, std::size_t first, double
   return a;
 }
 
-/// |c_k|, k = 0 .. max_bin, of y (sampled at the angles a.theta) over its first R carrier
+/// |c_k|, k = 0 .. max_bin, of y (sampled at the angles theta) over its first R carrier
 /// revolutions: y is resampled onto a uniform angle grid of about as many points as it has
 /// samples there (cubic Lagrange; the model is sampled far above the analysed band, so the
 /// interpolation error is negligible there) and transformed, c_k = (1/M) sum_j y(theta_j)
 /// e^{-2 pi i j k / M}. *Why resampling, not an expansion in the angle deviation:* a torque
 /// ripple of a few percent swings the angle by ~0.01 rad, q phi then reaches tens of radians at
 /// the analysed orders q, where no truncated series holds.
-std::vector<double> whole_revolution_spectrum(std::span<const double> y, std::span<const double> theta, int R,
-                                              int max_bin) {
-  const std::size_t n = theta.size();
-  const std::size_t inside = static_cast<std::size_t>(
-      std::lower_bound(theta.begin(), theta.end(), 2 * kPi * R) - theta.begin());
-  const int per_rev = std::max(2 * (max_bin / R + 1), static_cast<int>((inside + R / 2) / static_cast<std::size_t>(R)));
-  const std::size_t M = static_cast<std::size_t>(per_rev) * static_cast<std::size_t>(R);
-  std::vector<double> index(n);
-  for (std::size_t j = 0; j < n; ++j) index[j] = static_cast<double>(j);
-  const auto u = signal::angular_resample(index, y.first(n), theta, per_rev, signal::Interpolation::Cubic);
-  if (u.values.size() < M)
-    throw SolverError(detail::concat("diagnose: resampled record has ", u.values.size(), " points, fewer than ", M));
-  std::vector<double> z(u.values.begin(), u.values.begin() + static_cast<long>(M));
-  double mean = 0;
-  for (double v : z) mean += v;
-  mean /= static_cast<double>(M);
-  for (double& v : z) v -= mean;
-  signal::RealFft& fft = signal::thread_real_fft(M);
-  std::vector<std::complex<double>> Y(fft.bins());
-  fft.forward(z, Y);
-  std::vector<double> out(static_cast<std::size_t>(max_bin) + 1, 0.0);
-  for (std::size_t k = 1; k < out.size() && k < Y.size(); ++k) out[k] = std::abs(Y[k]) / static_cast<double>(M);
-  return out;
-}
+/// Over W carrier revolutions, whole or not: against the angle in units of the window,
+/// theta / W, the window is one revolution and bin k is still carrier order k / W.
+/// The resampling is planned once per angle reference (signal::CubicResamplePlan) and applied to
+/// every channel sampled at it: the channels of one simulation share their angle, and the
+/// stencils' weights were a quarter of a diagnosis's spectra (perf, session 42).
+class AngleSpectrum {
+public:
+  AngleSpectrum(const ModelAngle& a, double W, int max_bin) : max_bin_(max_bin) {
+    const int whole = static_cast<int>(W);
+    const bool integer = whole >= 1 && static_cast<double>(whole) == W;
+    std::vector<double> scaled;
+    if (!integer) {
+      scaled.resize(a.theta.size());
+      for (std::size_t j = 0; j < scaled.size(); ++j) scaled[j] = a.theta[j] / W;
+    }
+    const std::span<const double> theta = integer ? std::span<const double>(a.theta) : std::span<const double>(scaled);
+    const int R = integer ? whole : 1;
+    n_ = theta.size();
+    const std::size_t inside = static_cast<std::size_t>(
+        std::lower_bound(theta.begin(), theta.end(), 2 * kPi * R) - theta.begin());
+    const int per_rev =
+        std::max(2 * (max_bin / R + 1), static_cast<int>((inside + R / 2) / static_cast<std::size_t>(R)));
+    M_ = static_cast<std::size_t>(per_rev) * static_cast<std::size_t>(R);
+    plan_.emplace(theta, per_rev, M_);
+    if (plan_->record_points() < M_)
+      throw SolverError(detail::concat("diagnose: resampled record has ", plan_->record_points(), " points, fewer than ", M_));
+  }
 
-/// As whole_revolution_spectrum over W carrier revolutions, whole or not: against the angle
-/// in units of the window, theta / W, the window is one revolution and bin k is still carrier
-/// order k / W.
-std::vector<double> angle_spectrum(std::span<const double> y, const ModelAngle& a, double W, int max_bin) {
-  const int R = static_cast<int>(W);
-  if (R >= 1 && static_cast<double>(R) == W) return whole_revolution_spectrum(y, a.theta, R, max_bin);
-  std::vector<double> scaled(a.theta.size());
-  for (std::size_t j = 0; j < scaled.size(); ++j) scaled[j] = a.theta[j] / W;
-  return whole_revolution_spectrum(y, scaled, 1, max_bin);
-}
+  /// The amplitudes of y, sampled at the plan's angles (its first n samples are read).
+  std::vector<double> operator()(std::span<const double> y) const {
+    std::vector<double> z = plan_->apply(y.first(n_));
+    double mean = 0;
+    for (double v : z) mean += v;
+    mean /= static_cast<double>(M_);
+    for (double& v : z) v -= mean;
+    signal::RealFft& fft = signal::thread_real_fft(M_);
+    std::vector<std::complex<double>> Y(fft.bins());
+    fft.forward(z, Y);
+    std::vector<double> out(static_cast<std::size_t>(max_bin_) + 1, 0.0);
+    for (std::size_t k = 1; k < out.size() && k < Y.size(); ++k) out[k] = std::abs(Y[k]) / static_cast<double>(M_);
+    return out;
+  }
+
+private:
+  int max_bin_ = 0;
+  std::size_t n_ = 0, M_ = 0;
+  std::optional<signal::CubicResamplePlan> plan_;
+};
 
 /// Halves of Q mesh cycles only (docs/diagnose.md section 2, "Short recordings"): per channel and
 /// bin, the mean square change of the model's amplitude when its window starts elsewhere in
@@ -885,13 +899,13 @@ std::vector<std::vector<double>> window_start_variance(const model::SimulationRe
     const double a0 = 2 * kPi * R * j / kLeakWindows;
     const std::size_t i0 = static_cast<std::size_t>(std::lower_bound(th.begin(), th.end(), a0) - th.begin());
     if (i0 >= th.size() || window_end(th, i0, R) > th.size()) return {};
-    const ModelAngle ang = window_angle(th, i0, R);
+    const AngleSpectrum spectrum(window_angle(th, i0, R), R, s.layout.max_bin);
     for (std::size_t c = 0; c < s.channels.size(); ++c) {
       const auto& rc = rec.channels[static_cast<std::size_t>(s.channels[c])];
       if (rc.quantity == Quantity::HousingAcceleration) continue;
       // Present: model_spectra found every non-housing channel before calling here.
       const model::Channel& mc = *r.find(model_channel_name(rc));
-      const auto a = angle_spectrum(std::span<const double>(mc.values).subspan(i0), ang, R, s.layout.max_bin);
+      const auto a = spectrum(std::span<const double>(mc.values).subspan(i0));
       for (std::size_t k = 0; k < a.size() && k < var[c].size(); ++k) {
         const double d = a[k] - first[c][k];
         var[c][k] += d * d / (kLeakWindows - 1);
@@ -922,6 +936,7 @@ ModelSpectra model_spectra(const model::SimulationResult& r, const Recording& re
   const std::vector<double> th = model_angle_record(r, s, config.stage);
   const ModelAngle ang = window_angle(th, 0, R);
   const std::size_t N = ang.theta.size();
+  const AngleSpectrum spectrum(ang, R, s.layout.max_bin);
   const model::Channel* ca = r.find("carrier/angle");
   ModelSpectra m;
   m.time_step_s = r.time_step_s;
@@ -954,13 +969,13 @@ ModelSpectra model_spectra(const model::SimulationResult& r, const Recording& re
       sensor.gain_m_s2_per_N = 1.0;
       sensor.angle_rad = rc.sensor_angle_rad;
       const auto h = model::housing_acceleration_history(sensor, psi, std::span<const double>(ca->values.data(), N), forces);
-      m.amplitude.push_back(angle_spectrum(h, ang, R, s.layout.max_bin));
+      m.amplitude.push_back(spectrum(h));
       continue;
     }
     const std::string name = model_channel_name(rc);
     const model::Channel* mc = r.find(name);
     if (!mc) throw SolverError("diagnose: the simulation has no channel '" + name + "'");
-    m.amplitude.push_back(angle_spectrum(mc->values, ang, R, s.layout.max_bin));
+    m.amplitude.push_back(spectrum(mc->values));
   }
   if (s.layout.mesh_cycles > 0) m.leak_variance = window_start_variance(r, rec, s, th, m.amplitude);
   if (keep) {
@@ -982,7 +997,7 @@ std::vector<double> housing_spectrum(const ModelSpectra& m, const model::SensorS
   std::vector<std::span<const double>> f;
   for (const auto& v : m.ring_force) f.emplace_back(v);
   const auto y = model::housing_acceleration_history(s, m.planet_angles_rad, m.carrier_angle, f);
-  return angle_spectrum(y, ModelAngle{m.angle_theta}, revolutions, max_bin);
+  return AngleSpectrum(ModelAngle{m.angle_theta}, revolutions, max_bin)(y);
 }
 
 bool reference_covers(const RecordingSpectra& reference, const RecordingSpectra& recording) {

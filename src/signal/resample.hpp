@@ -10,6 +10,7 @@
 //    (TSA attenuates non-synchronous components; random noise by 1/sqrt(R)).
 #pragma once
 
+#include <array>
 #include <cstddef>
 #include <span>
 #include <vector>
@@ -40,6 +41,30 @@ struct AngleDomainSignal {
 AngleDomainSignal angular_resample(std::span<const double> time_s, std::span<const double> signal,
                                    std::span<const double> angle_rad, int samples_per_rev,
                                    Interpolation method = Interpolation::Cubic);
+
+/// angular_resample's cubic interpolation for one angle record, planned once: its stencils and
+/// Lagrange weights depend on the angles only, so every signal sampled at those angles (the
+/// channels of one simulation share its carrier angle) is resampled with four products per grid
+/// point instead of the weights' twelve divisions again. apply() returns the values
+/// angular_resample(t, signal, angle_rad, samples_per_rev, Interpolation::Cubic) returns, bit
+/// for bit (the same arithmetic in the same order). Requirements as angular_resample's, checked
+/// here (angles) and in apply() (the signal).
+class CubicResamplePlan {
+public:
+  /// The first `max_points` grid points only (all when 0 or more than the record has).
+  CubicResamplePlan(std::span<const double> angle_rad, int samples_per_rev, std::size_t max_points = 0);
+  /// Grid points of the whole record (angular_resample's values.size()).
+  std::size_t record_points() const { return record_points_; }
+  /// Grid points this plan resamples: min(max_points, record_points()).
+  std::size_t points() const { return base_.size(); }
+  /// The first points() values of the resampled `signal` (angle_rad.size() samples).
+  std::vector<double> apply(std::span<const double> signal) const;
+
+private:
+  std::size_t samples_ = 0, record_points_ = 0;
+  std::vector<std::size_t> base_;             // first sample of each point's 4-sample stencil
+  std::vector<std::array<double, 4>> weight_;  // its Lagrange weights
+};
 
 /// Time-synchronous average of an angle-domain signal: with R = floor(n /
 /// samples_per_rev) complete revolutions, returns the samples_per_rev values

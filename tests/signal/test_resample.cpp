@@ -203,4 +203,30 @@ TEST(TimeSynchronousAverage, RejectsLessThanOneRevolution) {
   EXPECT_EQ(avg, x);
 }
 
+// A planned cubic resampling (weights once per angle record) gives angular_resample's values to the
+// last bit for every signal sampled at those angles, on a non-uniform angle (a speed ripple),
+// whole or cut to its first points; a non-finite sample is refused as angular_resample refuses it.
+TEST(CubicResamplePlan, GivesAngularResamplesValuesBitForBitForEverySignalOfTheAngle) {
+  const std::size_t n = 3000;
+  std::vector<double> t(n), angle(n), a(n), b(n);
+  for (std::size_t j = 0; j < n; ++j) {
+    t[j] = 1e-4 * static_cast<double>(j);
+    angle[j] = 31.0 * t[j] + 0.02 * std::sin(170.0 * t[j]);  // about 0.5 revolution, rippled
+    a[j] = std::sin(23.0 * angle[j]) + 0.1 * std::cos(7.0 * angle[j]);
+    b[j] = std::exp(-t[j]) * std::sin(41.0 * angle[j] + 0.3);
+  }
+  const int per_rev = 4096;
+  const pw::signal::CubicResamplePlan plan(angle, per_rev);
+  for (const auto* x : {&a, &b}) {
+    const auto reference = pw::signal::angular_resample(t, *x, angle, per_rev, pw::signal::Interpolation::Cubic);
+    EXPECT_EQ(plan.record_points(), reference.values.size());
+    EXPECT_EQ(plan.apply(*x), reference.values);
+    const pw::signal::CubicResamplePlan first(angle, per_rev, 100);
+    ASSERT_EQ(first.points(), 100u);
+    EXPECT_EQ(first.apply(*x), std::vector<double>(reference.values.begin(), reference.values.begin() + 100));
+  }
+  b[17] = std::nan("");
+  EXPECT_THROW((void)plan.apply(b), pw::InputError);
+}
+
 } // namespace
