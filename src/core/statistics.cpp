@@ -3,6 +3,7 @@
 #include "core/error.hpp"
 
 #include <boost/math/distributions/normal.hpp>
+#include <boost/math/special_functions/bessel.hpp>
 
 #include <cmath>
 
@@ -21,5 +22,14 @@ double chi2_quantile(double nu, double alpha) {
   const double t = 1 - h + z * std::sqrt(h);
   return nu * t * t * t;
 }
+
+namespace {
+/// Double arithmetic throughout: Boost.Math's default promotes double to long double, which
+/// costs three times as much here and is not needed at the accuracy the comparison uses.
+using DoublePolicy = boost::math::policies::policy<boost::math::policies::promote_double<false>>;
+} // namespace
+
+double bessel_i0(double x) { return boost::math::cyl_bessel_i(0, x, DoublePolicy()); }
+double bessel_i1(double x) { return boost::math::cyl_bessel_i(1, x, DoublePolicy()); }
 
 } // namespace pw

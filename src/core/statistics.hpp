@@ -1,6 +1,7 @@
 // Quantiles of the normal and chi-square distributions: the one implementation
 // every significance threshold of the diagnosis uses (noise test, locate,
-// heteroscedasticity, verdict, calibration).
+// heteroscedasticity, verdict, calibration); and the modified Bessel functions
+// the Rician moments of the comparison need.
 #pragma once
 
 namespace pw {
@@ -19,5 +20,12 @@ double normal_quantile(double p);
 /// thresholds and its corpus results were measured with these values; moving
 /// to the exact ones is a behaviour change to make with a corpus re-run.
 double chi2_quantile(double nu, double alpha);
+
+/// Modified Bessel functions of the first kind I_0(x) and I_1(x), x >= 0 (Boost.Math's
+/// rational approximations for these orders, evaluated in double: within a few ulp, 3e-15
+/// relative of std::cyl_bessel_i over [0, 160], at a tenth of its cost: 55 against 630 ns per
+/// pair, session 42; the Rician mean of every compared cell of every score calls them).
+double bessel_i0(double x);
+double bessel_i1(double x);
 
 } // namespace pw

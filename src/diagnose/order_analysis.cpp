@@ -131,7 +131,7 @@ double rice_mean(double nu, double s2) {
   if (ratio > 25) return nu + s * s / (2 * nu) + s * s * s * s / (8 * nu * nu * nu);
   const double y = ratio * ratio / 4;
   const double e = std::exp(-y);
-  const double i0e = std::cyl_bessel_i(0.0, y) * e, i1e = std::cyl_bessel_i(1.0, y) * e;
+  const double i0e = bessel_i0(y) * e, i1e = bessel_i1(y) * e;
   return s * std::sqrt(kPi / 2) * ((1 + 2 * y) * i0e + 2 * y * i1e);
 }
 
@@ -146,7 +146,7 @@ double rice_mean_slope(double nu, double s2) {
   // the Laguerre form above; checked against central differences in the tests).
   const double y = ratio * ratio / 4;
   const double e = std::exp(-y);
-  return std::sqrt(kPi / 2) * (ratio / 2) * (std::cyl_bessel_i(0.0, y) + std::cyl_bessel_i(1.0, y)) * e;
+  return std::sqrt(kPi / 2) * (ratio / 2) * (bessel_i0(y) + bessel_i1(y)) * e;
 }
 
 double rice_variance(double nu, double s2) {
