@@ -473,28 +473,60 @@ double ModelComparison::fidelity_value(std::size_t col, std::size_t f, const std
   return u;
 }
 
-double ModelComparison::chi2_of(const std::vector<double>& r, int w, const std::vector<double>& gains,
-                                const std::vector<double>& response, WindowScore* out) const {
+struct ModelComparison::Chi2Plan {
+  std::size_t q = 0;                 // fidelity columns + the drift column
+  std::vector<double> inv_d, sqrt_d;  // [feature]: 1 / D_i, sqrt(D_i) of the window
+  std::vector<double> u;              // [feature * q + column]: chi2_of's uval
+  Eigen::MatrixXd A;
+  Eigen::VectorXd b, z;
+  Eigen::LDLT<Eigen::MatrixXd, Eigen::Lower> ldlt;
+};
+
+ModelComparison::Chi2Plan ModelComparison::chi2_plan(int w, const std::vector<double>& response) const {
+  // The per-feature constants of residuals scored on one window with one response (1 / D,
+  // sqrt D, the fidelity columns): computed once for the many draws of a null.
+  Chi2Plan p;
   const auto& drift = drift_[static_cast<std::size_t>(w)];
-  const std::size_t m = r.size(), q = u_.size() + (drift.empty() ? 0 : 1);
-  const int ncell = cells();
   const auto& D = d_[static_cast<std::size_t>(w)];
+  const std::size_t m = D.size();
+  p.q = u_.size() + (drift.empty() ? 0 : 1);
+  p.inv_d.resize(m);
+  p.sqrt_d.resize(m);
+  p.u.resize(m * p.q);
+  for (std::size_t f = 0; f < m; ++f) {
+    p.inv_d[f] = 1.0 / D[f];
+    p.sqrt_d[f] = std::sqrt(D[f]);
+    for (std::size_t a = 0; a < p.q; ++a) p.u[f * p.q + a] = a < u_.size() ? fidelity_value(a, f, response) : drift[f];
+  }
+  const auto qi = static_cast<Eigen::Index>(p.q);
+  p.A.resize(qi, qi);
+  p.b.resize(qi);
+  p.z.resize(qi);
+  p.ldlt = Eigen::LDLT<Eigen::MatrixXd, Eigen::Lower>(qi);
+  return p;
+}
+
+double ModelComparison::chi2_planned(Chi2Plan& p, const std::vector<double>& r, const std::vector<double>& gains,
+                                     WindowScore* out) const {
   // z* = (I + U' D^-1 U)^-1 U' D^-1 r, with the fidelity columns' rows scaled by the channel
   // gains (they are model changes, and act only where the model's amplitude responds:
   // fidelity_response); the drift column is the recording's own, unscaled.
-  Eigen::MatrixXd A = Eigen::MatrixXd::Identity(static_cast<Eigen::Index>(q), static_cast<Eigen::Index>(q));
-  Eigen::VectorXd b = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(q));
-  auto uval = [&](std::size_t col, std::size_t f) { return col < u_.size() ? fidelity_value(col, f, response) : drift[f]; };
+  const std::size_t m = r.size(), q = p.q;
+  const int ncell = cells();
+  p.A.setIdentity();
+  p.b.setZero();
   for (std::size_t f = 0; f < m; ++f) {
-    const double id = 1.0 / D[f];
+    const double id = p.inv_d[f];
+    const double* uf = &p.u[f * q];
     for (std::size_t a = 0; a < q; ++a) {
-      const double ua = uval(a, f);
-      b(static_cast<Eigen::Index>(a)) += ua * id * r[f];
-      for (std::size_t bb = 0; bb <= a; ++bb) A(static_cast<Eigen::Index>(a), static_cast<Eigen::Index>(bb)) += ua * id * uval(bb, f);
+      const double ua = uf[a];
+      p.b(static_cast<Eigen::Index>(a)) += ua * id * r[f];
+      for (std::size_t bb = 0; bb <= a; ++bb) p.A(static_cast<Eigen::Index>(a), static_cast<Eigen::Index>(bb)) += ua * id * uf[bb];
     }
   }
-  Eigen::VectorXd z = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(q));
-  if (q > 0) z = A.selfadjointView<Eigen::Lower>().ldlt().solve(b);
+  p.z.setZero();
+  if (q > 0) p.z = p.ldlt.compute(p.A).solve(p.b);
+  const Eigen::VectorXd& z = p.z;
   double chi2 = z.squaredNorm();
   if (out) {
     out->rho.assign(m, 0.0);
@@ -504,8 +536,9 @@ double ModelComparison::chi2_of(const std::vector<double>& r, int w, const std::
   }
   for (std::size_t f = 0; f < m; ++f) {
     double e = r[f];
-    for (std::size_t a = 0; a < q; ++a) e -= uval(a, f) * z(static_cast<Eigen::Index>(a));
-    const double rho = e / std::sqrt(D[f]);
+    const double* uf = &p.u[f * q];
+    for (std::size_t a = 0; a < q; ++a) e -= uf[a] * z(static_cast<Eigen::Index>(a));
+    const double rho = e / p.sqrt_d[f];
     chi2 += rho * rho;
     if (out) {
       out->rho[f] = rho;
@@ -520,6 +553,12 @@ double ModelComparison::chi2_of(const std::vector<double>& r, int w, const std::
     out->gains = gains;
   }
   return chi2;
+}
+
+double ModelComparison::chi2_of(const std::vector<double>& r, int w, const std::vector<double>& gains,
+                                const std::vector<double>& response, WindowScore* out) const {
+  Chi2Plan plan = chi2_plan(w, response);
+  return chi2_planned(plan, r, gains, out);
 }
 
 WindowScore ModelComparison::score(const std::vector<std::vector<double>>& m, Half half, std::vector<double> gains,
@@ -583,15 +622,6 @@ double ModelComparison::replicate_chi2(const std::vector<double>& gains_in) cons
   return chi2_of(r, 1, gains, fidelity_response(nullptr, gains), nullptr);
 }
 
-struct ModelComparison::Chi2Plan {
-  std::size_t q = 0;                 // fidelity columns + the drift column
-  std::vector<double> inv_d, sqrt_d;  // [feature]: 1 / D_i, sqrt(D_i) of the window
-  std::vector<double> u;              // [feature * q + column]: chi2_of's uval
-  Eigen::MatrixXd A;
-  Eigen::VectorXd b, z;
-  Eigen::LDLT<Eigen::MatrixXd, Eigen::Lower> ldlt;
-};
-
 namespace {
 /// |x + i y| of a null draw's cell. sqrt(x^2 + y^2) is within about one ulp of std::hypot
 /// (three roundings and a correctly rounded sqrt) at a third of glibc's cost: hypot was 15 % of
@@ -603,8 +633,7 @@ inline double rice_magnitude(double x, double y) {
   if (std::fabs(x) < kSquareSafe && std::fabs(y) < kSquareSafe) return std::sqrt(x * x + y * y);
   return std::hypot(x, y);
 }
-} // namespace
-namespace {
+
 /// The (1 - alpha) quantile of sorted draws, as every null of this file takes it.
 double upper_quantile(std::vector<double>& chi, double alpha) {
   std::sort(chi.begin(), chi.end());
@@ -613,58 +642,6 @@ double upper_quantile(std::vector<double>& chi, double alpha) {
   return chi[idx];
 }
 } // namespace
-
-ModelComparison::Chi2Plan ModelComparison::chi2_plan(int w, const std::vector<double>& response) const {
-  // chi2_of's per-feature constants for a run of residuals scored on one window with one
-  // response: the same values it computes per call (1 / D, sqrt D, the fidelity columns), so
-  // chi2_planned returns its numbers to the last bit.
-  Chi2Plan p;
-  const auto& drift = drift_[static_cast<std::size_t>(w)];
-  const auto& D = d_[static_cast<std::size_t>(w)];
-  const std::size_t m = D.size();
-  p.q = u_.size() + (drift.empty() ? 0 : 1);
-  p.inv_d.resize(m);
-  p.sqrt_d.resize(m);
-  p.u.resize(m * p.q);
-  for (std::size_t f = 0; f < m; ++f) {
-    p.inv_d[f] = 1.0 / D[f];
-    p.sqrt_d[f] = std::sqrt(D[f]);
-    for (std::size_t a = 0; a < p.q; ++a) p.u[f * p.q + a] = a < u_.size() ? fidelity_value(a, f, response) : drift[f];
-  }
-  const auto qi = static_cast<Eigen::Index>(p.q);
-  p.A.resize(qi, qi);
-  p.b.resize(qi);
-  p.z.resize(qi);
-  p.ldlt = Eigen::LDLT<Eigen::MatrixXd, Eigen::Lower>(qi);
-  return p;
-}
-
-double ModelComparison::chi2_planned(Chi2Plan& p, const std::vector<double>& r) {
-  // chi2_of without its report (out == nullptr), operation for operation.
-  const std::size_t m = r.size(), q = p.q;
-  p.A.setIdentity();
-  p.b.setZero();
-  for (std::size_t f = 0; f < m; ++f) {
-    const double id = p.inv_d[f];
-    const double* uf = &p.u[f * q];
-    for (std::size_t a = 0; a < q; ++a) {
-      const double ua = uf[a];
-      p.b(static_cast<Eigen::Index>(a)) += ua * id * r[f];
-      for (std::size_t bb = 0; bb <= a; ++bb) p.A(static_cast<Eigen::Index>(a), static_cast<Eigen::Index>(bb)) += ua * id * uf[bb];
-    }
-  }
-  p.z.setZero();
-  if (q > 0) p.z = p.ldlt.compute(p.A).solve(p.b);
-  double chi2 = p.z.squaredNorm();
-  for (std::size_t f = 0; f < m; ++f) {
-    double e = r[f];
-    const double* uf = &p.u[f * q];
-    for (std::size_t a = 0; a < q; ++a) e -= uf[a] * p.z(static_cast<Eigen::Index>(a));
-    const double rho = e / p.sqrt_d[f];
-    chi2 += rho * rho;
-  }
-  return chi2;
-}
 
 ModelComparison::NullDraws ModelComparison::null_draws(const std::vector<std::vector<double>>& m,
                                                        const std::vector<double>& gains_in, Half half,
@@ -779,8 +756,8 @@ ModelComparison::NullDraws ModelComparison::null_draws(const std::vector<std::ve
         r_lin[f] = rl;
       }
     }
-    if (folded) out.folded[d] = chi2_planned(plan, r_fold);
-    if (linear) out.linear[d] = chi2_planned(plan, r_lin);
+    if (folded) out.folded[d] = chi2_planned(plan, r_fold, gains, nullptr);
+    if (linear) out.linear[d] = chi2_planned(plan, r_lin, gains, nullptr);
     // Parameters fitted on the other window (see the header): + 2 chi2(k), drawn after this
     // draw's other numbers so that k = 0 reproduces the plain null exactly.
     for (int k = 0; k < fitted_parameters; ++k) {

@@ -302,11 +302,12 @@ public:
 private:
   double chi2_of(const std::vector<double>& r, int window, const std::vector<double>& gains,
                  const std::vector<double>& response, WindowScore* out) const;
-  /// chi2_of's per-feature constants for many residuals scored alike (the null's draws), and
-  /// its work space: chi2_planned(plan, r) == chi2_of(r, window, gains, response, nullptr).
+  /// chi2_of's per-feature constants for residuals scored alike on one window with one response,
+  /// and its work space: planned once for the many draws of a null; chi2_of plans for one call.
   struct Chi2Plan;
   Chi2Plan chi2_plan(int window, const std::vector<double>& response) const;
-  static double chi2_planned(Chi2Plan& plan, const std::vector<double>& r);
+  double chi2_planned(Chi2Plan& plan, const std::vector<double>& r, const std::vector<double>& gains,
+                      WindowScore* out) const;
   /// The null's chi2 draws (before sorting) in the folded and/or the linear form.
   struct NullDraws {
     std::vector<double> folded, linear;

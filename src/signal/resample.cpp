@@ -22,9 +22,7 @@ void require_strictly_increasing(std::span<const double> v, const std::string& n
   }
 }
 
-} // namespace
 
-namespace {
 /// The cubic stencil of grid angle theta in interval [angle_i, angle_(i+1)]: the centred 4-point
 /// stencil i-1 .. i+2, shifted inwards at the ends; returns its first sample and writes its
 /// Lagrange weights. One function for angular_resample and CubicResamplePlan, so that both
