@@ -45,6 +45,12 @@ CLI::App* add_calibrate_command(CLI::App& app, CalibrateCommandOptions& o) {
                 "stiffness law's shape), bearing_damping (solver.level = lateral_torsional) may be added, "
                 "docs/diagnose.md section 6a; 'none' for none)")
       ->delimiter(',');
+  c->add_option("--healthy-fit", o.healthy_fit,
+                "how each recording's nuisance fit weights its cells: 'noise' (default) by the noise alone; "
+                "'model_form' refits once with that recording's own model-form discrepancy as weights, so that "
+                "lines the model's form misses by far more than the noise do not decide the fitted values "
+                "(docs/diagnose.md section 6a item 7)")
+      ->check(CLI::IsMember({"noise", "model_form"}));
   c->add_option("--threads", o.threads, "OpenMP threads (default: OMP_NUM_THREADS or all cores)")
       ->check(CLI::Range(0, 1024));
   c->add_option("--alpha", o.alpha, "one-sided level of the budgets' upper confidence limits (default 0.01)")
@@ -73,6 +79,8 @@ void print_table(const diagnose::Calibration& cal) {
     std::printf("relative budget inherited: the healthy model had no line of that family above the noise; a model "
               "that adds lines there gets the largest relative budget measured on the same kind of channel\n");
   // Each recording's fit: the spread is what the median hides.
+  if (cal.healthy_fit == diagnose::HealthyFit::ModelForm)
+    std::printf("values from each recording's model-form weighted refit; chi2 and bound from its noise-weighted fit\n");
   for (std::size_t r = 0; r < cal.fits.size() && r < cal.recordings.size(); ++r) {
     const diagnose::CalibrationFit& f = cal.fits[r];
     std::printf("recording %zu (%.6g rpm): held-out chi2 %.4g against a noise bound of %.4g (%.3g times);", r + 1,
@@ -95,10 +103,12 @@ void print_table(const diagnose::Calibration& cal) {
 
 std::string absolute_path(const std::string& p) { return std::filesystem::absolute(p).lexically_normal().string(); }
 
-/// One recording's nuisance-only diagnosis with the rig elements `rig`, and its gear-set configuration.
+/// One recording's nuisance-only diagnosis with the rig elements `rig` (fit_healthy: the values
+/// and cells of diagnosis, the noise test of noise_test), and its gear-set configuration.
 struct RecordingFit {
   model::SimulationConfig config;
   diagnose::Diagnosis diagnosis;
+  diagnose::Diagnosis noise_test;  ///< the noise-weighted fit (the same as diagnosis under HealthyFit::Noise)
 };
 
 std::vector<RecordingFit> fit_recordings(const CalibrateCommandOptions& o, const std::vector<std::string>& rig) {
@@ -123,11 +133,13 @@ std::vector<RecordingFit> fit_recordings(const CalibrateCommandOptions& o, const
                    d.recording.c_str(), opt.extra_nuisance.size());
       opt.progress = [](const std::string& s) { std::fprintf(stderr, "[calibrate]   %s\n", s.c_str()); };
     }
-    RecordingFit f{in.config, diagnose::diagnose(in.recording, in.config, opt)};
+    diagnose::HealthyFitResult r =
+        diagnose::fit_healthy(in.recording, in.config, opt, diagnose::healthy_fit_from_string(o.healthy_fit, "--healthy-fit"));
+    RecordingFit f{in.config, r.fit(), r.noise_weighted};
     if (!o.common.quiet)
       std::fprintf(stderr, "[calibrate]   nuisance-fitted chi2 %.4g (fit) / %.4g (held out), noise bounds %.4g / %.4g\n",
-                   f.diagnosis.nuisance.fit.chi2, f.diagnosis.nuisance.held_out.chi2, f.diagnosis.bound_fit,
-                   f.diagnosis.bound_held_out);
+                   f.noise_test.nuisance.fit.chi2, f.noise_test.nuisance.held_out.chi2, f.noise_test.bound_fit,
+                   f.noise_test.bound_held_out);
     out.push_back(std::move(f));
   }
   return out;
@@ -145,6 +157,7 @@ int run_calibrate(const CalibrateCommandOptions& o) {
 
   diagnose::Calibration cal;
   cal.alpha = o.alpha;
+  cal.healthy_fit = diagnose::healthy_fit_from_string(o.healthy_fit, "--healthy-fit");
   std::vector<RecordingFit> fits = fit_recordings(o, rig);
   // Calibration-only rig elements (a shaft behind a speed source) have no value without effect,
   // so LM cannot fall back to the model without them: they are kept only if the fit with them
@@ -155,11 +168,11 @@ int run_calibrate(const CalibrateCommandOptions& o) {
   if (plain.size() != rig.size()) {
     std::vector<RecordingFit> without = fit_recordings(o, plain);
     for (std::size_t i = 0; i < fits.size(); ++i)
-      if (!(fits[i].diagnosis.nuisance.held_out.chi2 < without[i].diagnosis.nuisance.held_out.chi2)) {
+      if (!(fits[i].noise_test.nuisance.held_out.chi2 < without[i].noise_test.nuisance.held_out.chi2)) {
         std::fprintf(stderr,
                      "[calibrate] the calibration-only rig elements are left out: on recording %zu the fit with them "
                      "leaves held-out chi2 %.4g, without them %.4g\n",
-                     i + 1, fits[i].diagnosis.nuisance.held_out.chi2, without[i].diagnosis.nuisance.held_out.chi2);
+                     i + 1, fits[i].noise_test.nuisance.held_out.chi2, without[i].noise_test.nuisance.held_out.chi2);
         fits = std::move(without);
         rig = plain;
         break;
@@ -171,15 +184,18 @@ int run_calibrate(const CalibrateCommandOptions& o) {
   const model::SimulationConfig& base_config = fits.front().config;  // the gear set's, for the rig elements' settings
   for (std::size_t i = 0; i < fits.size(); ++i) {
     const diagnose::Diagnosis& r = fits[i].diagnosis;
+    const diagnose::Diagnosis& noise = fits[i].noise_test;
     // Absolute paths: `diagnose --calibration` finds the recording at its operating point again
     // from wherever it runs (docs/diagnose.md §6a item 6).
     cal.recordings.push_back(absolute_path(o.recordings[i]));
     cal.sidecars.push_back(absolute_path(o.metas.empty() ? io::sidecar_path(o.recordings[i]).string() : o.metas[i]));
     cal.speeds_rpm.push_back(r.speed.input_rpm);
-    cal.verdicts.push_back(diagnose::to_string(r.verdict));
+    cal.verdicts.push_back(diagnose::to_string(noise.verdict));
     cells.push_back(r.calibration_cells);
     params.push_back(r.nuisance.parameters);
-    cal.fits.push_back(diagnose::calibration_fit(r.nuisance.parameters, r.nuisance.held_out.chi2, r.bound_held_out));
+    // The noise-weighted fit's chi2 and bound (how far the model's form is from this recording),
+    // the values of the fit whose cells the discrepancy is estimated from.
+    cal.fits.push_back(diagnose::calibration_fit(r.nuisance.parameters, noise.nuisance.held_out.chi2, noise.bound_held_out));
   }
   // 2. The calibration.
   cal.discrepancy = diagnose::estimate_discrepancy(cells);

@@ -3,7 +3,8 @@
 //
 //   planetwear calibrate --config gearset.toml -r healthy1.csv [-r healthy2.csv ...]
 //       [--meta healthy1.json ...] -o calibration.toml [--set key=value ...]
-//       [--rig-elements encoder_bandwidth] [--threads N] [--alpha 0.01] [--quiet]
+//       [--rig-elements encoder_bandwidth] [--healthy-fit noise|model_form] [--threads N]
+//       [--alpha 0.01] [--quiet]
 //
 // Each recording is diagnosed up to its nuisance fit (with the rig elements fitted as
 // nuisance parameters); the file holds the median fitted model and the per-(channel kind,
@@ -29,6 +30,8 @@ struct CalibrateCommandOptions {
   std::vector<std::string> rig_elements{"encoder_bandwidth"};
   int threads = 0;
   double alpha = 0.01;
+  /// --healthy-fit: "noise" or "model_form" (diagnose::HealthyFit).
+  std::string healthy_fit = "noise";
 };
 
 CLI::App* add_calibrate_command(CLI::App& app, CalibrateCommandOptions& options);

@@ -127,6 +127,11 @@ CLI::App* add_diagnose_command(CLI::App& app, DiagnoseCommandOptions& o) {
                 "for a rig whose transfer the model gets wrong by a factor (experimental: docs/diagnose.md "
                 "section 6b item 9)")
       ->check(CLI::IsMember({"additive", "line_ratio"}));
+  d->add_option("--healthy-fit", o.healthy_fit,
+                "how the healthy reference (--baseline, or the calibration's recording) is fitted: 'noise' weights "
+                "its cells by the noise alone; 'model_form' refits once with its own model-form discrepancy as "
+                "weights (default: the calibration's setting, else 'noise'; docs/diagnose.md section 6a item 7)")
+      ->check(CLI::IsMember({"noise", "model_form"}));
   d->add_flag("--no-plots", o.no_plots, "do not run scripts/plot_diagnosis.py");
   d->add_flag("-q,--quiet", o.common.quiet, "no progress on stderr");
   std::string names;
@@ -153,6 +158,9 @@ DiagnoseInputs read_diagnose_inputs(const DiagnoseCommandOptions& o) {
   require(o.baseline_transfer == "additive" || !o.baseline.empty() ||
               (!o.calibration.empty() && o.calibration_reference != "none"),
           "--baseline-transfer", "'", o.baseline_transfer,
+          "' acts on a reference recording: give --baseline (or --calibration with --calibration-reference auto)");
+  require(o.healthy_fit.empty() || !o.baseline.empty() || (!o.calibration.empty() && o.calibration_reference != "none"),
+          "--healthy-fit", "'", o.healthy_fit,
           "' acts on a reference recording: give --baseline (or --calibration with --calibration-reference auto)");
   if (!o.baseline.empty()) {
     const std::filesystem::path meta = o.baseline_meta.empty() ? io::sidecar_path(o.baseline) : std::filesystem::path(o.baseline_meta);
@@ -320,14 +328,14 @@ diagnose::CompareOptions comparison_options(const DiagnoseCommandOptions& o, con
 /// with the calibration's values or rig elements (docs/diagnose.md §6a item 6: at a measured
 /// operating point the residual holds what they would model).
 diagnose::BaselineReference fit_reference(const DiagnoseCommandOptions& o, const Reference& ref,
-                                          const diagnose::DiagnoseOptions& opt) {
+                                          const diagnose::DiagnoseOptions& opt, diagnose::HealthyFit weighting) {
   const RecordingInputs b = read_recording_inputs(o.common, ref.recording, ref.meta, {}, {}, {});
   diagnose::DiagnoseOptions bo = opt;
   if (opt.progress) bo.progress = [p = opt.progress](const std::string& s) { p("reference: " + s); };
   const diagnose::BaselineTransfer transfer = o.baseline_transfer == "line_ratio"
                                                   ? diagnose::BaselineTransfer::LineRatio
                                                   : diagnose::BaselineTransfer::Additive;
-  return diagnose::fit_baseline(b.recording, b.config, bo, transfer);
+  return diagnose::fit_baseline(b.recording, b.config, bo, transfer, weighting);
 }
 
 /// Rank 0: the diagnosis (simulations through `remote` when other ranks serve) and the report.
@@ -360,7 +368,10 @@ void diagnose_and_report(const DiagnoseCommandOptions& o_in, const std::string& 
     // The reference's fitted model first, the command line's --set after it (the user's word
     // wins); a calibrated reference replaces the calibration's model and budget (read_inputs
     // below then reads without them).
-    baseline = fit_reference(o, *reference, opt);
+    const diagnose::HealthyFit weighting =
+        !o.healthy_fit.empty() ? diagnose::healthy_fit_from_string(o.healthy_fit, "--healthy-fit")
+                               : calibration ? calibration->healthy_fit : diagnose::HealthyFit::Noise;
+    baseline = fit_reference(o, *reference, opt, weighting);
     std::vector<std::string> a = baseline->overrides;
     a.insert(a.end(), o_in.common.assignments.begin(), o_in.common.assignments.end());
     o.common.assignments = a;

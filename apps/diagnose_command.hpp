@@ -48,6 +48,9 @@ struct DiagnoseCommandOptions {
   /// recording's operating point as the reference (docs/diagnose.md §6a item 7), "none" judges
   /// against the calibration's budget alone.
   std::string calibration_reference = "auto";
+  /// --healthy-fit: how the healthy reference is fitted, "noise" or "model_form"
+  /// (diagnose::HealthyFit); empty: the calibration's own setting, else "noise".
+  std::string healthy_fit;
 };
 
 /// What a diagnosis starts from: the configuration (file, calibration overrides, --set, in that

@@ -68,6 +68,7 @@ void write_calibration(const diagnose::Calibration& c, const std::filesystem::pa
   cal.insert("speeds_rpm", to_array(c.speeds_rpm));
   cal.insert("verdicts", to_array(c.verdicts));
   cal.insert("rig_elements", to_array(c.rig_elements));
+  cal.insert("healthy_fit", std::string(diagnose::to_string(c.healthy_fit)));
   cal.insert("at_bound", to_array(c.at_bound));
   cal.insert("overrides", to_array(c.overrides));
   toml::array disc;
@@ -129,6 +130,8 @@ diagnose::Calibration read_calibration(const std::filesystem::path& path) {
   c.verdicts = read_array<std::string>(cal["verdicts"].as_array(), path, "calibration.verdicts");
   c.rig_elements = read_array<std::string>(cal["rig_elements"].as_array(), path, "calibration.rig_elements");
   c.overrides = read_array<std::string>(cal["overrides"].as_array(), path, "calibration.overrides");
+  if (const auto h = cal["healthy_fit"].value<std::string>())  // optional: written since session 43
+    c.healthy_fit = diagnose::healthy_fit_from_string(*h, where(path, "calibration.healthy_fit"));
   if (cal["at_bound"])  // optional: files written before it existed have none
     c.at_bound = read_array<std::string>(cal["at_bound"].as_array(), path, "calibration.at_bound");
   const toml::array* disc = root["discrepancy"].as_array();

@@ -67,9 +67,10 @@ std::vector<std::string> bound_texts(const std::vector<FittedParameter>& paramet
 }
 
 BaselineReference fit_baseline(const Recording& baseline, const model::SimulationConfig& config,
-                               DiagnoseOptions options, BaselineTransfer transfer) {
-  options.nuisance_only = true;
-  const Diagnosis d = diagnose(baseline, config, options);
+                               DiagnoseOptions options, BaselineTransfer transfer, HealthyFit weighting) {
+  const HealthyFitResult fits = fit_healthy(baseline, config, options, weighting);
+  const Diagnosis& d = fits.fit();
+  const Diagnosis& noise = fits.noise_weighted;
   BaselineReference ref;
   ref.overrides = d.final_overrides;
   for (const CalibrationCell& c : d.calibration_cells) ref.cells.push_back(baseline_cell(c));
@@ -85,13 +86,14 @@ BaselineReference fit_baseline(const Recording& baseline, const model::Simulatio
     ref.gains[d.channels[c]] = d.nuisance.gains[c];
   ref.speed_rpm = d.speed.input_rpm;
   ref.revolutions = d.window_revolutions;
-  ref.noise_test = d.verdict;
+  ref.noise_test = noise.verdict;
   ref.at_bound = bound_texts(d.nuisance.parameters);
-  char buf[300];
+  char buf[400];
   std::snprintf(buf, sizeof buf,
                 "baseline at %.6g rpm, %zu cells; its nuisance-fitted model leaves chi2 %.0f (held out) against a "
-                "noise bound of %.0f: what the model misses there becomes the reference",
-                ref.speed_rpm, ref.cells.size(), d.nuisance.held_out.chi2, d.bound_held_out);
+                "noise bound of %.0f%s: what the model misses there becomes the reference",
+                ref.speed_rpm, ref.cells.size(), noise.nuisance.held_out.chi2, noise.bound_held_out,
+                fits.model_form_weighted ? " (its values refitted with that residual's own discrepancy as weights)" : "");
   ref.summary = buf;
   return ref;
 }

@@ -12,6 +12,7 @@
 // already in the baseline.
 #pragma once
 
+#include "diagnose/calibration.hpp"
 #include "diagnose/diagnose.hpp"
 
 #include <map>
@@ -67,9 +68,11 @@ BaselineCell baseline_cell(const CalibrationCell& c);
 /// cells[i] is baseline_cell(source[i]) (fit_baseline builds them so); source gives the noise.
 void line_ratio_transfer(std::vector<BaselineCell>& cells, const std::vector<CalibrationCell>& source, double alpha);
 
-/// Fits the nuisance parameters to the healthy `baseline` (options.nuisance_only is forced) and
+/// Fits the nuisance parameters to the healthy `baseline` (fit_healthy with `weighting`) and
 /// returns the offsets the diagnosis of another recording takes as CompareOptions::baseline.
+/// The noise test and its sentence are the noise-weighted fit's under either weighting.
 BaselineReference fit_baseline(const Recording& baseline, const model::SimulationConfig& config,
-                               DiagnoseOptions options, BaselineTransfer transfer = BaselineTransfer::Additive);
+                               DiagnoseOptions options, BaselineTransfer transfer = BaselineTransfer::Additive,
+                               HealthyFit weighting = HealthyFit::Noise);
 
 } // namespace pw::diagnose

@@ -1,5 +1,6 @@
 #include "diagnose/calibration.hpp"
 
+#include "core/error.hpp"
 #include "core/statistics.hpp"
 #include "diagnose/candidates/candidate.hpp"
 #include "diagnose/locate.hpp"
@@ -237,13 +238,46 @@ std::vector<CalibrationCell> calibration_cells(const ModelComparison& cmp,
       x.model = g * model_amplitude[static_cast<std::size_t>(c)][static_cast<std::size_t>(cell.bin)];
       for (int w = 0; w < 2; ++w) {
         x.recording[w] = cmp.recording_amplitude(w, f);
-        x.variance[w] = cmp.diagonal_variance(w, f);
+        x.variance[w] = cmp.noise_diagonal_variance(w, f);
       }
       x.noise_variance = cmp.noise_variance(f);
       if (const int k = cmp.discretization_column(); k >= 0)
         x.discretization = g * cmp.fidelity_columns()[static_cast<std::size_t>(k)][static_cast<std::size_t>(f)];
       out.push_back(std::move(x));
     }
+  return out;
+}
+
+const char* to_string(HealthyFit f) { return f == HealthyFit::Noise ? "noise" : "model_form"; }
+
+HealthyFit healthy_fit_from_string(const std::string& s, const std::string& parameter) {
+  if (s == "noise") return HealthyFit::Noise;
+  if (s == "model_form") return HealthyFit::ModelForm;
+  throw InputError(parameter, "'" + s + "' is not a weighting: give 'noise' or 'model_form'");
+}
+
+HealthyFitResult fit_healthy(const Recording& recording, const model::SimulationConfig& config,
+                             DiagnoseOptions options, HealthyFit weighting) {
+  require(options.compare.discrepancy.empty() && options.compare.baseline.empty(), "healthy fit",
+          "a healthy recording is fitted without a discrepancy budget or a baseline of its own");
+  options.nuisance_only = true;
+  options.discrepancy_reference.reset();
+  HealthyFitResult out{diagnose(recording, config, options), std::nullopt};
+  if (weighting == HealthyFit::Noise) return out;
+  // Why a second fit: the first weights every cell by the noise, so where the model's form
+  // misses a line by orders of magnitude more than the noise (another stiffness law, a sensor
+  // chain the model lacks) that line's chi2 decides the nuisance values -- e.g. the stiffness
+  // level pushed to an end of its box to shrink one speed harmonic. The discrepancy estimated
+  // from the first fit's residual is the covariance those cells actually have; weighting by it
+  // is the feasible GLS estimate (one step: its estimate is consistent, iterating further does
+  // not change its first-order efficiency).
+  const Diagnosis& first = out.noise_weighted;
+  if (first.nuisance.parameters.empty()) return out;
+  for (const DiscrepancyEstimate& e : estimate_discrepancy({first.calibration_cells}))
+    options.compare.discrepancy.push_back(e.budget(0.0));
+  options.discrepancy_reference = DiagnoseOptions::DiscrepancyReference{first.nuisance.config, first.nuisance.gains};
+  if (options.progress) options.progress = [p = options.progress](const std::string& s) { p("model-form weighted refit: " + s); };
+  out.model_form_weighted = diagnose(recording, config, options);
   return out;
 }
 

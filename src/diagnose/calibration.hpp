@@ -30,6 +30,7 @@
 #include "diagnose/compare.hpp"
 #include "diagnose/diagnose.hpp"
 
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -55,7 +56,8 @@ struct DiscrepancyEstimate {
 /// `recordings[r]` are the calibration cells of recording r's nuisance-only diagnosis.
 /// Per cell of every channel of `cmp`: what the discrepancy estimate (and a differential
 /// diagnosis's baseline, baseline.hpp) needs, with the model amplitudes [channel][bin] at the
-/// housing gains `gains`; D_i as set by the comparison's current reference.
+/// housing gains `gains`; D_i as set by the comparison's current reference, without the
+/// discrepancy terms V may carry (ModelComparison::noise_diagonal_variance).
 std::vector<CalibrationCell> calibration_cells(const ModelComparison& cmp,
                                                const std::vector<std::vector<double>>& model_amplitude,
                                                const std::vector<double>& gains);
@@ -95,6 +97,20 @@ struct CalibrationFit {
 CalibrationFit calibration_fit(const std::vector<FittedParameter>& nuisance, double chi2_held_out,
                                double bound_held_out);
 
+/// How a healthy recording's nuisance fit weights its cells (calibrate, and the healthy
+/// reference of a differential diagnosis; docs/diagnose.md section 6a item 7).
+enum class HealthyFit {
+  /// V = noise + fidelity: every cell weighted by what the noise explains.
+  Noise,
+  /// Refit once with the first fit's own discrepancy point estimate in V (two-step feasible
+  /// generalized least squares): cells the model's form misses by far more than the noise no
+  /// longer decide where the nuisance parameters end.
+  ModelForm,
+};
+const char* to_string(HealthyFit f);
+/// "noise" or "model_form"; throws InputError naming `parameter` otherwise.
+HealthyFit healthy_fit_from_string(const std::string& s, const std::string& parameter);
+
 /// A calibration as written by `planetwear calibrate` and read by `diagnose --calibration`.
 struct Calibration {
   std::vector<std::string> recordings;   ///< file names (absolute since session 25): the record, and the
@@ -107,11 +123,32 @@ struct Calibration {
   std::vector<std::string> at_bound;     ///< parameters_at_bound(): calibrated values that are limits
   std::vector<CalibrationFit> fits;      ///< per recording (same order); empty in files written before session 18
   double alpha = 0.01;                   ///< of the upper confidence limits
+  /// How each recording's nuisance values were fitted; a calibrated reference is fitted the same
+  /// way (files written before session 43: Noise).
+  HealthyFit healthy_fit = HealthyFit::Noise;
   std::vector<DiscrepancyEstimate> discrepancy;
   /// The budgets at z_{1-alpha}, for CompareOptions::discrepancy. A family without a relative
   /// estimate (relative_cells == 0) inherits the largest relative budget measured on its kind
   /// of channel (relative_inherited).
   std::vector<DiscrepancyEntry> budgets() const;
 };
+
+
+/// A healthy recording's nuisance-only diagnosis, and under HealthyFit::ModelForm its refit.
+struct HealthyFitResult {
+  Diagnosis noise_weighted;                      ///< V = noise + fidelity: its chi2 and verdict are the noise test
+  std::optional<Diagnosis> model_form_weighted;  ///< the refit (HealthyFit::ModelForm)
+  /// The fit whose values and cells are used: the refit when there is one.
+  const Diagnosis& fit() const { return model_form_weighted ? *model_form_weighted : noise_weighted; }
+};
+
+/// Fits the nuisance parameters of the healthy `recording` (options.nuisance_only is forced;
+/// options.compare.discrepancy must be empty: the healthy recording is what a discrepancy is
+/// measured on). Under HealthyFit::ModelForm the first fit's per-family discrepancy (the point
+/// estimates of estimate_discrepancy, not their upper confidence limits: weights, not a test)
+/// enters V with its relative term at the first fit's model, the fit starts again from the
+/// configuration (the same boxes), and the cells are those of the refit, their D_i the noise's.
+HealthyFitResult fit_healthy(const Recording& recording, const model::SimulationConfig& config,
+                             DiagnoseOptions options, HealthyFit weighting);
 
 } // namespace pw::diagnose

@@ -275,6 +275,14 @@ public:
   double diagonal_variance(int window, int feature) const {
     return d_[static_cast<std::size_t>(window)][static_cast<std::size_t>(feature)];
   }
+  /// D_i of window w without the calibrated discrepancy's terms (Rician + non-stationarity +
+  /// leak): what the noise alone explains, the yardstick a discrepancy is estimated against
+  /// (calibration_cells) also when V carries one (HealthyFit::ModelForm). Equal to
+  /// diagonal_variance without a discrepancy.
+  double noise_diagonal_variance(int window, int feature) const {
+    const std::size_t f = static_cast<std::size_t>(feature);
+    return d_[static_cast<std::size_t>(window)][f] - disc_sd_[f] * disc_sd_[f] - disc_abs_[f];
+  }
   /// The model-form errors the comparison budgets (CompareOptions::discrepancy) as systematic
   /// shifts of the whitened residual of the fit half, one per discrepancy entry (kind of channel,
   /// line family) that has cells: the residual's change when every cell of that entry is off by

@@ -324,6 +324,11 @@ private:
       const WindowScore f0 = cmp().score(nominal_->amplitude, Half::Fit, ctx().nuisance_gains, HousingGains::Profile);
       ctx().nuisance_gains = f0.gains;
       cmp().set_reference(*nominal_, ctx().nuisance_gains);
+      // A refit weighted by this recording's own model-form error (fit_healthy) takes that
+      // error's relative term at the model it was estimated at, not at the nominal one.
+      if (o_.discrepancy_reference)
+        cmp().set_discrepancy_reference(cmp().simulate(o_.discrepancy_reference->config, false)->amplitude,
+                                        o_.discrepancy_reference->gains);
     }
     const std::vector<double> x0 = nuisance_start_point();
     d_.nuisance = fit_model(ctx(), nullptr, Variant{}, true, threads_, 2 * o_.max_iterations, &x0);

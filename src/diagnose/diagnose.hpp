@@ -50,6 +50,7 @@
 #include <functional>
 #include <limits>
 #include <map>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -74,6 +75,14 @@ struct DiagnoseOptions {
   /// Stop after the nuisance fit and its noise test (calibration): no location, no candidates;
   /// Diagnosis::calibration_cells holds the per-cell data the discrepancy is estimated from.
   bool nuisance_only = false;
+  /// The model at which the calibrated discrepancy's relative term of V is taken during the
+  /// nuisance fit, with its housing gains per analysed channel: an earlier fit of the same
+  /// recording (fit_healthy, calibration.hpp). Unset: the nominal model, as always.
+  struct DiscrepancyReference {
+    model::SimulationConfig config;
+    std::vector<double> gains;
+  };
+  std::optional<DiscrepancyReference> discrepancy_reference;
   int threads = 0;              ///< OpenMP threads (0: default)
   /// Simulation slots served elsewhere (compare.remote, e.g. other MPI ranks): that many more
   /// simulations run side by side, their threads mostly waiting.

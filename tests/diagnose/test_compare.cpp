@@ -281,5 +281,31 @@ TEST(Compare, BothNullFormsFromOnePassEqualTheirSeparatePassesBitForBit) {
     }
 }
 
+// A calibration estimates the discrepancy against what the noise alone explains; when V already
+// carries a budget (a model-form weighted refit, HealthyFit::ModelForm) that yardstick must be the
+// noise's, or the refit would measure only the excess beyond its own weights.
+TEST(Compare, NoiseDiagonalVarianceIsWhatVHoldsWithoutTheCalibratedDiscrepancy) {
+  const Recording rec = synthetic(0.0, 0.0, 11);
+  const Recording clean = synthetic(0.0, 0.0, 1, 0.0, 1e-6, 1e-9);
+  const auto model = ModelComparison(clean, stage_1200rpm()).spectra().amplitude[0];
+  CompareOptions co;
+  co.discrepancy.push_back({Quantity::MeshAccelerationSunPlanet, Component::Mesh, 0.3, 1e-4});
+  ModelComparison plain(rec, stage_1200rpm());
+  ModelComparison budgeted(rec, stage_1200rpm(), co);
+  plain.set_reference(model, {});
+  budgeted.set_reference(model, {});
+  ASSERT_EQ(plain.features(), budgeted.features());
+  int inflated = 0;
+  for (int w = 0; w < 2; ++w)
+    for (int f = 0; f < plain.features(); ++f) {
+      EXPECT_EQ(plain.noise_diagonal_variance(w, f), plain.diagonal_variance(w, f)) << f;
+      // One subtraction of what was added: round-off of the sum only.
+      EXPECT_NEAR(budgeted.noise_diagonal_variance(w, f), plain.diagonal_variance(w, f),
+                  1e-12 * budgeted.diagonal_variance(w, f)) << f;
+      if (budgeted.diagonal_variance(w, f) > 1.01 * budgeted.noise_diagonal_variance(w, f)) ++inflated;
+    }
+  EXPECT_GT(inflated, 0);  // the budget is in V: the test compares two different numbers
+}
+
 } // namespace
 } // namespace pw::diagnose
