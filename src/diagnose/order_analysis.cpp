@@ -76,8 +76,15 @@ std::vector<double> cumulative_integral(std::span<const double> t, std::span<con
 } // namespace
 
 std::vector<double> mesh_period_average(std::span<const double> x, double width) {
-  // y_j = (1/L) * integral of the piecewise-linear x over [j - L/2, j + L/2] (clipped at the
-  // ends), from the cumulative trapezoidal integral C interpolated linearly.
+  // y_j = (1/L) * integral of the piecewise-linear x over [j - L/2, j + L/2], from the
+  // cumulative trapezoidal integral C interpolated linearly. Within half a period of either end
+  // the interval is the full period that fits, shifted inwards, not a clipped shorter one: a
+  // shorter interval does not null the mesh harmonics, so the angle reference integrated from it
+  // wiggled at the mesh frequency there -- ~4e-4 rad of sun angle over the last half period of
+  // a 100 rpm recording, 0.6 rad of phase at carrier order 6300, leaked into every cell of the
+  // window that ends there (the held-out half) and into none of the model's (docs/diagnose-log.md,
+  // session 43). The shifted interval follows the slow variations up to half a period early or
+  // late, which for a speed that changes slowly over a mesh period is a second-order error.
   const std::size_t n = x.size();
   std::vector<double> C(n, 0.0), y(n);
   for (std::size_t j = 1; j < n; ++j) C[j] = C[j - 1] + 0.5 * (x[j] + x[j - 1]);
@@ -88,10 +95,13 @@ std::vector<double> mesh_period_average(std::span<const double> x, double width)
     // Integral of the linear interpolant from i to i + f.
     return C[i] + f * x[i] + 0.5 * f * f * (x[i + 1] - x[i]);
   };
-  const double h = 0.5 * width;
+  const double h = 0.5 * width, last = static_cast<double>(n - 1);
+  const bool period_fits = width <= last;
   for (std::size_t j = 0; j < n; ++j) {
-    const double a = std::max(0.0, static_cast<double>(j) - h),
-                 b = std::min(static_cast<double>(n - 1), static_cast<double>(j) + h);
+    double a = static_cast<double>(j) - h, b = static_cast<double>(j) + h;
+    if (!period_fits) a = 0, b = last;  // the whole record, shorter than the period
+    else if (a < 0) b -= a, a = 0;
+    else if (b > last) a -= b - last, b = last;
     y[j] = b > a ? (at(b) - at(a)) / (b - a) : x[j];
   }
   return y;

@@ -67,8 +67,9 @@ SpeedEstimate estimate_speed(const Recording& recording, const model::StageSpec&
 std::vector<double> carrier_angle(const Recording& recording, const model::StageSpec& stage,
                                   const SpeedEstimate& speed, std::string* source = nullptr);
 
-/// Centred moving average over `width` samples (fractional; clipped at the
-/// ends). Over one mesh period it removes the speed signal's vibration at
+/// Centred moving average over `width` samples (fractional; within width/2 of
+/// an end the full width shifted inwards, or the whole record when it is
+/// shorter than that). Over one mesh period it removes the speed signal's vibration at
 /// every mesh harmonic and keeps its slow variations: the angle reference of
 /// order tracking must follow the shaft's mean motion, not its vibration,
 /// or the strong high-frequency content of an accelerometer intermodulates

@@ -251,6 +251,31 @@ TEST(OrderAnalysis, MeshPeriodAverageKeepsTheDriftAndRemovesMeshHarmonics) {
   for (int j = 200; j < 19800; j += 997) EXPECT_NEAR(y[static_cast<std::size_t>(j)], 42 + 0.01 * j / fs, 2e-4) << j;
 }
 
+// Up to the record's first and last samples: a window clipped to half a period there passed
+// 2/pi of the 0.3 rad/s mesh ripple (0.19 at j = 0), which the angle reference integrated into a
+// phase wiggle at the record's ends. The shifted full period nulls it; what is left is the
+// drift's slope times at most half a period (0.01 rad/s^2 x 4.5 ms = 4.5e-5).
+TEST(OrderAnalysis, MeshPeriodAverageRemovesMeshHarmonicsUpToTheRecordsEnds) {
+  const double fs = 10000, fm = 111.176;
+  const int n = 20000;
+  std::vector<double> w;
+  for (int j = 0; j < n; ++j) {
+    const double t = j / fs;
+    w.push_back(42 + 0.01 * t + 0.3 * std::sin(2 * kPi * fm * t) + 0.1 * std::cos(2 * kPi * 7 * fm * t));
+  }
+  const auto y = mesh_period_average(w, fs / fm);
+  for (int j : {0, 1, 7, 20, 44, 60, n - 61, n - 45, n - 21, n - 8, n - 2, n - 1})
+    EXPECT_NEAR(y[static_cast<std::size_t>(j)], 42 + 0.01 * j / fs, 6e-5) << j;
+  // A record shorter than the period: its whole mean, as before.
+  const std::vector<double> short_record(w.begin(), w.begin() + 50);
+  const auto ys = mesh_period_average(short_record, fs / fm);
+  double mean = 0;
+  for (std::size_t j = 1; j < short_record.size(); ++j) mean += 0.5 * (short_record[j] + short_record[j - 1]);
+  mean /= static_cast<double>(short_record.size() - 1);
+  EXPECT_NEAR(ys[0], mean, 1e-12);
+  EXPECT_NEAR(ys[49], mean, 1e-12);
+}
+
 TEST(OrderAnalysis, ModelSpectrumIsExactForIntegerOrdersUnderA10PercentSpeedRipple) {
   // A model record whose sun speed swings by 10 % at twice the shaft frequency (a 10 % torque
   // ripple of order 2 does that to the seed stage): the carrier angle then departs from
