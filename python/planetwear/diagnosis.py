@@ -23,7 +23,11 @@ def read_series(path):
     with open(path, encoding="utf-8") as fh:
         first = fh.readline()
     comment = first[1:].strip() if first.startswith("#") else ""
-    table = pd.read_csv(path, comment=None, skiprows=1 if comment else 0, index_col="x")
+    # round_trip: pandas' default parser may land one ulp off the written decimal (1 % of a
+    # report's values were, against numpy's correctly rounded parse); the series are the
+    # report's numbers, so they are read back exactly.
+    table = pd.read_csv(path, comment=None, skiprows=1 if comment else 0, index_col="x",
+                        float_precision="round_trip")
     table.attrs["comment"] = comment
     return table
 
