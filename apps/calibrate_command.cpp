@@ -104,11 +104,12 @@ void print_table(const diagnose::Calibration& cal) {
 std::string absolute_path(const std::string& p) { return std::filesystem::absolute(p).lexically_normal().string(); }
 
 /// One recording's nuisance-only diagnosis with the rig elements `rig` (fit_healthy: the values
-/// and cells of diagnosis, the noise test of noise_test), and its gear-set configuration.
+/// and cells of fits.fit(), the noise test of fits.noise_weighted), and its gear-set configuration.
 struct RecordingFit {
   model::SimulationConfig config;
-  diagnose::Diagnosis diagnosis;
-  diagnose::Diagnosis noise_test;  ///< the noise-weighted fit (the same as diagnosis under HealthyFit::Noise)
+  diagnose::HealthyFitResult fits;
+  const diagnose::Diagnosis& diagnosis() const { return fits.fit(); }
+  const diagnose::Diagnosis& noise_test() const { return fits.noise_weighted; }
 };
 
 std::vector<RecordingFit> fit_recordings(const CalibrateCommandOptions& o, const std::vector<std::string>& rig) {
@@ -133,13 +134,12 @@ std::vector<RecordingFit> fit_recordings(const CalibrateCommandOptions& o, const
                    d.recording.c_str(), opt.extra_nuisance.size());
       opt.progress = [](const std::string& s) { std::fprintf(stderr, "[calibrate]   %s\n", s.c_str()); };
     }
-    diagnose::HealthyFitResult r =
-        diagnose::fit_healthy(in.recording, in.config, opt, diagnose::healthy_fit_from_string(o.healthy_fit, "--healthy-fit"));
-    RecordingFit f{in.config, r.fit(), r.noise_weighted};
+    RecordingFit f{in.config, diagnose::fit_healthy(in.recording, in.config, opt,
+                                                    diagnose::healthy_fit_from_string(o.healthy_fit, "--healthy-fit"))};
     if (!o.common.quiet)
       std::fprintf(stderr, "[calibrate]   nuisance-fitted chi2 %.4g (fit) / %.4g (held out), noise bounds %.4g / %.4g\n",
-                   f.noise_test.nuisance.fit.chi2, f.noise_test.nuisance.held_out.chi2, f.noise_test.bound_fit,
-                   f.noise_test.bound_held_out);
+                   f.noise_test().nuisance.fit.chi2, f.noise_test().nuisance.held_out.chi2, f.noise_test().bound_fit,
+                   f.noise_test().bound_held_out);
     out.push_back(std::move(f));
   }
   return out;
@@ -168,11 +168,11 @@ int run_calibrate(const CalibrateCommandOptions& o) {
   if (plain.size() != rig.size()) {
     std::vector<RecordingFit> without = fit_recordings(o, plain);
     for (std::size_t i = 0; i < fits.size(); ++i)
-      if (!(fits[i].noise_test.nuisance.held_out.chi2 < without[i].noise_test.nuisance.held_out.chi2)) {
+      if (!(fits[i].noise_test().nuisance.held_out.chi2 < without[i].noise_test().nuisance.held_out.chi2)) {
         std::fprintf(stderr,
                      "[calibrate] the calibration-only rig elements are left out: on recording %zu the fit with them "
                      "leaves held-out chi2 %.4g, without them %.4g\n",
-                     i + 1, fits[i].noise_test.nuisance.held_out.chi2, without[i].noise_test.nuisance.held_out.chi2);
+                     i + 1, fits[i].noise_test().nuisance.held_out.chi2, without[i].noise_test().nuisance.held_out.chi2);
         fits = std::move(without);
         rig = plain;
         break;
@@ -183,8 +183,8 @@ int run_calibrate(const CalibrateCommandOptions& o) {
   std::vector<std::vector<diagnose::FittedParameter>> params;
   const model::SimulationConfig& base_config = fits.front().config;  // the gear set's, for the rig elements' settings
   for (std::size_t i = 0; i < fits.size(); ++i) {
-    const diagnose::Diagnosis& r = fits[i].diagnosis;
-    const diagnose::Diagnosis& noise = fits[i].noise_test;
+    const diagnose::Diagnosis& r = fits[i].diagnosis();
+    const diagnose::Diagnosis& noise = fits[i].noise_test();
     // Absolute paths: `diagnose --calibration` finds the recording at its operating point again
     // from wherever it runs (docs/diagnose.md §6a item 6).
     cal.recordings.push_back(absolute_path(o.recordings[i]));
