@@ -112,7 +112,8 @@ struct RecordingFit {
   const diagnose::Diagnosis& noise_test() const { return fits.noise_weighted; }
 };
 
-std::vector<RecordingFit> fit_recordings(const CalibrateCommandOptions& o, const std::vector<std::string>& rig) {
+std::vector<RecordingFit> fit_recordings(const CalibrateCommandOptions& o, const std::vector<std::string>& rig,
+                                         diagnose::HealthyFit weighting) {
   std::vector<RecordingFit> out;
   for (std::size_t i = 0; i < o.recordings.size(); ++i) {
     // Inputs and the nuisance-only diagnosis, as `diagnose` would start.
@@ -134,8 +135,7 @@ std::vector<RecordingFit> fit_recordings(const CalibrateCommandOptions& o, const
                    d.recording.c_str(), opt.extra_nuisance.size());
       opt.progress = [](const std::string& s) { std::fprintf(stderr, "[calibrate]   %s\n", s.c_str()); };
     }
-    RecordingFit f{in.config, diagnose::fit_healthy(in.recording, in.config, opt,
-                                                    diagnose::healthy_fit_from_string(o.healthy_fit, "--healthy-fit"))};
+    RecordingFit f{in.config, diagnose::fit_healthy(in.recording, in.config, opt, weighting)};
     if (!o.common.quiet)
       std::fprintf(stderr, "[calibrate]   nuisance-fitted chi2 %.4g (fit) / %.4g (held out), noise bounds %.4g / %.4g\n",
                    f.noise_test().nuisance.fit.chi2, f.noise_test().nuisance.held_out.chi2, f.noise_test().bound_fit,
@@ -158,7 +158,7 @@ int run_calibrate(const CalibrateCommandOptions& o) {
   diagnose::Calibration cal;
   cal.alpha = o.alpha;
   cal.healthy_fit = diagnose::healthy_fit_from_string(o.healthy_fit, "--healthy-fit");
-  std::vector<RecordingFit> fits = fit_recordings(o, rig);
+  std::vector<RecordingFit> fits = fit_recordings(o, rig, cal.healthy_fit);
   // Calibration-only rig elements (a shaft behind a speed source) have no value without effect,
   // so LM cannot fall back to the model without them: they are kept only if the fit with them
   // beats the fit without on every recording's held-out half.
@@ -166,7 +166,7 @@ int run_calibrate(const CalibrateCommandOptions& o) {
   for (const std::string& r : rig)
     if (!diagnose::find_candidate(r)->calibration_only()) plain.push_back(r);
   if (plain.size() != rig.size()) {
-    std::vector<RecordingFit> without = fit_recordings(o, plain);
+    std::vector<RecordingFit> without = fit_recordings(o, plain, cal.healthy_fit);
     for (std::size_t i = 0; i < fits.size(); ++i)
       if (!(fits[i].noise_test().nuisance.held_out.chi2 < without[i].noise_test().nuisance.held_out.chi2)) {
         std::fprintf(stderr,
