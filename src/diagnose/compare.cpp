@@ -12,6 +12,7 @@
 #include <Eigen/Dense>
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -192,6 +193,19 @@ ModelComparison::ModelComparison(const Recording& recording, const model::Simula
     classify(c, nullptr);
   }
   for (double v : vns_) ns_cells_ += v > 0 ? 1 : 0;
+  // The angle reference's Brownian bridge leaks into the cells next to strong lines
+  // (order_analysis.hpp): part of s2_, scaled with it by the dispersion.
+  bridge_.clear();
+  if (!spec_.bridge_leak.empty()) {
+    constexpr std::size_t kD = RecordingSpectra::kBridgeBins;
+    bridge_.assign(m * kD, 0.0);
+    for (int c = 0; c < nc; ++c)
+      for (int i = 0; i < ncell; ++i)
+        for (std::size_t d = 0; d < kD; ++d)
+          bridge_[static_cast<std::size_t>(c * ncell + i) * kD + d] =
+              spec_.bridge_leak[static_cast<std::size_t>(c)][static_cast<std::size_t>(i)][d] *
+              dispersion_[static_cast<std::size_t>(c)];
+  }
   // The angle reference's linear drift (order_analysis.hpp): one N(0, D T) number per window
   // that moves every amplitude along amplitude_drift; a column with a N(0, 1) weight.
   drift_.assign(2, {});
@@ -699,6 +713,17 @@ ModelComparison::NullDraws ModelComparison::null_draws(const std::vector<std::ve
   std::vector<double> eps(static_cast<std::size_t>(nc * groups));
   std::vector<double> z(q);
   Chi2Plan plan = chi2_plan(w, response);
+  // The angle reference's Brownian bridge: its Fourier coefficients c_d (d = 1 .. kBridgeBins
+  // bins) are independent circular complex normals (their real parts come from the odd terms
+  // of the bridge's Karhunen-Loeve series, their imaginary parts from the even ones, and the
+  // odd terms' projections on different d are orthogonal), so each window's leak at distance d
+  // is its expectation times g_d = |c_d|^2 / E|c_d|^2 ~ Exp(1), one number shared by every
+  // cell of every channel. Drawn from a stream of its own so that the other numbers of a draw
+  // stay those of a recording without the bridge.
+  constexpr std::size_t kD = RecordingSpectra::kBridgeBins;
+  const bool bridge = !bridge_.empty();
+  std::mt19937_64 bridge_rng(opt_.seed + 0x9e3779b97f4a7c15ULL + static_cast<std::uint64_t>(w));
+  std::array<double, kD> g{};
   // Both fidelity forms (FidelityDraw) from one sequence of random numbers: each number is drawn
   // once, in the order a single form's draw takes it, and enters both, so each form's draws are
   // those a call for it alone makes.
@@ -706,6 +731,11 @@ ModelComparison::NullDraws ModelComparison::null_draws(const std::vector<std::ve
     for (double& v : z) v = nd(rng);
     for (double& v : eps) v = nd(rng);
     const double zd = drift.empty() ? 0.0 : nd(rng);
+    if (bridge)
+      for (double& v : g) {
+        const double x = nd(bridge_rng), y = nd(bridge_rng);
+        v = 0.5 * (x * x + y * y) - 1.0;  // g_d - 1
+      }
     for (std::size_t f = 0; f < nf; ++f) {
       const Feature& e = ft[f];
       const double* uf = &fid[f * q];
@@ -732,7 +762,13 @@ ModelComparison::NullDraws ModelComparison::null_draws(const std::vector<std::ve
       af_fold = std::fabs(af_fold);
       af_lin = std::fabs(af_lin);
       const double scale = std::max(0.1, 1 + e.noise_rse * eps[e.eps_index]);
-      const double s = std::sqrt(e.half_s2 * scale);
+      double half_s2 = e.half_s2;
+      if (bridge) {
+        double extra = 0;
+        for (std::size_t k = 0; k < kD; ++k) extra += g[k] * bridge_[f * kD + k];
+        half_s2 = std::max(0.0, half_s2 + 0.5 * extra);
+      }
+      const double s = std::sqrt(half_s2 * scale);
       const double nx = nd(rng);
       const double y = s * nd(rng);
       const double drift_term = drift.empty() ? 0.0 : zd * e.drift;

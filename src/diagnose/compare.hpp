@@ -365,6 +365,7 @@ private:
   int ns_cells_ = 0;
   std::vector<std::vector<double>> u_;       // [column][feature]
   std::vector<std::vector<double>> drift_;   // [window][feature]: angle-drift column (empty: none)
+  std::vector<double> bridge_;               // [feature x kBridgeBins]: the angle bridge's leak in s2_ (empty: none)
   std::vector<std::string> u_names_;
   int u_discretization_ = -1;
   std::vector<double> base_discretization_;  // [feature]: the baseline model's discretization direction

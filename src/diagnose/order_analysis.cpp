@@ -717,11 +717,15 @@ void add_angle_drift_leak(const Recording& rec, const model::StageSpec& stage, R
       s.angle_diffusion_T = s.noise_floor[c] * T * T * k * k;
       break;
     }
+    constexpr int kD = RecordingSpectra::kBridgeBins;
+    s.bridge_leak.assign(nc, std::vector<std::array<double, kD>>(s.layout.cells.size()));
     for (std::size_t c = 0; c < nc; ++c)
       for (std::size_t i = 0; i < s.layout.cells.size(); ++i) {
         const int b = s.layout.cells[i].bin;
         double leak = 0;
-        for (int d = -4; d <= 4; ++d) {
+        auto& by_distance = s.bridge_leak[c][i];
+        by_distance.fill(0.0);
+        for (int d = -kD; d <= kD; ++d) {
           const int bl = b - d;
           if (d == 0 || bl < 1 || bl > s.layout.max_bin) continue;
           double p = 0;
@@ -730,7 +734,9 @@ void add_angle_drift_leak(const Recording& rec, const model::StageSpec& stage, R
             p += 0.5 * a * a;
           }
           const double ord = static_cast<double>(bl) / R;
-          leak += std::max(0.0, p - s.noise_variance[c][i]) * ord * ord * s.angle_diffusion_T / (4 * kPi * kPi * d * d);
+          const double part = std::max(0.0, p - s.noise_variance[c][i]) * ord * ord * s.angle_diffusion_T / (4 * kPi * kPi * d * d);
+          by_distance[static_cast<std::size_t>(std::abs(d) - 1)] += part;
+          leak += part;
         }
         s.noise_variance[c][i] += leak;
       }

@@ -43,6 +43,7 @@
 #include "model/simulation.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <complex>
 #include <optional>
@@ -202,6 +203,14 @@ struct RecordingSpectra {
   /// variance of its linear drift delta over a window, and strong lines leak the rest (the
   /// Brownian bridge) as A^2 o^2 D T / (4 pi^2 d^2) into the bins d away, added to noise_variance.
   double angle_diffusion_T = 0;
+  /// The bridge's leak split by bin distance: bridge_leak[c][i][d - 1] is the part of
+  /// noise_variance[c][i] leaked from the lines d = 1 .. kBridgeBins bins away (both sides)
+  /// [unit^2]. Its realization is one number per window and distance, shared by every cell of
+  /// every channel (the bridge's Fourier coefficient c_d), so the null draws it once per window
+  /// (ModelComparison::null_draws) instead of as independent noise. Empty without a speed
+  /// channel as the angle reference.
+  static constexpr int kBridgeBins = 4;
+  std::vector<std::vector<std::array<double, kBridgeBins>>> bridge_leak;
   /// amplitude_drift[w][c][k] = d|c_k|/d delta [unit/rad]: how window w's amplitudes move with
   /// a linear angle-reference error delta over the window (angle_fourier); empty without a
   /// speed channel as the angle reference.

@@ -15,6 +15,7 @@
 
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
 #include <numbers>
 #include <random>
@@ -127,6 +128,55 @@ TEST(Compare, DriftColumnTakesALinearAngleReferenceErrorWithItsSignAndSizeAndRem
       EXPECT_LT(b.chi2 - c.chi2, 0.5 * leak) << drift_in_sd << " sd, window " << w;
     }
   }
+}
+
+// The angle reference integrates the speed channel's noise: a random walk whose Brownian bridge
+// over a window leaks every strong line into its neighbouring bins (order_analysis.hpp). The
+// bridge is one realization per window: its Fourier coefficient c_d is shared by every cell d
+// bins from a line, in every channel, so the leaks rise and fall together. In a cell whose
+// variance is leak-dominated the chi2 term follows g_d = |c_d|^2 / E|c_d|^2 ~ Exp(1) (variance
+// 1), so the null's chi2 must gain at least about sum_d L_d^2 of variance, L_d = sum over cells
+// of leak_d / s2 (the chi2 that distance's leak carries); drawn independently per cell, as
+// the comparison did before, it gains only ~sum_f (leak_f / s2_f)^2, a few per cent of that here.
+// Lines 1000:1 above the acceleration noise, a speed channel noisy enough that the 16 cells at
+// each distance are leak-dominated (L_d ~ 15). The quiet twin has the same acceleration noise and
+// a noise-free speed channel: no bridge. The bound 0.5 allows the Rician cells' response below
+// linear and the ~10 % sampling error of two 68 % half-widths from 2000 draws; 3 is far above
+// what the skew of Exp(1) (its upper tail) adds to a 68 % half-width.
+TEST(Compare, NullDrawsTheAngleBridgeLeakOncePerWindowForEveryCell) {
+  const Recording exact_rec = synthetic(0.0, 0.0, 1, 0.0, 1e-6, 1e-9);
+  const auto model = ModelComparison(exact_rec, stage_1200rpm()).spectra().amplitude[1];
+  constexpr double kAccNoise = 0.01, kSpeedNoise = 0.05;  // per sample: m/s^2, rad/s
+  const Recording rec = synthetic(0.0, 0.0, 100, 0.0, kAccNoise, kSpeedNoise);
+  const Recording quiet_rec = synthetic(0.0, 0.0, 100, 0.0, kAccNoise, 1e-9);
+  const ModelComparison cmp(rec, stage_1200rpm()), quiet(quiet_rec, stage_1200rpm());
+  ASSERT_EQ(cmp.features(), quiet.features());
+  ASSERT_FALSE(cmp.spectra().bridge_leak.empty());
+  EXPECT_TRUE(quiet.spectra().bridge_leak.empty() || quiet.angle_drift_std_rad() < 1e-6 * cmp.angle_drift_std_rad());
+  std::array<double, RecordingSpectra::kBridgeBins> L{};
+  double independent = 0;
+  for (int c = 0; c < cmp.channels(); ++c)
+    for (int i = 0; i < cmp.cells(); ++i) {
+      const int f = c * cmp.cells() + i;
+      const auto& by_d = cmp.spectra().bridge_leak[static_cast<std::size_t>(c)][static_cast<std::size_t>(i)];
+      double x = 0;
+      for (std::size_t d = 0; d < L.size(); ++d) {
+        L[d] += by_d[d] / cmp.noise_variance(f);
+        x += by_d[d] / cmp.noise_variance(f);
+      }
+      independent += x * x;
+    }
+  double shared = 0;
+  for (double l : L) shared += l * l;
+  ASSERT_GT(L[0], 10.0);  // leak-dominated cells exist at one bin
+  EXPECT_LT(independent, 0.1 * shared);
+  auto half_width = [&](const ModelComparison& m) {
+    return 0.5 * (m.null_quantile(model, {}, Half::HeldOut, 0.1587) - m.null_quantile(model, {}, Half::HeldOut, 0.8413));
+  };
+  const double w = half_width(cmp), w0 = half_width(quiet);
+  const double gained = w * w - w0 * w0;
+  EXPECT_GT(gained, 0.5 * shared) << "half-widths " << w << " (bridge) and " << w0 << " (quiet)";
+  EXPECT_LT(gained, 3.0 * shared) << "half-widths " << w << " (bridge) and " << w0 << " (quiet)";
 }
 
 // The simulation cache key is derived from the configuration schema: any one
