@@ -3,6 +3,7 @@
 
 #include "core/error.hpp"
 #include "io/atomic_output.hpp"
+#include "io/candidate_listing.hpp"
 #include "io/config_listing.hpp"
 #include "io/config_toml.hpp"
 #include "io/csv_writer.hpp"
@@ -205,6 +206,11 @@ int run_keys(const std::string& format) {
   }
   for (const auto& k : io::config_keys())
     std::printf("%-48s %-16s %-22s %s\n", k.path.c_str(), k.type.c_str(), k.default_value.c_str(), k.doc.c_str());
+  return 0;
+}
+
+int run_candidates(const std::string& format) {
+  std::fputs((format == "json" ? io::candidates_json() : io::candidates_text()).c_str(), stdout);
   return 0;
 }
 

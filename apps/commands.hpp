@@ -44,6 +44,8 @@ int run_simulate(const SimulateOptions& options);
 int run_stiffness(const StiffnessOptions& options);
 /// `keys`: the text table, or with format "json" keys_json().
 int run_keys(const std::string& format);
+/// `planetwear candidates`: the diagnosis's candidate library as a table or JSON (io/candidate_listing.hpp).
+int run_candidates(const std::string& format);
 /// `config`: the resolved configuration as TOML, or with --template the
 /// commented defaults (io/config_listing.hpp).
 int run_config(const ConfigOptions& options);

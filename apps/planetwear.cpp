@@ -120,6 +120,15 @@ int main(int argc, char** argv) {
   keys->add_option("--format", keys_format, "text (a table) or json (an array of {key, type, unit, default, doc})")
       ->check(CLI::IsMember({"text", "json"}));
 
+  CLI::App* cands = app.add_subcommand(
+      "candidates", "List the physics `diagnose` can name or fit: each candidate's role, the line families its "
+                    "signature lives in (what a report's \"located in the sun family\" can stand for), its class of "
+                    "findings and its physics\n\nExamples:\n  planetwear candidates\n  planetwear candidates --format json");
+  std::string candidates_format = "text";
+  cands->add_option("--format", candidates_format,
+                    "text (a table) or json (an array of {name, role, families, finding_class, physics})")
+      ->check(CLI::IsMember({"text", "json"}));
+
   pw::app::ConfigOptions cfg;
   CLI::App* cf = app.add_subcommand("config", "Print the resolved configuration as TOML (every key), or with "
                                               "--template every key at its default with its doc as a comment");
@@ -141,6 +150,7 @@ int main(int argc, char** argv) {
     if (*s) return pw::app::run_simulate(sim);
     if (*k) return pw::app::run_stiffness(stf);
     if (*keys) return pw::app::run_keys(keys_format);
+    if (*cands) return pw::app::run_candidates(candidates_format);
     if (*cf) return pw::app::run_config(cfg);
     if (*sw) return pw::app::run_sweep(swp);
     if (*sy) return pw::app::run_synth(syn);

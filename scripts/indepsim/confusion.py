@@ -13,7 +13,10 @@ unless DIR/diagnosis/<gearset>/rec_NN/report.json exists (resumable), reads the 
 (docs/diagnose.md section 6), prints a confusion matrix truth effect x reported verdict
 (candidate name, "class:a|b" for a class finding, "none" for no_missing_physics, "unexplained",
 "refused", "failed") and the counts: named right (of which as a class: the truth is a member of
-the class named), controls clean, confident wrong names, refusals. Writes
+the class named), controls clean, confident wrong names, refusals, and of the effects left
+"unexplained" how many the report located in a line family the true effect's candidate lives in
+(`planetwear candidates --format json`: the tool's own table; the report's
+location.screened_family). Writes
 DIR/diagnosis/results.csv and results.json. Held-out recordings (truth "held_out") are
 skipped unless --include-held-out. With DIR/observability.json (observability.py), an effect
 that no test could see in its recording is scored apart: "no missing physics" is right there
@@ -144,6 +147,30 @@ def score(label, truth_effect, unobservable=False):
     if label.startswith("class:") and truth_effect in label[len("class:"):].split("|"):
         return "named_right_as_class"
     return {"none": "missed", "unexplained": "unexplained"}.get(label, "wrong_name")
+
+
+def candidate_families(exe):
+    """{candidate name: [line families]} from `planetwear candidates --format json` (the tool's own
+    table, so that a located family is mapped as the tool maps it); {} when the binary has no such
+    command (then no located_right figure is printed)."""
+    try:
+        p = subprocess.run([exe, "candidates", "--format", "json"], capture_output=True, text=True, timeout=60)
+    except (OSError, subprocess.TimeoutExpired):
+        return {}
+    if p.returncode != 0:
+        return {}
+    return {r["name"]: r["families"] for r in json.loads(p.stdout)}
+
+
+def located_family(report_path):
+    """The line family a report located by the candidates' own signatures (report.json
+    location.screened_family), or None (not located, no report)."""
+    try:
+        with open(report_path) as f:
+            loc = json.load(f).get("location") or {}
+    except (OSError, ValueError):
+        return None
+    return loc.get("screened_family")
 
 
 def run_one(exe, corpus, key, rec, outroot, threads, timeout, extra_args=(), sensors="all"):
@@ -369,6 +396,10 @@ def main(argv=None):
         with open(obs_path) as f:
             obs = json.load(f)
         unobservable = {r["key"] for r in obs["rows"] if r["d2_model_all"] < obs["unobservable_below_d2"]}
+    # Where an effect is not named, whether the report's located family (by the candidates' own
+    # signatures) is one the true effect's candidate lives in: what an "unexplained residual"
+    # still tells its reader, scored with the tool's own candidate table.
+    families = candidate_families(a.planetwear)
     rows = []
     for k in keys:
         if k not in results:
@@ -377,8 +408,13 @@ def main(argv=None):
         r = recs[k]
         truth_eff = r["effect"]
         outcome = score(label, truth_eff, k in unobservable)
+        located = located_family(os.path.join(a.corpus, outroot, r["gearset"], r["name"], "report.json"))
+        located_right = None
+        if families and truth_eff in families and located is not None:
+            located_right = located in families[truth_eff]
         rows.append(dict(key=k, gearset=r["gearset"], name=r["name"], role=r["role"], truth=truth_eff,
-                         reported=label, verdict=verdict, outcome=outcome, held_out=r.get("held_out", False),
+                         reported=label, verdict=verdict, outcome=outcome, located=located,
+                         located_right=located_right, held_out=r.get("held_out", False),
                          reader_should_refuse=r.get("reader_should_refuse", False), op=r["operating_point"],
                          rpm=r["input_speed_rpm"], W=r["input_power_W"], duration_s=r["duration_s"],
                          seconds=round(dt, 1), summary=summary.replace("\n", " ")[:300]))
@@ -411,6 +447,8 @@ def main(argv=None):
         unexplained=counts.get("unexplained", 0) + counts.get("control_unexplained", 0),
         missed=counts.get("missed", 0), refusals=counts.get("refused", 0), failures=counts.get("failed", 0),
         refusals_expected=sum(1 for r in rows if r["outcome"] == "refused" and r["reader_should_refuse"]),
+        unexplained_effects_located=sum(1 for r in rows if r["outcome"] == "unexplained" and r["located"] is not None),
+        unexplained_effects_located_right=sum(1 for r in rows if r["outcome"] == "unexplained" and r["located_right"]),
         wall_s=round(time.time() - t_start, 1))
     with open(os.path.join(odir, "results.json"), "w") as f:
         json.dump(dict(summary=summary, confusion=mat, rows=rows), f, indent=1)

@@ -722,7 +722,10 @@ ModelComparison::NullDraws ModelComparison::null_draws(const std::vector<std::ve
   // stay those of a recording without the bridge.
   constexpr std::size_t kD = RecordingSpectra::kBridgeBins;
   const bool bridge = !bridge_.empty();
-  std::mt19937_64 bridge_rng(opt_.seed + 0x9e3779b97f4a7c15ULL + static_cast<std::uint64_t>(w));
+  // The stream's seed: the null's own, offset by 2^64 / golden ratio (the usual odd constant
+  // that separates seeds), so that it never coincides with the main stream's seed + w.
+  constexpr std::uint64_t kBridgeStreamOffset = 0x9e3779b97f4a7c15ULL;
+  std::mt19937_64 bridge_rng(opt_.seed + kBridgeStreamOffset + static_cast<std::uint64_t>(w));
   std::array<double, kD> g{};
   // Both fidelity forms (FidelityDraw) from one sequence of random numbers: each number is drawn
   // once, in the order a single form's draw takes it, and enters both, so each form's draws are

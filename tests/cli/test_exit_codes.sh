@@ -21,6 +21,7 @@ check() {  # check <name> <expected exit> <expected substring in stderr/stdout> 
 check help 0 "docs/cli.md" "" -- "$PW" --help
 check version 0 "planetwear" "" -- "$PW" --version
 check keys 0 "operating.input_speed_rpm" "" -- "$PW" keys
+check candidates 0 "sun_tooth_damage" "" -- "$PW" candidates
 
 # 1: command-line parse errors (CLI11 would exit 104-109), with the one prefix.
 check unknown-option 1 "${P}.*--bogus" bad.h5 -- "$PW" simulate --bogus 3 -o bad.h5
@@ -28,6 +29,7 @@ check missing-output 1 "${P}.*--output" "" -- "$PW" simulate
 check not-a-number 1 "${P}.*--speed-rpm" bad.h5 -- "$PW" simulate --speed-rpm fast -o bad.h5
 check no-subcommand 1 "$P" "" -- "$PW"
 check bad-keys-format 1 "${P}.*--format" "" -- "$PW" keys --format yaml
+check bad-candidates-format 1 "${P}.*--format" "" -- "$PW" candidates --format yaml
 check bad-decimation 1 "${P}.*--time-history-decimation" bad.h5 -- "$PW" simulate --time-history-decimation 0 -o bad.h5
 # 1: a range error names the key.
 check range-error 1 "${P}operating.input_speed_rpm" bad.h5 -- "$PW" simulate --speed-rpm -5 -o bad.h5
@@ -70,6 +72,28 @@ for k in keys:
 speed = next(k for k in keys if k["key"] == "operating.input_speed_rpm")
 assert speed["unit"] == "rpm" and speed["default"] == "100.0" and speed["type"] == "float", speed
 assert speed["range"] == "in (0, 100000]", speed
+PY
+
+# candidates --format json: the rows of the text table, each with a role, at least one line family
+# of the five a report locates, and the families a scorer maps a located family with.
+"$PW" candidates > candidates.txt || fail=1
+"$PW" candidates --format json > candidates.json || fail=1
+/usr/bin/python3 - candidates.txt candidates.json <<'PY' || fail=1
+import json, sys
+text = [line.split()[0] for line in open(sys.argv[1]).read().splitlines()[1:] if line.strip()]
+rows = json.load(open(sys.argv[2]))
+assert [r["name"] for r in rows] == text, "json candidates differ from the text listing"
+families = {"mesh", "sun", "planet", "carrier", "input_shaft"}
+for r in rows:
+    assert set(r) == {"name", "role", "families", "finding_class", "physics"}, r
+    assert r["role"] in {"fault", "nuisance", "rig element", "calibration only"}, r
+    assert r["families"] and set(r["families"]) <= families, r
+    assert r["physics"], r
+by = {r["name"]: r for r in rows}
+assert by["sun_tooth_damage"]["families"][0] == "sun" and by["sun_tooth_damage"]["role"] == "fault", by["sun_tooth_damage"]
+assert by["stiffness_level"]["role"] == "nuisance", by["stiffness_level"]
+assert by["torque_ripple"]["families"] == ["input_shaft"], by["torque_ripple"]
+assert by["pin_error"]["finding_class"] == "planet_position_error", by["pin_error"]
 PY
 
 # config --template: commented, accepted by simulate, equal to the defaults.

@@ -315,3 +315,15 @@ def test_a_class_finding_is_scored_right_for_what_it_covers_and_wrong_for_anythi
     label = confusion.read_report(str(p))[0]
     assert confusion.score(label, "stiffness_level") == "wrong_name"
     assert confusion.score(label, "friction") == "named_right_as_class"
+
+
+def test_located_family_is_read_from_the_report_and_missing_when_nothing_was_located(tmp_path):
+    p = tmp_path / "report.json"
+    p.write_text(json.dumps({"verdict": "unexplained_residual",
+                             "location": {"screened_family": "sun", "screened_candidate": "sun_tooth_damage"}}))
+    assert confusion.located_family(str(p)) == "sun"
+    p.write_text(json.dumps({"verdict": "no_missing_physics"}))
+    assert confusion.located_family(str(p)) is None
+    assert confusion.located_family(str(tmp_path / "absent.json")) is None
+    # a binary without the `candidates` command gives no table, so no located_right is scored
+    assert confusion.candidate_families("/bin/false") == {}
