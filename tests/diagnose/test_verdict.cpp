@@ -189,6 +189,26 @@ TEST(Verdict, WinnerFarAboveItsBoundIsUnexplainedWithTheCandidateAsLead) {
   EXPECT_NE(d.candidates.front().reason.find("not named, a lead only"), std::string::npos);
 }
 
+// Where the candidates' own signatures put the excess is said with the library's findings that
+// live there (the lead's family may differ: here the lead is friction, a mesh candidate, and the
+// signatures put the excess in the sun family); without a screening, nothing is added.
+TEST(Verdict, AnUnexplainedResidualSaysWhichFamilyTheSignaturesLocatedAndTheFindingsThatLiveThere) {
+  Diagnosis d = far_from_the_model(5828, 80000000, 7850377, 20000000, 1281752);
+  d.location.screened_family = static_cast<int>(Component::Sun);
+  d.location.screened_candidate = "sun_tooth_damage";
+  VerdictInputs in = inputs(5828);
+  in.replicate_chi2 = 11500;
+  decide_verdict(d, in);
+  ASSERT_EQ(d.verdict, Verdict::Unexplained) << d.summary;
+  EXPECT_NE(d.summary.find("; by the candidates' own signatures the excess is in the sun family (the library's "
+                           "sun_tooth_damage, sun_runout); closest lead: friction"),
+            std::string::npos)
+      << d.summary;
+  Diagnosis e = far_from_the_model(5828, 80000000, 7850377, 20000000, 1281752);
+  decide_verdict(e, in);
+  EXPECT_EQ(e.summary.find("own signatures"), std::string::npos) << e.summary;
+}
+
 TEST(Verdict, WinnerAboveItsNullButBetterThanTheRecordingsOwnHalfIsNamed) {
   // The own-simulator remainder (a damaged sun tooth: 1895 against 1744): within the
   // model-free budget of the recording's fit half predicting its held-out half.
