@@ -726,6 +726,9 @@ ModelComparison::NullDraws ModelComparison::null_draws(const std::vector<std::ve
   // that separates seeds), so that it never coincides with the main stream's seed + w.
   constexpr std::uint64_t kBridgeStreamOffset = 0x9e3779b97f4a7c15ULL;
   std::mt19937_64 bridge_rng(opt_.seed + kBridgeStreamOffset + static_cast<std::uint64_t>(w));
+  // A distribution of its own too: std::normal_distribution keeps the second deviate of each
+  // pair it makes, so one object shared by two engines hands one stream's numbers to the other.
+  std::normal_distribution<double> bridge_nd(0.0, 1.0);
   std::array<double, kD> g{};
   // Both fidelity forms (FidelityDraw) from one sequence of random numbers: each number is drawn
   // once, in the order a single form's draw takes it, and enters both, so each form's draws are
@@ -736,7 +739,7 @@ ModelComparison::NullDraws ModelComparison::null_draws(const std::vector<std::ve
     const double zd = drift.empty() ? 0.0 : nd(rng);
     if (bridge)
       for (double& v : g) {
-        const double x = nd(bridge_rng), y = nd(bridge_rng);
+        const double x = bridge_nd(bridge_rng), y = bridge_nd(bridge_rng);
         v = 0.5 * (x * x + y * y) - 1.0;  // g_d - 1
       }
     for (std::size_t f = 0; f < nf; ++f) {
