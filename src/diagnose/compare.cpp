@@ -637,6 +637,47 @@ double ModelComparison::replicate_chi2(const std::vector<double>& gains_in) cons
 }
 
 namespace {
+/// The angle reference's Brownian bridge in the null's draws. Its Fourier coefficients c_d
+/// (d = 1 .. kBridgeBins bins) are independent circular complex normals (their real parts come
+/// from the odd terms of the bridge's Karhunen-Loeve series, their imaginary parts from the even
+/// ones, and the odd terms' projections on different d are orthogonal), so each window's leak at
+/// distance d is its expectation times g_d = |c_d|^2 / E|c_d|^2 ~ Exp(1), one number per draw
+/// shared by every cell of every channel. A random stream of its own, so that the other numbers
+/// of a draw stay those of a recording without the bridge; and a distribution of its own too:
+/// std::normal_distribution keeps the second deviate of each pair it makes, so one object
+/// shared by two engines hands one stream's numbers to the other.
+class BridgeFactors {
+public:
+  static constexpr std::size_t kD = RecordingSpectra::kBridgeBins;
+  /// seed: the null's own seed + window; leak: [feature x kD] expected leak (empty: no bridge).
+  BridgeFactors(std::uint64_t seed, const std::vector<double>& leak) : rng_(seed + kStreamOffset), leak_(leak) {}
+  /// The next draw's g_d - 1 (nothing without a bridge).
+  void draw() {
+    if (leak_.empty()) return;
+    for (double& v : g_) {
+      const double x = nd_(rng_), y = nd_(rng_);
+      v = 0.5 * (x * x + y * y) - 1.0;
+    }
+  }
+  /// Half the noise variance of feature f in this draw: its expectation half_s2 with the
+  /// bridge's leak at this draw's g_d instead of at 1.
+  double half_variance(std::size_t f, double half_s2) const {
+    if (leak_.empty()) return half_s2;
+    double extra = 0;
+    for (std::size_t k = 0; k < kD; ++k) extra += g_[k] * leak_[f * kD + k];
+    return std::max(0.0, half_s2 + 0.5 * extra);
+  }
+
+private:
+  /// 2^64 / golden ratio, the usual odd constant that separates seeds: the stream never starts
+  /// where the null's main stream (seed + window) does.
+  static constexpr std::uint64_t kStreamOffset = 0x9e3779b97f4a7c15ULL;
+  std::mt19937_64 rng_;
+  std::normal_distribution<double> nd_{0.0, 1.0};
+  const std::vector<double>& leak_;
+  std::array<double, kD> g_{};
+};
+
 /// |x + i y| of a null draw's cell. sqrt(x^2 + y^2) is within about one ulp of std::hypot
 /// (three roundings and a correctly rounded sqrt) at a third of glibc's cost: hypot was 15 % of
 /// a control's diagnosis (perf, session 42). A quantile moves by ~1e-16 of itself, against a
@@ -713,23 +754,7 @@ ModelComparison::NullDraws ModelComparison::null_draws(const std::vector<std::ve
   std::vector<double> eps(static_cast<std::size_t>(nc * groups));
   std::vector<double> z(q);
   Chi2Plan plan = chi2_plan(w, response);
-  // The angle reference's Brownian bridge: its Fourier coefficients c_d (d = 1 .. kBridgeBins
-  // bins) are independent circular complex normals (their real parts come from the odd terms
-  // of the bridge's Karhunen-Loeve series, their imaginary parts from the even ones, and the
-  // odd terms' projections on different d are orthogonal), so each window's leak at distance d
-  // is its expectation times g_d = |c_d|^2 / E|c_d|^2 ~ Exp(1), one number shared by every
-  // cell of every channel. Drawn from a stream of its own so that the other numbers of a draw
-  // stay those of a recording without the bridge.
-  constexpr std::size_t kD = RecordingSpectra::kBridgeBins;
-  const bool bridge = !bridge_.empty();
-  // The stream's seed: the null's own, offset by 2^64 / golden ratio (the usual odd constant
-  // that separates seeds), so that it never coincides with the main stream's seed + w.
-  constexpr std::uint64_t kBridgeStreamOffset = 0x9e3779b97f4a7c15ULL;
-  std::mt19937_64 bridge_rng(opt_.seed + kBridgeStreamOffset + static_cast<std::uint64_t>(w));
-  // A distribution of its own too: std::normal_distribution keeps the second deviate of each
-  // pair it makes, so one object shared by two engines hands one stream's numbers to the other.
-  std::normal_distribution<double> bridge_nd(0.0, 1.0);
-  std::array<double, kD> g{};
+  BridgeFactors bridge(opt_.seed + static_cast<std::uint64_t>(w), bridge_);
   // Both fidelity forms (FidelityDraw) from one sequence of random numbers: each number is drawn
   // once, in the order a single form's draw takes it, and enters both, so each form's draws are
   // those a call for it alone makes.
@@ -737,11 +762,7 @@ ModelComparison::NullDraws ModelComparison::null_draws(const std::vector<std::ve
     for (double& v : z) v = nd(rng);
     for (double& v : eps) v = nd(rng);
     const double zd = drift.empty() ? 0.0 : nd(rng);
-    if (bridge)
-      for (double& v : g) {
-        const double x = bridge_nd(bridge_rng), y = bridge_nd(bridge_rng);
-        v = 0.5 * (x * x + y * y) - 1.0;  // g_d - 1
-      }
+    bridge.draw();
     for (std::size_t f = 0; f < nf; ++f) {
       const Feature& e = ft[f];
       const double* uf = &fid[f * q];
@@ -768,13 +789,7 @@ ModelComparison::NullDraws ModelComparison::null_draws(const std::vector<std::ve
       af_fold = std::fabs(af_fold);
       af_lin = std::fabs(af_lin);
       const double scale = std::max(0.1, 1 + e.noise_rse * eps[e.eps_index]);
-      double half_s2 = e.half_s2;
-      if (bridge) {
-        double extra = 0;
-        for (std::size_t k = 0; k < kD; ++k) extra += g[k] * bridge_[f * kD + k];
-        half_s2 = std::max(0.0, half_s2 + 0.5 * extra);
-      }
-      const double s = std::sqrt(half_s2 * scale);
+      const double s = std::sqrt(bridge.half_variance(f, e.half_s2) * scale);
       const double nx = nd(rng);
       const double y = s * nd(rng);
       const double drift_term = drift.empty() ? 0.0 : zd * e.drift;
