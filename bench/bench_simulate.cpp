@@ -37,6 +37,15 @@ double cpu_seconds() {
          1e-6 * static_cast<double>(u.ru_utime.tv_usec + u.ru_stime.tv_usec);
 }
 
+/// Minor page faults of this process so far: first touches of fresh memory. On a virtual machine
+/// each costs the host's backing of the page (docs/benchmark.md, session 45: ~2 ms per MiB here),
+/// so a run that stores every channel pays for its output's pages on top of the step.
+long minor_faults() {
+  rusage u{};
+  getrusage(RUSAGE_SELF, &u);
+  return u.ru_minflt;
+}
+
 double now_seconds() {
   return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
 }
@@ -59,6 +68,7 @@ struct Row {
   double rpm = 0, f_mesh = 0, dt = 0, f_max = 0;
   int spm = 0, warm = 0, rec = 0;
   long steps = 0;
+  long faults = 0;  ///< minor page faults of the fastest repeat's simulate
   double wall = 0, cpu = 0, prepare_wall = 0, newton = 0;
   std::string limit, level;
 };
@@ -121,11 +131,17 @@ int main(int argc, char** argv) {
         { const pw::model::PreparedStage p = pw::model::prepare(c); }
         row.prepare_wall = std::min(row.prepare_wall, now_seconds() - w0);
 
+        r = {};  // the previous repeat's output freed first: each repeat maps its own
         w0 = now_seconds();
         const double c0 = cpu_seconds();
+        const long f0 = minor_faults();
         r = pw::wear::simulate(c);
+        const double cpu = cpu_seconds() - c0;
         row.wall = std::min(row.wall, now_seconds() - w0);
-        row.cpu = std::min(row.cpu, cpu_seconds() - c0);
+        if (cpu < row.cpu) {
+          row.cpu = cpu;
+          row.faults = minor_faults() - f0;
+        }
       }
       row.f_mesh = scalar(r, "mesh_frequency");
       row.dt = scalar(r, "time_step");
@@ -159,20 +175,23 @@ int main(int argc, char** argv) {
 
   std::printf("\nplanetwear bench_simulate: seed case, %.0f W, %s model, best of %d, 1 thread\n", power,
               rows.empty() ? "?" : rows.front().level.c_str(), repeat);
-  std::printf("%6s %9s %10s %-28s %6s %6s %4s %9s %8s %8s %8s %9s %12s %8s %7s\n", "rpm", "f_z[Hz]", "dt[s]",
+  std::printf("%6s %9s %10s %-28s %6s %6s %4s %9s %8s %8s %8s %9s %12s %8s %7s %9s\n", "rpm", "f_z[Hz]", "dt[s]",
               "dt chosen by", "steps/", "warm", "rec", "steps", "wall[s]", "cpu[s]", "prep[ms]", "cycles",
-              "cycles/core-s", "ns/step", "force");
-  std::printf("%6s %9s %10s %-28s %6s %6s %4s %9s %8s %8s %8s %9s %12s %8s %7s\n", "", "", "", "", "T_z", "[T_z]",
-              "[T_z]", "", "", "", "", "[T_z]", "", "", "evals/step");
+              "cycles/core-s", "ns/step", "force", "page");
+  std::printf("%6s %9s %10s %-28s %6s %6s %4s %9s %8s %8s %8s %9s %12s %8s %7s %9s\n", "", "", "", "", "T_z", "[T_z]",
+              "[T_z]", "", "", "", "", "[T_z]", "", "", "evals/step", "faults");
   for (const Row& r : rows) {
     const int cycles = r.warm + r.rec;
     const double integ = std::max(r.cpu - r.prepare_wall, 1e-12);  // CPU time of the time stepping
-    std::printf("%6.0f %9.3f %10.4g %-28s %6d %6d %4d %9ld %8.3f %8.3f %8.2f %9d %12.2f %8.0f %7.3f\n", r.rpm,
+    std::printf("%6.0f %9.3f %10.4g %-28s %6d %6d %4d %9ld %8.3f %8.3f %8.2f %9d %12.2f %8.0f %7.3f %9ld\n", r.rpm,
                 r.f_mesh, r.dt, r.limit.c_str(), r.spm, r.warm, r.rec, r.steps, r.wall, r.cpu, 1e3 * r.prepare_wall, cycles,
-                cycles / r.cpu, 1e9 * integ / static_cast<double>(r.steps), r.newton);
+                cycles / r.cpu, 1e9 * integ / static_cast<double>(r.steps), r.newton, r.faults);
   }
   std::printf("\ncycles/core-s = simulated mesh cycles (warm-up + recording) / CPU time of simulate;\n"
-              "ns/step = (CPU time - prepare wall time) / steps; seed's 2e5 mesh cycles would take about:\n");
+              "ns/step = (CPU time - prepare wall time) / steps, storing every channel of the recorded steps;\n"
+              "page faults = minor faults of that simulate: first touches of its output's memory, which a virtual\n"
+              "machine may charge far more than the step (--record-cycles 1 keeps them small);\n"
+              "seed's 2e5 mesh cycles would take about:\n");
   for (const Row& r : rows) {
     const double per_cycle = (r.cpu - r.prepare_wall) / (r.warm + r.rec);
     std::printf("  %6.0f rpm: %.3g core-hours\n", r.rpm, 2e5 * per_cycle / 3600.0);
