@@ -5,7 +5,8 @@
 // 'absent') fits better. A rig element fitted as nuisance (calibration) then starts present or
 // absent, whichever fits better: LM only accepts improvements, so it ends no worse than that.
 // A later parameter flagged ParameterSpec::scan_at_start (a rig shaft's stiffness, which moves
-// the shaft's mode through the lines) gets a scan of its own, the others held where they are.
+// the shaft's mode through the lines) gets a scan of its own, the others held where they are,
+// as fine as its ParameterSpec::scan_step_ratio asks.
 // Pure over a chi2 function, so the choice is tested without simulating. Internal to src/diagnose.
 #pragma once
 
@@ -19,6 +20,11 @@ namespace pw::diagnose {
 /// Points of the coarse scan, and how far inside the box it stays (factor on each end).
 inline constexpr int kNuisanceScanPoints = 7;
 inline constexpr double kNuisanceScanInset = 1.4;
+
+/// Points of a geometric scan over [lo, hi] whose neighbours lie at most `step_ratio` apart
+/// (ParameterSpec::scan_step_ratio), at least kNuisanceScanPoints; kNuisanceScanPoints when
+/// step_ratio <= 1 (the coarse grid).
+int scan_points(double lo, double hi, double step_ratio);
 
 /// chi2 of the fit half at nuisance parameters x (thread-safe: the scan runs in parallel).
 using NuisanceChi2 = std::function<double(const std::vector<double>& x)>;

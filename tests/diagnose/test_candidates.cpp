@@ -357,6 +357,9 @@ TEST(Candidates, RigShaftsAreBoundedByTheBodysModeOnThemAndPutASpeedSourceBehind
     EXPECT_EQ(p[0].name, std::string(prefix) + "stiffness_N_m_rad");
     EXPECT_EQ(p[1].name, std::string(prefix) + "damping_N_m_s_rad");
     EXPECT_TRUE(p[0].log_scale && p[1].log_scale && p[0].scan_at_start && !p[1].scan_at_start);
+    // The scan steps by the half-power band of a 5 % mode in k ~ f^2, the damping keeping that ratio.
+    EXPECT_DOUBLE_EQ(p[0].scan_step_ratio, 1.1 * 1.1);
+    EXPECT_EQ(p[1].scan_follows_previous_power, 0.5);
     EXPECT_TRUE(c->calibration_only());  // its box has no value without effect: never a finding
     EXPECT_NEAR(p[0].lower / (J * std::pow(0.25 * wm, 2)), 1.0, 1e-12);
     EXPECT_NEAR(p[0].upper / (J * std::pow(30 * wm, 2)), 1.0, 1e-12);
@@ -380,6 +383,7 @@ TEST(Candidates, RigShaftsAreBoundedByTheBodysModeOnThemAndPutASpeedSourceBehind
     const auto q = c->parameters(applied);
     EXPECT_EQ(q[0].null_value, 2.5e5);
     EXPECT_EQ(q[0].initial, 2.5e5);
+    EXPECT_FALSE(q[0].scan_at_start);  // a configured shaft's basin is the one it names: no scan
     EXPECT_EQ(q[1].null_value, 12.0);
     std::vector<std::string> again;
     c->apply(applied, Variant{}, x, &again);

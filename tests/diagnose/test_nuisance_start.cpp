@@ -100,6 +100,35 @@ TEST(NuisanceStart, AScannedRigElementStartsAtTheGridPointNearestItsBasinAndOnly
   EXPECT_EQ(nuisance_start(s, 1e9, shaft_basin, 1), nuisance_start(s, 1e9, shaft_basin, 2));
 }
 
+TEST(NuisanceStart, AScanWithAStepRatioFindsABasinNarrowerThanTheCoarseGridsSpacing) {
+  // A shaft's stiffness over [1, 1e8] with a basin 1.2 wide (a factor ~1.1 either side) at 2e4,
+  // between the coarse grid's points (steps of ~10 here): the coarse scan misses it, a scan
+  // stepping by 1.21 cannot. The damping, following the stiffness as sqrt, moves with it.
+  std::vector<ParameterSpec> s = stiffness_only();
+  s.push_back(spec(1.0, 1e8, 1e3, 1.0));
+  s.push_back(spec(1e-3, 1e3, 0.5, 1e-3));
+  s[1].scan_at_start = true;
+  const auto narrow = [](const std::vector<double>& x) {
+    const double d = std::log(x[1] / 2e4) / std::log(1.1);
+    return 10.0 + 1000.0 * std::pow(std::log(x[0] / 1.3), 2) - 500.0 * std::exp(-0.5 * d * d) + 0.0 * x[2];
+  };
+  const std::vector<double> coarse = nuisance_start(s, 1e9, narrow, 1);
+  EXPECT_GT(std::fabs(std::log(coarse[1] / 2e4)), std::log(1.5));  // not found
+  s[1].scan_step_ratio = 1.21;
+  EXPECT_GT(scan_points(s[1].lower * kNuisanceScanInset, s[1].upper / kNuisanceScanInset, 1.21), 80);
+  const std::vector<double> fine = nuisance_start(s, 1e9, narrow, 1);
+  EXPECT_LT(std::fabs(std::log(fine[1] / 2e4)), std::log(1.21) / 2 + 1e-12);  // within half a step
+  EXPECT_EQ(fine[2], 0.5);  // no follower: the damping stays at its start
+  s[2].scan_follows_previous_power = 0.5;
+  const std::vector<double> followed = nuisance_start(s, 1e9, narrow, 1);
+  EXPECT_EQ(followed[1], fine[1]);
+  EXPECT_NEAR(followed[2], 0.5 * std::sqrt(followed[1] / 1e3), 1e-12 * followed[2]);
+  EXPECT_EQ(nuisance_start(s, 1e9, narrow, 1), nuisance_start(s, 1e9, narrow, 2));
+  // The coarse grid when no ratio is asked for, never fewer points than it.
+  EXPECT_EQ(scan_points(1.0, 1e8, 0.0), kNuisanceScanPoints);
+  EXPECT_EQ(scan_points(1.0, 1.1, 1.21), kNuisanceScanPoints);
+}
+
 TEST(NuisanceStart, TwoThreadsGiveTheSameStartAsOne) {
   EXPECT_EQ(nuisance_start(stiffness_only(), 1e9, basin_at(0.9), 1), nuisance_start(stiffness_only(), 1e9, basin_at(0.9), 2));
 }

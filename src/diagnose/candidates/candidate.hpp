@@ -46,6 +46,16 @@ struct ParameterSpec {
   /// stiffness does): fitted as nuisance, its start is the best of a coarse scan over its box
   /// (nuisance_start.hpp), not a local step from 'absent' or its screening value.
   bool scan_at_start = false;
+  /// With scan_at_start: the largest ratio between neighbouring points of that scan (log scale),
+  /// so that no basin narrower than the coarse grid's spacing is stepped over (a shaft's mode has
+  /// a basin per line about as wide as its half-power band). 0: the coarse grid of
+  /// kNuisanceScanPoints points (nuisance_start.hpp).
+  double scan_step_ratio = 0;
+  /// Non-zero: while the parameter before it is scanned (scan_at_start), this one moves with it
+  /// as x = x_start (p / p_start)^power, p the scanned value. A shaft's damping follows its
+  /// stiffness with power 1/2 (c = 2 zeta sqrt(k J)), so the scan sees the mode at the damping
+  /// ratio the scan's step assumes, not ever lighter as the stiffness grows.
+  double scan_follows_previous_power = 0;
   /// How the candidate's excitation reaches the sensors rather than the excitation itself: a rig
   /// property the healthy recordings cannot calibrate because only this physics excites it (the
   /// load machine's inertia, which splits an input torque ripple between the speeds and the mesh
