@@ -169,10 +169,14 @@ int run_calibrate(const CalibrateCommandOptions& o) {
     std::vector<RecordingFit> without = fit_recordings(o, plain, cal.healthy_fit);
     for (std::size_t i = 0; i < fits.size(); ++i)
       if (!(fits[i].noise_test().nuisance.held_out.chi2 < without[i].noise_test().nuisance.held_out.chi2)) {
+        std::string ended;  // where the fit with them ended: a rig engineer's lead even when it is not kept
+        for (const diagnose::FittedParameter& p : fits[i].diagnosis().nuisance.parameters)
+          if (p.name.rfind("rig.", 0) == 0) ended += " " + p.name + "=" + diagnose::format_value(p.value);
         std::fprintf(stderr,
                      "[calibrate] the calibration-only rig elements are left out: on recording %zu the fit with them "
-                     "leaves held-out chi2 %.4g, without them %.4g\n",
-                     i + 1, fits[i].noise_test().nuisance.held_out.chi2, without[i].noise_test().nuisance.held_out.chi2);
+                     "leaves held-out chi2 %.4g, without them %.4g (the fit with them ended at%s)\n",
+                     i + 1, fits[i].noise_test().nuisance.held_out.chi2, without[i].noise_test().nuisance.held_out.chi2,
+                     ended.empty() ? " no rig value" : ended.c_str());
         fits = std::move(without);
         rig = plain;
         break;

@@ -371,8 +371,23 @@ void diagnose_and_report(const DiagnoseCommandOptions& o_in, const std::string& 
     const diagnose::HealthyFit weighting =
         !o.healthy_fit.empty() ? diagnose::healthy_fit_from_string(o.healthy_fit, "--healthy-fit")
                                : calibration ? calibration->healthy_fit : diagnose::HealthyFit::Noise;
-    baseline = fit_reference(o, *reference, opt, weighting);
-    std::vector<std::string> a = baseline->overrides;
+    // The rig's structure the calibration identified on every one of its healthy recordings (a
+    // shaft's mode: the calibration-only elements it kept) is the rig's at the reference too:
+    // held at the calibrated values, not refitted on the one reference (§6a item 6).
+    const std::vector<std::string> structure =
+        calibration ? diagnose::structural_rig_settings(*calibration, read_self(o).config) : std::vector<std::string>{};
+    DiagnoseCommandOptions ro = o;
+    ro.common.assignments = structure;
+    ro.common.assignments.insert(ro.common.assignments.end(), o.common.assignments.begin(), o.common.assignments.end());
+    baseline = fit_reference(ro, *reference, opt, weighting);
+    if (!structure.empty()) {
+      std::string lines;
+      for (const std::string& l : structure) lines += (lines.empty() ? "" : ", ") + l;
+      reference_note += "; the rig's structure as the calibration identified it, held: " + lines;
+      if (!o.common.quiet) std::fprintf(stderr, "[diagnose] reference with the calibrated rig structure: %s\n", lines.c_str());
+    }
+    std::vector<std::string> a = structure;
+    a.insert(a.end(), baseline->overrides.begin(), baseline->overrides.end());
     a.insert(a.end(), o_in.common.assignments.begin(), o_in.common.assignments.end());
     o.common.assignments = a;
     o.calibration.clear();

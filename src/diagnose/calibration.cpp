@@ -163,6 +163,25 @@ std::vector<std::string> rig_element_settings(const std::vector<std::string>& ri
   return out;
 }
 
+std::vector<std::string> structural_rig_settings(const Calibration& calibration, const model::SimulationConfig& config) {
+  auto key_of = [](const std::string& line) { return line.substr(0, line.find('=')); };
+  std::map<std::string, double> value;
+  for (const std::string& line : calibration.overrides)
+    value[key_of(line)] = std::stod(line.substr(line.find('=') + 1));
+  std::vector<std::string> out;
+  for (const std::string& name : calibration.rig_elements) {
+    const Candidate* c = find_candidate(name);
+    if (!c || !c->calibration_only()) continue;
+    std::vector<double> x;
+    for (const ParameterSpec& p : c->parameters(config))
+      if (value.count(p.name)) x.push_back(value[p.name]);
+    if (x.size() != c->parameters(config).size()) continue;
+    model::SimulationConfig applied = config;
+    c->apply(applied, Variant{}, x, &out);
+  }
+  return out;
+}
+
 std::vector<std::string> parameters_at_bound(const std::vector<std::vector<FittedParameter>>& per_recording) {
   struct Count {
     int lower = 0, upper = 0;

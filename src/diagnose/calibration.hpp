@@ -133,6 +133,14 @@ struct Calibration {
   std::vector<DiscrepancyEntry> budgets() const;
 };
 
+/// The calibration's settings of the calibration-only rig elements it kept (a shaft behind a
+/// machine: Candidate::calibration_only), as "key=value": every line their apply() writes at the
+/// calibrated values, the machine's inertia included. These describe the rig's structure, kept
+/// only because they lowered the held-out chi2 of every healthy recording (calibrate), so a
+/// calibrated reference is fitted with them, held (docs/diagnose.md section 6a item 6). Empty when
+/// the calibration kept none. `config` is the gear set's (without the calibration).
+std::vector<std::string> structural_rig_settings(const Calibration& calibration, const model::SimulationConfig& config);
+
 
 /// A healthy recording's nuisance-only diagnosis, and under HealthyFit::ModelForm its refit.
 struct HealthyFitResult {

@@ -8,6 +8,8 @@
 
 #include <gtest/gtest.h>
 
+#include <map>
+
 #include <cmath>
 #include <random>
 
@@ -110,6 +112,29 @@ TEST(Calibration, ARigElementsDerivedSettingsFollowItsCalibratedValuesAndOnlyFor
   EXPECT_GT(std::stod(lines[0].substr(lines[0].find('=') + 1)), 1.0);  // a speed source, 1e4 x the carrier
   base.stage.output_inertia_kgm2 = 0.8;  // stated by the gear set: nothing to add
   EXPECT_TRUE(rig_element_settings({"output_shaft"}, base, medians).empty());
+}
+
+TEST(Calibration, TheStructureAReferenceHoldsIsTheKeptShaftsWithTheirMachineAndNothingElse) {
+  pw::model::SimulationConfig base{};
+  Calibration cal;
+  cal.rig_elements = {"encoder_bandwidth", "input_shaft"};
+  cal.overrides = {"stiffness.scale=1.2", "sensor.encoder_bandwidth_Hz=900", "rig.input_shaft_stiffness_N_m_rad=20000",
+                   "rig.input_shaft_damping_N_m_s_rad=4", "stage.input_inertia_kgm2=2.5"};
+  const std::vector<std::string> lines = structural_rig_settings(cal, base);
+  // The shaft's two keys at their calibrated values and the speed-source machine it assumes; not
+  // the encoder (a sensor's low-pass, refitted nowhere at a reference) nor the nuisance levels.
+  ASSERT_EQ(lines.size(), 3u);
+  std::map<std::string, double> v;
+  for (const std::string& l : lines) v[l.substr(0, l.find('='))] = std::stod(l.substr(l.find('=') + 1));
+  EXPECT_DOUBLE_EQ(v.at("rig.input_shaft_stiffness_N_m_rad"), 20000);
+  EXPECT_DOUBLE_EQ(v.at("rig.input_shaft_damping_N_m_s_rad"), 4);
+  EXPECT_GT(v.at("stage.input_inertia_kgm2"), 0.0);
+  // A calibration that left its calibration-only elements out holds nothing at the reference.
+  cal.rig_elements = {"encoder_bandwidth"};
+  EXPECT_TRUE(structural_rig_settings(cal, base).empty());
+  // Nor one whose shaft the recordings could not see (its values are missing).
+  cal.rig_elements = {"output_shaft"};
+  EXPECT_TRUE(structural_rig_settings(cal, base).empty());
 }
 
 TEST(Calibration, ParametersFittedAtABoundAreListedWithTheEndAndTheirCount) {
