@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """A corpus's recordings with the rig documented: what a rig's documentation would add to each gear set's TOML.
 
-    /usr/bin/python3 scripts/indepsim2/document_rig.py SRC DST [--bodies]
+    /usr/bin/python3 scripts/indepsim2/document_rig.py SRC DST [--bodies | --machines-only]
 
 SRC is an indepsim2 corpus (corpus.py). DST gets the same recordings (symlinked), truth.json and
 observability.json, and per gear set a TOML of SRC's plus the rig's internals as sim.py's RIG_DEFAULTS
@@ -9,8 +9,10 @@ give them: the motor (inertia, input shaft, its PI speed loop with sim.py's gain
 output shaft; constant torque, planetwear's default load control), the bearings (the planets' radial and
 tangential stiffness averaged: planetwear has one), and solver.level = "lateral_torsional". With
 --bodies also the sun (with its hub), ring (with its housing) and carrier masses and inertias of
-sim.lumped_parameters. Damping is not stated (indepsim2's is Rayleigh; planetwear fits its own). Used for
-docs/diagnose-log.md, session 41: an upper bound on what documentation buys, not a blind check.
+sim.lumped_parameters. With --machines-only only the machines, their shafts and the speed loop, at planetwear's
+default (torsional) level: no bearings, no bodies (docs/diagnose-log.md, session 45: what of the documentation
+the faults' signatures need). Damping is not stated (indepsim2's is Rayleigh; planetwear fits its own). Used for
+docs/diagnose-log.md, sessions 41 and 45: an upper bound on what documentation buys, not a blind check.
 """
 import argparse
 import math
@@ -21,7 +23,7 @@ sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import sim  # noqa: E402
 
 
-def rig_toml(gs, bodies):
+def rig_toml(gs, bodies, machines_only=False):
     par, geo, rig = sim.lumped_parameters(gs)
     Zs, Zr = gs["sun"]["Z"], gs["ring"]["Z"]
     # sim.Batch's loop: Kp = 2 0.8 w_bw J_eq, Ki = w_bw^2 J_eq, J_eq the train reflected to the motor.
@@ -43,6 +45,8 @@ def rig_toml(gs, bodies):
                      "ring_N_m": rig["k_ring_mount"], "ring_torsional_N_m": rig["k_ring_torsion_per_rb2"]},
         "solver": {"level": '"lateral_torsional"'},
     }
+    if machines_only:
+        tables = {"rig": tables["rig"]}
     return stage, tables
 
 
@@ -50,7 +54,10 @@ def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("src")
     ap.add_argument("dst")
-    ap.add_argument("--bodies", action="store_true", help="also the sun, ring and carrier masses and inertias")
+    mode = ap.add_mutually_exclusive_group()
+    mode.add_argument("--bodies", action="store_true", help="also the sun, ring and carrier masses and inertias")
+    mode.add_argument("--machines-only", action="store_true",
+                      help="only the machines, shafts and speed loop, torsional level (no bearings, no bodies)")
     a = ap.parse_args()
     os.makedirs(a.dst, exist_ok=True)
     for f in ("truth.json", "observability.json"):
@@ -63,7 +70,7 @@ def main():
             os.symlink(os.path.abspath(os.path.join(a.src, g, "recordings")), rec)
         src_toml = os.path.join(a.src, g, "gearset.toml")
         text = open(src_toml).read()
-        stage, tables = rig_toml(sim.read_gearset(src_toml), a.bodies)
+        stage, tables = rig_toml(sim.read_gearset(src_toml), a.bodies, a.machines_only)
         lines = "".join(f"{k} = {v!r}\n" for k, v in stage.items())
         text = text.replace("[stage]\n", "[stage]\n# the rig as documented (scripts/indepsim2/document_rig.py)\n" + lines, 1)
         for name, kv in tables.items():
