@@ -24,12 +24,16 @@ count() {
   valgrind --tool=callgrind --callgrind-out-file=/dev/null "$b/bench/bench_simulate" --repeat 1 \
     --record-cycles "$rec" "$@" 2>&1 >/dev/null | awk '/Collected :/ { print $NF }'
 }
-# steps per mesh period of a bench_simulate row (the column "steps/T_z", 11th from the end:
-# the "dt chosen by" column holds spaces)
+# steps per mesh period of a bench_simulate row (the column "steps/T_z", 12th from the end since
+# the "page faults" column was added; the "dt chosen by" column holds spaces). Checked against the
+# row's own steps = steps/T_z x (warm + rec): a layout change then fails loudly instead of
+# dividing by another column.
 steps_per_mesh() {
   b=$1; shift
   "$b/bench/bench_simulate" --repeat 1 --record-cycles 1 "$@" 2>/dev/null |
-    awk 'NF >= 16 && $1 ~ /^[0-9]+$/ { print $(NF - 10); exit }'
+    awk 'NF >= 17 && $1 ~ /^[0-9]+$/ {
+           spm = $(NF - 11); if (spm * ($(NF - 10) + $(NF - 9)) != $(NF - 8)) exit 1
+           print spm; exit }'
 }
 row() {  # BUILD ARGS... -> instructions per recorded step
   b=$1; shift
