@@ -27,13 +27,16 @@ count() {
 # steps per mesh period of a bench_simulate row (the column "steps/T_z", 12th from the end since
 # the "page faults" column was added; the "dt chosen by" column holds spaces). Checked against the
 # row's own steps = steps/T_z x (warm + rec): a layout change then fails loudly instead of
-# dividing by another column.
+# dividing by another column. A baseline binary from before that column has it 11th from the end.
 steps_per_mesh() {
   b=$1; shift
   "$b/bench/bench_simulate" --repeat 1 --record-cycles 1 "$@" 2>/dev/null |
-    awk 'NF >= 17 && $1 ~ /^[0-9]+$/ {
-           spm = $(NF - 11); if (spm * ($(NF - 10) + $(NF - 9)) != $(NF - 8)) exit 1
-           print spm; exit }'
+    awk 'NF >= 16 && $1 ~ /^[0-9]+$/ {
+           for (o = 11; o >= 10; --o) {
+             spm = $(NF - o)
+             if (spm * ($(NF - o + 1) + $(NF - o + 2)) == $(NF - o + 3)) { print spm; exit }
+           }
+           exit 1 }'
 }
 row() {  # BUILD ARGS... -> instructions per recorded step
   b=$1; shift
