@@ -161,6 +161,12 @@ PlanetaryDynamics::PlanetaryDynamics(const SimulationConfig& cfg, dynamics::Lump
     if (x.size() >= 2) scales_[m].stiffness_index_1_m = static_cast<double>(x.size() - 1) / (x.back() - x.front());
   }
   for (const dynamics::MeshCoupling& mc : structure_.meshes) sparse_.push_back(dynamics::sparse_coupling(mc));
+  bool sp3_pr2 = nm % 2 == 0, all7 = true;
+  for (int m = 0; m < nm; ++m) {
+    sp3_pr2 = sp3_pr2 && sparse_[m].entries == (dynamics::MeshId::of(m).sun_planet() ? 3 : 2);
+    all7 = all7 && sparse_[m].entries == 7;
+  }
+  entry_pattern_ = sp3_pr2 ? EntryPattern::SunPlanet3Ring2 : all7 ? EntryPattern::All7 : EntryPattern::Mixed;
   pair_geometry_.assign(static_cast<std::size_t>(nm), {});
   imposed_.assign(static_cast<std::size_t>(nm), 0.0);
   input_row_nz_ = nonzeros(input_row_);
@@ -350,15 +356,29 @@ template <int NE>
 void PlanetaryDynamics::update_contact_geometry(double t) {
   const int nm = static_cast<int>(structure_.meshes.size());
   const Eigen::Vector2d runout = sun_runout_m(t);  // one sin/cos per step, not per sun mesh
-  for (int m = 0; m < nm; ++m) {
-    // The entry loops unrolled for the torsional (2, 3) and lateral-torsional (7) meshes, as in
-    // add_mesh_force: the same sums in the same order.
-    switch (sparse_[m].entries) {
-    case 2: update_mesh_geometry<2>(m, t, runout); break;
-    case 3: update_mesh_geometry<3>(m, t, runout); break;
-    case 7: update_mesh_geometry<7>(m, t, runout); break;
-    default: update_mesh_geometry<0>(m, t, runout); break;
+  // The entry loops unrolled for the torsional (2, 3) and lateral-torsional (7) meshes, as in
+  // add_mesh_force: the same sums in the same order. The meshes in their order; a stage whose entry
+  // counts follow a known pattern (entry_pattern_) is walked without a switch per mesh.
+  switch (entry_pattern_) {
+  case EntryPattern::SunPlanet3Ring2:
+    for (int m = 0; m < nm; m += 2) {
+      update_mesh_geometry<3>(m, t, runout);
+      update_mesh_geometry<2>(m + 1, t, runout);
     }
+    break;
+  case EntryPattern::All7:
+    for (int m = 0; m < nm; ++m) update_mesh_geometry<7>(m, t, runout);
+    break;
+  case EntryPattern::Mixed:
+    for (int m = 0; m < nm; ++m) {
+      switch (sparse_[m].entries) {
+      case 2: update_mesh_geometry<2>(m, t, runout); break;
+      case 3: update_mesh_geometry<3>(m, t, runout); break;
+      case 7: update_mesh_geometry<7>(m, t, runout); break;
+      default: update_mesh_geometry<0>(m, t, runout); break;
+      }
+    }
+    break;
   }
   geometry_t_ = t;
   geometry_epoch_ = contact_epoch_;
@@ -498,14 +518,28 @@ void PlanetaryDynamics::force(double t, const Eigen::VectorXd& q, const Eigen::V
   const double* qd = q.data();
   const double* vd = v.data();
   double* gd = g.data();
-  for (int m = 0; m < nm; ++m) {
-    // The entry loops unrolled for the torsional (2, 3) and lateral-torsional (7) meshes.
-    switch (sparse_[m].entries) {
-    case 2: add_mesh_force_n<2>(m, qd, vd, gd, K, C); break;  // torsional planet-ring (ring fixed)
-    case 3: add_mesh_force_n<3>(m, qd, vd, gd, K, C); break;  // torsional sun-planet
-    case 7: add_mesh_force_n<7>(m, qd, vd, gd, K, C); break;
-    default: add_mesh_force_n<0>(m, qd, vd, gd, K, C); break;
+  // The entry loops unrolled for the torsional (2, 3) and lateral-torsional (7) meshes; the meshes in
+  // their order, without a switch per mesh where the entry counts follow a known pattern.
+  switch (entry_pattern_) {
+  case EntryPattern::SunPlanet3Ring2:
+    for (int m = 0; m < nm; m += 2) {
+      add_mesh_force_n<3>(m, qd, vd, gd, K, C);      // torsional sun-planet
+      add_mesh_force_n<2>(m + 1, qd, vd, gd, K, C);  // torsional planet-ring (ring fixed)
     }
+    break;
+  case EntryPattern::All7:
+    for (int m = 0; m < nm; ++m) add_mesh_force_n<7>(m, qd, vd, gd, K, C);
+    break;
+  case EntryPattern::Mixed:
+    for (int m = 0; m < nm; ++m) {
+      switch (sparse_[m].entries) {
+      case 2: add_mesh_force_n<2>(m, qd, vd, gd, K, C); break;
+      case 3: add_mesh_force_n<3>(m, qd, vd, gd, K, C); break;
+      case 7: add_mesh_force_n<7>(m, qd, vd, gd, K, C); break;
+      default: add_mesh_force_n<0>(m, qd, vd, gd, K, C); break;
+      }
+    }
+    break;
   }
 }
 

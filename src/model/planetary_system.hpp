@@ -195,6 +195,11 @@ private:
   bool roll_follows_rotation_ = true;  // stiffness.mesh_phase = rotation (false: nominal_time)
   std::vector<double> engage_half_width_m_;  // per mesh: half the roll per smoothing step [m]
   std::vector<dynamics::SparseCoupling> sparse_;  // per mesh: g, h0, h1, roll on the coordinates it touches
+  /// How many coordinates the meshes touch, in mesh order, for the mesh loops' dispatch: the
+  /// torsional stage's sun-planet meshes 3 and its planet-ring meshes 2 (ring fixed), every
+  /// lateral-torsional mesh 7; anything else goes through a switch per mesh.
+  enum class EntryPattern { SunPlanet3Ring2, All7, Mixed };
+  EntryPattern entry_pattern_ = EntryPattern::Mixed;
   std::vector<std::array<PairGeometry, MeshState::kMaxPairs>> pair_geometry_;  // per mesh, this step's pairs
   std::vector<double> imposed_;                // per mesh: imposed deflection at the step's time [m]
   std::vector<int> input_row_nz_, output_row_nz_;  // coordinates of the non-zeros of input_row_, output_row_
