@@ -102,7 +102,7 @@ PlanetaryDynamics::PlanetaryDynamics(const SimulationConfig& cfg, dynamics::Lump
       surfaces_(std::move(surfaces)) {
   const int nm = static_cast<int>(structure_.meshes.size());
   states_.assign(nm, MeshState{});
-  cursor_.assign(static_cast<std::size_t>(nm), ToothCursor{});
+  mesh_.assign(static_cast<std::size_t>(nm), MeshRecord{});
   power_ = cfg.operating.input_power_W;
   sun_speed_ = sun_speed_abs_rad_s;
   carrier_speed_ = carrier_speed_abs_rad_s;
@@ -133,10 +133,11 @@ PlanetaryDynamics::PlanetaryDynamics(const SimulationConfig& cfg, dynamics::Lump
     const int planet = id.planet;
     // Equivalent mass of the mesh coordinate delta = g.q: 1 / (g^T M^-1 g).
     const double m_eq = 1.0 / mc.g.dot(Minv * mc.g);
-    damping_.push_back(2.0 * cfg.contact.mesh_damping_ratio * std::sqrt(family(m).mean_stiffness_N_m * m_eq));
-    backlash_.push_back(sp ? cfg.contact.backlash_sun_planet_m : cfg.contact.backlash_planet_ring_m);
-    mesh_error_.push_back(sp ? cfg.contact.mesh_error_sun_planet_m : cfg.contact.mesh_error_planet_ring_m);
-    normals_.push_back(mc.normal);
+    MeshRecord& rec = mesh_[m];
+    rec.damping_N_s_m = 2.0 * cfg.contact.mesh_damping_ratio * std::sqrt(family(m).mean_stiffness_N_m * m_eq);
+    rec.backlash_m = sp ? cfg.contact.backlash_sun_planet_m : cfg.contact.backlash_planet_ring_m;
+    rec.mesh_error_m = sp ? cfg.contact.mesh_error_sun_planet_m : cfg.contact.mesh_error_planet_ring_m;
+    rec.normal = mc.normal;
     // Imposed displacements that are constant in the carrier frame (pin
     // position error along the carrier's tangent, carrier runout): delta
     // changes by n . (d_A - d_B) with d the displacement of the planet (B in
@@ -150,25 +151,21 @@ PlanetaryDynamics::PlanetaryDynamics(const SimulationConfig& cfg, dynamics::Lump
     if (!cfg.imperfections.pin_error_m.empty()) d_planet += cfg.imperfections.pin_error_m[planet] * et;
     const double ec = cfg.imperfections.carrier_eccentricity_m, ph = cfg.imperfections.carrier_eccentricity_phase_rad;
     d_planet += ec * Eigen::Vector2d{std::cos(ph), std::sin(ph)};
-    static_offset_.push_back(sp ? -mc.normal.dot(d_planet) : mc.normal.dot(d_planet));
+    rec.static_offset_m = sp ? -mc.normal.dot(d_planet) : mc.normal.dot(d_planet);
   }
-  engage_half_width_m_.assign(static_cast<std::size_t>(nm), 0.0);
-  scales_.assign(static_cast<std::size_t>(nm), MeshScales{});
   for (int m = 0; m < nm; ++m) {
     const MeshFamily& fam = family(m);
     const std::vector<double>& x = fam.stiffness.xi_m;
-    scales_[m].inv_base_pitch_1_m = 1.0 / fam.geometry.base_pitch_m;
-    if (x.size() >= 2) scales_[m].stiffness_index_1_m = static_cast<double>(x.size() - 1) / (x.back() - x.front());
+    mesh_[m].scales.inv_base_pitch_1_m = 1.0 / fam.geometry.base_pitch_m;
+    if (x.size() >= 2) mesh_[m].scales.stiffness_index_1_m = static_cast<double>(x.size() - 1) / (x.back() - x.front());
+    mesh_[m].sparse = dynamics::sparse_coupling(structure_.meshes[m]);
   }
-  for (const dynamics::MeshCoupling& mc : structure_.meshes) sparse_.push_back(dynamics::sparse_coupling(mc));
   bool sp3_pr2 = nm % 2 == 0, all7 = true;
   for (int m = 0; m < nm; ++m) {
-    sp3_pr2 = sp3_pr2 && sparse_[m].entries == (dynamics::MeshId::of(m).sun_planet() ? 3 : 2);
-    all7 = all7 && sparse_[m].entries == 7;
+    sp3_pr2 = sp3_pr2 && mesh_[m].sparse.entries == (dynamics::MeshId::of(m).sun_planet() ? 3 : 2);
+    all7 = all7 && mesh_[m].sparse.entries == 7;
   }
   entry_pattern_ = sp3_pr2 ? EntryPattern::SunPlanet3Ring2 : all7 ? EntryPattern::All7 : EntryPattern::Mixed;
-  pair_geometry_.assign(static_cast<std::size_t>(nm), {});
-  imposed_.assign(static_cast<std::size_t>(nm), 0.0);
   input_row_nz_ = nonzeros(input_row_);
   output_row_nz_ = nonzeros(output_row_);
   const Eigen::MatrixXd& S = structure_.support_stiffness;
@@ -183,9 +180,10 @@ PlanetaryDynamics::PlanetaryDynamics(const SimulationConfig& cfg, dynamics::Lump
 
 void PlanetaryDynamics::set_engagement_smoothing(double dt_s) {
   require(dt_s >= 0 && std::isfinite(dt_s), "engagement smoothing", "time step ", dt_s, " s must be >= 0");
-  for (std::size_t m = 0; m < engage_half_width_m_.size(); ++m) {
-    engage_half_width_m_[m] = 0.5 * std::fabs(structure_.meshes[m].nominal_roll_rate_m_s) * dt_s;
-    scales_[m].inv_engage_width_1_m = engage_half_width_m_[m] > 0 ? 1.0 / (2 * engage_half_width_m_[m]) : 0.0;
+  for (std::size_t m = 0; m < mesh_.size(); ++m) {
+    MeshRecord& rec = mesh_[m];
+    rec.engage_half_width_m = 0.5 * std::fabs(structure_.meshes[m].nominal_roll_rate_m_s) * dt_s;
+    rec.scales.inv_engage_width_1_m = rec.engage_half_width_m > 0 ? 1.0 / (2 * rec.engage_half_width_m) : 0.0;
   }
   ++contact_epoch_;
 }
@@ -222,8 +220,9 @@ Eigen::Vector2d PlanetaryDynamics::sun_runout_m(double t) const {
 }
 
 double PlanetaryDynamics::imposed_deflection(int m, const Eigen::Vector2d& sun_runout_m) const {
-  double d = static_offset_[m];
-  if (dynamics::MeshId::of(m).sun_planet() && sun_ecc_ != 0) d += normals_[m].dot(sun_runout_m);
+  const MeshRecord& rec = mesh_[m];
+  double d = rec.static_offset_m;
+  if (dynamics::MeshId::of(m).sun_planet() && sun_ecc_ != 0) d += rec.normal.dot(sun_runout_m);
   return d;
 }
 
@@ -239,15 +238,16 @@ double PlanetaryDynamics::imposed_deflection(int m, const Eigen::Vector2d& sun_r
   const dynamics::MeshId id = dynamics::MeshId::of(m);
   const auto& planet_phases = phases_[static_cast<std::size_t>(id.planet)];
   const geometry::MeshPhase& phase = id.sun_planet() ? planet_phases.sun_planet : planet_phases.planet_ring;
-  const double margin = engage_half_width_m_[m];
+  MeshRecord& rec = mesh_[m];
+  const double margin = rec.engage_half_width_m;
   PairWindow w;
   w.u_m = phase.xi0_m + s_m;  // xi_n = u - n p_b
-  const double inv_pb = scales_[m].inv_base_pitch_1_m;
+  const double inv_pb = rec.scales.inv_base_pitch_1_m;
   w.n_first = ceil_exact((w.u_m - mg.end_active_m - margin) * inv_pb);
   const double n_last = floor_exact((w.u_m - mg.start_active_m + margin) * inv_pb);
   w.count = n_first_le(w.n_first, n_last) ? static_cast<int>(n_last - w.n_first) + 1 : 0;
   if (w.count == 0) return w;
-  ToothCursor& cur = cursor_[m];
+  ToothCursor& cur = rec.cursor;
   const long long k0 = static_cast<long long>(w.n_first);
   const long long step = k0 - cur.k0;
   if (cur.valid && step >= 0 && step <= kCursorMaxAdvance) {
@@ -287,7 +287,8 @@ template <int NE>
 [[gnu::always_inline]] inline void PlanetaryDynamics::update_mesh_geometry(int m, double t,
                                                                            const Eigen::Vector2d& runout) {
   const dynamics::MeshCoupling& mc = structure_.meshes[m];
-  const dynamics::SparseCoupling& sc = sparse_[m];
+  MeshRecord& rec = mesh_[m];
+  const dynamics::SparseCoupling& sc = rec.sparse;
   const int ne = NE > 0 ? NE : sc.entries;
   const MeshFamily& fam = family(m);
   const geometry::MeshGeometry& mg = fam.geometry;
@@ -298,8 +299,8 @@ template <int NE>
   double roll_q = 0;
   for (int k = 0; k < ne; ++k) roll_q += sc.roll[k] * q_roll_(sc.dof[k]);
   st.roll_m = mc.nominal_roll_rate_m_s * t + roll_q;
-  imposed_[m] = imposed_deflection(m, runout);
-  const double h = engage_half_width_m_[m];
+  rec.imposed_m = imposed_deflection(m, runout);
+  const double h = rec.engage_half_width_m;
   const PairWindow win = pair_window(m, st.roll_m);
   const int np = win.count;
   if (np > MeshState::kMaxPairs) [[unlikely]]
@@ -322,11 +323,11 @@ template <int NE>
     p = {win.u_m - n * mg.base_pitch_m, ta, tb};
     if (++ta == fam.teeth_a) ta = 0;
     if (++tb == fam.teeth_b) tb = 0;
-    PairGeometry& pg = pair_geometry_[m][j];
-    const double w = engagement_weight(mg, p.xi_m, h, scales_[m].inv_engage_width_1_m);
+    PairGeometry& pg = rec.pairs[j];
+    const double w = engagement_weight(mg, p.xi_m, h, rec.scales.inv_engage_width_1_m);
     st.pairs_engaged += w >= 0.5 ? 1 : 0;
     // Untouched flanks (FlankSet::pristine) contribute a factor 1 and a deviation 0: skipped.
-    pg.k_N_m = w * pair_stiffness(fam.stiffness, scales_[m].stiffness_index_1_m, std::clamp(p.xi_m, xi_lo, xi_hi));
+    pg.k_N_m = w * pair_stiffness(fam.stiffness, rec.scales.stiffness_index_1_m, std::clamp(p.xi_m, xi_lo, xi_hi));
     if (!pristine_a) pg.k_N_m *= fa.stiffness_factor(p.tooth_a);
     if (!pristine_b) pg.k_N_m *= fb.stiffness_factor(p.tooth_b);
     // The two flanks of a mesh share one element grid (same_grid_a_b): one grid point serves both.
@@ -334,7 +335,7 @@ template <int NE>
     const FlankSet::GridPoint gp_b = pristine_b ? FlankSet::GridPoint{} : same_grid_a_b ? gp_a : fb.grid_point(p.xi_m);
     const double dev_a = pristine_a ? 0.0 : fa.deviation_m(p.tooth_a, gp_a);
     const double dev_b = pristine_b ? 0.0 : fb.deviation_m(p.tooth_b, gp_b);
-    pg.deviation_m = dev_a + dev_b + mesh_error_[m];
+    pg.deviation_m = dev_a + dev_b + rec.mesh_error_m;
     pg.slide_nominal_m_s = mc.nominal_slide0_m_s + p.xi_m * mc.nominal_slide1_1_s;
     for (int k = 0; k < ne; ++k) pg.h[k] = sc.h0[k] + p.xi_m * sc.h1[k];
     k_sum += pg.k_N_m;
@@ -345,12 +346,12 @@ template <int NE>
     // kMaxStiffnessRemoved of the stiffness in contact is taken away: a larger correction would
     // leave a mesh in contact without stiffness, which no stiffness law has.
     const double f = std::max(1.0 + fam.stiffness_correction_N_m(win.u_m) / k_sum, 1.0 - kMaxStiffnessRemoved);
-    for (int j = 0; j < np; ++j) pair_geometry_[m][j].k_N_m *= f;
+    for (int j = 0; j < np; ++j) rec.pairs[j].k_N_m *= f;
     k_sum *= f;
   }
   st.stiffness_N_m = k_sum;
   const double inv_k_sum = k_sum > 0 ? 1.0 / k_sum : 0.0;
-  for (int j = 0; j < np; ++j) pair_geometry_[m][j].share = pair_geometry_[m][j].k_N_m * inv_k_sum;
+  for (int j = 0; j < np; ++j) rec.pairs[j].share = rec.pairs[j].k_N_m * inv_k_sum;
 }
 
 void PlanetaryDynamics::update_contact_geometry(double t) {
@@ -371,7 +372,7 @@ void PlanetaryDynamics::update_contact_geometry(double t) {
     break;
   case EntryPattern::Mixed:
     for (int m = 0; m < nm; ++m) {
-      switch (sparse_[m].entries) {
+      switch (mesh_[m].sparse.entries) {
       case 2: update_mesh_geometry<2>(m, t, runout); break;
       case 3: update_mesh_geometry<3>(m, t, runout); break;
       case 7: update_mesh_geometry<7>(m, t, runout); break;
@@ -392,8 +393,9 @@ template <int NE>
                                                                        double* g, Eigen::MatrixXd* K,
                                                                        Eigen::MatrixXd* C) {
   const bool tangents = (K != nullptr && C != nullptr);
-  const dynamics::SparseCoupling& sc = sparse_[m];
-  const auto& pgs = pair_geometry_[m];
+  const MeshRecord& rec = mesh_[m];
+  const dynamics::SparseCoupling& sc = rec.sparse;
+  const auto& pgs = rec.pairs;
   const int ne = NE > 0 ? NE : sc.entries;
   MeshState& st = states_[m];
   const double mu = mu_, inv_v_eps = inv_v_eps_;
@@ -405,7 +407,7 @@ template <int NE>
   }
   // Locals carry the values the stores into g below would otherwise make the compiler reload
   // from the mesh state (a double store may alias any double).
-  const double deflection = gq + imposed_[m];
+  const double deflection = gq + rec.imposed_m;
   st.deflection_m = deflection;
   st.velocity_m_s = gv;
 
@@ -427,13 +429,13 @@ template <int NE>
   // pairs are approximated by the drive-side combined stiffness (the mesh
   // is symmetric; only the phase differs), see derivation §3.3.
   double F_back = 0;
-  const double backlash = backlash_[m];
+  const double backlash = rec.backlash_m;
   if (deflection < -backlash && k_sum > 0) {
     F_back = k_sum * (deflection + backlash);
     k_active += k_sum;
   }
   const bool contact = (F_el > 0 || F_back < 0);
-  const double c = contact ? damping_[m] : 0.0;
+  const double c = contact ? rec.damping_N_s_m : 0.0;
   const double F_d = c * gv;
   const double F = F_el + F_back + F_d;
   st.damping_force_N = F_d;
@@ -532,7 +534,7 @@ void PlanetaryDynamics::force(double t, const Eigen::VectorXd& q, const Eigen::V
     break;
   case EntryPattern::Mixed:
     for (int m = 0; m < nm; ++m) {
-      switch (sparse_[m].entries) {
+      switch (mesh_[m].sparse.entries) {
       case 2: add_mesh_force_n<2>(m, qd, vd, gd, K, C); break;
       case 3: add_mesh_force_n<3>(m, qd, vd, gd, K, C); break;
       case 7: add_mesh_force_n<7>(m, qd, vd, gd, K, C); break;

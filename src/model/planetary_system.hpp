@@ -113,17 +113,17 @@ public:
   double input_torque_Nm(double t, const Eigen::VectorXd& q, const Eigen::VectorXd& v) const;
   /// Mean input torque P / Omega_s at the nominal speed [N m].
   double nominal_input_torque_Nm() const { return power_ / sun_speed_; }
-  double mesh_damping_N_s_m(int mesh) const { return damping_[mesh]; }
+  double mesh_damping_N_s_m(int mesh) const { return mesh_[mesh].damping_N_s_m; }
   /// Backlash of mesh m [m] (initial; grows with wear).
-  double backlash_m(int mesh) const { return backlash_[mesh]; }
-  void set_backlash_m(int mesh, double b) { backlash_[mesh] = b; }
+  double backlash_m(int mesh) const { return mesh_[mesh].backlash_m; }
+  void set_backlash_m(int mesh, double b) { mesh_[mesh].backlash_m = b; }
   /// Spreads each pair's entry into and exit from contact over the roll distance
   /// the mesh covers in dt_s at its nominal speed (geometry::engagement_weight):
   /// the force then depends continuously on the engagement instant instead of
   /// jumping at the first step past it. 0 = sharp switching. The simulation sets
   /// its time step (docs/derivation.md §3.4).
   void set_engagement_smoothing(double dt_s);
-  double engagement_half_width_m(int mesh) const { return engage_half_width_m_[mesh]; }
+  double engagement_half_width_m(int mesh) const { return mesh_[mesh].engage_half_width_m; }
   /// Absolute sun angle perturbation row: theta_s = Omega_s t + row . q.
   const Eigen::RowVectorXd& sun_theta_row() const { return sun_row_; }
   const Eigen::RowVectorXd& carrier_theta_row() const { return carrier_row_; }
@@ -185,23 +185,33 @@ private:
   std::vector<geometry::PlanetPhases> phases_;
   ToothSurfaces surfaces_;
   std::vector<MeshState> states_;
-  std::vector<MeshScales> scales_;  // per mesh
   double inv_v_eps_ = 1;            // 1 / friction smoothing speed [s/m]
-  std::vector<ToothCursor> cursor_;  // per mesh: pair_window's tooth indices of the last call
-  std::vector<double> damping_, backlash_, mesh_error_, static_offset_;
-  std::vector<Eigen::Vector2d> normals_;
   Eigen::RowVectorXd sun_row_, carrier_row_, input_row_, output_row_;
   Eigen::VectorXd q_roll_;          // state that fixes the roll distances
   bool roll_follows_rotation_ = true;  // stiffness.mesh_phase = rotation (false: nominal_time)
-  std::vector<double> engage_half_width_m_;  // per mesh: half the roll per smoothing step [m]
-  std::vector<dynamics::SparseCoupling> sparse_;  // per mesh: g, h0, h1, roll on the coordinates it touches
+  /// Everything the step reads and writes for one mesh besides its MeshState, in one record: the
+  /// mesh loops then walk one array instead of a dozen vectors indexed by mesh (their base
+  /// pointers and index arithmetic were a sixth of the contact geometry's instructions,
+  /// callgrind, session 43).
+  struct MeshRecord {
+    dynamics::SparseCoupling sparse;  ///< g, h0, h1, roll on the coordinates it touches
+    std::array<PairGeometry, MeshState::kMaxPairs> pairs{};  ///< this step's pairs
+    double imposed_m = 0;             ///< imposed deflection at the step's time [m]
+    double backlash_m = 0;            ///< [m]
+    double damping_N_s_m = 0;         ///< [N s/m]
+    double mesh_error_m = 0;          ///< [m]
+    double static_offset_m = 0;       ///< imposed deflection constant in the carrier frame [m]
+    double engage_half_width_m = 0;   ///< half the roll per smoothing step [m]
+    MeshScales scales;
+    ToothCursor cursor;               ///< pair_window's tooth indices of the last call
+    Eigen::Vector2d normal{0, 0};     ///< line of action (sun runout) [-]
+  };
+  std::vector<MeshRecord> mesh_;  // per mesh
   /// How many coordinates the meshes touch, in mesh order, for the mesh loops' dispatch: the
   /// torsional stage's sun-planet meshes 3 and its planet-ring meshes 2 (ring fixed), every
   /// lateral-torsional mesh 7; anything else goes through a switch per mesh.
   enum class EntryPattern { SunPlanet3Ring2, All7, Mixed };
   EntryPattern entry_pattern_ = EntryPattern::Mixed;
-  std::vector<std::array<PairGeometry, MeshState::kMaxPairs>> pair_geometry_;  // per mesh, this step's pairs
-  std::vector<double> imposed_;                // per mesh: imposed deflection at the step's time [m]
   std::vector<int> input_row_nz_, output_row_nz_;  // coordinates of the non-zeros of input_row_, output_row_
   struct SupportEntry {
     int row, col;
