@@ -30,6 +30,77 @@ inline void subtract_scaled(const double* __restrict x, double lambda, const dou
 inline void subtract_in_place(double* __restrict x, const double* __restrict d, int n) {
   for (int i = 0; i < n; ++i) x[i] -= d[i];
 }
+
+// The residual's per-entry loops for a size known at compile time (N > 0; 0: any, length n). At
+// n = 5 the run-time loops cost more in overlap checks, vector set-up and remainder handling
+// than in arithmetic (~150 of the residual's ~300 instructions per call, callgrind, session 43);
+// unrolled, each entry is its few operations. The same operations per entry in the same order.
+
+/// q = q* + cq a, v = v* + cv a, entry by entry as Eigen's expressions evaluate them.
+template <int N>
+void iterate_n(int n, double cq, double cv, const double* __restrict a, const double* __restrict qp,
+               const double* __restrict vp, double* __restrict q, double* __restrict v) {
+  const int len = N > 0 ? N : n;
+  for (int i = 0; i < len; ++i) {
+    q[i] = qp[i] + cq * a[i];
+    v[i] = vp[i] + cv * a[i];
+  }
+}
+/// r = diag(M) a, as cwiseProduct.
+template <int N>
+void mass_diagonal_n(int n, const double* __restrict md, const double* __restrict a, double* __restrict r) {
+  const int len = N > 0 ? N : n;
+  for (int i = 0; i < len; ++i) r[i] = md[i] * a[i];
+}
+/// |r|_inf into ma, |g|_inf into gn, r -= g, and |r|_inf returned, in one pass over the entries;
+/// `finite` false if any entry of the new r is not finite.
+template <int N>
+double norms_n(int n, double* __restrict r, const double* __restrict g, double& ma, double& gn, bool& finite) {
+  const int len = N > 0 ? N : n;
+  double res = 0, max_r = ma, max_g = gn;  // locals: ma and gn may alias r or g for the compiler
+  bool all_finite = finite;
+  for (int i = 0; i < len; ++i) {
+    max_r = std::max(max_r, std::fabs(r[i]));
+    max_g = std::max(max_g, std::fabs(g[i]));
+    r[i] -= g[i];
+    res = std::max(res, std::fabs(r[i]));
+    all_finite = all_finite & std::isfinite(r[i]);  // no short circuit: the same value without a branch
+  }
+  ma = max_r;
+  gn = max_g;
+  finite = all_finite;
+  return res;
+}
+
+/// The three kernels of one size.
+struct ResidualKernels {
+  void (*iterate)(int, double, double, const double*, const double*, const double*, double*, double*);
+  void (*mass_diagonal)(int, const double*, const double*, double*);
+  double (*norms)(int, double*, const double*, double&, double&, bool&);
+};
+template <int N>
+constexpr ResidualKernels kernels_of{iterate_n<N>, mass_diagonal_n<N>, norms_n<N>};
+/// The kernels for n: unrolled for the torsional (3-10 coordinates) and lateral-torsional (18-23)
+/// sizes SmallLU unrolls too, the run-time loops otherwise.
+const ResidualKernels& residual_kernels(int n) {
+  switch (n) {
+  case 3: return kernels_of<3>;
+  case 4: return kernels_of<4>;
+  case 5: return kernels_of<5>;
+  case 6: return kernels_of<6>;
+  case 7: return kernels_of<7>;
+  case 8: return kernels_of<8>;
+  case 9: return kernels_of<9>;
+  case 10: return kernels_of<10>;
+  case 18: return kernels_of<18>;
+  case 19: return kernels_of<19>;
+  case 20: return kernels_of<20>;
+  case 21: return kernels_of<21>;
+  case 22: return kernels_of<22>;
+  case 23: return kernels_of<23>;
+  default: return kernels_of<0>;
+  }
+}
 } // namespace
 
 NewmarkSolver::NewmarkSolver(SecondOrderSystem& system, double dt_s, NewmarkScheme scheme, NewtonSettings newton)
@@ -71,28 +142,17 @@ double NewmarkSolver::residual(double t1, double& scale, bool tangents) {
   else
     sys_.force(t1, q_, v_, g_, nullptr, nullptr);
   const int n = static_cast<int>(r_.size());
-  double* __restrict r = r_.data();
-  const double* __restrict g = g_.data();
-  {
-    const double* __restrict md = mass_diagonal_.data();
-    const double* __restrict a = a_.data();
-    for (int i = 0; i < n; ++i) r[i] = md[i] * a[i];  // the diagonal of M a, as cwiseProduct
-  }
+  const ResidualKernels& kernels = residual_kernels(n);
+  kernels.mass_diagonal(n, mass_diagonal_.data(), a_.data(), r_.data());  // the diagonal of M a
   // A lateral-torsional mass matrix has a few dozen off-diagonal non-zeros among 324 entries:
   // the dense product was 9 % of its step (perf, session 23).
   for (const MassEntry& e : mass_off_diagonal_) r_(e.row) += e.m * a_(e.col);
   // |M a|_inf, |g|_inf and |M a - g|_inf in one pass over the n entries (Eigen's three
   // reductions on a length-5 vector cost more in set-up than in arithmetic); max is exact, so
   // the figures are those of lpNorm<Infinity>. A NaN entry is caught by the finiteness test.
-  double ma = 0, gn = 0, res = 0;
+  double ma = 0, gn = 0;
   bool finite = true;
-  for (int i = 0; i < n; ++i) {
-    ma = std::max(ma, std::fabs(r[i]));
-    gn = std::max(gn, std::fabs(g[i]));
-    r[i] -= g[i];
-    res = std::max(res, std::fabs(r[i]));
-    finite = finite && std::isfinite(r[i]);
-  }
+  const double res = kernels.norms(n, r_.data(), g_.data(), ma, gn, finite);
   scale = ma + gn + sys_.force_scale() + 1e-300;
   if (!finite || !std::isfinite(res))
     throw SolverError(detail::concat("Newmark step at t = ", t1,
@@ -104,15 +164,7 @@ double NewmarkSolver::residual(double t1, double& scale, bool tangents) {
 void NewmarkSolver::set_iterate(double cq, double cv) {
   // q = q* + beta dt^2 a, v = v* + gamma dt a, entry by entry as Eigen's expressions evaluate them.
   const int n = static_cast<int>(a_.size());
-  const double* a = a_.data();
-  const double* qp = q_pred_.data();
-  const double* vp = v_pred_.data();
-  double* q = q_.data();
-  double* v = v_.data();
-  for (int i = 0; i < n; ++i) {
-    q[i] = qp[i] + cq * a[i];
-    v[i] = vp[i] + cv * a[i];
-  }
+  residual_kernels(n).iterate(n, cq, cv, a_.data(), q_pred_.data(), v_pred_.data(), q_.data(), v_.data());
 }
 
 void NewmarkSolver::factor_jacobian() {
