@@ -172,10 +172,11 @@ std::vector<std::string> structural_rig_settings(const Calibration& calibration,
   for (const std::string& name : calibration.rig_elements) {
     const Candidate* c = find_candidate(name);
     if (!c || !c->calibration_only()) continue;
+    const std::vector<ParameterSpec> specs = c->parameters(config);
     std::vector<double> x;
-    for (const ParameterSpec& p : c->parameters(config))
+    for (const ParameterSpec& p : specs)
       if (value.count(p.name)) x.push_back(value[p.name]);
-    if (x.size() != c->parameters(config).size()) continue;
+    if (x.size() != specs.size()) continue;
     model::SimulationConfig applied = config;
     c->apply(applied, Variant{}, x, &out);
   }
