@@ -375,7 +375,7 @@ void diagnose_and_report(const DiagnoseCommandOptions& o_in, const std::string& 
     // shaft's mode: the calibration-only elements it kept) is the rig's at the reference too:
     // held at the calibrated values, not refitted on the one reference (§6a item 6).
     const std::vector<std::string> structure =
-        calibration ? diagnose::structural_rig_settings(*calibration, read_self(o).config) : std::vector<std::string>{};
+        calibration ? diagnose::structural_rig_settings(*calibration, read_gear_set_config(o.common)) : std::vector<std::string>{};
     DiagnoseCommandOptions ro = o;
     ro.common.assignments = structure;
     ro.common.assignments.insert(ro.common.assignments.end(), o.common.assignments.begin(), o.common.assignments.end());

@@ -10,12 +10,17 @@
 
 namespace pw::app {
 
+model::SimulationConfig read_gear_set_config(const CommonOptions& common) {
+  model::SimulationConfig config = common.config.empty() ? model::SimulationConfig{} : io::read_config(common.config);
+  io::apply_overrides(config, common.assignments);
+  return config;
+}
+
 RecordingInputs read_recording_inputs(const CommonOptions& common, const std::string& recording,
                                       const std::string& meta, const std::vector<std::string>& columns,
                                       std::optional<double> speed_rpm, std::optional<double> power_W) {
   namespace fs = std::filesystem;
-  model::SimulationConfig config = common.config.empty() ? model::SimulationConfig{} : io::read_config(common.config);
-  io::apply_overrides(config, common.assignments);
+  model::SimulationConfig config = read_gear_set_config(common);
   const fs::path meta_path = meta.empty() ? io::sidecar_path(recording) : fs::path(meta);
   // The command line describes the recording on its own (no sidecar needed) or
   // replaces parts of the sidecar (io::merge: the command line wins).

@@ -18,6 +18,9 @@ struct RecordingInputs {
   diagnose::Recording recording;
 };
 
+/// The gear set's configuration (-c, default the seed's) with the command line's --set applied.
+model::SimulationConfig read_gear_set_config(const CommonOptions& common);
+
 /// Throws pw::InputError naming the option (--meta when no sidecar exists and the
 /// command line does not describe the recording on its own).
 RecordingInputs read_recording_inputs(const CommonOptions& common, const std::string& recording,

@@ -136,25 +136,41 @@ std::vector<std::string> median_overrides(const std::vector<std::vector<FittedPa
   return out;
 }
 
+namespace {
+std::string key_of(const std::string& line) { return line.substr(0, line.find('=')); }
+
+/// "key=value" lines as a map key -> value.
+std::map<std::string, double> override_values(const std::vector<std::string>& overrides) {
+  std::map<std::string, double> value;
+  for (const std::string& line : overrides) value[key_of(line)] = std::stod(line.substr(line.find('=') + 1));
+  return value;
+}
+
+/// Every line candidate `c`'s apply() writes at its parameters' values in `value`; nothing when
+/// `value` lacks one of them (the recordings could not see the element).
+std::vector<std::string> applied_lines(const Candidate& c, const model::SimulationConfig& config,
+                                       const std::map<std::string, double>& value) {
+  const std::vector<ParameterSpec> specs = c.parameters(config);
+  std::vector<double> x;
+  for (const ParameterSpec& p : specs)
+    if (const auto it = value.find(p.name); it != value.end()) x.push_back(it->second);
+  std::vector<std::string> lines;
+  if (x.size() != specs.size()) return lines;
+  model::SimulationConfig applied = config;
+  c.apply(applied, Variant{}, x, &lines);
+  return lines;
+}
+} // namespace
+
 std::vector<std::string> rig_element_settings(const std::vector<std::string>& rig_elements,
                                               const model::SimulationConfig& config,
                                               const std::vector<std::string>& overrides) {
-  auto key_of = [](const std::string& line) { return line.substr(0, line.find('=')); };
-  std::map<std::string, double> value;
-  for (const std::string& line : overrides) value[key_of(line)] = std::stod(line.substr(line.find('=') + 1));
+  std::map<std::string, double> value = override_values(overrides);
   std::vector<std::string> out;
   for (const std::string& name : rig_elements) {
     const Candidate* c = find_candidate(name);
     if (!c) continue;
-    const std::vector<ParameterSpec> specs = c->parameters(config);
-    std::vector<double> x;
-    for (const ParameterSpec& p : specs)
-      if (value.count(p.name)) x.push_back(value[p.name]);
-    if (x.size() != specs.size()) continue;
-    model::SimulationConfig applied = config;
-    std::vector<std::string> lines;
-    c->apply(applied, Variant{}, x, &lines);
-    for (const std::string& line : lines)
+    for (const std::string& line : applied_lines(*c, config, value))
       if (!value.count(key_of(line))) {
         value[key_of(line)] = 0;  // once
         out.push_back(line);
@@ -164,22 +180,11 @@ std::vector<std::string> rig_element_settings(const std::vector<std::string>& ri
 }
 
 std::vector<std::string> structural_rig_settings(const Calibration& calibration, const model::SimulationConfig& config) {
-  auto key_of = [](const std::string& line) { return line.substr(0, line.find('=')); };
-  std::map<std::string, double> value;
-  for (const std::string& line : calibration.overrides)
-    value[key_of(line)] = std::stod(line.substr(line.find('=') + 1));
+  const std::map<std::string, double> value = override_values(calibration.overrides);
   std::vector<std::string> out;
-  for (const std::string& name : calibration.rig_elements) {
-    const Candidate* c = find_candidate(name);
-    if (!c || !c->calibration_only()) continue;
-    const std::vector<ParameterSpec> specs = c->parameters(config);
-    std::vector<double> x;
-    for (const ParameterSpec& p : specs)
-      if (value.count(p.name)) x.push_back(value[p.name]);
-    if (x.size() != specs.size()) continue;
-    model::SimulationConfig applied = config;
-    c->apply(applied, Variant{}, x, &out);
-  }
+  for (const std::string& name : calibration.rig_elements)
+    if (const Candidate* c = find_candidate(name); c && c->calibration_only())
+      for (std::string& line : applied_lines(*c, config, value)) out.push_back(std::move(line));
   return out;
 }
 
