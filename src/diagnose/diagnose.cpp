@@ -175,10 +175,16 @@ private:
   /// the recording has decided anything (forecast.hpp): candidates fitted to the shortlist's
   /// size, each with the library's mean parameter count.
   void forecast_all_steps() {
-    const std::size_t pn = ctx().nuisance_specs().size();
+    const std::vector<ParameterSpec> specs = ctx().nuisance_specs();
+    const std::size_t pn = specs.size();
+    long own_scans = 0;  // a rig shaft's scan of its own (nuisance_start.hpp)
+    for (std::size_t k = 1; k < pn; ++k)
+      if (specs[k].scan_at_start)
+        own_scans += scan_points(specs[k].lower * kNuisanceScanInset, specs[k].upper / kNuisanceScanInset,
+                                 specs[k].scan_step_ratio);
     expect(2, kFidelitySimulations);
-    expect(3, kNuisanceScanPoints + static_cast<long>(pn > 0 ? pn - 1 : 0) + lm_simulations(pn, 2 * o_.max_iterations) +
-                  kFidelitySimulations);
+    expect(3, kNuisanceScanPoints + own_scans + static_cast<long>(pn > 0 ? pn - 1 : 0) +
+                  lm_simulations(pn, 2 * o_.max_iterations) + kFidelitySimulations);
     long params = 0, candidates = 0, one_parameter = 0;
     for (const auto& c : candidate_library()) {
       if (!screened(*c)) continue;
