@@ -2,6 +2,7 @@
 
 #include "core/error.hpp"
 
+#include <boost/math/distributions/fisher_f.hpp>
 #include <boost/math/distributions/normal.hpp>
 #include <boost/math/special_functions/bessel.hpp>
 
@@ -21,6 +22,13 @@ double chi2_quantile(double nu, double alpha) {
   const double h = 2.0 / (9.0 * nu);
   const double t = 1 - h + z * std::sqrt(h);
   return nu * t * t * t;
+}
+
+double f_quantile(double nu1, double nu2, double alpha) {
+  require(nu1 > 0, "nu1", "must be > 0, got ", nu1);
+  require(nu2 > 0, "nu2", "must be > 0, got ", nu2);
+  require(alpha > 0 && alpha < 1, "alpha", "must be in (0, 1), got ", alpha);
+  return boost::math::quantile(boost::math::complement(boost::math::fisher_f_distribution<>(nu1, nu2), alpha));
 }
 
 namespace {

@@ -21,6 +21,12 @@ double normal_quantile(double p);
 /// to the exact ones is a behaviour change to make with a corpus re-run.
 double chi2_quantile(double nu, double alpha);
 
+/// Upper quantile of the F distribution F(nu1, nu2): the value exceeded with probability
+/// alpha (Boost.Math, exact). The extra-sum-of-squares test of nested least-squares models
+/// compares an improvement per added parameter with the residual per degree of freedom
+/// against it. Throws pw::InputError ("nu1", "nu2", "alpha") for nu <= 0 or alpha outside (0, 1).
+double f_quantile(double nu1, double nu2, double alpha);
+
 /// Modified Bessel functions of the first kind I_0(x) and I_1(x), x >= 0 (Boost.Math's
 /// rational approximations for these orders, evaluated in double: within a few ulp, 3e-15
 /// relative of std::cyl_bessel_i over [0, 160], at a tenth of its cost: 55 against 630 ns per

@@ -188,6 +188,12 @@ std::vector<std::string> structural_rig_settings(const Calibration& calibration,
   return out;
 }
 
+bool rig_elements_improve(const NestedFits& f, double alpha) {
+  if (f.extra_parameters <= 0 || f.features <= 0 || !(f.chi2_with > 0) || !(f.chi2_without > f.chi2_with)) return false;
+  const double p = f.extra_parameters, m = f.features;
+  return (f.chi2_without - f.chi2_with) / p > f_quantile(p, m, alpha) * f.chi2_with / m;
+}
+
 std::vector<std::string> parameters_at_bound(const std::vector<std::vector<FittedParameter>>& per_recording) {
   struct Count {
     int lower = 0, upper = 0;

@@ -77,6 +77,22 @@ std::vector<std::string> rig_element_settings(const std::vector<std::string>& ri
                                               const model::SimulationConfig& config,
                                               const std::vector<std::string>& overrides);
 
+/// One recording's held-out chi2 without and with the calibration-only rig elements (the fit
+/// with them started where the fit without ended, so it nests it).
+struct NestedFits {
+  double chi2_without = 0, chi2_with = 0;  ///< held-out chi2 [-]
+  int features = 0;                        ///< held-out features the chi2 sums over
+  int extra_parameters = 0;                ///< nuisance parameters the elements add
+};
+
+/// Whether the elements improve the held-out half by more than their parameters buy by chance:
+/// the extra-sum-of-squares F test of nested least-squares models, (Δχ² / p) / (χ²_with / m) >
+/// F_{1-alpha}(p, m). χ²_with / m is the residual per feature: 1 when the model is right (the
+/// test is then the likelihood-ratio test's χ²(p)), far more when the model's form misses the
+/// recording, and an improvement must then be as much larger. Started from the fit without, the
+/// fit with them is almost never worse, so "lower" alone would keep them on any rig.
+bool rig_elements_improve(const NestedFits& f, double alpha);
+
 /// One line per nuisance parameter (sensor gains excepted) whose fit sat at a bound of its
 /// box on at least one recording: "stiffness.scale at its upper bound 2 on 8 of 8 recordings".
 /// A calibrated value at a bound is not a fit but a limit: the rig differs from the model by

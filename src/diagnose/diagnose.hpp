@@ -83,6 +83,10 @@ struct DiagnoseOptions {
     std::vector<double> gains;
   };
   std::optional<DiscrepancyReference> discrepancy_reference;
+  /// Nuisance values of an earlier fit of the same recording with fewer parameters, by key (a
+  /// calibration's fit without its calibration-only rig elements): a further start of the nuisance
+  /// fit, the parameters it does not name at their 'absent' values (nuisance_start.hpp). Empty: none.
+  std::map<std::string, double> nuisance_start_values;
   int threads = 0;              ///< OpenMP threads (0: default)
   /// Simulation slots served elsewhere (compare.remote, e.g. other MPI ranks): that many more
   /// simulations run side by side, their threads mostly waiting.

@@ -7,6 +7,10 @@
 // A later parameter flagged ParameterSpec::scan_at_start (a rig shaft's stiffness, which moves
 // the shaft's mode through the lines) gets a scan of its own, the others held where they are,
 // as fine as its ParameterSpec::scan_step_ratio asks.
+// An earlier fit of the same recording with fewer parameters (a calibration's fit without its
+// calibration-only rig elements) is a second start (nuisance_start_from), refined by the same
+// flips and scans; the diagnosis fits from both and keeps the lower end (a lower start does not
+// mean a lower end, docs/diagnose-log.md session 46).
 // Pure over a chi2 function, so the choice is tested without simulating. Internal to src/diagnose.
 #pragma once
 
@@ -33,5 +37,11 @@ using NuisanceChi2 = std::function<double(const std::vector<double>& x)>;
 /// [lower * inset, upper / inset]); `chi2_nominal` is the nominal model's chi2.
 std::vector<double> nuisance_start(const std::vector<ParameterSpec>& specs, double chi2_nominal,
                                    const NuisanceChi2& chi2, int threads);
+
+/// The start from `earlier`, a point of the same size as `specs` (an earlier fit's values, the
+/// parameters it lacked at their 'absent' values), clamped into the boxes, then the rig elements'
+/// flips and scans as for nuisance_start. Empty when the sizes differ.
+std::vector<double> nuisance_start_from(const std::vector<ParameterSpec>& specs, const std::vector<double>& earlier,
+                                        const NuisanceChi2& chi2, int threads);
 
 } // namespace pw::diagnose

@@ -76,6 +76,24 @@ TEST(Chi2Quantile, KeepsTheValuesTheDiagnosisWasCalibratedWith) {
 
 TEST(Chi2Quantile, RejectsNonPositiveDegreesOfFreedom) { EXPECT_THROW((void)chi2_quantile(0, 0.01), InputError); }
 
+TEST(FQuantile, MatchesTheTablesToTheirPrintedDigits) {
+  // NIST/SEMATECH e-Handbook of Statistical Methods, section 1.3.6.7.3 (upper critical values of
+  // the F distribution, 3 decimals): the tolerance is half the last printed digit.
+  EXPECT_NEAR(f_quantile(2, 10, 0.05), 4.103, 5e-4);
+  EXPECT_NEAR(f_quantile(3, 20, 0.05), 3.098, 5e-4);
+  EXPECT_NEAR(f_quantile(1, 10, 0.01), 10.044, 5e-4);
+  EXPECT_NEAR(f_quantile(2, 100, 0.01), 4.824, 5e-4);
+}
+
+TEST(FQuantile, TendsToTheChiSquareQuantilePerDegreeOfFreedomAndSwapsItsTails) {
+  // nu1 F(nu1, nu2) -> chi2(nu1) as nu2 -> infinity: chi2_{0.99}(2) = -2 ln 0.01 exactly.
+  expect_relative(2 * f_quantile(2, 1e9, 0.01), -2 * std::log(0.01), 1e-6);
+  // F_{1-a}(n1, n2) = 1 / F_a(n2, n1).
+  expect_relative(f_quantile(3, 7, 0.05), 1 / f_quantile(7, 3, 0.95), 1e-10);
+  EXPECT_THROW((void)f_quantile(0, 5, 0.01), InputError);
+  EXPECT_THROW((void)f_quantile(2, 5, 1.0), InputError);
+}
+
 } // namespace
 // I0 and I1 at tabulated points (Abramowitz & Stegun, Table 9.8, 10 digits: e^-x I_n(x) there,
 // multiplied back here) and within 1e-14 of the standard library's over the range the Rician

@@ -2,6 +2,7 @@
 // model with known sigma_rel and sigma_abs: the estimates recover them within their standard
 // errors, the budget is the upper confidence limit, a model without discrepancy gets a budget
 // of about zero, and the calibrated model is the median of the fits.
+#include "core/statistics.hpp"
 #include "diagnose/calibration.hpp"
 #include "diagnose/order_analysis.hpp"
 #include "model/simulation.hpp"
@@ -44,6 +45,26 @@ std::vector<CalibrationCell> draw_cells(double sigma_rel, double sigma_abs, int 
 }
 
 } // namespace
+
+TEST(Calibration, RigElementsAreKeptOnlyForAnImprovementBeyondWhatTheirParametersBuyByChance) {
+  // m = 2000 held-out features, p = 2 extra parameters, alpha = 0.01: F_{0.99}(2, 2000) = 4.61.
+  const double f = pw::f_quantile(2, 2000, 0.01);
+  // A right model (chi2 per feature 1): the likelihood-ratio test's threshold, 2 F = 9.2.
+  EXPECT_TRUE(rig_elements_improve({.chi2_without = 2000 + 2 * f * 1.01 + 1e-9, .chi2_with = 2000, .features = 2000,
+                                    .extra_parameters = 2}, 0.01));
+  EXPECT_FALSE(rig_elements_improve({.chi2_without = 2000 + 2 * f * 0.99, .chi2_with = 2000, .features = 2000,
+                                     .extra_parameters = 2}, 0.01));
+  // Another simulator's rig: 1000 times the noise per feature. An improvement of 100, which a right
+  // model would call decisive, is what two parameters buy there by chance; 10 % of chi2 is not.
+  EXPECT_FALSE(rig_elements_improve({.chi2_without = 2e6 + 100, .chi2_with = 2e6, .features = 2000,
+                                     .extra_parameters = 2}, 0.01));
+  EXPECT_TRUE(rig_elements_improve({.chi2_without = 2.2e6, .chi2_with = 2e6, .features = 2000,
+                                    .extra_parameters = 2}, 0.01));
+  // Worse, equal, or nothing added: never kept.
+  EXPECT_FALSE(rig_elements_improve({.chi2_without = 2e6, .chi2_with = 2.1e6, .features = 2000, .extra_parameters = 2}, 0.01));
+  EXPECT_FALSE(rig_elements_improve({.chi2_without = 2e6, .chi2_with = 2e6, .features = 2000, .extra_parameters = 2}, 0.01));
+  EXPECT_FALSE(rig_elements_improve({.chi2_without = 3e6, .chi2_with = 2e6, .features = 2000, .extra_parameters = 0}, 0.01));
+}
 
 TEST(Calibration, DiscrepancyEstimatesRecoverTheDrawnRelativeAndAbsoluteVariances) {
   // 2000 line cells with sigma_rel = 0.2 and 2000 empty cells with sigma_abs = 0.3, split over

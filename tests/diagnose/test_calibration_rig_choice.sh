@@ -1,14 +1,16 @@
 #!/bin/sh
 # `planetwear calibrate` keeps a calibration-only rig element (a shaft to a speed source, which
 # has no value without effect) only if the fit with it beats the fit without it on every
-# recording's held-out half (docs/diagnose.md section 6a). Two healthy recordings of the seed
+# recording's held-out half by more than its parameters buy by chance (an F test; the fit with it
+# from the nominal start and from the fit without, the lower kept: docs/diagnose.md section 6a).
+# Two healthy recordings of the seed
 # stage at 400 rpm, 1 kW, 1 s, 5 % noise:
 #   * shaft.csv: the carrier drives a 0.8 kg m^2 load machine through a 1e6 N m/rad shaft
 #     (20 N m s/rad): output_shaft must be kept, its stiffness within 30 % of 1e6 (the element
 #     puts a speed source behind the shaft, not the 0.8 kg m^2 machine, whose own motion the
 #     fitted stiffness absorbs; measured 1.15e6);
 #   * plain.csv: no shaft: output_shaft must be left out (measured: held-out chi2 1035 with it,
-#     1008 without).
+#     1008 without; 1025 with it since session 46's two starts).
 # Then a third healthy recording of each rig is diagnosed against its calibration (below).
 # Measured 2026-11-27: 28 s per calibration at 2 threads (two fits each).
 # Usage: test_calibration_rig_choice.sh <planetwear> <workdir>

@@ -129,6 +129,66 @@ TEST(NuisanceStart, AScanWithAStepRatioFindsABasinNarrowerThanTheCoarseGridsSpac
   EXPECT_EQ(scan_points(1.0, 1.1, 1.21), kNuisanceScanPoints);
 }
 
+/// The stiffness level, an encoder-like bandwidth (not scanned: start 2000, 'absent' 1e4) and a
+/// shaft stiffness scanned at start, which interact as an encoder's low-pass and a shaft's mode
+/// do on the same speed lines.
+std::vector<ParameterSpec> level_bandwidth_shaft() {
+  std::vector<ParameterSpec> s = stiffness_only();
+  s.push_back(spec(100.0, 1e4, 2000.0, 1e4));
+  s.push_back(spec(1.0, 1e8, 1e3, 1.0));
+  s[2].scan_at_start = true;
+  s[2].scan_step_ratio = 1.21;
+  return s;
+}
+
+TEST(NuisanceStart, FromAnEarlierFitTheShaftsScanFindsTheBasinTheNominalStartCannot) {
+  // The bandwidth's basin at 300; the shaft's basin at 2e4 only when the bandwidth is near its
+  // own, a ridge there when it is far. From the nominal start the shaft's scan runs with the
+  // bandwidth at 2000 and finds nothing better; from an earlier fit without the shaft (level
+  // 1.3, bandwidth 300, the shaft 'absent') it finds the basin.
+  const std::vector<ParameterSpec> s = level_bandwidth_shaft();
+  const auto chi2 = [](const std::vector<double>& x) {
+    const double b = std::log(x[1] / 300.0), k = std::log(x[2] / 2e4) / std::log(1.1);
+    return 10.0 + 1000.0 * std::pow(std::log(x[0] / 1.3), 2) + 200.0 * b * b -
+           150.0 * std::exp(-0.5 * k * k) * (2 * std::exp(-b * b) - 1);
+  };
+  const std::vector<double> plain = nuisance_start(s, 1e9, chi2, 1);
+  EXPECT_EQ(plain[1], 2000.0);
+  EXPECT_GT(std::fabs(std::log(plain[2] / 2e4)), std::log(2.0));  // the shaft's basin not found
+  const std::vector<double> earlier{1.3, 300.0, 1.0};
+  const std::vector<double> nested = nuisance_start_from(s, earlier, chi2, 1);
+  EXPECT_EQ(nested[0], 1.3);
+  EXPECT_EQ(nested[1], 300.0);
+  EXPECT_LT(std::fabs(std::log(nested[2] / 2e4)), std::log(1.21) / 2 + 1e-12);
+  EXPECT_LT(chi2(nested), chi2(earlier));
+  // A value outside its box is clamped into it; a point of another size gives no start.
+  EXPECT_EQ(nuisance_start_from(s, {1.3, 50.0, 1.0}, chi2, 1)[1], 100.0);
+  EXPECT_TRUE(nuisance_start_from(s, {1.3, 300.0}, chi2, 1).empty());
+  EXPECT_EQ(nuisance_start_from(s, earlier, chi2, 1), nuisance_start_from(s, earlier, chi2, 2));
+}
+
+TEST(NuisanceStart, FromAnEarlierFitTheShaftCanStayInAPoorerBasinThanTheNominalStartFinds) {
+  // The reverse: the earlier fit's bandwidth (300) leaves the shaft a shallow, misplaced basin
+  // (at 2e3, depth 40), while from the nominal start (bandwidth 2000) the scan finds the deep one
+  // (at 2e4, depth 5000). The earlier point is the lower one before the scans and the higher one
+  // after them -- why the diagnosis fits from both starts and keeps the lower end.
+  const std::vector<ParameterSpec> s = level_bandwidth_shaft();
+  const auto chi2 = [](const std::vector<double>& x) {
+    const double b = std::log(x[1] / 300.0), near = std::exp(-b * b), far = 1 - near;
+    const double deep = std::log(x[2] / 2e4) / std::log(1.1), shallow = std::log(x[2] / 2e3) / std::log(1.1);
+    return 10.0 + 1000.0 * std::pow(std::log(x[0] / 1.3), 2) + 200.0 * b * b -
+           5000.0 * far * std::exp(-0.5 * deep * deep) - 40.0 * near * std::exp(-0.5 * shallow * shallow);
+  };
+  const std::vector<double> earlier{1.3, 300.0, 1.0};
+  const std::vector<double> first{s[0].initial, s[1].initial, s[2].initial};  // the nominal start's point
+  const std::vector<double> plain = nuisance_start(s, 1e9, chi2, 1);
+  const std::vector<double> nested = nuisance_start_from(s, earlier, chi2, 1);
+  EXPECT_LT(chi2(earlier), chi2(first));                            // lower before the scans
+  EXPECT_LT(chi2(plain), chi2(nested));                             // higher after them
+  EXPECT_LT(std::fabs(std::log(plain[2] / 2e4)), std::log(1.21) / 2 + 1e-12);
+  EXPECT_LT(std::fabs(std::log(nested[2] / 2e3)), std::log(1.21) / 2 + 1e-12);
+}
+
 TEST(NuisanceStart, TwoThreadsGiveTheSameStartAsOne) {
   EXPECT_EQ(nuisance_start(stiffness_only(), 1e9, basin_at(0.9), 1), nuisance_start(stiffness_only(), 1e9, basin_at(0.9), 2));
 }
