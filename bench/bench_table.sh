@@ -21,14 +21,17 @@ PY=/usr/bin/python3
 export OMP_NUM_THREADS=1
 echo "machine: $(nproc --all) cores, load average $(cut -d' ' -f1-3 /proc/loadavg), $(date -u +%Y-%m-%dT%H:%MZ)"
 
-# ns/step and force evaluations per step from bench_simulate's table: the 3rd and 2nd columns from
-# the end since the page-fault column (session 45); a binary from before it has them last.
+# ns/step, force evaluations per step and simulated mesh cycles (warm-up + recording) per core-second
+# from bench_simulate's table: the 3rd, 2nd and 4th columns from the end since the page-fault column
+# (session 45); a binary from before it has them one column further right.
 step_cost() {  # BUILD RPM [extra args]
   b=$1; rpm=$2; shift 2
   "$b/bench/bench_simulate" "$rpm" --record-cycles 1 --repeat 3 "$@" 2>/dev/null |
     awk -v r="$rpm" '$1 == r && NF >= 17 && $NF ~ /^[0-9]+$/ && $(NF - 1) ~ /\./ {
-                       printf "%s ns/step, %s evals/step, %s page faults", $(NF - 2), $(NF - 1), $NF; exit }
-                     $1 == r && NF >= 16 { printf "%s ns/step, %s evals/step", $(NF - 1), $NF; exit }'
+                       printf "%s ns/step, %s evals/step, %s mesh cycles/core-s, %s page faults", $(NF - 2), $(NF - 1),
+                              $(NF - 3), $NF; exit }
+                     $1 == r && NF >= 16 { printf "%s ns/step, %s evals/step, %s mesh cycles/core-s", $(NF - 1), $NF,
+                              $(NF - 2); exit }'
 }
 wear_case() {  # BUILD -> CPU seconds of the 100 rpm seed wear case, 1 thread
   "$1/bench/bench_wear" --threads 1 --repeat 1 100 2>/dev/null |
