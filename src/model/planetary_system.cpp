@@ -67,17 +67,16 @@ bool n_first_le(double n_first, double n_last) { return n_first <= n_last; }
 }
 
 /// stiffness::PairStiffnessCurve::operator() (linear interpolation in the uniform table, 0
-/// outside it) with its index scale (n - 1) / (xi_n - xi_0) precomputed.
-double pair_stiffness(const stiffness::PairStiffnessCurve& curve, double index_scale_1_m, double xi_m) {
-  const std::size_t n = curve.xi_m.size();
-  if (n < 2) return 0.0;
-  const double x0 = curve.xi_m.front();
-  if (!(xi_m >= x0 && xi_m <= curve.xi_m.back())) return 0.0;
-  const double u = (xi_m - x0) * index_scale_1_m;
+/// outside it) with its index scale (n - 1) / (xi_n - xi_0), its ends and its last interval fixed
+/// at construction (MeshScales): the same arithmetic without the table's size and end look-ups.
+[[gnu::always_inline]] inline double pair_stiffness(const std::vector<double>& k_N_m, double x0_m, double x1_m,
+                                                    std::size_t last, double index_scale_1_m, double xi_m) {
+  if (!(xi_m >= x0_m && xi_m <= x1_m)) return 0.0;  // also every xi for a table of < 2 points
+  const double u = (xi_m - x0_m) * index_scale_1_m;
   std::size_t i = static_cast<std::size_t>(u);
-  if (i > n - 2) i = n - 2;
+  if (i > last) i = last;
   const double f = u - static_cast<double>(i);
-  const std::vector<double>& k = curve.k_N_m;
+  const double* k = k_N_m.data();
   return k[i] + f * (k[i + 1] - k[i]);
 }
 
@@ -90,6 +89,19 @@ std::vector<int> nonzeros(const Eigen::RowVectorXd& row) {
 }
 
 } // namespace
+
+bool PlanetaryDynamics::torsional_coordinates(const std::vector<MeshRecord>& meshes) {
+  for (std::size_t m = 0; m < meshes.size(); ++m) {
+    const dynamics::SparseCoupling& sc = meshes[m].sparse;
+    const int planet = static_cast<int>(m / 2);
+    const bool sun_planet = m % 2 == 0;
+    const std::array<int, 3> expected = sun_planet ? std::array<int, 3>{0, 1, 2 + planet} : std::array<int, 3>{1, 2 + planet, -1};
+    if (sc.entries != (sun_planet ? 3 : 2)) return false;
+    for (int k = 0; k < sc.entries; ++k)
+      if (sc.dof[k] != expected[k]) return false;
+  }
+  return true;
+}
 
 PlanetaryDynamics::PlanetaryDynamics(const SimulationConfig& cfg, dynamics::LumpedStructure structure,
                                      MeshFamily sun_planet, MeshFamily planet_ring,
@@ -157,7 +169,13 @@ PlanetaryDynamics::PlanetaryDynamics(const SimulationConfig& cfg, dynamics::Lump
     const MeshFamily& fam = family(m);
     const std::vector<double>& x = fam.stiffness.xi_m;
     mesh_[m].scales.inv_base_pitch_1_m = 1.0 / fam.geometry.base_pitch_m;
-    if (x.size() >= 2) mesh_[m].scales.stiffness_index_1_m = static_cast<double>(x.size() - 1) / (x.back() - x.front());
+    MeshScales& sc = mesh_[m].scales;
+    if (x.size() >= 2) {
+      sc.stiffness_index_1_m = static_cast<double>(x.size() - 1) / (x.back() - x.front());
+      sc.stiffness_x0_m = x.front();
+      sc.stiffness_x1_m = x.back();
+      sc.stiffness_last = x.size() - 2;
+    }
     mesh_[m].sparse = dynamics::sparse_coupling(structure_.meshes[m]);
   }
   bool sp3_pr2 = nm % 2 == 0, all7 = true;
@@ -166,6 +184,7 @@ PlanetaryDynamics::PlanetaryDynamics(const SimulationConfig& cfg, dynamics::Lump
     all7 = all7 && mesh_[m].sparse.entries == 7;
   }
   entry_pattern_ = sp3_pr2 ? EntryPattern::SunPlanet3Ring2 : all7 ? EntryPattern::All7 : EntryPattern::Mixed;
+  if (sp3_pr2 && torsional_coordinates(mesh_)) entry_pattern_ = EntryPattern::Torsional;
   input_row_nz_ = nonzeros(input_row_);
   output_row_nz_ = nonzeros(output_row_);
   const Eigen::MatrixXd& S = structure_.support_stiffness;
@@ -327,7 +346,9 @@ template <int NE>
     const double w = engagement_weight(mg, p.xi_m, h, rec.scales.inv_engage_width_1_m);
     st.pairs_engaged += w >= 0.5 ? 1 : 0;
     // Untouched flanks (FlankSet::pristine) contribute a factor 1 and a deviation 0: skipped.
-    pg.k_N_m = w * pair_stiffness(fam.stiffness, rec.scales.stiffness_index_1_m, std::clamp(p.xi_m, xi_lo, xi_hi));
+    pg.k_N_m = w * pair_stiffness(fam.stiffness.k_N_m, rec.scales.stiffness_x0_m, rec.scales.stiffness_x1_m,
+                                  rec.scales.stiffness_last, rec.scales.stiffness_index_1_m,
+                                  std::clamp(p.xi_m, xi_lo, xi_hi));
     if (!pristine_a) pg.k_N_m *= fa.stiffness_factor(p.tooth_a);
     if (!pristine_b) pg.k_N_m *= fb.stiffness_factor(p.tooth_b);
     // The two flanks of a mesh share one element grid (same_grid_a_b): one grid point serves both.
@@ -361,6 +382,7 @@ void PlanetaryDynamics::update_contact_geometry(double t) {
   // add_mesh_force: the same sums in the same order. The meshes in their order; a stage whose entry
   // counts follow a known pattern (entry_pattern_) is walked without a switch per mesh.
   switch (entry_pattern_) {
+  case EntryPattern::Torsional:
   case EntryPattern::SunPlanet3Ring2:
     for (int m = 0; m < nm; m += 2) {
       update_mesh_geometry<3>(m, t, runout);
@@ -385,12 +407,12 @@ void PlanetaryDynamics::update_contact_geometry(double t) {
   geometry_epoch_ = contact_epoch_;
 }
 
-// Inlined into force(), its one caller, by force: the mesh loop then keeps the raw vectors, the
-// friction constants and the tangent flag in registers across the meshes instead of setting them
-// up per call through a dispatch function (callgrind, session 41).
-template <int NE>
-[[gnu::always_inline]] inline void PlanetaryDynamics::add_mesh_force_n(int m, const double* q, const double* v,
-                                                                       double* g, Eigen::MatrixXd* K,
+// Inlined into force() by force: the mesh loop then keeps the raw vectors, the friction constants
+// and the tangent flag in registers across the meshes instead of setting them up per call through
+// a dispatch function (callgrind, session 41). `d` reads q, v and accumulates into g for entry k
+// of the mesh (IndexedCoordinates, TorsionalCoordinates); K and C are indexed by sc.dof.
+template <int NE, class Coordinates>
+[[gnu::always_inline]] inline void PlanetaryDynamics::add_mesh_force_n(int m, Coordinates& d, Eigen::MatrixXd* K,
                                                                        Eigen::MatrixXd* C) {
   const bool tangents = (K != nullptr && C != nullptr);
   const MeshRecord& rec = mesh_[m];
@@ -402,8 +424,8 @@ template <int NE>
 
   double gq = 0, gv = 0;
   for (int k = 0; k < ne; ++k) {
-    gq += sc.g[k] * q[sc.dof[k]];
-    gv += sc.g[k] * v[sc.dof[k]];
+    gq += sc.g[k] * d.q(k);
+    gv += sc.g[k] * d.v(k);
   }
   // Locals carry the values the stores into g below would otherwise make the compiler reload
   // from the mesh state (a double store may alias any double).
@@ -440,7 +462,7 @@ template <int NE>
   const double F = F_el + F_back + F_d;
   st.damping_force_N = F_d;
   st.force_N = F;
-  for (int k = 0; k < ne; ++k) g[sc.dof[k]] -= F * sc.g[k];
+  for (int k = 0; k < ne; ++k) d.subtract(k, F * sc.g[k]);
   if (tangents) {
     for (int b = 0; b < ne; ++b)
       for (int a = 0; a < ne; ++a) {
@@ -455,7 +477,7 @@ template <int NE>
   for (int j = 0; j < np; ++j) {
     const auto& h = pgs[j].h;
     double hv = 0;
-    for (int k = 0; k < ne; ++k) hv += h[k] * v[sc.dof[k]];
+    for (int k = 0; k < ne; ++k) hv += h[k] * d.v(k);
     const double vs = pgs[j].slide_nominal_m_s + hv;
     st.sliding_m_s[j] = vs;
     const double F_pair = st.pair_force_N[j];
@@ -468,7 +490,7 @@ template <int NE>
     const double th = smooth_sign(vs * inv_v_eps);
     const double Ff = mu * Fn * th;
     friction += Ff;
-    for (int k = 0; k < ne; ++k) g[sc.dof[k]] -= Ff * h[k];
+    for (int k = 0; k < ne; ++k) d.subtract(k, Ff * h[k]);
     if (tangents) {
       const double kk = mu * th * kj;
       const double cc = mu * Fn * (1 - th * th) * inv_v_eps;
@@ -482,6 +504,54 @@ template <int NE>
     }
   }
   st.friction_N = friction;
+}
+
+namespace {
+/// A mesh's entries through its coupling's coordinate indices (any stage): q[dof[k]], g[dof[k]].
+struct IndexedCoordinates {
+  const double* qd;
+  const double* vd;
+  double* gd;
+  const int* dof;
+  double q(int k) const { return qd[dof[k]]; }
+  double v(int k) const { return vd[dof[k]]; }
+  void subtract(int k, double x) { gd[dof[k]] -= x; }
+};
+
+/// The entries of planet i's torsional meshes (PlanetaryDynamics::EntryPattern::Torsional):
+/// sun-planet on (theta_s, theta_c, theta_p), planet-ring on (theta_c, theta_p), the ring fixed.
+/// The sun's and the carrier's coordinates are read once per evaluation and their generalized
+/// forces summed in locals across the planets, the planet's in a local across its two meshes:
+/// with the coordinates in registers the mesh loop loads no index and stores no force entry per
+/// term. Each entry receives the same subtractions in the same order as through g[dof[k]].
+template <bool SunPlanet>
+struct TorsionalCoordinates {
+  const double (&qs)[3];  // (theta_s, theta_c, theta_p) of the planet
+  const double (&vs)[3];
+  double (&gs)[3];        // their generalized forces, accumulated
+  static constexpr int first = SunPlanet ? 0 : 1;
+  double q(int k) const { return qs[first + k]; }
+  double v(int k) const { return vs[first + k]; }
+  void subtract(int k, double x) { gs[first + k] -= x; }
+};
+} // namespace
+
+void PlanetaryDynamics::add_torsional_mesh_forces(const double* __restrict q, const double* __restrict v,
+                                                  double* __restrict g) {
+  const int planets = static_cast<int>(mesh_.size()) / 2;
+  double qs[3] = {q[0], q[1], 0}, vs[3] = {v[0], v[1], 0}, gs[3] = {g[0], g[1], 0};
+  for (int i = 0; i < planets; ++i) {
+    qs[2] = q[2 + i];
+    vs[2] = v[2 + i];
+    gs[2] = g[2 + i];
+    TorsionalCoordinates<true> sun{qs, vs, gs};
+    add_mesh_force_n<3>(2 * i, sun, nullptr, nullptr);
+    TorsionalCoordinates<false> ring{qs, vs, gs};
+    add_mesh_force_n<2>(2 * i + 1, ring, nullptr, nullptr);
+    g[2 + i] = gs[2];
+  }
+  g[0] = gs[0];
+  g[1] = gs[1];
 }
 
 void PlanetaryDynamics::force(double t, const Eigen::VectorXd& q, const Eigen::VectorXd& v, Eigen::VectorXd& g,
@@ -517,28 +587,36 @@ void PlanetaryDynamics::force(double t, const Eigen::VectorXd& q, const Eigen::V
   // lagged roll reference: evaluated once per step, reused by Newton.
   if (geometry_epoch_ != contact_epoch_ || geometry_t_ != t) update_contact_geometry(t);
   const int nm = static_cast<int>(structure_.meshes.size());
-  const double* qd = q.data();
-  const double* vd = v.data();
-  double* gd = g.data();
+  IndexedCoordinates d{q.data(), v.data(), g.data(), nullptr};
+  auto mesh_force = [&]<int NE>(int m) {
+    d.dof = mesh_[m].sparse.dof.data();
+    add_mesh_force_n<NE>(m, d, K, C);
+  };
   // The entry loops unrolled for the torsional (2, 3) and lateral-torsional (7) meshes; the meshes in
   // their order, without a switch per mesh where the entry counts follow a known pattern.
   switch (entry_pattern_) {
+  case EntryPattern::Torsional:
+    if (!tangents) {
+      add_torsional_mesh_forces(q.data(), v.data(), g.data());
+      break;
+    }
+    [[fallthrough]];  // the tangents through the coupling's indices
   case EntryPattern::SunPlanet3Ring2:
     for (int m = 0; m < nm; m += 2) {
-      add_mesh_force_n<3>(m, qd, vd, gd, K, C);      // torsional sun-planet
-      add_mesh_force_n<2>(m + 1, qd, vd, gd, K, C);  // torsional planet-ring (ring fixed)
+      mesh_force.template operator()<3>(m);      // torsional sun-planet
+      mesh_force.template operator()<2>(m + 1);  // torsional planet-ring (ring fixed)
     }
     break;
   case EntryPattern::All7:
-    for (int m = 0; m < nm; ++m) add_mesh_force_n<7>(m, qd, vd, gd, K, C);
+    for (int m = 0; m < nm; ++m) mesh_force.template operator()<7>(m);
     break;
   case EntryPattern::Mixed:
     for (int m = 0; m < nm; ++m) {
       switch (mesh_[m].sparse.entries) {
-      case 2: add_mesh_force_n<2>(m, qd, vd, gd, K, C); break;
-      case 3: add_mesh_force_n<3>(m, qd, vd, gd, K, C); break;
-      case 7: add_mesh_force_n<7>(m, qd, vd, gd, K, C); break;
-      default: add_mesh_force_n<0>(m, qd, vd, gd, K, C); break;
+      case 2: mesh_force.template operator()<2>(m); break;
+      case 3: mesh_force.template operator()<3>(m); break;
+      case 7: mesh_force.template operator()<7>(m); break;
+      default: mesh_force.template operator()<0>(m); break;
       }
     }
     break;

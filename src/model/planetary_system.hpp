@@ -26,6 +26,7 @@
 
 #include <array>
 #include <cmath>
+#include <limits>
 #include <vector>
 
 namespace pw::model {
@@ -164,6 +165,10 @@ private:
     double inv_base_pitch_1_m = 0;     ///< 1 / p_b [1/m]
     double inv_engage_width_1_m = 0;   ///< 1 / (2 h), h the engagement half width (0: sharp) [1/m]
     double stiffness_index_1_m = 0;    ///< (n - 1) / (xi_n - xi_0) of the pair stiffness table [1/m]
+    /// The table's ends xi_0, xi_n [m] and its last interval n - 2; a table of fewer than two
+    /// points keeps the empty range [NaN, NaN], outside which the stiffness is 0.
+    double stiffness_x0_m = std::numeric_limits<double>::quiet_NaN(), stiffness_x1_m = std::numeric_limits<double>::quiet_NaN();
+    std::size_t stiffness_last = 0;
   };
   /// Evaluates the contact geometry of every mesh at time t (once per step).
   void update_contact_geometry(double t);
@@ -171,9 +176,13 @@ private:
   template <int NE>
   void update_mesh_geometry(int m, double t, const Eigen::Vector2d& sun_runout_m);
   /// Adds mesh m's normal, damping and friction forces at (q, v) to g (and tangents), for meshes
-  /// of NE coupled coordinates (0: any, SparseCoupling::entries); q, v, g the vectors' data.
-  template <int NE>
-  void add_mesh_force_n(int m, const double* q, const double* v, double* g, Eigen::MatrixXd* K, Eigen::MatrixXd* C);
+  /// of NE coupled coordinates (0: any, SparseCoupling::entries); `coordinates` reads entry k's
+  /// q and v and accumulates its generalized force (planetary_system.cpp).
+  template <int NE, class Coordinates>
+  void add_mesh_force_n(int m, Coordinates& coordinates, Eigen::MatrixXd* K, Eigen::MatrixXd* C);
+  /// add_mesh_force_n of every mesh of a torsional stage (EntryPattern::Torsional), no tangents:
+  /// the coordinates each mesh touches follow from its planet (q, v, g the vectors' data).
+  void add_torsional_mesh_forces(const double* __restrict q, const double* __restrict v, double* __restrict g);
   const FlankSet& flank_a(int mesh) const;
   const FlankSet& flank_b(int mesh) const;
   /// Displacement of the sun by its runout at time t (carrier frame) [m]; zero without one.
@@ -210,7 +219,12 @@ private:
   /// How many coordinates the meshes touch, in mesh order, for the mesh loops' dispatch: the
   /// torsional stage's sun-planet meshes 3 and its planet-ring meshes 2 (ring fixed), every
   /// lateral-torsional mesh 7; anything else goes through a switch per mesh.
-  enum class EntryPattern { SunPlanet3Ring2, All7, Mixed };
+  /// Torsional: SunPlanet3Ring2 on the torsional coordinates, sun-planet i on (theta_s, theta_c,
+  /// theta_p_i) = (0, 1, 2 + i) and planet-ring i on (1, 2 + i): the forces without tangents then
+  /// go through add_torsional_mesh_forces.
+  enum class EntryPattern { Torsional, SunPlanet3Ring2, All7, Mixed };
+  /// True when the meshes' couplings are EntryPattern::Torsional's.
+  static bool torsional_coordinates(const std::vector<MeshRecord>& meshes);
   EntryPattern entry_pattern_ = EntryPattern::Mixed;
   std::vector<int> input_row_nz_, output_row_nz_;  // coordinates of the non-zeros of input_row_, output_row_
   struct SupportEntry {
