@@ -72,35 +72,18 @@ double norms_n(int n, double* __restrict r, const double* __restrict g, double& 
   return res;
 }
 
-/// The three kernels of one size.
-struct ResidualKernels {
-  void (*iterate)(int, double, double, const double*, const double*, const double*, double*, double*);
-  void (*mass_diagonal)(int, const double*, const double*, double*);
-  double (*norms)(int, double*, const double*, double&, double&, bool&);
-};
-template <int N>
-constexpr ResidualKernels kernels_of{iterate_n<N>, mass_diagonal_n<N>, norms_n<N>};
-/// The kernels for n: unrolled for the torsional (3-10 coordinates) and lateral-torsional (18-23)
-/// sizes SmallLU unrolls too, the run-time loops otherwise.
-const ResidualKernels& residual_kernels(int n) {
-  switch (n) {
-  case 3: return kernels_of<3>;
-  case 4: return kernels_of<4>;
-  case 5: return kernels_of<5>;
-  case 6: return kernels_of<6>;
-  case 7: return kernels_of<7>;
-  case 8: return kernels_of<8>;
-  case 9: return kernels_of<9>;
-  case 10: return kernels_of<10>;
-  case 18: return kernels_of<18>;
-  case 19: return kernels_of<19>;
-  case 20: return kernels_of<20>;
-  case 21: return kernels_of<21>;
-  case 22: return kernels_of<22>;
-  case 23: return kernels_of<23>;
-  default: return kernels_of<0>;
+/// The sizes attempt() is compiled for (its loops unrolled, its kernels inline): the torsional
+/// (3-10 coordinates) and lateral-torsional (18-23) sizes SmallLU unrolls too; any other size
+/// runs attempt_n<0>, the run-time loops.
+template <int... N>
+struct AttemptSizes {
+  static NewmarkSolver::AttemptFn attempt(int n) {
+    NewmarkSolver::AttemptFn f = &NewmarkSolver::attempt_n<0>;
+    ((n == N ? (f = &NewmarkSolver::attempt_n<N>, 0) : 0), ...);
+    return f;
   }
-}
+};
+using FixedAttemptSizes = AttemptSizes<3, 4, 5, 6, 7, 8, 9, 10, 18, 19, 20, 21, 22, 23>;
 } // namespace
 
 NewmarkSolver::NewmarkSolver(SecondOrderSystem& system, double dt_s, NewmarkScheme scheme, NewtonSettings newton)
@@ -116,6 +99,7 @@ NewmarkSolver::NewmarkSolver(SecondOrderSystem& system, double dt_s, NewmarkSche
   C_.setZero(n, n);
   J_.setZero(n, n);
   lu_.resize(n);
+  attempt_ = FixedAttemptSizes::attempt(n);
   // Torsional models in these coordinates have a diagonal mass matrix (absolute rotations);
   // then M a is n products instead of n^2, and the few off-diagonal entries of a
   // lateral-torsional one are added over its non-zeros.
@@ -134,16 +118,16 @@ void NewmarkSolver::initialize(NewmarkState& s) {
   history_ = 0;
 }
 
-double NewmarkSolver::residual(double t1, double& scale, bool tangents) {
+template <int N>
+double NewmarkSolver::residual_n(double t1, double& scale, bool tangents) {
   const double b = scheme_.beta, gm = scheme_.gamma, dt = dt_;
-  set_iterate(b * dt * dt, gm * dt);
+  set_iterate_n<N>(b * dt * dt, gm * dt);
   if (tangents)
     sys_.force(t1, q_, v_, g_, &K_, &C_);
   else
     sys_.force(t1, q_, v_, g_, nullptr, nullptr);
-  const int n = static_cast<int>(r_.size());
-  const ResidualKernels& kernels = residual_kernels(n);
-  kernels.mass_diagonal(n, mass_diagonal_.data(), a_.data(), r_.data());  // the diagonal of M a
+  const int n = N > 0 ? N : static_cast<int>(r_.size());
+  mass_diagonal_n<N>(n, mass_diagonal_.data(), a_.data(), r_.data());  // the diagonal of M a
   // A lateral-torsional mass matrix has a few dozen off-diagonal non-zeros among 324 entries:
   // the dense product was 9 % of its step (perf, session 23).
   for (const MassEntry& e : mass_off_diagonal_) r_(e.row) += e.m * a_(e.col);
@@ -152,19 +136,32 @@ double NewmarkSolver::residual(double t1, double& scale, bool tangents) {
   // the figures are those of lpNorm<Infinity>. A NaN entry is caught by the finiteness test.
   double ma = 0, gn = 0;
   bool finite = true;
-  const double res = kernels.norms(n, r_.data(), g_.data(), ma, gn, finite);
+  const double res = norms_n<N>(n, r_.data(), g_.data(), ma, gn, finite);
   scale = ma + gn + sys_.force_scale() + 1e-300;
-  if (!finite || !std::isfinite(res))
-    throw SolverError(detail::concat("Newmark step at t = ", t1,
-                                     " s produced a non-finite force; the response diverged (reduce "
-                                     "solver.time_step_s or check stiffness/damping inputs)"));
+  if (!finite || !std::isfinite(res)) [[unlikely]]
+    throw_non_finite(t1);
   return res;
 }
 
-void NewmarkSolver::set_iterate(double cq, double cv) {
+void NewmarkSolver::throw_non_finite(double t1) const {
+  throw SolverError(detail::concat("Newmark step at t = ", t1,
+                                   " s produced a non-finite force; the response diverged (reduce "
+                                   "solver.time_step_s or check stiffness/damping inputs)"));
+}
+
+template <int N>
+void NewmarkSolver::set_iterate_n(double cq, double cv) {
   // q = q* + beta dt^2 a, v = v* + gamma dt a, entry by entry as Eigen's expressions evaluate them.
-  const int n = static_cast<int>(a_.size());
-  residual_kernels(n).iterate(n, cq, cv, a_.data(), q_pred_.data(), v_pred_.data(), q_.data(), v_.data());
+  const int n = N > 0 ? N : static_cast<int>(a_.size());
+  iterate_n<N>(n, cq, cv, a_.data(), q_pred_.data(), v_pred_.data(), q_.data(), v_.data());
+}
+
+template <int N>
+void NewmarkSolver::apply_inverse_n() {
+  if constexpr (N > 0)
+    multiply_by_inverse<N>(lu_.inverse_data(), r_.data(), da_.data());
+  else
+    lu_.apply_inverse(r_, da_);
 }
 
 void NewmarkSolver::factor_jacobian() {
@@ -186,7 +183,7 @@ int NewmarkSolver::step(NewmarkState& s) {
   const int history = s.t == t_end_ ? std::min(history_, max_history) : 0;
   a_n_.resize(s.a.size());  // kept for the next step's extrapolation (a no-op at the same length)
   copy_n(s.a.data(), a_n_.data(), static_cast<int>(s.a.size()));
-  int it = attempt(s, history);
+  int it = (this->*attempt_)(s, history);
   if (it < 0) it = halved_steps(s, 1);
   ++stats_.steps;
   a_last2_.swap(a_last_);
@@ -215,17 +212,18 @@ int NewmarkSolver::halved_steps(NewmarkState& s, int depth) {
   ++stats_.halved_steps;
   int iterations = 0;
   for (int half = 0; half < 2; ++half) {
-    const int it = attempt(s, 0);
+    const int it = (this->*attempt_)(s, 0);
     iterations += it >= 0 ? it : halved_steps(s, depth + 1);
   }
   return iterations;
 }
 
-void NewmarkSolver::predict(const NewmarkState& s, int history) {
+template <int N>
+void NewmarkSolver::predict_n(const NewmarkState& s, int history) {
   // q* = q_n + dt v_n + dt^2 (1/2 - beta) a_n, v* = v_n + dt (1 - gamma) a_n, and the start a_(n+1)
   // extrapolated from the last 1 + history accelerations, in one loop; the same operations per
   // entry as the Eigen expressions they replace (no temporaries, no fused multiply-add).
-  const int n = static_cast<int>(s.q.size());
+  const int n = N > 0 ? N : static_cast<int>(s.q.size());
   const double dt = dt_, cq = dt * dt * (0.5 - scheme_.beta), cv = dt * (1.0 - scheme_.gamma);
   const double *q = s.q.data(), *v = s.v.data(), *a = s.a.data(), *al = a_last_.data(), *al2 = a_last2_.data();
   double *qp = q_pred_.data(), *vp = v_pred_.data(), *a1 = a_.data();
@@ -241,18 +239,19 @@ void NewmarkSolver::predict(const NewmarkState& s, int history) {
     for (int i = 0; i < n; ++i) a1[i] = a[i];
 }
 
-int NewmarkSolver::attempt(NewmarkState& s, int history) {
+template <int N>
+int NewmarkSolver::attempt_n(NewmarkState& s, int history) {
   const double dt = dt_;
   const double b = scheme_.beta, gm = scheme_.gamma;
   const double t1 = s.t + dt;
-  predict(s, history);
+  predict_n<N>(s, history);
   double scale = 0;
   int evaluations = 0;
   auto evaluate = [&](bool tangents) {
     ++evaluations;
-    return residual(t1, scale, tangents);
+    return residual_n<N>(t1, scale, tangents);
   };
-  const int n = static_cast<int>(a_.size());
+  const int n = N > 0 ? N : static_cast<int>(a_.size());
   // The accepted iterate is handed over by swapping storage, not copied: q_, v_ and a_ are
   // written whole by the next attempt's predict() and set_iterate() before they are read.
   auto accept = [&] {
@@ -278,15 +277,15 @@ int NewmarkSolver::attempt(NewmarkState& s, int history) {
     // update, the line search) or copies a_prev_ back.
     a_prev_.swap(a_);
     if (!fresh) {
-      lu_.apply_inverse(r_, da_);
+      apply_inverse_n<N>();
       subtract_scaled(a_prev_.data(), 1.0, da_.data(), a_.data(), n);
       const double trial = evaluate(false);
       if (trial < kChordContraction * res) {
         const double tolerance = newton_.relative_tolerance * scale;
         if (newton_.predicted_stop && trial > tolerance && trial * (trial / res) <= tolerance) {
-          lu_.apply_inverse(r_, da_);  // r_ is the residual at a_: one more chord update, not evaluated
+          apply_inverse_n<N>();  // r_ is the residual at a_: one more chord update, not evaluated
           subtract_in_place(a_.data(), da_.data(), n);
-          set_iterate(b * dt * dt, gm * dt);
+          set_iterate_n<N>(b * dt * dt, gm * dt);
           return accept();
         }
         res = trial;
@@ -298,7 +297,7 @@ int NewmarkSolver::attempt(NewmarkState& s, int history) {
       fresh = true;
       if (res <= newton_.relative_tolerance * scale) continue;
     }
-    lu_.apply_inverse(r_, da_);
+    apply_inverse_n<N>();
     // Backtracking on the residual norm: the smoothed Coulomb friction
     // (tanh of the sliding speed) makes the full Newton step overshoot near
     // the pitch point, where the sliding speed changes sign.

@@ -107,20 +107,34 @@ public:
   double time_step() const { return dt_; }
   const NewmarkStatistics& statistics() const { return stats_; }
 
+  /// One Newmark step of the current dt_ for n = N coordinates (0: any n): force evaluations
+  /// used, or -1 (state untouched) if Newton did not converge. Public for the size dispatch
+  /// (newmark.cpp), called through attempt_.
+  template <int N>
+  int attempt_n(NewmarkState& state, int history);
+  using AttemptFn = int (NewmarkSolver::*)(NewmarkState&, int);
+
 private:
-  /// One Newmark step of the current dt_: force evaluations used, or -1 (state untouched)
-  /// if Newton did not converge.
-  int attempt(NewmarkState& state, int history);
   /// Two steps of dt_ / 2 (each halved again if it fails); depth counts the halvings.
   int halved_steps(NewmarkState& state, int depth);
+  // The step's parts, compiled for the system's size N (0: the run-time size): at n = 5 the
+  // loops' trip counts and the calls between the parts cost as much as their arithmetic
+  // (callgrind, session 46). The same operations in the same order for every N.
   /// Evaluates R(a_) into r_ (and K_, C_ when `tangents`); returns |R|_inf,
   /// sets the force scale.
-  double residual(double t1, double& scale, bool tangents);
+  template <int N>
+  double residual_n(double t1, double& scale, bool tangents);
+  [[noreturn]] void throw_non_finite(double t1) const;
   /// Predictors q*, v* and Newton's start a_ for a step from s, extrapolated from `history`
   /// earlier full steps' accelerations (0: a_n).
-  void predict(const NewmarkState& s, int history);
+  template <int N>
+  void predict_n(const NewmarkState& s, int history);
   /// q_ = q* + cq a_, v_ = v* + cv a_ (cq = beta dt^2, cv = gamma dt).
-  void set_iterate(double cq, double cv);
+  template <int N>
+  void set_iterate_n(double cq, double cv);
+  /// da_ = J^-1 r_ with the inverse of the last factorization.
+  template <int N>
+  void apply_inverse_n();
   /// Factorizes J = M + gamma dt C + beta dt^2 K from the current K_, C_.
   void factor_jacobian();
 
@@ -144,6 +158,7 @@ private:
   };
   std::vector<MassEntry> mass_off_diagonal_;
   SmallLU lu_;
+  AttemptFn attempt_ = nullptr;  // attempt_n<n> for the system's size n (newmark.cpp)
   bool have_lu_ = false;  // lu_ holds an iteration matrix (of an earlier step: modified Newton)
   NewmarkStatistics stats_;
 };

@@ -65,14 +65,10 @@ void solve_fixed(const double* lu, const int* perm, const double* b, double* x) 
 
 using FixedSolve = void (*)(const double*, const int*, const double*, double*);
 
-/// x = A^-1 b, A^-1 column-major N x N: x = sum_j col_j b_j (the columns in order).
+/// multiply_by_inverse through a function pointer (apply_inverse's kernel for n_).
 template <int N>
 void multiply_fixed(const double* inv, const double* b, double* x) {
-  double y[N];
-  for (int i = 0; i < N; ++i) y[i] = inv[i] * b[0];
-  for (int j = 1; j < N; ++j)
-    for (int i = 0; i < N; ++i) y[i] += inv[i + j * N] * b[j];
-  for (int i = 0; i < N; ++i) x[i] = y[i];
+  multiply_by_inverse<N>(inv, b, x);
 }
 
 using FixedMultiply = void (*)(const double*, const double*, double*);

@@ -17,6 +17,18 @@
 
 namespace pw::dynamics {
 
+/// x = A^-1 b for A^-1 column-major N x N: x = sum_j col_j b_j, the columns in order (x must not
+/// alias b). SmallLU::apply_inverse's arithmetic for a size known at compile time, inline for
+/// callers that know it (the Newmark step of a fixed size, newmark.cpp).
+template <int N>
+inline void multiply_by_inverse(const double* __restrict inv, const double* __restrict b, double* __restrict x) {
+  double y[N];
+  for (int i = 0; i < N; ++i) y[i] = inv[i] * b[0];
+  for (int j = 1; j < N; ++j)
+    for (int i = 0; i < N; ++i) y[i] += inv[i + j * N] * b[j];
+  for (int i = 0; i < N; ++i) x[i] = y[i];
+}
+
 class SmallLU {
 public:
   SmallLU() = default;
@@ -40,6 +52,8 @@ public:
   /// iterations reuse one factorization for hundreds of steps. Same solution to round-off
   /// (forming the inverse from a backward-stable LU: error ~ cond(A) eps |x|).
   void apply_inverse(const Eigen::VectorXd& b, Eigen::VectorXd& x) const;
+  /// The inverse formed by compute_inverse(), column-major n x n (for multiply_by_inverse).
+  const double* inverse_data() const { return inverse_.data(); }
 
 private:
   int n_ = 0;
