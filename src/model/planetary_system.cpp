@@ -90,6 +90,17 @@ std::vector<int> nonzeros(const Eigen::RowVectorXd& row) {
 
 } // namespace
 
+RotationRow::RotationRow(const Eigen::RowVectorXd& row) : row_(row) {
+  int nonzeros = 0;
+  for (Eigen::Index i = 0; i < row.size(); ++i)
+    if (row(i) != 0) {
+      ++nonzeros;
+      unit_ = static_cast<int>(i);
+      c_ = row(i);
+    }
+  if (nonzeros != 1) unit_ = -1;
+}
+
 bool PlanetaryDynamics::torsional_coordinates(const std::vector<MeshRecord>& meshes) {
   for (std::size_t m = 0; m < meshes.size(); ++m) {
     const dynamics::SparseCoupling& sc = meshes[m].sparse;
@@ -130,6 +141,9 @@ PlanetaryDynamics::PlanetaryDynamics(const SimulationConfig& cfg, dynamics::Lump
   carrier_row_ = structure_.bodies[structure_.carrier_body].map.row(2);
   input_row_ = structure_.bodies[structure_.input_body].map.row(2);
   output_row_ = structure_.bodies[structure_.output_body].map.row(2);
+  sun_rotation_ = RotationRow(sun_row_);
+  carrier_rotation_ = RotationRow(carrier_row_);
+  input_rotation_ = RotationRow(input_row_);
   constant_power_ = cfg.rig.input_control == InputControl::Power;
   q_roll_.setZero(structure_.dofs);
   roll_follows_rotation_ = cfg.stiffness.mesh_phase == MeshPhase::Rotation;
@@ -217,16 +231,16 @@ const FlankSet& PlanetaryDynamics::flank_b(int m) const {
 }
 
 double PlanetaryDynamics::input_torque_Nm(double t, const Eigen::VectorXd& q, const Eigen::VectorXd& v) const {
-  const double w_in = sun_speed_ + input_row_.dot(v);
+  const double w_in = sun_speed_ + input_rotation_.of(v);
   const double mean = power_ / (constant_power_ ? w_in : sun_speed_);
   // A motor that holds the speed adds its spring to the speed reference (shaft or loop).
   const int held = structure_.speed_reference_spring;
-  const double hold =
-      held >= 0 && structure_.speed_reference_at_input
-          ? -(structure_.springs[held].stiffness * input_row_.dot(q) + structure_.springs[held].damping * input_row_.dot(v))
-          : 0.0;
+  const double hold = held >= 0 && structure_.speed_reference_at_input
+                          ? -(structure_.springs[held].stiffness * input_rotation_.of(q) +
+                              structure_.springs[held].damping * input_rotation_.of(v))
+                          : 0.0;
   if (ripple_ == 0) return mean + hold;
-  const double th_in = sun_speed_ * t + input_row_.dot(q);
+  const double th_in = sun_speed_ * t + input_rotation_.of(q);
   return mean * (1.0 + ripple_ * std::sin(ripple_order_ * th_in)) + hold;
 }
 

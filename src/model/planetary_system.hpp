@@ -63,6 +63,23 @@ struct MeshFamily {
   double stiffness_correction_N_m(double u_m) const;
 };
 
+/// A body's rotation perturbation row . x (row: its map's theta row), taken as the row's one
+/// non-zero times its entry when it has one (the sun's, carrier's and machines' own coordinates):
+/// a dynamic-size dot product costs ~40 instructions for the 5 entries of a torsional stage, and
+/// the loops of the simulation take several per step. Exact: the other products are zeros, which
+/// do not change the sum (only a zero result's sign may differ); otherwise the dot product.
+class RotationRow {
+public:
+  RotationRow() = default;
+  explicit RotationRow(const Eigen::RowVectorXd& row);
+  double of(const Eigen::VectorXd& x) const { return unit_ >= 0 ? c_ * x[unit_] : row_.dot(x); }
+
+private:
+  Eigen::RowVectorXd row_;
+  int unit_ = -1;  // the one non-zero's index, -1 for none or several
+  double c_ = 0;
+};
+
 class PlanetaryDynamics final : public dynamics::SecondOrderSystem {
 public:
   /// `structure` from dynamics::build_torsional / build_lateral_torsional;
@@ -128,6 +145,9 @@ public:
   /// Absolute sun angle perturbation row: theta_s = Omega_s t + row . q.
   const Eigen::RowVectorXd& sun_theta_row() const { return sun_row_; }
   const Eigen::RowVectorXd& carrier_theta_row() const { return carrier_row_; }
+  /// sun_theta_row() . x and carrier_theta_row() . x (RotationRow).
+  double sun_rotation(const Eigen::VectorXd& x) const { return sun_rotation_.of(x); }
+  double carrier_rotation(const Eigen::VectorXd& x) const { return carrier_rotation_.of(x); }
   /// Rows of the bodies the input and load torques act on (the motor and load machine
   /// behind flexible shafts, else the sun and carrier): theta = Omega t + row . q.
   const Eigen::RowVectorXd& input_theta_row() const { return input_row_; }
@@ -196,6 +216,7 @@ private:
   std::vector<MeshState> states_;
   double inv_v_eps_ = 1;            // 1 / friction smoothing speed [s/m]
   Eigen::RowVectorXd sun_row_, carrier_row_, input_row_, output_row_;
+  RotationRow sun_rotation_, carrier_rotation_, input_rotation_;
   Eigen::VectorXd q_roll_;          // state that fixes the roll distances
   bool roll_follows_rotation_ = true;  // stiffness.mesh_phase = rotation (false: nominal_time)
   /// Everything the step reads and writes for one mesh besides its MeshState, in one record: the

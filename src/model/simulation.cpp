@@ -444,7 +444,7 @@ WarmupStats warm_up(Integration& r, const ProgressFn& report, double f0, double 
   const bool project = loop == SpeedLoop::RigidMode && !speed_held_by_rig;
   const Eigen::VectorXd Mr_per_I = project ? Eigen::VectorXd(sys.mass() * rig / I_eq) : Eigen::VectorXd();
   const auto rigid_speed = [&](const Eigen::VectorXd& v) {
-    return project ? Mr_per_I.dot(v) : sys.sun_theta_row().dot(v);
+    return project ? Mr_per_I.dot(v) : sys.sun_rotation(v);
   };
   const double k_r = speed_held_by_rig ? 1.0 : sys.output_theta_row().dot(rig);
   const int window = periodic_per_mesh ? 1 : std::max(c.stage.sun.teeth, c.stage.planet.teeth);
@@ -470,7 +470,7 @@ WarmupStats warm_up(Integration& r, const ProgressFn& report, double f0, double 
     const long tail = ripple ? ripple_steps : spm;  // speed at the end: last mesh (or ripple) period
     for (long k = 0; k < n; ++k) {
       r.step();
-      const double ws_sun = Omega + sys.sun_theta_row().dot(r.st.v);
+      const double ws_sun = Omega + sys.sun_rotation(r.st.v);
       const double ws = project ? Omega + rigid_speed(r.st.v) : ws_sun;
       mean_ws += ws;
       mean_sun_ws += ws_sun;
@@ -650,8 +650,8 @@ std::vector<RecordChannel> record_channels(const dynamics::LumpedStructure& S, i
 
 /// The sun's and the carrier's speed minus their nominal speeds [rad/s], what the encoders
 /// filter (record()).
-double sun_speed_change(Integration& r) { return r.sys().sun_theta_row().dot(r.st.v); }
-double carrier_speed_change(Integration& r) { return r.sys().carrier_theta_row().dot(r.st.v); }
+double sun_speed_change(Integration& r) { return r.sys().sun_rotation(r.st.v); }
+double carrier_speed_change(Integration& r) { return r.sys().carrier_rotation(r.st.v); }
 
 /// The speed encoders' pre-roll before the record (no-op for ideal encoders).
 void settle_encoders(Integration& r, EncoderFilter& sun_encoder, EncoderFilter& carrier_encoder) {
@@ -794,14 +794,14 @@ RecordStats record(Integration& r, int cycles, SimulationResult& out, const Outp
     put(at.carrier_speed(), j, w_carrier);
     if (ch[at.transmission_error()].samples)
       put(at.transmission_error(), j,
-          rbs * (sys.sun_theta_row().dot(r.st.q) - ratio * sys.carrier_theta_row().dot(r.st.q)));
+          rbs * (sys.sun_rotation(r.st.q) - ratio * sys.carrier_rotation(r.st.q)));
     if (ch[at.input_torque()].samples) put(at.input_torque(), j, sys.input_torque_Nm(r.st.t, r.st.q, r.st.v));
     for (int i = 0; i < N; ++i) {
       const double F_sp = ms[static_cast<std::size_t>(dynamics::MeshId{i, dynamics::MeshKind::SunPlanet}.index())].force_N;
       put(at.load_sharing(i), j, fsum != 0 ? N * F_sp / fsum : 0.0);
     }
-    put(at.sun_angle(), j, p.sun_speed_rad_s * r.st.t + sys.sun_theta_row().dot(r.st.q));
-    put(at.carrier_angle(), j, p.carrier_speed_rad_s * r.st.t + sys.carrier_theta_row().dot(r.st.q));
+    put(at.sun_angle(), j, p.sun_speed_rad_s * r.st.t + sys.sun_rotation(r.st.q));
+    put(at.carrier_angle(), j, p.carrier_speed_rad_s * r.st.t + sys.carrier_rotation(r.st.q));
   }
   if (wanted[g_housing]) {
     // Housing accelerometer (needs each planet's mean ring-mesh force over the record).

@@ -107,7 +107,7 @@ struct Integration {
     // response that diverged, never a steady operating point: stop here with an error instead of
     // returning its record (measured, 2026-11-28: the four-planet stage of docs/diagnose.md's
     // independent corpus at 100 rpm and 10 kW ran on to -2.8e6 rad/s and was written as a result).
-    if (const double ws = p.sun_speed_rad_s + p.dynamics->sun_theta_row().dot(st.v); !(ws > 0)) throw_reversed(ws);
+    if (const double ws = p.sun_speed_rad_s + p.dynamics->sun_rotation(st.v); !(ws > 0)) throw_reversed(ws);
   }
 
 private:

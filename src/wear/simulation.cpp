@@ -74,7 +74,7 @@ WearSnapshot record_snapshot(model::Integration& r, double mesh_cycles, wear::Fl
     s.channels[1].values[k] = S.meshes[0].g.dot(r.st.a);
     s.channels[2].values[k] = ms[1].deflection_m;
     s.channels[3].values[k] = S.meshes[1].g.dot(r.st.a);
-    carrier_angle[k] = r.p.carrier_speed_rad_s * r.st.t + r.sys().carrier_theta_row().dot(r.st.q);
+    carrier_angle[k] = r.p.carrier_speed_rad_s * r.st.t + r.sys().carrier_rotation(r.st.q);
     for (int i = 0; i < planets; ++i) ring_force[i][k] = ms[2 * static_cast<std::size_t>(i) + 1].force_N;
   }
   for (const Channel& ch : s.channels) {
@@ -217,7 +217,7 @@ model::WearHistory run_wear(model::Integration& r, const model::ProgressFn& repo
     for (std::int64_t k = std::int64_t{booked} * spm; k < std::int64_t{window} * spm; ++k) {
       r.step();
       acc.accumulate(dt);
-      mean_ws += sys.sun_theta_row().dot(r.st.v);
+      mean_ws += sys.sun_rotation(r.st.v);
     }
     // Friction losses change as the profiles wear: keep the load torque at
     // the value that holds the nominal speed (as in the warm-up), so that
