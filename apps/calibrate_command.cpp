@@ -112,14 +112,15 @@ struct RecordingFit {
   const diagnose::Diagnosis& noise_test() const { return fits.noise_weighted; }
 };
 
-/// `earlier`: empty, or one fit per recording (with fewer rig elements) whose nuisance values
-/// start each recording's fit (DiagnoseOptions::nuisance_start_values).
 /// Fitted nuisance parameters of a recording's fit, sensor gains (profiled) excepted.
 int nuisance_count(const RecordingFit& f) {
   const auto& p = f.diagnosis().nuisance.parameters;
   return static_cast<int>(std::count_if(p.begin(), p.end(), [](const diagnose::FittedParameter& q) { return !q.sensor_gain; }));
 }
 
+/// Each recording's nuisance-only fit with the rig elements `rig`. `earlier`: empty, or one fit per
+/// recording (with fewer rig elements) whose nuisance values are a second start of each recording's
+/// fit (DiagnoseOptions::nuisance_start_values).
 std::vector<RecordingFit> fit_recordings(const CalibrateCommandOptions& o, const std::vector<std::string>& rig,
                                          diagnose::HealthyFit weighting, const std::vector<RecordingFit>& earlier = {}) {
   std::vector<RecordingFit> out;

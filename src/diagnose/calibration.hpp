@@ -78,7 +78,7 @@ std::vector<std::string> rig_element_settings(const std::vector<std::string>& ri
                                               const std::vector<std::string>& overrides);
 
 /// One recording's held-out chi2 without and with the calibration-only rig elements (the fit
-/// with them started where the fit without ended, so it nests it).
+/// with them the lower of two starts, one of them the fit without's values).
 struct NestedFits {
   double chi2_without = 0, chi2_with = 0;  ///< held-out chi2 [-]
   int features = 0;                        ///< held-out features the chi2 sums over
@@ -89,8 +89,8 @@ struct NestedFits {
 /// the extra-sum-of-squares F test of nested least-squares models, (Δχ² / p) / (χ²_with / m) >
 /// F_{1-alpha}(p, m). χ²_with / m is the residual per feature: 1 when the model is right (the
 /// test is then the likelihood-ratio test's χ²(p)), far more when the model's form misses the
-/// recording, and an improvement must then be as much larger. Started from the fit without, the
-/// fit with them is almost never worse, so "lower" alone would keep them on any rig.
+/// recording, and an improvement must then be as much larger. With a start at the fit without's
+/// values the fit with them is rarely worse, so "lower" alone would keep them on almost any rig.
 bool rig_elements_improve(const NestedFits& f, double alpha);
 
 /// One line per nuisance parameter (sensor gains excepted) whose fit sat at a bound of its

@@ -330,7 +330,8 @@ private:
   /// (nuisance_start_from), and the fit that ends lower on the fit half kept. Why both and not the
   /// better start: on indepsim2's rigB5 the earlier fit's start was the lower one and its LM ended
   /// at a held-out chi2 of 5.8e6 where the nominal start's ended at 2.4e6 (docs/diagnose-log.md,
-  /// session 46); on a synthetic rig the nominal start's scan held a shaft in a poorer basin.
+  /// session 46); on a synthetic rig the earlier fit's start held an output shaft at a seventh of its
+  /// stiffness, where the nominal start's scan found it (test_calibration_rig_choice.sh).
   void fit_nuisance_from_earlier() {
     if (o_.nuisance_start_values.empty() || ctx().nuisance.empty()) return;
     const std::vector<ParameterSpec> specs = ctx().nuisance_specs();

@@ -91,14 +91,9 @@ std::vector<int> nonzeros(const Eigen::RowVectorXd& row) {
 } // namespace
 
 RotationRow::RotationRow(const Eigen::RowVectorXd& row) : row_(row) {
-  int nonzeros = 0;
-  for (Eigen::Index i = 0; i < row.size(); ++i)
-    if (row(i) != 0) {
-      ++nonzeros;
-      unit_ = static_cast<int>(i);
-      c_ = row(i);
-    }
-  if (nonzeros != 1) unit_ = -1;
+  const std::vector<int> nz = nonzeros(row);
+  unit_ = nz.size() == 1 ? nz.front() : -1;
+  if (unit_ >= 0) c_ = row(unit_);
 }
 
 bool PlanetaryDynamics::torsional_coordinates(const std::vector<MeshRecord>& meshes) {
