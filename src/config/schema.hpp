@@ -89,6 +89,27 @@ void visit_tooth(V& v, Tooth& t) {
   v.field("profile_deviation_m", t.profile_deviation_m, "extra profile deviation of the loaded flank, >= 0 [m]", rule("m; >= 0 and below the module of that gear"));
 }
 
+/// The [contact] section's keys (visit_config).
+template <class V, class Contact>
+void visit_contact(V& v, Contact& c) {
+  v.section("contact");
+  v.field("friction_coefficient", c.friction_coefficient, "friction coefficient mu [-]", interval(0, 1, Ends::OpenHigh, "-"));
+  v.field("friction_smoothing_m_s", c.friction_smoothing_m_s, "sliding speed smoothing sgn(v) [m/s]", interval(0, 1, Ends::OpenLow, "m/s"));
+  v.field("mesh_damping_ratio", c.mesh_damping_ratio, "viscous mesh damping ratio zeta [-]", interval(0, 1, Ends::Closed, "-"));
+  v.field("backlash_sun_planet_m", c.backlash_sun_planet_m, "sun-planet backlash along the LOA [m]", rule("m; >= 0, below the module"));
+  v.field("backlash_planet_ring_m", c.backlash_planet_ring_m, "planet-ring backlash along the LOA [m]", rule("m; >= 0, below the module"));
+  v.field("mesh_error_sun_planet_m", c.mesh_error_sun_planet_m, "sun-planet profile error e_sp [m]", rule("m; |e| below the module"));
+  v.field("mesh_error_planet_ring_m", c.mesh_error_planet_ring_m, "planet-ring profile error e_pr [m]", rule("m; |e| below the module"));
+  v.field("tip_relief_m", c.tip_relief_m,
+          "linear tip relief on every gear's tip, amount along the line of action [m]; 0 = none", rule("m; >= 0, below the module"));
+  v.field("tip_relief_extent", c.tip_relief_extent,
+          "roll length of the tip relief as a fraction of the double-contact zone (eps - 1) p_b [-]; 0.5 = short relief, 1 = long", interval(0, 1, Ends::OpenLow, "-"));
+  v.field("engagement_ramp", c.engagement_ramp,
+          "width of each tooth pair's linear stiffness ramp at the start and end of its path of contact, centred on them, "
+          "as a fraction of the base pitch [-]; 0 = sharp entry",
+          interval(0, model::ContactSettings::kMaxEngagementRamp, Ends::Closed, "-"));
+}
+
 /// Every key of a SimulationConfig (const or not), in file order.
 template <class V, class Config>
 void visit_config(V& v, Config& c) {
@@ -129,18 +150,7 @@ void visit_config(V& v, Config& c) {
           "what the mesh stiffness variation follows: \"rotation\" (the gears' roll angle, physical) or "
           "\"nominal_time\" (the nominal rotation only, k(t) of parametrically excited lumped models)");
 
-  v.section("contact");
-  v.field("friction_coefficient", c.contact.friction_coefficient, "friction coefficient mu [-]", interval(0, 1, Ends::OpenHigh, "-"));
-  v.field("friction_smoothing_m_s", c.contact.friction_smoothing_m_s, "sliding speed smoothing sgn(v) [m/s]", interval(0, 1, Ends::OpenLow, "m/s"));
-  v.field("mesh_damping_ratio", c.contact.mesh_damping_ratio, "viscous mesh damping ratio zeta [-]", interval(0, 1, Ends::Closed, "-"));
-  v.field("backlash_sun_planet_m", c.contact.backlash_sun_planet_m, "sun-planet backlash along the LOA [m]", rule("m; >= 0, below the module"));
-  v.field("backlash_planet_ring_m", c.contact.backlash_planet_ring_m, "planet-ring backlash along the LOA [m]", rule("m; >= 0, below the module"));
-  v.field("mesh_error_sun_planet_m", c.contact.mesh_error_sun_planet_m, "sun-planet profile error e_sp [m]", rule("m; |e| below the module"));
-  v.field("mesh_error_planet_ring_m", c.contact.mesh_error_planet_ring_m, "planet-ring profile error e_pr [m]", rule("m; |e| below the module"));
-  v.field("tip_relief_m", c.contact.tip_relief_m,
-          "linear tip relief on every gear's tip, amount along the line of action [m]; 0 = none", rule("m; >= 0, below the module"));
-  v.field("tip_relief_extent", c.contact.tip_relief_extent,
-          "roll length of the tip relief as a fraction of the double-contact zone (eps - 1) p_b [-]; 0.5 = short relief, 1 = long", interval(0, 1, Ends::OpenLow, "-"));
+  visit_contact(v, c.contact);
 
   v.section("imperfections");
   v.field("pin_error_m", c.imperfections.pin_error_m, "tangential pin position error per planet [m]; [] = none", rule("m; [] or one per planet, each |e| below the module"));

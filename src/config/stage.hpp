@@ -125,6 +125,21 @@ struct ContactSettings {
   /// pairs there, by C_a / 2 each, and the mesh separates). Gears that run over a range of loads,
   /// and a relief the documentation does not give, call for that.
   double tip_relief_extent = 0.5;
+  /// Width of the ramp over which a tooth pair's stiffness rises from zero at the start of the
+  /// path of contact and falls to zero at its end, as a fraction of the base pitch p_b [-],
+  /// centred on the theoretical start and end points (so a pair's stiffness integrated over its
+  /// path, and with it the mean mesh stiffness, is unchanged). 0 = the involute's sharp entry,
+  /// today's model. Real pairs never engage at a point: the tip's edge is rounded or chamfered,
+  /// and under load a pair touches before the theoretical start because the pairs already in
+  /// contact deflect (extended contact). A ramp of width r p_b is a moving average of the pair
+  /// stiffness over r p_b: it leaves the first mesh harmonics and attenuates the n-th by about
+  /// sinc(n r), which is what a calibration on a rig's healthy recordings can measure when its
+  /// gears' documentation does not give their tips. At most 0.5, so that the ramps of a pair's
+  /// two ends never overlap for contact ratios above 1.5 and no mesh holds more than
+  /// MeshState::kMaxPairs pairs. Below the roll of one time step the step's own smoothing
+  /// (solver.engagement_smoothing) is the wider and is used.
+  double engagement_ramp = 0.0;
+  static constexpr double kMaxEngagementRamp = 0.5;  ///< engagement_ramp's upper end [-], see above
 };
 
 /// One gear body a tooth modification applies to.

@@ -210,7 +210,8 @@ void PlanetaryDynamics::set_engagement_smoothing(double dt_s) {
   require(dt_s >= 0 && std::isfinite(dt_s), "engagement smoothing", "time step ", dt_s, " s must be >= 0");
   for (std::size_t m = 0; m < mesh_.size(); ++m) {
     MeshRecord& rec = mesh_[m];
-    rec.engage_half_width_m = 0.5 * std::fabs(structure_.meshes[m].nominal_roll_rate_m_s) * dt_s;
+    const double step_half_m = 0.5 * std::fabs(structure_.meshes[m].nominal_roll_rate_m_s) * dt_s;
+    rec.engage_half_width_m = std::max(step_half_m, family(static_cast<int>(m)).engagement_ramp_half_width_m);
     rec.scales.inv_engage_width_1_m = rec.engage_half_width_m > 0 ? 1.0 / (2 * rec.engage_half_width_m) : 0.0;
   }
   ++contact_epoch_;

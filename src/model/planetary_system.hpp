@@ -59,6 +59,9 @@ struct MeshFamily {
   /// StiffnessSettings::Harmonics times the mean stiffness [N/m]; `corrected` when any is non-zero.
   std::array<double, StiffnessSettings::Harmonics::kCount> harmonic_cos_N_m{}, harmonic_sin_N_m{};
   bool corrected = false;
+  /// Half the width of the pairs' stiffness ramp at each end of the path of contact
+  /// (contact.engagement_ramp times p_b / 2) [m]; 0 = sharp entry.
+  double engagement_ramp_half_width_m = 0;
   /// The correction of the combined stiffness at contact coordinate u [N/m] (zero mean over p_b).
   double stiffness_correction_N_m(double u_m) const;
 };
@@ -139,7 +142,8 @@ public:
   /// the mesh covers in dt_s at its nominal speed (geometry::engagement_weight):
   /// the force then depends continuously on the engagement instant instead of
   /// jumping at the first step past it. 0 = sharp switching. The simulation sets
-  /// its time step (docs/derivation.md §3.4).
+  /// its time step (docs/derivation.md §3.4). The gears' own ramp
+  /// (MeshFamily::engagement_ramp_half_width_m) is used where it is the wider.
   void set_engagement_smoothing(double dt_s);
   double engagement_half_width_m(int mesh) const { return mesh_[mesh].engage_half_width_m; }
   /// Absolute sun angle perturbation row: theta_s = Omega_s t + row . q.

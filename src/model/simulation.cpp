@@ -109,7 +109,8 @@ bool has_tooth_level_features(const SimulationConfig& c) {
 
 /// Combined stiffness at mesh roll s (pair 0 enters at s = 0) [N/m].
 double combined_stiffness(const MeshFamily& f, double s) {
-  return stiffness::combined_stiffness(f.stiffness, f.geometry, f.geometry.start_active_m + s);
+  return stiffness::combined_stiffness(f.stiffness, f.geometry, f.geometry.start_active_m + s,
+                                       f.engagement_ramp_half_width_m);
 }
 
 MeshFamily make_family(const geometry::GearSpec& a, const geometry::GearSpec& b, const geometry::MeshGeometry& mg,
@@ -127,6 +128,7 @@ MeshFamily make_family(const geometry::GearSpec& a, const geometry::GearSpec& b,
     f.harmonic_sin_N_m[h] = harmonics.sin[h] * f.mean_stiffness_N_m;
   }
   f.corrected = harmonics.any();
+  f.engagement_ramp_half_width_m = 0.5 * c.contact.engagement_ramp * mg.base_pitch_m;
   return f;
 }
 
@@ -306,7 +308,8 @@ PreparedStage prepare(const SimulationConfig& c) {
   p.dynamics = std::make_unique<PlanetaryDynamics>(c, std::move(structure), std::move(sp), std::move(pr),
                                                    geometry::mesh_phases(c.stage, geo), std::move(surf),
                                                    p.sun_speed_rad_s, p.carrier_speed_rad_s);
-  // Sub-step engagement (derivation §3.4): pairs enter and leave contact over one step.
+  // Sub-step engagement (derivation §3.4): pairs enter and leave contact over one step, or over
+  // the gears' own engagement ramp (contact.engagement_ramp) where that is wider.
   p.dynamics->set_engagement_smoothing(c.solver.engagement_smoothing ? p.time_step_s : 0.0);
   return p;
 }

@@ -68,9 +68,21 @@ PairStiffnessCurve single_pair_stiffness(const MeshGeometry& mesh, const GearSpe
   return curve;
 }
 
-double combined_stiffness(const PairStiffnessCurve& curve, const MeshGeometry& mesh, double xi) {
+double combined_stiffness(const PairStiffnessCurve& curve, const MeshGeometry& mesh, double xi, double ramp_half_width_m) {
   if (curve.xi_m.size() < 2) return 0.0;
   const double pb = mesh.base_pitch_m;
+  if (ramp_half_width_m > 0) {
+    // Pairs within the widened window, each weighted by its ramp; the stiffness beyond the
+    // table's ends is its end value, as in the simulation (PlanetaryDynamics).
+    const double lo = mesh.start_active_m - ramp_half_width_m, hi = mesh.end_active_m + ramp_half_width_m;
+    double k = 0.0;
+    for (double n = std::ceil((lo - xi) / pb); n <= std::floor((hi - xi) / pb); n += 1.0) {
+      const double x = xi + n * pb;
+      k += geometry::engagement_weight(mesh, x, ramp_half_width_m) *
+           curve(std::clamp(x, curve.xi_m.front(), curve.xi_m.back()));
+    }
+    return k;
+  }
   const double lo = curve.xi_m.front();
   const double hi = curve.xi_m.back();
   // Pairs at xi + n p_b for every integer n with the argument in [lo, hi].

@@ -99,7 +99,10 @@ PairStiffnessCurve single_pair_stiffness(const geometry::MeshGeometry& mesh, con
 
 /// Combined (all pairs in parallel) stiffness at roll coordinate xi [N/m]:
 /// sum of curve(xi + n p_b) over integers n. Periodic in p_b. O(contact ratio).
-double combined_stiffness(const PairStiffnessCurve& curve, const geometry::MeshGeometry& mesh, double xi_m);
+/// ramp_half_width_m > 0: each pair's stiffness ramps linearly over +-ramp_half_width_m about
+/// the ends of the active path (geometry::engagement_weight, contact.engagement_ramp).
+double combined_stiffness(const PairStiffnessCurve& curve, const geometry::MeshGeometry& mesh, double xi_m,
+                          double ramp_half_width_m = 0.0);
 
 /// The seed's Table 2 quantities for one mesh.
 struct MeshStiffnessSummary {

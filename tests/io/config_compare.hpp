@@ -63,6 +63,7 @@ inline void expect_config_eq(const model::SimulationConfig& a, const model::Simu
   EXPECT_EQ(a.contact.mesh_error_planet_ring_m, b.contact.mesh_error_planet_ring_m);
   EXPECT_EQ(a.contact.tip_relief_m, b.contact.tip_relief_m);
   EXPECT_EQ(a.contact.tip_relief_extent, b.contact.tip_relief_extent);
+  EXPECT_EQ(a.contact.engagement_ramp, b.contact.engagement_ramp);
 
   const auto& ia = a.imperfections;
   const auto& ib = b.imperfections;
@@ -178,6 +179,7 @@ inline model::SimulationConfig nondefault_config() {
   c.contact.mesh_error_planet_ring_m = 4e-6;
   c.contact.tip_relief_m = 5e-6;
   c.contact.tip_relief_extent = 0.5;
+  c.contact.engagement_ramp = 0.2;
 
   c.imperfections.pin_error_m = {1e-5, -1e-5, 0.0, 2e-6};
   c.imperfections.sun_eccentricity_m = 1e-5;

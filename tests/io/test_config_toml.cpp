@@ -99,7 +99,7 @@ TEST(ConfigToml, ConfigStructsHaveNoFieldsUnknownToTheSchema) {
     EXPECT_EQ(sizeof(model::StageSpec), 3 * 104u + 72u + 4 * 8u);  // + sun and ring mass and inertia
     EXPECT_EQ(sizeof(model::OperatingPoint), 16u);
     EXPECT_EQ(sizeof(model::StiffnessSettings), 16u + 4 * 3 * 8u + 8u);  // + the harmonic corrections, mesh_phase
-    EXPECT_EQ(sizeof(model::ContactSettings), 72u);
+    EXPECT_EQ(sizeof(model::ContactSettings), 80u);  // + engagement_ramp
     EXPECT_EQ(sizeof(model::ToothModifier), 32u);
     EXPECT_EQ(sizeof(model::Imperfections), 104u);
     EXPECT_EQ(sizeof(model::BearingSettings), 48u);  // + damping_ratio

@@ -187,6 +187,81 @@ TEST(Summary, RectangularWaveMatchesItsFourierSeries) {
   EXPECT_NEAR(sm.first_harmonic_N_m, 2 * k0 / std::numbers::pi * std::sin(std::numbers::pi * d), 1e-3 * k0);
 }
 
+namespace {
+/// Amplitude of harmonic h of the combined stiffness over one base pitch, M samples (DFT).
+double combined_harmonic(const PairStiffnessCurve& c, const MeshGeometry& m, int h, double ramp_half_width_m, int M) {
+  double re = 0, im = 0;
+  for (int j = 0; j < M; ++j) {
+    const double k = combined_stiffness(c, m, m.start_active_m + m.base_pitch_m * j / M, ramp_half_width_m);
+    const double ph = 2 * std::numbers::pi * h * j / M;
+    re += k * std::cos(ph);
+    im -= k * std::sin(ph);
+  }
+  return (h == 0 ? 1.0 : 2.0) * std::hypot(re, im) / M;
+}
+} // namespace
+
+TEST(EngagementRamp, AttenuatesEachHarmonicOfAConstantPairsRectangularWaveBySincOfItsWidth) {
+  // A linear ramp of full width r p_b centred on each end of the path is the box average of the
+  // sharp indicator over r p_b (while 2h < the path), so for a constant pair stiffness k0 the
+  // combined stiffness is the rectangular wave of Summary.RectangularWave... averaged over r p_b:
+  // its n-th harmonic is (2 k0 / (pi n)) |sin(pi n d)| |sinc(n r)|, sinc(x) = sin(pi x)/(pi x),
+  // and its mean stays eps k0. The ramped wave is continuous and piecewise linear, so 8192
+  // samples leave an aliasing error of order k0 (n / M)^2 / r < 1e-6 k0 for n <= 12.
+  MeshGeometry m;
+  m.base_pitch_m = 8e-3;
+  m.start_active_m = 2e-3;
+  const double eps = 1.62, d = eps - 1;
+  m.end_active_m = m.start_active_m + eps * m.base_pitch_m;
+  const double k0 = 3e8;
+  PairStiffnessCurve c;
+  for (int i = 0; i < 11; ++i) {
+    c.xi_m.push_back(m.start_active_m + (m.end_active_m - m.start_active_m) * i / 10);
+    c.k_N_m.push_back(k0);
+  }
+  c.xi_m.back() = m.end_active_m;
+  constexpr int M = 8192;
+  for (const double r : {0.05, 0.2, 0.5}) {
+    const double h = 0.5 * r * m.base_pitch_m;
+    EXPECT_NEAR(combined_harmonic(c, m, 0, h, M), eps * k0, 1e-6 * k0) << "r " << r;
+    for (int n = 1; n <= 12; ++n) {
+      const double x = std::numbers::pi * n * r;
+      const double expected = 2 * k0 / (std::numbers::pi * n) * std::fabs(std::sin(std::numbers::pi * n * d)) *
+                              std::fabs(std::sin(x) / x);
+      EXPECT_NEAR(combined_harmonic(c, m, n, h, M), expected, 1e-6 * k0) << "r " << r << ", harmonic " << n;
+    }
+  }
+}
+
+TEST(EngagementRamp, KeepsTheSeedMeshesMeanStiffnessToSecondOrderInItsWidth) {
+  // A centred linear ramp moves stiffness from inside the path to just outside it. At each end
+  // the moved stiffness is weighted by (1 - w)(x) - w(-x) about the end: odd, so with the
+  // stiffness constant outside and linear (slope k') inside the mean moves by k' h^2 / 12 per
+  // end and period, |dk_mean| <= 2 max|k'| h^2 / (12 p_b). The sharp mean's own sampling error
+  // is at most (its two jumps) / M: both bound the difference.
+  const auto& s = seed();
+  const model::StiffnessSettings set;
+  for (const bool ring : {false, true}) {
+    const MeshGeometry& m = ring ? s.pr : s.sp;
+    const PairStiffnessCurve c =
+        ring ? single_pair_stiffness(m, s.st.planet, s.st.ring, set) : single_pair_stiffness(m, s.st.sun, s.st.planet, set);
+    double slope = 0, jump = 0;
+    for (std::size_t i = 1; i < c.xi_m.size(); ++i)
+      slope = std::max(slope, std::fabs((c.k_N_m[i] - c.k_N_m[i - 1]) / (c.xi_m[i] - c.xi_m[i - 1])));
+    jump = c.k_N_m.front() + c.k_N_m.back();
+    constexpr int M = 20000;
+    const double sharp = combined_harmonic(c, m, 0, 0.0, M);
+    for (const double r : {0.1, 0.3}) {
+      const double h = 0.5 * r * m.base_pitch_m;
+      const double bound = 2 * slope * h * h / (12 * m.base_pitch_m) + jump / M;
+      const double ramped = combined_harmonic(c, m, 0, h, M);
+      EXPECT_LE(std::fabs(ramped - sharp), bound) << (ring ? "planet-ring" : "sun-planet") << ", r " << r;
+      // and it is not trivially equal: the ramp did change the wave
+      EXPECT_GT(std::fabs(combined_harmonic(c, m, 8, h, M) - combined_harmonic(c, m, 8, 0.0, M)), 1e-3 * sharp);
+    }
+  }
+}
+
 TEST(PairCurve, EvaluationAllocatesNothing) {
   // The dynamics evaluates the curve every time step: no heap traffic there.
   const auto& s = seed();

@@ -46,6 +46,7 @@ const std::vector<std::unique_ptr<Candidate>>& candidate_library() {
     t.push_back(candidates::sensor_transfer_path());
     t.push_back(candidates::encoder_bandwidth());
     t.push_back(candidates::tip_relief());
+    t.push_back(candidates::engagement_ramp());
     t.push_back(candidates::motor_inertia());
     t.push_back(candidates::load_inertia());
     t.push_back(candidates::input_shaft());

@@ -1,0 +1,58 @@
+// Gear-design element: the width of the ramp over which each tooth pair takes and sheds its
+// stiffness at the ends of its path of contact (contact.engagement_ramp, model/
+// planetary_system.cpp set_engagement_smoothing). The model's involute pairs engage at a
+// point; real pairs do not (a rounded or chamfered tip edge, extended contact under load),
+// and a rig's documentation rarely says how their tips are finished. A ramp of width r p_b
+// averages the pair stiffness over r p_b: the mean and the first harmonics stay, the n-th
+// mesh harmonic's excitation falls by about sinc(n r). When the rig's pairs engage more
+// gradually than the model's, every line from the fifth or so mesh harmonic up is
+// over-predicted in every channel, which no stiffness level, damping or encoder bandwidth
+// reproduces across the channels at once. Unlike tip_relief, the ramp does not depend on
+// the load and does not change the static transmission error's first harmonics.
+//
+// Calibration only (`calibrate --rig-elements engagement_ramp`), then applied as calibrated in
+// every diagnosis that uses the calibration: it describes the healthy gears' tips, which no
+// fault of the library changes, and as a screened finding it would compete with friction and
+// tip relief for the same mesh lines on every recording made without a calibration.
+//
+// 'Absent' is the configured ramp (0 by default: the model's sharp entry). The upper end is
+// the configuration's, half a base pitch (stage.hpp kMaxEngagementRamp). The screening value
+// 0.1 p_b halves (0.64) the fifth harmonic's excitation and removes the tenth's: a change a
+// healthy recording's mesh harmonics show at any speed whose tenth harmonic is analysed.
+#include "diagnose/candidates/factories.hpp"
+
+#include <algorithm>
+
+namespace pw::diagnose::candidates {
+namespace {
+
+constexpr double kScreen = 0.1;
+
+class EngagementRamp final : public Candidate {
+public:
+  std::string name() const override { return "engagement_ramp"; }
+  std::string physics() const override {
+    return "the tooth pairs take and shed their stiffness over a ramp the configuration lacks (rounded tip "
+           "edges, extended contact): the higher mesh harmonics fall off faster than sharply engaging "
+           "involutes' do";
+  }
+  std::vector<Component> families() const override { return {Component::Mesh}; }
+  std::optional<FindingClass> finding_class() const override { return tooth_contact_class(); }
+  bool rig_design() const override { return true; }
+  bool calibration_only() const override { return true; }
+  std::vector<ParameterSpec> parameters(const model::SimulationConfig& b) const override {
+    constexpr double upper = model::ContactSettings::kMaxEngagementRamp;
+    const double absent = b.contact.engagement_ramp;
+    const double screen = absent + kScreen <= upper ? absent + kScreen : 0.5 * absent;
+    return {ParameterSpec{.name = "contact.engagement_ramp", .unit = "1", .lower = 0.0, .upper = upper,
+        .log_scale = false, .initial = screen, .null_value = absent, .screen_value = screen}};
+  }
+  void apply(model::SimulationConfig& c, const Variant&, std::span<const double> x,
+             std::vector<std::string>* o) const override {
+    set_parameter(c, "contact.engagement_ramp", x[0], o);
+  }
+};
+
+} // namespace
+std::unique_ptr<Candidate> engagement_ramp() { return std::make_unique<EngagementRamp>(); }
+} // namespace pw::diagnose::candidates
