@@ -16,6 +16,20 @@ int scan_points(double lo, double hi, double step_ratio) {
   return std::max(kNuisanceScanPoints, static_cast<int>(steps) + 1);
 }
 
+std::vector<double> scan_grid(const ParameterSpec& p) {
+  if (p.log_scale) {
+    const double lo = p.lower * kNuisanceScanInset, hi = p.upper / kNuisanceScanInset;
+    return geometric_grid(lo, hi, scan_points(lo, hi, p.scan_step_ratio));
+  }
+  // A linear box has ends that are values like any other (an engagement ramp of 0 is the sharp
+  // involute): the grid spans it, ends included.
+  const int n = p.scan_step > 0 ? std::max(kNuisanceScanPoints, static_cast<int>(std::ceil((p.upper - p.lower) / p.scan_step)) + 1)
+                                : kNuisanceScanPoints;
+  std::vector<double> g(static_cast<std::size_t>(n));
+  for (int i = 0; i < n; ++i) g[static_cast<std::size_t>(i)] = p.lower + (p.upper - p.lower) * i / (n - 1);
+  return g;
+}
+
 namespace {
 
 /// A start and its chi2.
@@ -62,8 +76,7 @@ Start refine(const std::vector<ParameterSpec>& specs, Start s, const NuisanceChi
   }
   for (std::size_t k = 1; k < specs.size(); ++k) {
     if (!specs[k].scan_at_start) continue;
-    const double lo = specs[k].lower * kNuisanceScanInset, hi = specs[k].upper / kNuisanceScanInset;
-    const std::vector<double> g = geometric_grid(lo, hi, scan_points(lo, hi, specs[k].scan_step_ratio));
+    const std::vector<double> g = scan_grid(specs[k]);
     const double follow = k + 1 < specs.size() ? specs[k + 1].scan_follows_previous_power : 0.0;
     const auto at = [&](double v) {  // the start with parameter k at v (and its follower moved with it)
       std::vector<double> x = s.x;

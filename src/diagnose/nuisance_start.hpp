@@ -30,6 +30,11 @@ inline constexpr double kNuisanceScanInset = 1.4;
 /// step_ratio <= 1 (the coarse grid).
 int scan_points(double lo, double hi, double step_ratio);
 
+/// The grid a scan_at_start parameter is scanned over: geometric between its bounds pulled in by
+/// kNuisanceScanInset (scan_points) on a log scale, uniform over its whole box at its scan_step
+/// on a linear one.
+std::vector<double> scan_grid(const ParameterSpec& p);
+
 /// chi2 of the fit half at nuisance parameters x (thread-safe: the scan runs in parallel).
 using NuisanceChi2 = std::function<double(const std::vector<double>& x)>;
 

@@ -8,6 +8,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <numbers>
 
 namespace pw::diagnose {
 namespace {
@@ -127,6 +128,39 @@ TEST(NuisanceStart, AScanWithAStepRatioFindsABasinNarrowerThanTheCoarseGridsSpac
   // The coarse grid when no ratio is asked for, never fewer points than it.
   EXPECT_EQ(scan_points(1.0, 1e8, 0.0), kNuisanceScanPoints);
   EXPECT_EQ(scan_points(1.0, 1.1, 1.21), kNuisanceScanPoints);
+}
+
+TEST(NuisanceStart, ALinearParametersScanSpansItsWholeBoxAtItsStepAndFindsTheLobeOfItsMinimum) {
+  // An engagement ramp r over [0, 0.5] (linear; 'absent' 0 is a value of the box), whose chi2 has
+  // the sinc lobes of a high harmonic: chi2 = 10 + 1000 (sinc(n r) - sinc(n r0))^2 with n = 12,
+  // r0 = 0.2 and a slow bowl, lobes 1/12 wide. A local start from the screen value 0.1 lies in
+  // another lobe; the scan at step 0.025 has a point within 0.0125 of r0, so the start is there.
+  std::vector<ParameterSpec> s = stiffness_only();
+  ParameterSpec r;
+  r.name = "ramp";
+  r.lower = 0.0;
+  r.upper = 0.5;
+  r.initial = 0.1;
+  r.null_value = 0.0;
+  r.scan_at_start = true;
+  r.scan_step = 0.025;
+  s.push_back(r);
+  const std::vector<double> g = scan_grid(s[1]);
+  ASSERT_EQ(g.size(), 21u);
+  EXPECT_EQ(g.front(), 0.0);
+  EXPECT_EQ(g.back(), 0.5);
+  for (std::size_t i = 1; i < g.size(); ++i) EXPECT_NEAR(g[i] - g[i - 1], 0.025, 1e-15);
+  const auto sinc = [](double x) { return x == 0 ? 1.0 : std::sin(std::numbers::pi * x) / (std::numbers::pi * x); };
+  const auto lobes = [&](const std::vector<double>& x) {
+    return 10.0 + 1000.0 * std::pow(std::log(x[0]), 2) + 1000.0 * std::pow(sinc(12 * x[1]) - sinc(12 * 0.2), 2) +
+           10.0 * std::pow(x[1] - 0.2, 2);
+  };
+  const std::vector<double> start = nuisance_start(s, 1e9, lobes, 1);
+  EXPECT_NEAR(start[1], 0.2, 0.0125);
+  // Without a step: the coarse kNuisanceScanPoints points over the box, ends included.
+  s[1].scan_step = 0;
+  EXPECT_EQ(scan_grid(s[1]).size(), static_cast<std::size_t>(kNuisanceScanPoints));
+  EXPECT_EQ(scan_grid(s[1]).front(), 0.0);
 }
 
 /// The stiffness level, an encoder-like bandwidth (not scanned: start 2000, 'absent' 1e4) and a

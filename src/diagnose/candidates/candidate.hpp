@@ -51,6 +51,9 @@ struct ParameterSpec {
   /// a basin per line about as wide as its half-power band). 0: the coarse grid of
   /// kNuisanceScanPoints points (nuisance_start.hpp).
   double scan_step_ratio = 0;
+  /// With scan_at_start on a linear scale (log_scale false): the spacing of that scan's uniform
+  /// grid from lower to upper [the parameter's unit]. 0: kNuisanceScanPoints points.
+  double scan_step = 0;
   /// Non-zero: while the parameter before it is scanned (scan_at_start), this one moves with it
   /// as x = x_start (p / p_start)^power, p the scanned value. A shaft's damping follows its
   /// stiffness with power 1/2 (c = 2 zeta sqrt(k J)), so the scan sees the mode at the damping
