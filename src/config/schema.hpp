@@ -222,6 +222,9 @@ void visit_config(V& v, Config& c) {
   v.field("encoder_bandwidth_Hz", c.sensor.encoder_bandwidth_Hz,
           "-3 dB bandwidth of the speed encoders' Butterworth low-pass (sun/speed, carrier/speed) [Hz]; 0 = ideal", at_least(0, "Hz; 0 = ideal encoder"));
   v.field("encoder_filter_order", c.sensor.encoder_filter_order, "order of the encoder low-pass, 1 or 2 [-]", integers(1, 2));
+  v.field("housing_mount_frequency_Hz", c.sensor.housing_mount_frequency_Hz,
+          "resonance of the housing on its mount: housing/acceleration passes a second-order high-pass there [Hz]; 0 = none (flat gain)",
+          rule("Hz; 0 = none, else > 0 and below the Nyquist frequency of the stored samples"));
 
   v.section("rig");
   v.field("input_control", c.rig.input_control,

@@ -336,6 +336,15 @@ struct SensorSettings {
   /// the simulated speeds at every time step, before any decimation (model/sensor.hpp).
   double encoder_bandwidth_Hz = 0.0;
   int encoder_filter_order = 2;  ///< order of that Butterworth low-pass, 1 or 2 [-]
+  /// Resonance of the housing on its mount [Hz]; 0 = none, today's flat transfer G. A housing
+  /// (or the ring the accelerometer sits on) is a mass on its mount's stiffness: from the mesh
+  /// force to its acceleration the transfer is -w^2 / (k - m w^2 + i c w), flat (1/m, the gain G)
+  /// above the mount's resonance f_0 and rising as (f/f_0)^2 below it, where the housing follows
+  /// the mount's quasi-static deflection. Modelled as a second-order Butterworth high-pass at
+  /// f_0 on housing/acceleration (the mount's damping unknown: zeta = 1/sqrt2, no peak), applied
+  /// to the record in its periodic steady state (model/sensor.hpp). Must lie below the Nyquist
+  /// frequency of the stored samples.
+  double housing_mount_frequency_Hz = 0.0;
 };
 
 /// One complete simulation case.

@@ -984,7 +984,8 @@ ModelSpectra model_spectra(const model::SimulationResult& r, const Recording& re
       model::SensorSettings sensor = config.sensor;
       sensor.gain_m_s2_per_N = 1.0;
       sensor.angle_rad = rc.sensor_angle_rad;
-      const auto h = model::housing_acceleration_history(sensor, psi, std::span<const double>(ca->values.data(), N), forces);
+      const auto h = model::housing_acceleration_history(sensor, psi, std::span<const double>(ca->values.data(), N), forces,
+                                                          r.time_step_s);
       m.amplitude.push_back(spectrum(h));
       continue;
     }
@@ -1012,7 +1013,7 @@ std::vector<double> housing_spectrum(const ModelSpectra& m, const model::SensorS
   s.angle_rad = angle_rad;
   std::vector<std::span<const double>> f;
   for (const auto& v : m.ring_force) f.emplace_back(v);
-  const auto y = model::housing_acceleration_history(s, m.planet_angles_rad, m.carrier_angle, f);
+  const auto y = model::housing_acceleration_history(s, m.planet_angles_rad, m.carrier_angle, f, m.time_step_s);
   return AngleSpectrum(ModelAngle{m.angle_theta}, revolutions, max_bin)(y);
 }
 

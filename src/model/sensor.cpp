@@ -1,6 +1,7 @@
 #include "model/sensor.hpp"
 
 #include "core/constants.hpp"
+#include "core/error.hpp"
 
 #include <cmath>
 #include <numbers>
@@ -91,7 +92,8 @@ double housing_acceleration(const SensorSettings& s, std::span<const double> psi
 
 std::vector<double> housing_acceleration_history(const SensorSettings& s, std::span<const double> psi,
                                                  std::span<const double> theta_c,
-                                                 const std::vector<std::span<const double>>& force) {
+                                                 const std::vector<std::span<const double>>& force,
+                                                 double sample_interval_s) {
   if (force.size() != psi.size())
     throw std::invalid_argument("housing_acceleration_history: " + std::to_string(force.size()) +
                                 " force histories for " + std::to_string(psi.size()) + " planets");
@@ -111,37 +113,59 @@ std::vector<double> housing_acceleration_history(const SensorSettings& s, std::s
     for (std::size_t i = 0; i < psi.size(); ++i) dF[i] = force[i][k] - mean[i];
     out[k] = housing_acceleration(s, w, psi, theta_c[k], dF);
   }
+  if (s.housing_mount_frequency_Hz > 0 && n > 0) {
+    // A model the record cannot represent, not a bad input: a fit that reaches it scores it as
+    // failed (SolverError) and steps back; the configuration's own value is checked up front.
+    if (!(s.housing_mount_frequency_Hz * sample_interval_s < 0.5))
+      throw SolverError("sensor.housing_mount_frequency_Hz " + std::to_string(s.housing_mount_frequency_Hz) +
+                        " Hz is at or above the Nyquist frequency " + std::to_string(0.5 / sample_interval_s) +
+                        " Hz of the record");
+    ButterworthFilter mount(s.housing_mount_frequency_Hz, 2, sample_interval_s, FilterPass::High);
+    mount.set_periodic_state(out);
+    for (double& a : out) a = mount.step(a);
+  }
   return out;
 }
 
-EncoderFilter::EncoderFilter(double bandwidth_Hz, int order, double dt_s) {
-  if (order != 1 && order != 2) throw std::invalid_argument("encoder filter order must be 1 or 2");
-  if (!(bandwidth_Hz >= 0) || !(dt_s > 0)) throw std::invalid_argument("encoder filter: bandwidth >= 0, dt > 0");
+ButterworthFilter::ButterworthFilter(double bandwidth_Hz, int order, double dt_s, FilterPass pass) {
+  if (order != 1 && order != 2) throw std::invalid_argument("Butterworth filter order must be 1 or 2");
+  if (!(bandwidth_Hz >= 0) || !(dt_s > 0)) throw std::invalid_argument("Butterworth filter: cutoff >= 0, dt > 0");
+  if (pass == FilterPass::High && bandwidth_Hz * dt_s >= 0.5)
+    throw std::invalid_argument("high-pass cutoff " + std::to_string(bandwidth_Hz) + " Hz at or above the Nyquist frequency " +
+                                std::to_string(0.5 / dt_s) + " Hz of the record");
   if (bandwidth_Hz == 0 || bandwidth_Hz * dt_s >= 0.5) return;  // ideal, or beyond Nyquist
   identity_ = false;
+  dc_gain_ = pass == FilterPass::Low ? 1.0 : 0.0;
   const double K = std::tan(kPi * bandwidth_Hz * dt_s);
   if (order == 1) {
     const double n = 1.0 / (1.0 + K);
-    b0_ = b1_ = K * n;
+    b0_ = pass == FilterPass::Low ? K * n : n;
+    b1_ = pass == FilterPass::Low ? b0_ : -b0_;
     a1_ = (K - 1.0) * n;
     sigma_1_s_ = kTwoPi * bandwidth_Hz;
   } else {
     const double r2 = std::numbers::sqrt2;
     const double n = 1.0 / (1.0 + r2 * K + K * K);
-    b0_ = b2_ = K * K * n;
-    b1_ = 2 * b0_;
+    b0_ = b2_ = pass == FilterPass::Low ? K * K * n : n;
+    b1_ = pass == FilterPass::Low ? 2 * b0_ : -2 * b0_;
     a1_ = 2.0 * (K * K - 1.0) * n;
     a2_ = (1.0 - r2 * K + K * K) * n;
     sigma_1_s_ = kTwoPi * bandwidth_Hz / r2;
   }
 }
 
-void EncoderFilter::reset(double x) {
+void ButterworthFilter::reset(double x) {
+  // The steady state of a constant input x: output y = H(1) x, x low-pass, 0 high-pass.
+  if (dc_gain_ == 0) {
+    z2_ = b2_ * x;
+    z1_ = b1_ * x + z2_;
+    return;
+  }
   z2_ = (b2_ - a2_) * x;
   z1_ = (b1_ - a1_) * x + z2_;
 }
 
-void EncoderFilter::set_periodic_state(std::span<const double> period) {
+void ButterworthFilter::set_periodic_state(std::span<const double> period) {
   if (identity_ || period.empty()) return;
   // The state after one period is affine in the state before it: z_N = Phi z_0 + z_f. Three
   // runs over the period give z_f (from rest, with the input) and Phi's columns (from unit
@@ -161,7 +185,7 @@ void EncoderFilter::set_periodic_state(std::span<const double> period) {
   z2_ = (m11 * f2 - m21 * f1) / det;
 }
 
-double EncoderFilter::settling_time_s(double fraction) const {
+double ButterworthFilter::settling_time_s(double fraction) const {
   if (identity_) return 0.0;
   return -std::log(fraction) / sigma_1_s_;
 }

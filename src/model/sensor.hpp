@@ -71,13 +71,20 @@ double housing_acceleration(const SensorSettings& sensor, std::span<const double
                             double carrier_angle_rad, std::span<const double> force_deviation_N);
 
 /// Eq. (S1) over a record: `carrier_angle_rad[k]` and `ring_force_N[i][k]`
-/// (planet i's ring-mesh force at sample k, all as long as the angles). The
-/// mean of each planet's force over the record is subtracted. Throws
-/// std::invalid_argument for mismatched sizes.
+/// (planet i's ring-mesh force at sample k, all as long as the angles), samples
+/// `sample_interval_s` apart. The mean of each planet's force over the record is subtracted.
+/// With a housing mount (SensorSettings::housing_mount_frequency_Hz > 0) the result passes
+/// the mount's second-order high-pass, started in the periodic steady state of the record
+/// (ButterworthFilter::set_periodic_state). Throws std::invalid_argument for mismatched sizes,
+/// pw::SolverError for a mount frequency at or above 1 / (2 sample_interval_s).
 std::vector<double> housing_acceleration_history(const SensorSettings& sensor,
                                                  std::span<const double> planet_angles_rad,
                                                  std::span<const double> carrier_angle_rad,
-                                                 const std::vector<std::span<const double>>& ring_force_N);
+                                                 const std::vector<std::span<const double>>& ring_force_N,
+                                                 double sample_interval_s);
+
+/// Which side of its cutoff a ButterworthFilter passes.
+enum class FilterPass { Low, High };
 
 /// A speed encoder's bandwidth (SensorSettings::encoder_bandwidth_Hz): a Butterworth
 /// low-pass of order 1 or 2, cutoff f_c (-3 dB), discretized at the time step dt by the
@@ -88,14 +95,18 @@ std::vector<double> housing_acceleration_history(const SensorSettings& sensor,
 /// Unit gain at DC. A cutoff at or above the Nyquist frequency 1/(2 dt) cannot be
 /// represented and is what the simulation cannot resolve anyway: the filter is then the
 /// identity (passes() == true). Direct form II transposed; one step is 5 multiplications.
-class EncoderFilter {
+/// FilterPass::High (a housing's mount, SensorSettings::housing_mount_frequency_Hz): the same
+/// denominators with the numerators (1 - z^-1) and (1 - z^-1)^2 (s -> 1/s before the
+/// transform): unit gain at Nyquist, gain (f/f_c)^order far below f_c, zero at DC. A high-pass
+/// cutoff at or above Nyquist would stop every frequency the record holds: it throws.
+class ButterworthFilter {
 public:
   /// bandwidth_Hz = 0: identity. Throws std::invalid_argument for order outside {1, 2},
-  /// a negative bandwidth or a non-positive dt.
-  EncoderFilter(double bandwidth_Hz, int order, double dt_s);
+  /// a negative bandwidth, a non-positive dt, or a high-pass cutoff at or above 1/(2 dt).
+  ButterworthFilter(double bandwidth_Hz, int order, double dt_s, FilterPass pass = FilterPass::Low);
   /// True when the filter passes its input unchanged.
   bool passes() const { return identity_; }
-  /// Sets the state to the steady state of a constant input x (the output is x).
+  /// Sets the state to the steady state of a constant input x (the output is x low-pass, 0 high-pass).
   void reset(double x);
   /// Sets the state to the periodic steady state of an input that repeats `period` (one whole
   /// period, at least one sample): the state z with z = Phi z + z_f after the period, Phi the
@@ -121,6 +132,7 @@ private:
   double sigma_1_s_ = 0;
   double b0_ = 1, b1_ = 0, b2_ = 0, a1_ = 0, a2_ = 0;
   double z1_ = 0, z2_ = 0;
+  double dc_gain_ = 1;  ///< H(1): 1 low-pass, 0 high-pass
 };
 
 } // namespace pw::model

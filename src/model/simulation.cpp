@@ -657,7 +657,7 @@ double sun_speed_change(Integration& r) { return r.sys().sun_rotation(r.st.v); }
 double carrier_speed_change(Integration& r) { return r.sys().carrier_rotation(r.st.v); }
 
 /// The speed encoders' pre-roll before the record (no-op for ideal encoders).
-void settle_encoders(Integration& r, EncoderFilter& sun_encoder, EncoderFilter& carrier_encoder) {
+void settle_encoders(Integration& r, ButterworthFilter& sun_encoder, ButterworthFilter& carrier_encoder) {
   if (sun_encoder.passes()) return;
   const PreparedStage& p = r.p;
   const long spm = p.steps_per_mesh;
@@ -666,7 +666,7 @@ void settle_encoders(Integration& r, EncoderFilter& sun_encoder, EncoderFilter& 
   // A slow encoder would need more periods than the warm-up may take (1 mHz: 6300 s of
   // simulated time, half an hour of computing, seemingly hung): then the filters start the
   // record in the periodic steady state of the last pre-roll period's speeds
-  // (EncoderFilter::set_periodic_state). That is exact for a steady state that repeats every
+  // (ButterworthFilter::set_periodic_state). That is exact for a steady state that repeats every
   // mesh period, so one period of pre-roll suffices; with tooth-level features or a ripple
   // the pre-roll runs solver.warmup_max_mesh_cycles periods, and the part of the speed that
   // does not repeat per mesh period leaves a transient of at most exp(-sigma T_pre) of its
@@ -717,6 +717,10 @@ RecordStats record(Integration& r, int cycles, SimulationResult& out, const Outp
   const std::int64_t dec = std::max(1, sel.decimation);
   const std::int64_t nstore = (nrec + dec - 1) / dec;  // steps k = 0, dec, 2 dec, ... < nrec
   out.time_step_s = p.time_step_s * static_cast<double>(dec);
+  const double mount_Hz = r.c.sensor.housing_mount_frequency_Hz;
+  require(!(mount_Hz * out.time_step_s >= 0.5), "sensor.housing_mount_frequency_Hz", mount_Hz,
+          " Hz must lie below the Nyquist frequency ", 0.5 / out.time_step_s,
+          " Hz of the stored samples (time step x output.time_history_decimation)");
   resize_prefaulted(out.time_s, static_cast<std::size_t>(nstore));
 
   std::vector<RecordChannel> ch = record_channels(S, N);
@@ -751,8 +755,8 @@ RecordStats record(Integration& r, int cycles, SimulationResult& out, const Outp
   RecordStats stats;
   // Speed encoders with a finite bandwidth: the filters see every step, stored or not.
   const SensorSettings& sn = r.c.sensor;
-  EncoderFilter sun_encoder(sn.encoder_bandwidth_Hz, sn.encoder_filter_order, p.time_step_s);
-  EncoderFilter carrier_encoder(sn.encoder_bandwidth_Hz, sn.encoder_filter_order, p.time_step_s);
+  ButterworthFilter sun_encoder(sn.encoder_bandwidth_Hz, sn.encoder_filter_order, p.time_step_s);
+  ButterworthFilter carrier_encoder(sn.encoder_bandwidth_Hz, sn.encoder_filter_order, p.time_step_s);
   // The encoders filter the speeds' deviations from nominal and add the nominal speed back
   // (the filter is linear, so the output is the same): a filter far below the sampling rate
   // (K = tan(pi f_c dt) ~ 1e-5 for 1 Hz) has a DC gain 1 only to ~1e-16 / K^2 in its
@@ -813,7 +817,7 @@ RecordStats record(Integration& r, int cycles, SimulationResult& out, const Outp
       ring_force.emplace_back(out.channels[stored_index[ring_force_channel(i)]].values);
     std::vector<double> h = housing_acceleration_history(r.c.sensor, p.geometry.planet_angles_rad,
                                                          out.channels[stored_index[at.carrier_angle()]].values,
-                                                         ring_force);
+                                                         ring_force, out.time_step_s);
     // Last, as in the documented order (record_channels).
     out.channels.push_back({ch[g_housing].name, ch[g_housing].unit, ch[g_housing].description, std::move(h)});
   }

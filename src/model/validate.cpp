@@ -190,6 +190,9 @@ void validate_imperfections(const Imperfections& im, const StageSpec& stage) {
 void validate_sensor(const SensorSettings& s) {
   require(s.window == SensorWindow::Gaussian || s.window == SensorWindow::Hann, "sensor.window",
           "must be \"gaussian\" or \"hann\"");
+  require(s.housing_mount_frequency_Hz >= 0 && std::isfinite(s.housing_mount_frequency_Hz),
+          "sensor.housing_mount_frequency_Hz", "must be >= 0 Hz (0 = no mount resonance), got ",
+          s.housing_mount_frequency_Hz);
 }
 
 /// A speed loop's two gains: both > 0 when `loop`, else both 0 (a gain without its loop would be

@@ -86,7 +86,8 @@ WearSnapshot record_snapshot(model::Integration& r, double mesh_cycles, wear::Fl
   Channel housing{"housing/acceleration", "m/s^2",
                   "housing accelerometer at sensor.angle_rad (model/sensor.hpp), planet-ring force fluctuations "
                   "about their means over the snapshot",
-                  model::housing_acceleration_history(r.c.sensor, r.p.geometry.planet_angles_rad, carrier_angle, forces)};
+                  model::housing_acceleration_history(r.c.sensor, r.p.geometry.planet_angles_rad, carrier_angle, forces,
+                                                      r.p.time_step_s)};
   const signal::Spectrum hs = signal::amplitude_spectrum(housing.values, r.p.time_step_s, signal::Window::Hann);
   s.spectra.push_back({housing.name, "frequency", "Hz", "amplitude", housing.unit,
                        "amplitude spectrum, Hann window, " + hs.scaling, hs.frequency_Hz, hs.amplitude});

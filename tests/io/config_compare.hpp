@@ -121,6 +121,7 @@ inline void expect_config_eq(const model::SimulationConfig& a, const model::Simu
   EXPECT_EQ(a.sensor.window, b.sensor.window);
   EXPECT_EQ(a.sensor.encoder_bandwidth_Hz, b.sensor.encoder_bandwidth_Hz);
   EXPECT_EQ(a.sensor.encoder_filter_order, b.sensor.encoder_filter_order);
+  EXPECT_EQ(a.sensor.housing_mount_frequency_Hz, b.sensor.housing_mount_frequency_Hz);
 
   EXPECT_EQ(a.rig.input_control, b.rig.input_control);
   EXPECT_EQ(a.rig.input_shaft_stiffness_N_m_rad, b.rig.input_shaft_stiffness_N_m_rad);
@@ -223,6 +224,7 @@ inline model::SimulationConfig nondefault_config() {
   c.sensor.window = model::SensorWindow::Hann;
   c.sensor.encoder_bandwidth_Hz = 1000.0 / 3;
   c.sensor.encoder_filter_order = 1;
+  c.sensor.housing_mount_frequency_Hz = 1500;
 
   c.rig.input_control = model::InputControl::Torque;
   c.rig.input_shaft_stiffness_N_m_rad = 2e5 / 3;

@@ -1,6 +1,6 @@
 // The test rig around the stage (model::RigSettings, docs/derivation.md §3.6):
 // shafts to the input motor and the load machine, ideal speed control, and the
-// speed encoders' bandwidth (model::EncoderFilter). Closed forms: a soft shaft's
+// speed encoders' bandwidth (model::ButterworthFilter). Closed forms: a soft shaft's
 // mode against k / J of the rigid stage, the filter's gain against its bilinear
 // transfer function, the mean speed that ideal speed control holds.
 #include "core/constants.hpp"
@@ -50,7 +50,7 @@ double lowest_frequency_Hz(const PreparedStage& p) {
 /// Steady-state gain of `filter` for a sinusoid of frequency f [Hz] at step dt: run 40
 /// periods of the slowest transient, then take the amplitude of the last whole periods
 /// by projection on sin/cos.
-double measured_gain(EncoderFilter filter, double f_Hz, double dt_s) {
+double measured_gain(ButterworthFilter filter, double f_Hz, double dt_s) {
   const int per_period = static_cast<int>(std::lround(1.0 / (f_Hz * dt_s)));
   const double t_settle = filter.settling_time_s(1e-14);
   const long settle = static_cast<long>(std::ceil(t_settle / dt_s));
@@ -88,13 +88,13 @@ double amplitude_at(const std::vector<double>& x, double f_Hz, double dt_s) {
 
 } // namespace
 
-TEST(EncoderFilter, GainEqualsTheBilinearButterworthMagnitudeAtEveryFrequency) {
+TEST(ButterworthFilter, GainEqualsTheBilinearButterworthMagnitudeAtEveryFrequency) {
   // Sampled at 20 kHz, cutoff 1 kHz: the steady-state gain of a sinusoid equals the
   // closed form to round-off (the projection over whole periods is exact; 1e-9 covers
   // the 1e-14 of the start transient left and the sum's round-off).
   const double dt = 5e-5, fc = 1000;
   for (int order : {1, 2}) {
-    const EncoderFilter filter(fc, order, dt);
+    const ButterworthFilter filter(fc, order, dt);
     ASSERT_FALSE(filter.passes());
     for (double f : {50.0, 250.0, 1000.0, 2000.0, 5000.0}) {
       const double g = measured_gain(filter, f, dt);
@@ -105,18 +105,18 @@ TEST(EncoderFilter, GainEqualsTheBilinearButterworthMagnitudeAtEveryFrequency) {
   }
 }
 
-TEST(EncoderFilter, HoldsAConstantFromResetAndIsTheIdentityWhenIdealOrBeyondNyquist) {
-  EncoderFilter f(300, 2, 1e-4);
+TEST(ButterworthFilter, HoldsAConstantFromResetAndIsTheIdentityWhenIdealOrBeyondNyquist) {
+  ButterworthFilter f(300, 2, 1e-4);
   f.reset(12.5);
   // To round-off: the coefficients' DC gain is 1 within a few ulp.
   for (int k = 0; k < 1000; ++k) EXPECT_NEAR(f.step(12.5), 12.5, 1e-12 * 12.5);
-  EXPECT_TRUE(EncoderFilter(0, 2, 1e-4).passes());
-  EXPECT_TRUE(EncoderFilter(5000, 1, 1e-4).passes());   // f_c = Nyquist
-  EXPECT_FALSE(EncoderFilter(4999, 1, 1e-4).passes());
-  EXPECT_THROW(EncoderFilter(100, 3, 1e-4), std::invalid_argument);
+  EXPECT_TRUE(ButterworthFilter(0, 2, 1e-4).passes());
+  EXPECT_TRUE(ButterworthFilter(5000, 1, 1e-4).passes());   // f_c = Nyquist
+  EXPECT_FALSE(ButterworthFilter(4999, 1, 1e-4).passes());
+  EXPECT_THROW(ButterworthFilter(100, 3, 1e-4), std::invalid_argument);
 }
 
-TEST(EncoderFilter, PeriodicStateGivesTheSettledOutputFromTheFirstSample) {
+TEST(ButterworthFilter, PeriodicStateGivesTheSettledOutputFromTheFirstSample) {
   // An input repeating a 97-sample period (a fundamental, its 3rd harmonic and a mean) through
   // a filter whose slowest pole decays by 1/e over 20 periods: the settled reference is the
   // output after a reset and as many periods as the start transient needs to fall below 1e-14
@@ -130,13 +130,13 @@ TEST(EncoderFilter, PeriodicStateGivesTheSettledOutputFromTheFirstSample) {
         std::sin(2 * kPi * j / n) + 0.3 * std::cos(6 * kPi * j / n + 0.4) + 0.05;
   for (const int order : {1, 2}) {
     const double fc = 1.0 / (2 * kPi * 20 * n * dt) * (order == 2 ? std::numbers::sqrt2 : 1.0);
-    EncoderFilter settled(fc, order, dt);
+    ButterworthFilter settled(fc, order, dt);
     settled.reset(0.0);
     const int periods = static_cast<int>(std::ceil(settled.settling_time_s(1e-14) / (n * dt)));
     std::vector<double> reference(n);
     for (int k = 0; k < periods; ++k)
       for (int j = 0; j < n; ++j) reference[static_cast<std::size_t>(j)] = settled.step(period[static_cast<std::size_t>(j)]);
-    EncoderFilter started(fc, order, dt);
+    ButterworthFilter started(fc, order, dt);
     started.set_periodic_state(period);
     double amplitude = 0;
     for (const double y : reference) amplitude = std::max(amplitude, std::fabs(y));

@@ -3,6 +3,7 @@
 // the sensor angle, and the simulator's housing/acceleration channel.
 #include "model/sensor.hpp"
 #include "core/constants.hpp"
+#include "core/error.hpp"
 #include "model/simulation.hpp"
 #include "signal/spectrum.hpp"
 
@@ -40,10 +41,12 @@ struct Synthetic {
   double f_c = 1.0;  // [Hz]; the record is 4 s long: bin spacing 0.25 Hz
   std::vector<double> psi{0, 2 * kPi / 3, 4 * kPi / 3};
   std::vector<double> time, theta;
+  double dt = 0;  // sample interval [s]
   std::vector<std::vector<double>> force;
 
   explicit Synthetic(std::vector<double> amplitude) : force(N) {
-    const double T = carrier_revs / f_c, dt = T / samples;
+    const double T = carrier_revs / f_c;
+    dt = T / samples;
     for (int k = 0; k < samples; ++k) {
       const double t = k * dt;
       time.push_back(t);
@@ -53,7 +56,7 @@ struct Synthetic {
   }
   std::vector<double> housing(const SensorSettings& s) const {
     std::vector<std::span<const double>> f(force.begin(), force.end());
-    return housing_acceleration_history(s, psi, theta, f);
+    return housing_acceleration_history(s, psi, theta, f, dt);
   }
   /// Bin of frequency f [Hz].
   std::size_t bin(double f) const { return static_cast<std::size_t>(std::lround(f * carrier_revs / f_c)); }
@@ -193,14 +196,44 @@ TEST(Sensor, TurningTheSensorByOnePlanetSpacingDelaysTheSignalByOnePlanetPass) {
   EXPECT_GT(d, 0.1 * scale);
 }
 
+TEST(Sensor, AHousingMountScalesEveryLineByItsHighPassGainAndZeroIsTheFlatTransfer) {
+  // A mount at f_0 (SensorSettings::housing_mount_frequency_Hz) is a second-order Butterworth
+  // high-pass by the bilinear transform, prewarped at f_0: each line at f is scaled by
+  // W^2 / sqrt(1 + W^4), W = tan(pi f dt) / tan(pi f_0 dt) (-> (f/f_0)^2 far below f_0, 1 far
+  // above). Started in the record's periodic steady state, every line lies on a whole bin:
+  // exact to round-off (1e-9). 0 Hz is the flat transfer, bit for bit.
+  Synthetic s({1.0, 0.7, 0.4});
+  SensorSettings flat;
+  const auto a0 = s.housing(flat);
+  EXPECT_EQ(s.housing(SensorSettings{}), a0);
+  const double fm = s.mesh_per_rev * s.f_c;
+  for (const double f0 : {20.0, 200.0, 2000.0}) {
+    SensorSettings mount = flat;
+    mount.housing_mount_frequency_Hz = f0;
+    const auto a = s.housing(mount);
+    for (const int off : {-3, 0, 3}) {
+      const double f = fm + off * s.f_c;
+      const double w = std::tan(kPi * f * s.dt) / std::tan(kPi * f0 * s.dt);
+      const double gain = w * w / std::sqrt(1 + w * w * w * w);
+      const double ref = bin_amplitude(a0, s.bin(f));
+      if (ref < 1e-6 * bin_amplitude(a0, s.bin(fm))) continue;  // a line the planets cancel
+      EXPECT_NEAR(bin_amplitude(a, s.bin(f)), gain * ref, 1e-9 * ref) << "f_0 " << f0 << ", line at " << f << " Hz";
+    }
+  }
+  // At or above the record's Nyquist frequency a high-pass would stop everything: refused.
+  SensorSettings beyond = flat;
+  beyond.housing_mount_frequency_Hz = 0.5 / s.dt;
+  EXPECT_THROW(s.housing(beyond), pw::SolverError);
+}
+
 TEST(Sensor, HistorySubtractsEachPlanetsMeanForce) {
   // A constant force is static load, not vibration.
   SensorSettings sensor;
   const std::vector<double> psi{0.0, 2.0, 4.0}, theta{0.0, 0.1, 0.2, 0.3};
   const std::vector<double> f0(4, 500.0), f1(4, 300.0), f2(4, 100.0);
-  const auto a = housing_acceleration_history(sensor, psi, theta, {f0, f1, f2});
+  const auto a = housing_acceleration_history(sensor, psi, theta, {f0, f1, f2}, 1e-4);
   for (double x : a) EXPECT_EQ(x, 0.0);
-  EXPECT_THROW(housing_acceleration_history(sensor, psi, theta, {f0, f1}), std::invalid_argument);
+  EXPECT_THROW(housing_acceleration_history(sensor, psi, theta, {f0, f1}, 1e-4), std::invalid_argument);
 }
 
 TEST(Sensor, SimulatedHousingChannelFollowsThePlanetPasses) {
@@ -237,7 +270,7 @@ TEST(Sensor, SimulatedHousingChannelFollowsThePlanetPasses) {
   std::vector<std::span<const double>> f;
   for (int i = 0; i < 3; ++i) f.emplace_back(r.find("planet_ring/" + std::to_string(i) + "/force")->values);
   const std::vector<double> psi{0, 2 * kPi / 3, 4 * kPi / 3};
-  const auto expect = housing_acceleration_history(c.sensor, psi, th->values, f);
+  const auto expect = housing_acceleration_history(c.sensor, psi, th->values, f, r.time_step_s);
   for (std::size_t k = 0; k < n; k += 101) ASSERT_EQ(h->values[k], expect[k]);
   // Envelope: RMS per mesh period against G * W(theta_c) * RMS of the force fluctuation.
   const auto& F0 = f[0];

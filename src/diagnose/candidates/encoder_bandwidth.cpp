@@ -1,7 +1,7 @@
 // Rig element: the speed encoders' bandwidth (sensor.encoder_bandwidth_Hz). A
 // speed channel measured by an encoder is a filtered speed: the finite line
 // count, the counter's gate time and its smoothing filter act as a low-pass
-// (model/sensor.hpp, EncoderFilter). When the rig's documentation is silent on
+// (model/sensor.hpp, ButterworthFilter). When the rig's documentation is silent on
 // it, the speed channels show the mesh harmonics falling off with frequency
 // faster than the model's: this candidate names that and fits the -3 dB
 // frequency, in the filter order the configuration gives (default 2).

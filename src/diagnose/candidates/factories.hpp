@@ -24,6 +24,7 @@ std::unique_ptr<Candidate> encoder_bandwidth();     // encoder_bandwidth.cpp
 std::unique_ptr<Candidate> bearing_damping();       // bearing_damping.cpp
 std::unique_ptr<Candidate> tip_relief();            // tip_relief.cpp
 std::unique_ptr<Candidate> engagement_ramp();       // engagement_ramp.cpp
+std::unique_ptr<Candidate> housing_mount();         // housing_mount.cpp
 std::unique_ptr<Candidate> motor_inertia();         // rig_inertia.cpp
 std::unique_ptr<Candidate> load_inertia();          // rig_inertia.cpp
 std::unique_ptr<Candidate> input_shaft();           // rig_shaft.cpp

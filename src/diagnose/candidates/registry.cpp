@@ -47,6 +47,7 @@ const std::vector<std::unique_ptr<Candidate>>& candidate_library() {
     t.push_back(candidates::encoder_bandwidth());
     t.push_back(candidates::tip_relief());
     t.push_back(candidates::engagement_ramp());
+    t.push_back(candidates::housing_mount());
     t.push_back(candidates::motor_inertia());
     t.push_back(candidates::load_inertia());
     t.push_back(candidates::input_shaft());
