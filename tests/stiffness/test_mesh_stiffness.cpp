@@ -160,24 +160,35 @@ TEST(Settings, FilletFoundationTermMakesEveryPairSofter) {
   for (std::size_t i = 0; i < a.k_N_m.size(); ++i) EXPECT_LT(a.k_N_m[i], b.k_N_m[i]);
 }
 
+namespace {
+/// A constant single-pair stiffness k0 over a path of eps = 1.62 base pitches (p_b 8 mm).
+struct ConstantPair {
+  double eps = 1.62, k0 = 3e8;
+  MeshGeometry mesh;
+  PairStiffnessCurve curve;
+  ConstantPair() {
+    mesh.base_pitch_m = 8e-3;
+    mesh.start_active_m = 2e-3;
+    mesh.end_active_m = mesh.start_active_m + eps * mesh.base_pitch_m;
+    for (int i = 0; i < 11; ++i) {
+      curve.xi_m.push_back(mesh.start_active_m + (mesh.end_active_m - mesh.start_active_m) * i / 10);
+      curve.k_N_m.push_back(k0);
+    }
+    curve.xi_m.back() = mesh.end_active_m;
+  }
+};
+} // namespace
+
 TEST(Summary, RectangularWaveMatchesItsFourierSeries) {
   // A constant single-pair stiffness k0 over a contact of eps base pitches
   // gives a combined stiffness that is a rectangular wave between
   // floor(eps) k0 and ceil(eps) k0, high for a fraction d = eps - floor(eps)
   // of the period: mean eps k0, first-harmonic amplitude (2 k0/pi) sin(pi d).
   // 4096 samples resolve the edges to 1/4096 of a period: tolerance 1e-3.
-  MeshGeometry m;
-  m.base_pitch_m = 8e-3;
-  m.start_active_m = 2e-3;
-  const double eps = 1.62;
-  m.end_active_m = m.start_active_m + eps * m.base_pitch_m;
-  const double k0 = 3e8;
-  PairStiffnessCurve c;
-  for (int i = 0; i < 11; ++i) {
-    c.xi_m.push_back(m.start_active_m + (m.end_active_m - m.start_active_m) * i / 10);
-    c.k_N_m.push_back(k0);
-  }
-  c.xi_m.back() = m.end_active_m;
+  const ConstantPair p;
+  const MeshGeometry& m = p.mesh;
+  const PairStiffnessCurve& c = p.curve;
+  const double eps = p.eps, k0 = p.k0;
   const MeshStiffnessSummary sm = summarize(c, m);
   const double d = eps - 1;
   EXPECT_DOUBLE_EQ(sm.max_single_pair_N_m, k0);
@@ -208,18 +219,10 @@ TEST(EngagementRamp, AttenuatesEachHarmonicOfAConstantPairsRectangularWaveBySinc
   // its n-th harmonic is (2 k0 / (pi n)) |sin(pi n d)| |sinc(n r)|, sinc(x) = sin(pi x)/(pi x),
   // and its mean stays eps k0. The ramped wave is continuous and piecewise linear, so 8192
   // samples leave an aliasing error of order k0 (n / M)^2 / r < 1e-6 k0 for n <= 12.
-  MeshGeometry m;
-  m.base_pitch_m = 8e-3;
-  m.start_active_m = 2e-3;
-  const double eps = 1.62, d = eps - 1;
-  m.end_active_m = m.start_active_m + eps * m.base_pitch_m;
-  const double k0 = 3e8;
-  PairStiffnessCurve c;
-  for (int i = 0; i < 11; ++i) {
-    c.xi_m.push_back(m.start_active_m + (m.end_active_m - m.start_active_m) * i / 10);
-    c.k_N_m.push_back(k0);
-  }
-  c.xi_m.back() = m.end_active_m;
+  const ConstantPair p;
+  const MeshGeometry& m = p.mesh;
+  const PairStiffnessCurve& c = p.curve;
+  const double eps = p.eps, d = eps - 1, k0 = p.k0;
   constexpr int M = 8192;
   for (const double r : {0.05, 0.2, 0.5}) {
     const double h = 0.5 * r * m.base_pitch_m;
