@@ -1,5 +1,6 @@
 #include "diagnose/fit_context.hpp"
 
+#include "config/schema.hpp"
 #include "core/statistics.hpp"
 
 #include <algorithm>
@@ -157,7 +158,7 @@ void append_gains(const FitContext& ctx, const WindowScore& fit, CandidateResult
     g.value = fit.gains[c];
     g.std_error = fit.gain_std[c];
     g.lower = 0;
-    g.upper = 1;
+    g.upper = config::kMaxSensorGain_m_s2_per_N;
     g.initial = ctx.base.sensor.gain_m_s2_per_N;
     g.at_bound = fit.gain_at_edge[c];
     g.nuisance = true;
