@@ -41,8 +41,9 @@ CLI::App* add_calibrate_command(CLI::App& app, CalibrateCommandOptions& o) {
   c->add_option("--rig-elements", o.rig_elements,
                 "candidates fitted as nuisance parameters when the recording can see them (default: "
                 "encoder_bandwidth; motor_inertia, load_inertia (rigidly coupled machines) or input_shaft, "
-                "output_shaft (machines behind flexible shafts), tip_relief and mesh_stiffness_harmonics (the "
-                "stiffness law's shape), bearing_damping (solver.level = lateral_torsional) may be added, "
+                "output_shaft (machines behind flexible shafts), tip_relief, engagement_ramp and "
+                "mesh_stiffness_harmonics (the gears' tips and stiffness law), housing_mount (the housing's "
+                "resonance on its mount), bearing_damping (solver.level = lateral_torsional) may be added, "
                 "docs/diagnose.md section 6a; 'none' for none)")
       ->delimiter(',');
   c->add_option("--healthy-fit", o.healthy_fit,
