@@ -44,7 +44,6 @@ public:
   }
   std::vector<Component> families() const override { return {Component::Mesh}; }
   std::optional<FindingClass> finding_class() const override { return tooth_contact_class(); }
-  bool rig_design() const override { return true; }
   bool calibration_only() const override { return true; }
   std::vector<ParameterSpec> parameters(const model::SimulationConfig& b) const override {
     constexpr double upper = model::ContactSettings::kMaxEngagementRamp;

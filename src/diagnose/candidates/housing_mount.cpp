@@ -35,7 +35,6 @@ public:
            "than a flat transfer path";
   }
   std::vector<Component> families() const override { return {Component::Mesh, Component::Carrier}; }
-  bool rig_design() const override { return true; }
   bool calibration_only() const override { return true; }
   std::vector<ParameterSpec> parameters(const model::SimulationConfig& b) const override {
     const double configured = b.sensor.housing_mount_frequency_Hz;
