@@ -102,6 +102,23 @@ void apply_tip_relief(const ContactSettings& c, const geometry::MeshGeometry& g,
   }
 }
 
+/// The checks that need the geometry and the time step (validate.cpp has neither), made once
+/// before anything runs so that a wear or campaign run fails as a bad input, not as a solver
+/// failure half-way: the engagement ramp must leave every mesh within MeshState::kMaxPairs pairs
+/// (a window of epsilon + r base pitches holds at most floor(epsilon + r) + 1), and a housing
+/// mount must lie below the Nyquist frequency of the simulation's steps (the stored samples,
+/// possibly decimated, are checked where they are made).
+void check_step_dependent_keys(const SimulationConfig& c, const geometry::StageGeometry& geo, double dt_s) {
+  const double r = c.contact.engagement_ramp;
+  for (const geometry::MeshGeometry* g : {&geo.sun_planet, &geo.planet_ring})
+    require(r == 0 || g->contact_ratio + r < MeshState::kMaxPairs - 1, "contact.engagement_ramp", r,
+            " with a contact ratio of ", g->contact_ratio, " puts more than ", MeshState::kMaxPairs,
+            " tooth pairs in one mesh; use at most ", MeshState::kMaxPairs - 1 - g->contact_ratio);
+  const double mount_Hz = c.sensor.housing_mount_frequency_Hz;
+  require(!(mount_Hz * dt_s >= 0.5), "sensor.housing_mount_frequency_Hz", mount_Hz,
+          " Hz must lie below the Nyquist frequency ", 0.5 / dt_s, " Hz of the time step ", dt_s, " s");
+}
+
 bool has_tooth_level_features(const SimulationConfig& c) {
   const Imperfections& i = c.imperfections;
   return !i.teeth.empty() || i.sun_eccentricity_m != 0 || i.torque_ripple_fraction != 0;
@@ -277,6 +294,7 @@ PreparedStage prepare(const SimulationConfig& c) {
           " Hz); the response would be wrong. Use <= ", dt_limit, " s or 0 for automatic");
   p.steps_per_mesh = checked_steps_per_mesh(c, T_mesh, dt);
   p.time_step_s = T_mesh / p.steps_per_mesh;
+  check_step_dependent_keys(c, geo, p.time_step_s);
 
   // Tooth flank state: deviations and stiffness factors per tooth.
   check_flank_memory(c);

@@ -21,8 +21,6 @@
 // healthy recording's mesh harmonics show at any speed whose tenth harmonic is analysed.
 #include "diagnose/candidates/factories.hpp"
 
-#include <algorithm>
-
 namespace pw::diagnose::candidates {
 namespace {
 
@@ -43,7 +41,6 @@ public:
            "involutes' do";
   }
   std::vector<Component> families() const override { return {Component::Mesh}; }
-  std::optional<FindingClass> finding_class() const override { return tooth_contact_class(); }
   bool calibration_only() const override { return true; }
   std::vector<ParameterSpec> parameters(const model::SimulationConfig& b) const override {
     constexpr double upper = model::ContactSettings::kMaxEngagementRamp;
