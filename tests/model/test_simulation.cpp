@@ -320,6 +320,17 @@ TEST(Simulation, TheStepsMeshStiffnessCarriesTheEngagementRampThatTheStiffnessCu
   EXPECT_GT(mesh_harmonics(simulate(sharp), "sun_planet/0/stiffness", 10)[9], 3 * from_step[9]);
 }
 
+TEST(Simulation, AHousingMountAboveTheStepsNyquistFrequencyIsABadInputBeforeAnythingRuns) {
+  // prepare() knows the time step: a mount at or above 1/(2 dt) names its key as an InputError,
+  // so a wear run cannot fail half-way as a solver failure; below it the stage prepares.
+  SimulationConfig c = fast_seed(2);
+  const double nyquist = 0.5 / prepare(c).time_step_s;
+  c.sensor.housing_mount_frequency_Hz = nyquist;
+  EXPECT_THROW(prepare(c), pw::InputError);
+  c.sensor.housing_mount_frequency_Hz = 0.5 * nyquist;
+  EXPECT_NO_THROW(prepare(c));
+}
+
 TEST(Simulation, SeparatingTeethWithBacklashNearResonanceIntegrateAndAgreeWithShorterSteps) {
   // At 19 000 rpm the mesh frequency (5.28 kHz) sits just below the 5.49 kHz mode: the
   // dynamic mesh force exceeds the static one and the teeth separate. With 20 um backlash the
