@@ -191,6 +191,8 @@ Inputs read_inputs(const DiagnoseCommandOptions& o) { return read_diagnose_input
 struct Reference {
   std::string recording, meta;
   diagnose::OrderAnalysisOptions analysis{};
+  /// The calibration's recording it is (its index in Calibration::recordings); none for --baseline.
+  std::optional<std::size_t> calibration_recording;
 };
 
 std::string resolve_calibration_path(const std::string& p, const std::string& calibration_file) {
@@ -227,7 +229,9 @@ RecordingInputs read_self(const DiagnoseCommandOptions& o) {
 
 /// --baseline: its windows shared with the recording's, or an input error before any fit.
 Reference given_baseline(const DiagnoseCommandOptions& o) {
-  Reference r{o.baseline, o.baseline_meta.empty() ? io::sidecar_path(o.baseline).string() : o.baseline_meta};
+  Reference r;
+  r.recording = o.baseline;
+  r.meta = o.baseline_meta.empty() ? io::sidecar_path(o.baseline).string() : o.baseline_meta;
   const RecordingInputs self = read_self(o);
   const auto w = common_windows(self, analyse(self), read_recording_inputs(o.common, r.recording, r.meta, {}, {}, {}));
   require(w.has_value(), "--baseline", "'", o.baseline, "' and the recording cannot be analysed in the same windows "
@@ -263,7 +267,8 @@ std::optional<Reference> calibrated_reference(const DiagnoseCommandOptions& o, c
   double best_dn = 0;
   std::string missing, other_windows;
   for (std::size_t i = 0; i < cal.recordings.size(); ++i) {
-    Reference r{resolve_calibration_path(cal.recordings[i], o.calibration), {}};
+    Reference r;
+    r.recording = resolve_calibration_path(cal.recordings[i], o.calibration);
     r.meta = i < cal.sidecars.size() ? resolve_calibration_path(cal.sidecars[i], o.calibration)
                                      : io::sidecar_path(r.recording).string();
     if (!std::filesystem::exists(r.recording) || !std::filesystem::exists(r.meta)) {
@@ -282,6 +287,7 @@ std::optional<Reference> calibrated_reference(const DiagnoseCommandOptions& o, c
       continue;
     }
     r.analysis = *w;
+    r.calibration_recording = i;
     best = r;
     best_dn = dn;
   }
@@ -373,9 +379,12 @@ void diagnose_and_report(const DiagnoseCommandOptions& o_in, const std::string& 
                                : calibration ? calibration->healthy_fit : diagnose::HealthyFit::Noise;
     // The rig's structure the calibration identified on every one of its healthy recordings (a
     // shaft's mode: the calibration-only elements it kept) is the rig's at the reference too:
-    // held at the calibrated values, not refitted on the one reference (§6a item 6).
+    // held at the values the calibration fitted on this reference, not refitted here nor taken
+    // from the medians over the other operating points (§6a item 6).
     const std::vector<std::string> structure =
-        calibration ? diagnose::structural_rig_settings(*calibration, read_gear_set_config(o.common)) : std::vector<std::string>{};
+        calibration ? diagnose::structural_rig_settings(*calibration, read_gear_set_config(o.common),
+                                                        reference->calibration_recording)
+                    : std::vector<std::string>{};
     DiagnoseCommandOptions ro = o;
     ro.common.assignments = structure;
     ro.common.assignments.insert(ro.common.assignments.end(), o.common.assignments.begin(), o.common.assignments.end());

@@ -179,12 +179,19 @@ std::vector<std::string> rig_element_settings(const std::vector<std::string>& ri
   return out;
 }
 
-std::vector<std::string> structural_rig_settings(const Calibration& calibration, const model::SimulationConfig& config) {
-  const std::map<std::string, double> value = override_values(calibration.overrides);
+std::vector<std::string> structural_rig_settings(const Calibration& calibration, const model::SimulationConfig& config,
+                                                 std::optional<std::size_t> at_recording) {
+  const std::map<std::string, double> median = override_values(calibration.overrides);
+  const std::map<std::string, double> own = at_recording && *at_recording < calibration.fits.size()
+                                                ? override_values(calibration.fits[*at_recording].values)
+                                                : std::map<std::string, double>{};
   std::vector<std::string> out;
   for (const std::string& name : calibration.rig_elements)
-    if (const Candidate* c = find_candidate(name); c && c->calibration_only())
-      for (std::string& line : applied_lines(*c, config, value)) out.push_back(std::move(line));
+    if (const Candidate* c = find_candidate(name); c && c->calibration_only()) {
+      std::vector<std::string> lines = applied_lines(*c, config, own);
+      if (lines.empty()) lines = applied_lines(*c, config, median);
+      for (std::string& line : lines) out.push_back(std::move(line));
+    }
   return out;
 }
 

@@ -155,7 +155,16 @@ struct Calibration {
 /// only because they lowered the held-out chi2 of every healthy recording (calibrate), so a
 /// calibrated reference is fitted with them, held (docs/diagnose.md section 6a item 6). Empty when
 /// the calibration kept none. `config` is the gear set's (without the calibration).
-std::vector<std::string> structural_rig_settings(const Calibration& calibration, const model::SimulationConfig& config);
+///
+/// `at_recording`: the calibration recording the diagnosis takes as its reference (§6a item 6).
+/// Its own fit's values (Calibration::fits) are then held, not the medians: at that operating
+/// point they are what the healthy recording measured, while the median over operating points
+/// can be a value no recording supports (rigA3 of indepsim2 fitted the input shaft at 1.1e4 and
+/// 364 N m/rad at 300 and 900 rpm: a median of 5.8e3 holds neither; docs/diagnose-log.md,
+/// session 48). Falls back to the medians when the file has no fit of that recording (written
+/// before session 18) or the fit lacks an element's parameters.
+std::vector<std::string> structural_rig_settings(const Calibration& calibration, const model::SimulationConfig& config,
+                                                 std::optional<std::size_t> at_recording = std::nullopt);
 
 
 /// A healthy recording's nuisance-only diagnosis, and under HealthyFit::ModelForm its refit.

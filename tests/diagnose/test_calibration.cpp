@@ -158,6 +158,35 @@ TEST(Calibration, TheStructureAReferenceHoldsIsTheKeptShaftsWithTheirMachineAndN
   EXPECT_TRUE(structural_rig_settings(cal, base).empty());
 }
 
+TEST(Calibration, AReferenceHoldsTheStructureItsOwnFitMeasuredNotTheMedianOverOperatingPoints) {
+  // Two healthy recordings whose fits put the input shaft at 1.1e4 and 364 N m/rad (indepsim2's
+  // rigA3 at 300 and 900 rpm): their median holds neither. A reference is one of them, so it
+  // holds its own fit's values; without an index (or for a file without per-recording fits) the
+  // medians, as before.
+  pw::model::SimulationConfig base{};
+  Calibration cal;
+  cal.rig_elements = {"encoder_bandwidth", "input_shaft"};
+  cal.overrides = {"stiffness.scale=1.0", "rig.input_shaft_stiffness_N_m_rad=5781", "rig.input_shaft_damping_N_m_s_rad=6.5",
+                   "stage.input_inertia_kgm2=2.5"};
+  CalibrationFit a, b;
+  a.values = {"stiffness.scale=1.4", "rig.input_shaft_stiffness_N_m_rad=11198", "rig.input_shaft_damping_N_m_s_rad=3.6"};
+  b.values = {"stiffness.scale=0.57", "rig.input_shaft_stiffness_N_m_rad=364", "rig.input_shaft_damping_N_m_s_rad=9.5"};
+  cal.fits = {a, b};
+  auto values = [&](std::optional<std::size_t> at) {
+    std::map<std::string, double> v;
+    for (const std::string& l : structural_rig_settings(cal, base, at)) v[l.substr(0, l.find('='))] = std::stod(l.substr(l.find('=') + 1));
+    return v;
+  };
+  EXPECT_DOUBLE_EQ(values(0).at("rig.input_shaft_stiffness_N_m_rad"), 11198);
+  EXPECT_DOUBLE_EQ(values(1).at("rig.input_shaft_stiffness_N_m_rad"), 364);
+  EXPECT_DOUBLE_EQ(values(1).at("rig.input_shaft_damping_N_m_s_rad"), 9.5);
+  EXPECT_GT(values(1).at("stage.input_inertia_kgm2"), 0.0);  // the speed-source machine the shaft assumes, still
+  EXPECT_EQ(values(1).count("stiffness.scale"), 0u);         // nuisance levels are refitted at the reference
+  EXPECT_DOUBLE_EQ(values(std::nullopt).at("rig.input_shaft_stiffness_N_m_rad"), 5781);
+  cal.fits.clear();  // a file written before the per-recording fits were kept
+  EXPECT_DOUBLE_EQ(values(1).at("rig.input_shaft_stiffness_N_m_rad"), 5781);
+}
+
 TEST(Calibration, ParametersFittedAtABoundAreListedWithTheEndAndTheirCount) {
   auto p = [](const std::string& n, double v, double lo, double hi, bool at_bound) {
     FittedParameter f;
