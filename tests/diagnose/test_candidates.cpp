@@ -332,6 +332,59 @@ TEST(Candidates, ATorqueRippleFitsTheLoadMachinesInertiaAsATransferOnlyWhereNone
   EXPECT_EQ(c->parameters(held).size(), 1u);
 }
 
+TEST(Candidates, ATorqueRippleBehindAShaftFitsTheMotorWhereTheConfigurationHoldsOnlyTheSpeedSourceStandIn) {
+  // A calibration's input shaft writes a speed-source stand-in for the motor (1e4 times the sun's
+  // inertia) when the gear set states none: right at the mesh frequencies, far too heavy at the
+  // ripple's k f_s. The ripple then fits the motor's inertia as a transfer parameter, on the
+  // load's box, its 'absent' and start the stand-in (the model as configured), and the fraction
+  // is the size for the fitted inertia. A stated motor, or a motor held by an ideal speed control,
+  // is left alone.
+  const Candidate* c = find_candidate("torque_ripple");
+  const Candidate* shaft = find_candidate("input_shaft");
+  ASSERT_NE(c, nullptr);
+  ASSERT_NE(shaft, nullptr);
+  model::SimulationConfig b;
+  b.operating.input_speed_rpm = 400;
+  model::SimulationConfig with_shaft = b;
+  const auto ks = shaft->parameters(b);
+  const double xs[] = {ks[0].screen_value, ks[1].screen_value};
+  shaft->apply(with_shaft, Variant{}, xs, nullptr);
+  ASSERT_GT(with_shaft.stage.input_inertia_kgm2, 0.0);  // the stand-in the shaft wrote
+  const auto p = c->parameters(with_shaft);
+  ASSERT_EQ(p.size(), 3u);  // fraction, load, motor
+  EXPECT_EQ(p[1].name, "stage.output_inertia_kgm2");
+  EXPECT_EQ(p[2].name, "stage.input_inertia_kgm2");
+  EXPECT_TRUE(p[2].transfer && p[2].log_scale);
+  EXPECT_EQ(p[2].null_value, with_shaft.stage.input_inertia_kgm2);
+  EXPECT_EQ(p[2].initial, with_shaft.stage.input_inertia_kgm2);
+  EXPECT_EQ(p[2].upper, with_shaft.stage.input_inertia_kgm2);
+  EXPECT_NEAR(p[2].lower, 1e-8 * with_shaft.stage.input_inertia_kgm2, 1e-12 * with_shaft.stage.input_inertia_kgm2);
+  EXPECT_NE(p[0].size_conditional_on.find("fitted motor inertia"), std::string::npos) << p[0].size_conditional_on;
+  model::SimulationConfig applied = with_shaft;
+  std::vector<std::string> o;
+  const double x[] = {0.05, 0.8, 0.12};
+  Variant v;
+  v.order = 2;
+  c->apply(applied, v, x, &o);
+  EXPECT_EQ(applied.stage.output_inertia_kgm2, 0.8);
+  EXPECT_EQ(applied.stage.input_inertia_kgm2, 0.12);
+  EXPECT_EQ(o.back(), "stage.input_inertia_kgm2=0.12");
+  EXPECT_NO_THROW(model::validate(applied));
+  // The stand-in read back from its printed value (a calibration file) is still the stand-in.
+  model::SimulationConfig read_back = with_shaft;
+  read_back.stage.input_inertia_kgm2 = std::stod(format_value(with_shaft.stage.input_inertia_kgm2));
+  EXPECT_EQ(c->parameters(read_back).size(), 3u);
+  // A motor the configuration states (lighter than the stand-in) is the rig's: not fitted.
+  model::SimulationConfig stated = with_shaft;
+  stated.stage.input_inertia_kgm2 = 0.12;
+  EXPECT_EQ(c->parameters(stated).size(), 2u);
+  EXPECT_TRUE(c->parameters(stated)[0].size_conditional_on.empty());
+  // Behind a shaft whose far end an ideal speed control holds, the motor's inertia does not act.
+  model::SimulationConfig held = with_shaft;
+  held.rig.input_control = model::InputControl::Speed;
+  EXPECT_EQ(c->parameters(held).size(), 2u);
+}
+
 TEST(Candidates, RigShaftsAreBoundedByTheBodysModeOnThemAndPutASpeedSourceBehindThem) {
   // Stiffness k over J_b (2 pi f)^2 for f from f_m / 4 (the bottom, its null) to 30 f_m,
   // screened at f_m, scanned at the nuisance start; damping c over 2 zeta sqrt(k J_b) from 5 %

@@ -21,4 +21,11 @@ bool machine_inertia_acts(const model::SimulationConfig& b, RigEnd end) {
   return !(b.rig.load_control == model::LoadControl::Speed && b.rig.output_shaft_stiffness_N_m_rad > 0);
 }
 
+bool machine_is_speed_source_stand_in(const model::SimulationConfig& b, RigEnd end) {
+  const double J = end == RigEnd::Input ? b.stage.input_inertia_kgm2 : b.stage.output_inertia_kgm2;
+  // The stand-in is written as kSpeedSourceOfOwnInertia * own through a round-trip decimal: equal
+  // to the last bit; a relative 1e-9 below it still counts (a value typed from a printed one).
+  return J > 0 && J >= kSpeedSourceOfOwnInertia * own_inertia_kgm2(b, end) * (1 - 1e-9);
+}
+
 } // namespace pw::diagnose::candidates

@@ -24,6 +24,13 @@ constexpr double kScreenOfOwnInertia = 1.0;
 /// end an ideal speed control holds at the set speed (whatever its inertia).
 bool machine_inertia_acts(const model::SimulationConfig& b, RigEnd end);
 
+/// Whether the machine's inertia at `end` is the speed-source stand-in a shaft element writes when
+/// the configuration states none (kSpeedSourceOfOwnInertia times the body's own, rig_shaft.cpp), or
+/// heavier: a value that says "heavy enough not to follow the mesh forces", not a measured machine.
+/// At the low orders of a torque ripple (k f_s) such a machine takes almost all of the ripple
+/// torque, so what reaches the gears depends on an inertia nobody measured.
+bool machine_is_speed_source_stand_in(const model::SimulationConfig& b, RigEnd end);
+
 /// The body's own torsional inertia [kg m^2] as the model derives it, without any machine:
 /// the sun's disc (input), or the carrier with its planets' masses at the carrier radius (output).
 double own_inertia_kgm2(const model::SimulationConfig& b, RigEnd end);
