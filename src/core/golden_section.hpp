@@ -44,6 +44,28 @@ BracketedMinimum golden_section_minimum(F&& f, double lo, double hi, int iterati
   return m;
 }
 
+/// golden_section_minimum over [x0 - h, x0 + h]; while its result is at an edge, the bracket is
+/// centred again on that result and its half-width doubled (h 2^k, `iterations` + k reductions:
+/// the final bracket keeps its relative resolution), at most `doublings` times, stopping early
+/// when a wider bracket ends at an edge again having lowered f by less than `resolution` (an f
+/// that flattens out towards the edge has no minimum there to find). The result's at_edge is that
+/// of the last bracket kept: a minimum outside every bracket, or f flat to within `resolution`
+/// beyond the last one.
+template <class F>
+BracketedMinimum expanding_golden_section_minimum(F&& f, double x0, double h, int iterations, int doublings,
+                                                  double resolution) {
+  BracketedMinimum best = golden_section_minimum(f, x0 - h, x0 + h, iterations);
+  for (int k = 1; best.at_edge && k <= doublings; ++k) {
+    const double half_width = h * std::ldexp(1.0, k);
+    const BracketedMinimum wider = golden_section_minimum(f, best.x - half_width, best.x + half_width, iterations + k);
+    // An interior minimum of a bracket around the last result is the one sought, however little
+    // lower; one at an edge again counts only if it went down by the resolution.
+    if (!wider.at_edge || wider.value < best.value - resolution) best = wider;
+    else break;
+  }
+  return best;
+}
+
 /// Standard error of the minimiser x of a chi-square chi2(x): sqrt(2 / chi2''(x)) (the
 /// curvature of a chi-square is twice the inverse variance), chi2'' by central differences of
 /// step h. Infinite when the curvature is not positive (a flat or non-convex chi2 there) or not

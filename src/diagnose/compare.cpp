@@ -74,6 +74,12 @@ std::string builtin_config_key(const model::SimulationConfig& c) {
 namespace {
 /// The upper end of solver.record_mesh_cycles (model::validate).
 constexpr double kMaxModelRecordCycles = 1e6;
+/// How often a housing gain's profile search that ended at an edge of its bracket is centred on
+/// that end and doubled (ModelComparison::score): 8 doublings of ln g0 +- 0.4 reach +-102 in ln g.
+constexpr int kGainBracketDoublings = 8;
+/// A wider bracket that lowers chi2 by less than this found nothing: a chi2 change of 0.01 is a
+/// tenth of a standard error of the gain (chi2 rises by (delta / se)^2 from its minimum).
+constexpr double kGainChi2Resolution = 0.01;
 } // namespace
 
 ModelComparison::ModelComparison(const Recording& recording, const model::SimulationConfig& config,
@@ -591,11 +597,13 @@ WindowScore ModelComparison::score(const std::vector<std::vector<double>>& m, Ha
       if (!is_housing(c)) continue;
       // Start: weighted least squares A_rec ~ g a; then a golden-section search on the full chi2.
       double num = 0, den = 0;
+      double strongest = 0;  // the model's strongest line at unit gain over its cell's noise
       for (int i = 0; i < ncell; ++i) {
         const std::size_t f = static_cast<std::size_t>(c * ncell + i);
         const double a = transfer_[f] * m[static_cast<std::size_t>(c)][static_cast<std::size_t>(spec_.layout.cells[static_cast<std::size_t>(i)].bin)];
         num += (a_rec_[static_cast<std::size_t>(w)][f] - offset_[f]) * a / D[f];
         den += a * a / D[f];
+        strongest = std::max(strongest, std::fabs(a) / std::sqrt(D[f]));
       }
       if (!(den > 0)) continue;
       double g0 = num / den;
@@ -610,8 +618,24 @@ WindowScore ModelComparison::score(const std::vector<std::vector<double>>& m, Ha
         gg[static_cast<std::size_t>(c)] = std::exp(lg);
         return chi2_of(residual_vector(m, w, gg), w, gg, fidelity_response(&m, gg), nullptr);
       };
-      // 30 reductions of a bracket of ln g0 +- 0.4: 0.618^30 ~ 5e-7 of its width.
-      const BracketedMinimum best = golden_section_minimum(cost, std::log(g0) - 0.4, std::log(g0) + 0.4, 30);
+      // 30 reductions of a bracket of ln g0 +- 0.4: 0.618^30 ~ 5e-7 of its width. The
+      // least-squares start is usually within it; where the search ends at an edge (a model whose
+      // housing lines differ from the recording's in shape, so the weighted start is far off: a
+      // differential fit's offsets), the bracket is centred again on that end and doubled, up to
+      // kGainBracketDoublings times (+-0.4 * 2^8 = +-102 in ln g: any gain a double holds), so that
+      // the profile is the minimum over the gain and "at the edge of its profile search" means the
+      // chi2 still falls beyond any gain, not that the first bracket was short (session 48:
+      // indepsim2 rigB5 rec_06, a planet tooth's fit ended at the edge with g = 0.0014).
+      // A chi2 that falls towards g -> 0 without a minimum (the recording's housing lines below
+      // what the model's shape can match) flattens out there, and the search ends wherever its
+      // differences drop below rounding: such a gain is at its edge when every model line it
+      // scales lies below its cell's noise (g < 1 / max_i (a_i / sqrt(D_i))), as it is above the
+      // configuration's largest gain. The doubling also stops once a wider bracket lowers chi2 by
+      // less than kGainChi2Resolution.
+      BracketedMinimum best =
+          expanding_golden_section_minimum(cost, std::log(g0), 0.4, 30, kGainBracketDoublings, kGainChi2Resolution);
+      if (strongest > 0 && (best.x < -std::log(strongest) || best.x > std::log(config::kMaxSensorGain_m_s2_per_N)))
+        best.at_edge = true;
       const double lg = best.x;
       gains[static_cast<std::size_t>(c)] = std::exp(lg);
       // Within the final bracket of an initial edge: the optimum may lie beyond it.

@@ -37,6 +37,37 @@ TEST(GoldenSection, AMinimumBeyondTheIntervalIsReportedAtItsEdge) {
   EXPECT_NEAR(down.x, -1.0, down.width);
 }
 
+TEST(ExpandingGoldenSection, FollowsAMinimumFarBeyondTheFirstBracketAndKeepsOneInside) {
+  // A housing gain's profile (compare.cpp): ln g0 +- 0.4 first. A vertex 6 beyond the start (a
+  // gain 400 times smaller) is reached by the doublings (0.8, 1.6, 3.2, 6.4), to the last
+  // bracket's resolution; one inside the first bracket gives golden_section_minimum's answer.
+  auto far = [](double x) { return 4.0 * (x + 6.0) * (x + 6.0) + 1.0; };
+  const BracketedMinimum m = expanding_golden_section_minimum(far, 0.0, 0.4, 30, 8, 0.01);
+  EXPECT_FALSE(m.at_edge);
+  EXPECT_NEAR(m.x, -6.0, m.width);
+  EXPECT_GT(m.width, 0.0);
+  EXPECT_TRUE(golden_section_minimum(far, -0.4, 0.4, 30).at_edge);  // the first bracket alone: at its edge
+  auto near = [](double x) { return (x - 0.1) * (x - 0.1); };
+  const BracketedMinimum a = expanding_golden_section_minimum(near, 0.0, 0.4, 30, 8, 0.01);
+  const BracketedMinimum b = golden_section_minimum(near, -0.4, 0.4, 30);
+  EXPECT_EQ(a.x, b.x);
+  EXPECT_EQ(a.width, b.width);
+  EXPECT_FALSE(a.at_edge);
+}
+
+TEST(ExpandingGoldenSection, AFunctionThatFlattensTowardsAnEdgeStaysAtTheEdge) {
+  // chi2 falling towards g -> 0 without a minimum: in ln g, c + exp(x) (rounding hides the slope
+  // far down). No wider bracket lowers it by the resolution once exp(x) is below it: the
+  // doubling stops there, at an edge.
+  auto flat = [](double x) { return 100.0 + std::exp(x); };
+  const BracketedMinimum m = expanding_golden_section_minimum(flat, 0.0, 0.4, 30, 8, 0.01);
+  EXPECT_TRUE(m.at_edge);
+  EXPECT_LT(std::exp(m.x), 0.05);  // went down while that still lowered f by more than 0.01
+  // A minimum beyond every bracket (8 doublings reach +-102.4 + the path there) is at the edge too.
+  auto beyond = [](double x) { return (x - 1000.0) * (x - 1000.0); };
+  EXPECT_TRUE(expanding_golden_section_minimum(beyond, 0.0, 0.4, 30, 8, 0.01).at_edge);
+}
+
 TEST(Chi2CurvatureStd, IsTheStandardDeviationOfAGaussianLikelihood) {
   // chi2(x) = (x - mu)^2 / sigma^2: its minimiser has standard error sigma (exact for a parabola,
   // up to the round-off of the central difference).
