@@ -108,6 +108,13 @@ void apply_tip_relief(const ContactSettings& c, const geometry::MeshGeometry& g,
 /// (a window of epsilon + r base pitches holds at most floor(epsilon + r) + 1), and a housing
 /// mount must lie below the Nyquist frequency of the simulation's steps (the stored samples,
 /// possibly decimated, are checked where they are made).
+/// The ramp a window of epsilon + r base pitches may add before it holds kMaxPairs pairs, by a
+/// relative 1e-9 inside the strict limit (so that the largest value passes the check below).
+double ramp_room(const geometry::StageGeometry& geo) {
+  const double eps = std::max(geo.sun_planet.contact_ratio, geo.planet_ring.contact_ratio);
+  return std::max(0.0, (MeshState::kMaxPairs - 1 - eps) * (1 - 1e-9));
+}
+
 void check_step_dependent_keys(const SimulationConfig& c, const geometry::StageGeometry& geo, double dt_s) {
   const double r = c.contact.engagement_ramp;
   for (const geometry::MeshGeometry* g : {&geo.sun_planet, &geo.planet_ring})
@@ -192,6 +199,10 @@ double automatic_time_step(double T_mesh, double f_max, const SolverSettings& sv
   const double steps_above_band = std::max(kMinStepsPerModePeriod, 0.25 * sv.steps_per_mode_period);
   return std::min({T_mesh / sv.min_steps_per_mesh, 1.0 / (f_accurate * sv.steps_per_mode_period),
                    1.0 / (steps_above_band * f_max)});
+}
+
+double largest_engagement_ramp(const SimulationConfig& config) {
+  return std::min(ContactSettings::kMaxEngagementRamp, ramp_room(geometry::make_stage_geometry(config.stage)));
 }
 
 PreparedStage prepare(const SimulationConfig& c) {

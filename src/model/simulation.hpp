@@ -62,6 +62,12 @@ double automatic_time_step(double T_mesh, double f_max, const SolverSettings& so
 /// time step (naming solver.time_step_s and the limit).
 PreparedStage prepare(const SimulationConfig& config);
 
+/// The widest contact.engagement_ramp [base pitches] prepare() accepts for this stage's gears:
+/// ContactSettings::kMaxEngagementRamp, or less where a mesh's contact ratio plus the ramp would
+/// put more than the model's most pairs in one mesh (the boxes of fits, so that no fit can reach
+/// a ramp the simulation refuses). Throws pw::InputError for impossible geometry.
+double largest_engagement_ramp(const SimulationConfig& config);
+
 /// Mesh stiffness curves of both mesh families (single pair vs distance from
 /// the pitch point; combined vs time in mesh periods) and their summary.
 std::vector<Curve> stiffness_curves(const PreparedStage& stage);

@@ -385,6 +385,35 @@ TEST(Candidates, ATorqueRippleBehindAShaftFitsTheMotorWhereTheConfigurationHolds
   EXPECT_EQ(c->parameters(held).size(), 2u);
 }
 
+TEST(Candidates, AnEngagementRampsBoxEndsWhereTheSimulationWouldRefuseTheRamp) {
+  // Half a base pitch, or what the gears' contact ratio leaves below the model's most pairs in a
+  // mesh (model::largest_engagement_ramp): a fit that reached a wider ramp would stop on an
+  // InputError, which fits do not catch as they catch a solver failure. Its screening value
+  // stays inside the box and apart from 'absent'.
+  const Candidate* c = find_candidate("engagement_ramp");
+  ASSERT_NE(c, nullptr);
+  model::SimulationConfig b;
+  EXPECT_EQ(c->parameters(b)[0].upper, model::ContactSettings::kMaxEngagementRamp);
+  model::SimulationConfig deep = b;  // contact ratios 2.51 and 2.74 (test_simulation.cpp)
+  deep.stage.sun.teeth = 48;
+  deep.stage.planet.teeth = 60;
+  deep.stage.ring.teeth = 168;
+  for (geometry::GearSpec* g : {&deep.stage.sun, &deep.stage.planet, &deep.stage.ring}) {
+    g->pressure_angle_rad = 14.5 * std::numbers::pi / 180;
+    g->addendum_coef = g == &deep.stage.ring ? 1.0 : 1.2;
+    g->dedendum_coef = 1.65;
+  }
+  const ParameterSpec p = c->parameters(deep)[0];
+  EXPECT_EQ(p.upper, model::largest_engagement_ramp(deep));
+  EXPECT_LT(p.upper, 0.3);
+  EXPECT_GT(p.screen_value, p.null_value);
+  EXPECT_LE(p.screen_value, p.upper);
+  model::SimulationConfig widest = deep;
+  const double x[] = {p.upper};
+  c->apply(widest, Variant{}, x, nullptr);
+  EXPECT_NO_THROW(model::prepare(widest));
+}
+
 TEST(Candidates, RigShaftsAreBoundedByTheBodysModeOnThemAndPutASpeedSourceBehindThem) {
   // Stiffness k over J_b (2 pi f)^2 for f from f_m / 4 (the bottom, its null) to 30 f_m,
   // screened at f_m, scanned at the nuisance start; damping c over 2 zeta sqrt(k J_b) from 5 %

@@ -331,6 +331,35 @@ TEST(Simulation, AHousingMountAboveTheStepsNyquistFrequencyIsABadInputBeforeAnyt
   EXPECT_NO_THROW(prepare(c));
 }
 
+TEST(Simulation, TheWidestEngagementRampIsTheOnePrepareAcceptsForTheGearsContactRatio) {
+  // largest_engagement_ramp bounds the fits' box (engagement_ramp candidate): it must be a value
+  // prepare() accepts, and no more than the room a mesh leaves below MeshState::kMaxPairs pairs.
+  // The seed's contact ratios (1.6-1.9) leave more than the key's own limit of half a base pitch;
+  // long-addendum 14.5-degree gears (48/60/168 teeth, h_a* 1.2 on sun and planet: contact ratios
+  // 2.51 and 2.74, `planetwear stiffness`) leave less.
+  SimulationConfig c = fast_seed(2);
+  EXPECT_EQ(largest_engagement_ramp(c), ContactSettings::kMaxEngagementRamp);
+  SimulationConfig deep = c;
+  deep.stage.sun.teeth = 48;
+  deep.stage.planet.teeth = 60;
+  deep.stage.ring.teeth = 168;
+  for (pw::geometry::GearSpec* g : {&deep.stage.sun, &deep.stage.planet, &deep.stage.ring}) {
+    g->pressure_angle_rad = 14.5 * std::numbers::pi / 180;
+    g->addendum_coef = g == &deep.stage.ring ? 1.0 : 1.2;
+    g->dedendum_coef = 1.65;
+  }
+  const pw::geometry::StageGeometry geo = pw::geometry::make_stage_geometry(deep.stage);
+  const double eps = std::max(geo.sun_planet.contact_ratio, geo.planet_ring.contact_ratio);
+  ASSERT_GT(eps, MeshState::kMaxPairs - 1 - ContactSettings::kMaxEngagementRamp) << "not a deep enough mesh: " << eps;
+  const double r = largest_engagement_ramp(deep);
+  EXPECT_LT(r, ContactSettings::kMaxEngagementRamp);
+  EXPECT_NEAR(r, MeshState::kMaxPairs - 1 - eps, 1e-8);
+  deep.contact.engagement_ramp = r;
+  EXPECT_NO_THROW(prepare(deep));
+  deep.contact.engagement_ramp = r + 1e-6;
+  EXPECT_THROW(prepare(deep), pw::InputError);
+}
+
 TEST(Simulation, SeparatingTeethWithBacklashNearResonanceIntegrateAndAgreeWithShorterSteps) {
   // At 19 000 rpm the mesh frequency (5.28 kHz) sits just below the 5.49 kHz mode: the
   // dynamic mesh force exceeds the static one and the teeth separate. With 20 um backlash the

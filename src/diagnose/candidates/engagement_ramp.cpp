@@ -16,10 +16,15 @@
 // tip relief for the same mesh lines on every recording made without a calibration.
 //
 // 'Absent' is the configured ramp (0 by default: the model's sharp entry). The upper end is
-// the configuration's, half a base pitch (stage.hpp kMaxEngagementRamp). The screening value
+// the configuration's, half a base pitch (stage.hpp kMaxEngagementRamp), or less for gears whose
+// contact ratio leaves less room (model::largest_engagement_ramp). The screening value
 // 0.1 p_b halves (0.64) the fifth harmonic's excitation and removes the tenth's: a change a
 // healthy recording's mesh harmonics show at any speed whose tenth harmonic is analysed.
 #include "diagnose/candidates/factories.hpp"
+
+#include "model/simulation.hpp"
+
+#include <algorithm>
 
 namespace pw::diagnose::candidates {
 namespace {
@@ -43,9 +48,14 @@ public:
   std::vector<Component> families() const override { return {Component::Mesh}; }
   bool calibration_only() const override { return true; }
   std::vector<ParameterSpec> parameters(const model::SimulationConfig& b) const override {
-    constexpr double upper = model::ContactSettings::kMaxEngagementRamp;
+    // The box ends where the simulation would refuse the ramp (a contact ratio of 2.5 or more
+    // leaves less than half a base pitch): a fit never reaches a value prepare() rejects.
+    const double upper = std::max(model::largest_engagement_ramp(b), b.contact.engagement_ramp);
     const double absent = b.contact.engagement_ramp;
-    const double screen = absent + kScreen <= upper ? absent + kScreen : 0.5 * absent;
+    // Inside the box and apart from 'absent' (the screening's secant divides by the difference).
+    const double screen = absent + kScreen <= upper ? absent + kScreen
+                          : upper > absent         ? 0.5 * (absent + upper)
+                                                   : 0.5 * absent;
     return {ParameterSpec{.name = "contact.engagement_ramp", .unit = "1", .lower = 0.0, .upper = upper,
         .log_scale = false, .initial = screen, .null_value = absent, .screen_value = screen,
         .scan_at_start = true, .scan_step = kScanStep}};
