@@ -379,6 +379,23 @@ TEST(Candidates, ATorqueRippleBehindAShaftFitsTheMotorWhereTheConfigurationHolds
   stated.stage.input_inertia_kgm2 = 0.12;
   EXPECT_EQ(c->parameters(stated).size(), 2u);
   EXPECT_TRUE(c->parameters(stated)[0].size_conditional_on.empty());
+  // The configuration apply() sees carries the nuisance values: an output shaft among them writes
+  // the load's stand-in where the base had no load machine, and the one extra parameter of such
+  // a base is the load's, not the motor's.
+  const Candidate* out_shaft = find_candidate("output_shaft");
+  ASSERT_NE(out_shaft, nullptr);
+  model::SimulationConfig plain_base = b;  // no machines: fraction and load
+  ASSERT_EQ(c->parameters(plain_base).size(), 2u);
+  model::SimulationConfig both = plain_base;
+  const auto os = out_shaft->parameters(b);
+  const double xo[] = {os[0].screen_value, os[1].screen_value};
+  out_shaft->apply(both, Variant{}, xo, nullptr);
+  shaft->apply(both, Variant{}, xs, nullptr);
+  const double stand_in_in = both.stage.input_inertia_kgm2;
+  const double x2[] = {0.05, 0.7};
+  c->apply(both, v, x2, nullptr);
+  EXPECT_EQ(both.stage.output_inertia_kgm2, 0.7);
+  EXPECT_EQ(both.stage.input_inertia_kgm2, stand_in_in);
   // Behind a shaft whose far end an ideal speed control holds, the motor's inertia does not act.
   model::SimulationConfig held = with_shaft;
   held.rig.input_control = model::InputControl::Speed;

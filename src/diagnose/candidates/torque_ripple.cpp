@@ -99,12 +99,16 @@ public:
              std::vector<std::string>* o) const override {
     set_parameter(c, "imperfections.torque_ripple_fraction", x[0], o);
     set_parameter(c, "imperfections.torque_ripple_order", v.order > 0 ? v.order : 1.0, o);
-    // The transfer inertias parameters() offered on the base configuration, in its order (the
-    // configuration here is the base with the nuisance values, which leave the machines alone).
-    const bool load = fits_load_inertia(c), motor = fits_motor_inertia(c);
-    std::size_t k = 1;
-    if (load && k < x.size()) set_parameter(c, "stage.output_inertia_kgm2", x[k++], o);
-    if (motor && k < x.size()) set_parameter(c, "stage.input_inertia_kgm2", x[k++], o);
+    // The transfer inertias parameters() offered on the base configuration, load first. Here the
+    // configuration carries the nuisance values too, and a shaft among them may have written a
+    // stand-in the base lacks (then the base had no machine there): one extra parameter is the
+    // motor's only where this configuration fits the motor, not the load, and its load machine
+    // is not such a stand-in either (the base stated it), else the load's as before.
+    const std::size_t extras = x.size() - 1;
+    const bool motor_only = extras == 1 && fits_motor_inertia(c) && !fits_load_inertia(c) &&
+                            !machine_is_speed_source_stand_in(c, RigEnd::Output);
+    if (extras >= 1 && !motor_only) set_parameter(c, "stage.output_inertia_kgm2", x[1], o);
+    if (extras >= 2 || motor_only) set_parameter(c, "stage.input_inertia_kgm2", x[extras], o);
   }
 
 private:
