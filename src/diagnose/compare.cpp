@@ -6,6 +6,7 @@
 #include "core/golden_section.hpp"
 #include "core/statistics.hpp"
 #include "model/simulation.hpp"
+#include "model/sensor.hpp"
 #include "model/validate.hpp"
 #include "wear/simulation.hpp"
 
@@ -634,7 +635,12 @@ WindowScore ModelComparison::score(const std::vector<std::vector<double>>& m, Ha
       // less than kGainChi2Resolution.
       BracketedMinimum best =
           expanding_golden_section_minimum(cost, std::log(g0), 0.4, 30, kGainBracketDoublings, kGainChi2Resolution);
-      if (strongest > 0 && (best.x < -std::log(strongest) || best.x > std::log(config::kMaxSensorGain_m_s2_per_N)))
+      // The configuration's largest gain bounds the transfer through the mount at the mesh
+      // frequency (config::kMaxSensorGain_m_s2_per_N), so that the gain of a mount held far above
+      // the lines (a stiff mount: G grows as f0^2) is not an edge while what the lines hear is in range.
+      const double heard = model::housing_transfer_gain(std::exp(best.x), base_.sensor.housing_mount_frequency_Hz,
+                                                        model::mesh_frequency_Hz(base_.stage, base_.operating.input_speed_rpm));
+      if (strongest > 0 && (best.x < -std::log(strongest) || heard > config::kMaxSensorGain_m_s2_per_N))
         best.at_edge = true;
       const double lg = best.x;
       gains[static_cast<std::size_t>(c)] = std::exp(lg);

@@ -90,6 +90,12 @@ double housing_acceleration(const SensorSettings& s, std::span<const double> psi
   return housing_acceleration(s, WindowWeight(s.window, s.window_width_rad), psi, theta_c, dF);
 }
 
+double housing_transfer_gain(double gain_m_s2_per_N, double mount_Hz, double f_Hz) {
+  if (!(mount_Hz > 0)) return gain_m_s2_per_N;
+  const double r2 = (f_Hz / mount_Hz) * (f_Hz / mount_Hz);
+  return gain_m_s2_per_N * r2 / std::sqrt(1.0 + r2 * r2);
+}
+
 std::vector<double> housing_acceleration_history(const SensorSettings& s, std::span<const double> psi,
                                                  std::span<const double> theta_c,
                                                  const std::vector<std::span<const double>>& force,

@@ -18,6 +18,7 @@
 #include "config/schema.hpp"
 #include "core/error.hpp"
 #include "geometry/gear.hpp"
+#include "model/sensor.hpp"
 
 #include <cmath>
 #include <initializer_list>
@@ -187,12 +188,27 @@ void validate_imperfections(const Imperfections& im, const StageSpec& stage) {
   }
 }
 
-void validate_sensor(const SensorSettings& s) {
+void validate_sensor(const SensorSettings& s, double mesh_frequency_Hz) {
   require(s.window == SensorWindow::Gaussian || s.window == SensorWindow::Hann, "sensor.window",
           "must be \"gaussian\" or \"hann\"");
   require(s.housing_mount_frequency_Hz >= 0 && std::isfinite(s.housing_mount_frequency_Hz),
           "sensor.housing_mount_frequency_Hz", "must be >= 0 Hz (0 = no mount resonance), got ",
           s.housing_mount_frequency_Hz);
+  require(s.gain_m_s2_per_N > 0 && std::isfinite(s.gain_m_s2_per_N), "sensor.gain_m_s2_per_N",
+          "must be > 0 m/s^2 per N, got ", s.gain_m_s2_per_N);
+  // The unit-mistake bound is on what the accelerometer hears: the gain through the mount
+  // (config::kMaxSensorGain_m_s2_per_N).
+  const double heard = housing_transfer_gain(s.gain_m_s2_per_N, s.housing_mount_frequency_Hz, mesh_frequency_Hz);
+  if (s.housing_mount_frequency_Hz > 0)
+    require(heard <= config::kMaxSensorGain_m_s2_per_N, "sensor.gain_m_s2_per_N",
+            "through the mount (sensor.housing_mount_frequency_Hz = ", s.housing_mount_frequency_Hz,
+            " Hz) at the mesh frequency ", mesh_frequency_Hz, " Hz must be at most ",
+            config::kMaxSensorGain_m_s2_per_N, " m/s^2 per N (an effective mass of 1 g; above it is a unit mistake), got ",
+            s.gain_m_s2_per_N, " -> ", heard);
+  else
+    require(heard <= config::kMaxSensorGain_m_s2_per_N, "sensor.gain_m_s2_per_N", "must be in (0, ",
+            config::kMaxSensorGain_m_s2_per_N, "] m/s^2 per N (an effective mass of 1 g; above it is a unit mistake), got ",
+            s.gain_m_s2_per_N);
 }
 
 /// A speed loop's two gains: both > 0 when `loop`, else both 0 (a gain without its loop would be
@@ -300,7 +316,7 @@ void validate(const SimulationConfig& c) {
   validate_imperfections(c.imperfections, c.stage);
   validate_solver(c.solver, c);
   validate_wear(c.wear);
-  validate_sensor(c.sensor);
+  validate_sensor(c.sensor, mesh_frequency_Hz(c.stage, c.operating.input_speed_rpm));
   validate_rig(c.rig, c.stage);
 }
 

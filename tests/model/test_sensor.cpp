@@ -226,6 +226,31 @@ TEST(Sensor, AHousingMountScalesEveryLineByItsHighPassGainAndZeroIsTheFlatTransf
   EXPECT_THROW(s.housing(beyond), pw::SolverError);
 }
 
+TEST(Sensor, TheHousingTransferGainIsTheGainThroughTheMountsAnalogHighPass) {
+  // housing_transfer_gain: G (f/f0)^2 / sqrt(1 + (f/f0)^4), the analog prototype of the record's
+  // bilinear filter. Closed forms: G without a mount, G / sqrt2 at f0, G (f/f0)^2 to (f/f0)^4
+  // relative far below it. Against the digital gain measured on a record (the test above's
+  // formula, which that test holds to the filtered record's bins): tan(x) = x (1 + x^2/3 + ...)
+  // puts the two within 2/3 (pi max(f, f0) dt)^2 relative; the tolerance is (pi max(f, f0) dt)^2.
+  constexpr double G = 3.0;
+  EXPECT_EQ(housing_transfer_gain(G, 0.0, 1234.0), G);
+  EXPECT_NEAR(housing_transfer_gain(G, 500.0, 500.0), G / std::sqrt(2.0), 1e-15);
+  EXPECT_NEAR(housing_transfer_gain(G, 2e4, 100.0), G * 2.5e-5, G * 2.5e-5 * 1e-9);
+  Synthetic s({1.0, 0.7, 0.4});
+  const double fm = s.mesh_per_rev * s.f_c;
+  // Frequencies well below this record's Nyquist frequency (x <= 0.2, where the expansion's next
+  // term, 2/15 x^4, is below 1 % of the tolerance), as those of a simulation's step are.
+  for (const double f0 : {20.0, 200.0})
+    for (const int off : {-3, 0, 3}) {
+      const double f = fm + off * s.f_c;
+      const double w = std::tan(kPi * f * s.dt) / std::tan(kPi * f0 * s.dt);
+      const double digital = G * w * w / std::sqrt(1 + w * w * w * w);
+      const double x = kPi * std::max(f, f0) * s.dt;
+      ASSERT_LE(x, 0.2) << "f_0 " << f0 << ", f " << f;
+      EXPECT_NEAR(housing_transfer_gain(G, f0, f), digital, x * x * digital) << "f_0 " << f0 << ", f " << f;
+    }
+}
+
 TEST(Sensor, HistorySubtractsEachPlanetsMeanForce) {
   // A constant force is static load, not vibration.
   SensorSettings sensor;

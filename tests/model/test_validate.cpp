@@ -2,7 +2,9 @@
 // allowed range; NaN and infinity never pass.
 #include "model/validate.hpp"
 
+#include "config/schema.hpp"
 #include "core/error.hpp"
+#include "model/sensor.hpp"
 #include "io/test_support.hpp"
 
 #include <gtest/gtest.h>
@@ -306,6 +308,34 @@ TEST(Validate, SnapshotMeshCyclesAreFiniteNonNegativeAndWithinTheRun) {
   EXPECT_TRUE(rejected_naming(with(2e5, {-1.0}), "wear.snapshot_mesh_cycles[0]"));
   EXPECT_TRUE(rejected_naming(with(2e5, {1e5, kNaN}), "wear.snapshot_mesh_cycles[1]"));
   EXPECT_TRUE(rejected_naming(with(0.0, {1.0}), "wear.snapshot_mesh_cycles[0]"));
+}
+
+TEST(Validate, TheHousingGainIsBoundedThroughTheMountAtTheMeshFrequency) {
+  // config::kMaxSensorGain_m_s2_per_N bounds what the accelerometer hears: G without a mount,
+  // G |H(f_m)| with one (model::housing_transfer_gain), f_m the mesh frequency.
+  const double top = config::kMaxSensorGain_m_s2_per_N;
+  auto gain = [](double g, double mount_Hz) {
+    return [=](SimulationConfig& c) {
+      c.sensor.gain_m_s2_per_N = g;
+      c.sensor.housing_mount_frequency_Hz = mount_Hz;
+    };
+  };
+  EXPECT_TRUE(accepted(gain(top, 0.0)));
+  EXPECT_TRUE(rejected_naming(gain(top * (1 + 1e-9), 0.0), "sensor.gain_m_s2_per_N"));
+  EXPECT_TRUE(rejected_naming(gain(0.0, 0.0), "sensor.gain_m_s2_per_N"));
+  EXPECT_TRUE(rejected_naming(gain(-1.0, 2e4), "sensor.gain_m_s2_per_N"));
+  EXPECT_TRUE(rejected_naming(gain(kNaN, 2e4), "sensor.gain_m_s2_per_N"));
+  const SimulationConfig d;
+  const double fm = mesh_frequency_Hz(d.stage, d.operating.input_speed_rpm);
+  const double limit = top / housing_transfer_gain(1.0, 2e4, fm);  // ~ 1e3 (2e4 / f_m)^2
+  EXPECT_GT(limit, 1e3 * top);
+  EXPECT_TRUE(accepted(gain(0.999 * limit, 2e4)));
+  const auto e = error_after(gain(1.001 * limit, 2e4));
+  ASSERT_TRUE(e) << "a gain heard above the top through the mount accepted";
+  EXPECT_EQ(e->parameter(), "sensor.gain_m_s2_per_N");
+  EXPECT_TRUE(contains(e->what(), "through the mount")) << e->what();
+  // A soft mount (far below the mesh frequency) is flat there: the bound is G's own again.
+  EXPECT_TRUE(rejected_naming(gain(1.01 * top, 1.0), "sensor.gain_m_s2_per_N"));
 }
 
 } // namespace
