@@ -6,7 +6,6 @@
 #include "core/golden_section.hpp"
 #include "core/statistics.hpp"
 #include "model/simulation.hpp"
-#include "model/sensor.hpp"
 #include "model/validate.hpp"
 #include "wear/simulation.hpp"
 
@@ -636,11 +635,10 @@ WindowScore ModelComparison::score(const std::vector<std::vector<double>>& m, Ha
       BracketedMinimum best =
           expanding_golden_section_minimum(cost, std::log(g0), 0.4, 30, kGainBracketDoublings, kGainChi2Resolution);
       // The configuration's largest gain bounds the transfer through the mount at the mesh
-      // frequency (config::kMaxSensorGain_m_s2_per_N), so that the gain of a mount held far above
-      // the lines (a stiff mount: G grows as f0^2) is not an edge while what the lines hear is in range.
-      const double heard = model::housing_transfer_gain(std::exp(best.x), base_.sensor.housing_mount_frequency_Hz,
-                                                        model::mesh_frequency_Hz(base_.stage, base_.operating.input_speed_rpm));
-      if (strongest > 0 && (best.x < -std::log(strongest) || heard > config::kMaxSensorGain_m_s2_per_N))
+      // frequency, so that the gain of a mount held far above the lines (a stiff mount: G grows
+      // as f0^2) is not an edge while what the lines hear is in range.
+      if (strongest > 0 &&
+          (best.x < -std::log(strongest) || best.x > std::log(model::largest_housing_gain_m_s2_per_N(base_))))
         best.at_edge = true;
       const double lg = best.x;
       gains[static_cast<std::size_t>(c)] = std::exp(lg);

@@ -1,8 +1,7 @@
 #include "diagnose/fit_context.hpp"
 
-#include "config/schema.hpp"
 #include "core/statistics.hpp"
-#include "model/sensor.hpp"
+#include "model/validate.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -159,10 +158,7 @@ void append_gains(const FitContext& ctx, const WindowScore& fit, CandidateResult
     g.value = fit.gains[c];
     g.std_error = fit.gain_std[c];
     g.lower = 0;
-    // The configuration's bound is on the gain through the mount at the mesh frequency.
-    g.upper = config::kMaxSensorGain_m_s2_per_N /
-              model::housing_transfer_gain(1.0, ctx.base.sensor.housing_mount_frequency_Hz,
-                                           model::mesh_frequency_Hz(ctx.base.stage, ctx.base.operating.input_speed_rpm));
+    g.upper = model::largest_housing_gain_m_s2_per_N(ctx.base);  // through the mount at the mesh frequency
     g.initial = ctx.base.sensor.gain_m_s2_per_N;
     g.at_bound = fit.gain_at_edge[c];
     g.nuisance = true;

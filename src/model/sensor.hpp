@@ -86,7 +86,7 @@ std::vector<double> housing_acceleration_history(const SensorSettings& sensor,
 /// The housing path's gain at frequency `f_Hz` [m/s^2 per N]: `gain` G times the mount's
 /// high-pass magnitude, G (f/f0)^2 / sqrt(1 + (f/f0)^4), the analog second-order Butterworth
 /// whose bilinear image housing_acceleration_history applies (the two agree to (pi f dt)^2
-/// relative: 1e-4 at 2 kHz for a 2.8 us step); G itself without a mount (`mount_Hz` = 0).
+/// relative: 3e-4 at 2 kHz for a 2.8 us step); G itself without a mount (`mount_Hz` = 0).
 /// What a recording measures is this product at its lines, not G: with f0 above every line
 /// the lines see G (f/f0)^2, and G alone grows as f0^2 (a stiff mount, the housing following
 /// its quasi-static deflection), so a bound on G is a bound on the transfer only through it.
