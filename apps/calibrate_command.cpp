@@ -20,6 +20,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
+#include <optional>
 
 namespace pw::app {
 
@@ -52,6 +53,12 @@ CLI::App* add_calibrate_command(CLI::App& app, CalibrateCommandOptions& o) {
                 "lines the model's form misses by far more than the noise do not decide the fitted values "
                 "(docs/diagnose.md section 6a item 7)")
       ->check(CLI::IsMember({"noise", "model_form"}));
+  c->add_option("--rig-structure", o.rig_structure,
+                "the calibration-only rig elements (shafts, the housing's mount, the engagement ramp): 'shared' "
+                "(default) holds one structure for every operating point, the recordings' fitted structure of the "
+                "largest joint profile likelihood; 'per_recording' keeps each recording's own fit "
+                "(docs/diagnose.md section 6a item 8)")
+      ->check(CLI::IsMember({"shared", "per_recording"}));
   c->add_option("--threads", o.threads, "OpenMP threads (default: OMP_NUM_THREADS or all cores)")
       ->check(CLI::Range(0, 1024));
   c->add_option("--alpha", o.alpha, "one-sided level of the budgets' upper confidence limits (default 0.01)")
@@ -119,43 +126,123 @@ int nuisance_count(const RecordingFit& f) {
   return static_cast<int>(std::count_if(p.begin(), p.end(), [](const diagnose::FittedParameter& q) { return !q.sensor_gain; }));
 }
 
-/// Each recording's nuisance-only fit with the rig elements `rig`. `earlier`: empty, or one fit per
-/// recording (with fewer rig elements) whose nuisance values are a second start of each recording's
-/// fit (DiagnoseOptions::nuisance_start_values).
+/// Recording i's nuisance-only fit with the rig elements `rig`. `earlier`: null, or a fit of the same
+/// recording (with fewer rig elements, or another structure) whose nuisance values are a second start
+/// (DiagnoseOptions::nuisance_start_values). `held`: "key=value" lines applied after --set (a rig
+/// structure held, shared_structure below).
+RecordingFit fit_recording(const CalibrateCommandOptions& o, std::size_t i, const std::vector<std::string>& rig,
+                           diagnose::HealthyFit weighting, const RecordingFit* earlier,
+                           const std::vector<std::string>& held = {}) {
+  // Inputs and the nuisance-only diagnosis, as `diagnose` would start.
+  DiagnoseCommandOptions d;
+  d.common = o.common;
+  for (const std::string& h : held) d.common.assignments.push_back(h);
+  d.recording = o.recordings[i];
+  if (!o.metas.empty()) d.meta = o.metas[i];
+  d.threads = o.threads;
+  d.alpha = o.alpha;
+  const DiagnoseInputs in = read_diagnose_inputs(d);
+  diagnose::DiagnoseOptions opt;
+  opt.alpha = o.alpha;
+  opt.threads = o.threads;
+  opt.nuisance_only = true;
+  opt.extra_nuisance = visible_rig_elements(rig, in.recording);
+  opt.compare.alpha = o.alpha;
+  if (earlier)
+    for (const diagnose::FittedParameter& p : earlier->diagnosis().nuisance.parameters)
+      if (!p.sensor_gain) opt.nuisance_start_values[p.name] = p.value;
+  if (!o.common.quiet) {
+    std::fprintf(stderr, "[calibrate] recording %zu of %zu: %s (rig elements: %zu%s)\n", i + 1, o.recordings.size(),
+                 d.recording.c_str(), opt.extra_nuisance.size(), held.empty() ? "" : "; a rig structure held");
+    opt.progress = [](const std::string& s) { std::fprintf(stderr, "[calibrate]   %s\n", s.c_str()); };
+  }
+  RecordingFit f{in.config, diagnose::fit_healthy(in.recording, in.config, opt, weighting)};
+  if (!o.common.quiet)
+    std::fprintf(stderr, "[calibrate]   nuisance-fitted chi2 %.4g (fit) / %.4g (held out), noise bounds %.4g / %.4g\n",
+                 f.noise_test().nuisance.fit.chi2, f.noise_test().nuisance.held_out.chi2, f.noise_test().bound_fit,
+                 f.noise_test().bound_held_out);
+  return f;
+}
+
+/// Each recording's fit (fit_recording), `earlier` empty or one fit per recording.
 std::vector<RecordingFit> fit_recordings(const CalibrateCommandOptions& o, const std::vector<std::string>& rig,
                                          diagnose::HealthyFit weighting, const std::vector<RecordingFit>& earlier = {}) {
   std::vector<RecordingFit> out;
-  for (std::size_t i = 0; i < o.recordings.size(); ++i) {
-    // Inputs and the nuisance-only diagnosis, as `diagnose` would start.
-    DiagnoseCommandOptions d;
-    d.common = o.common;
-    d.recording = o.recordings[i];
-    if (!o.metas.empty()) d.meta = o.metas[i];
-    d.threads = o.threads;
-    d.alpha = o.alpha;
-    const DiagnoseInputs in = read_diagnose_inputs(d);
-    diagnose::DiagnoseOptions opt;
-    opt.alpha = o.alpha;
-    opt.threads = o.threads;
-    opt.nuisance_only = true;
-    opt.extra_nuisance = visible_rig_elements(rig, in.recording);
-    opt.compare.alpha = o.alpha;
-    if (i < earlier.size())
-      for (const diagnose::FittedParameter& p : earlier[i].diagnosis().nuisance.parameters)
-        if (!p.sensor_gain) opt.nuisance_start_values[p.name] = p.value;
-    if (!o.common.quiet) {
-      std::fprintf(stderr, "[calibrate] recording %zu of %zu: %s (rig elements: %zu)\n", i + 1, o.recordings.size(),
-                   d.recording.c_str(), opt.extra_nuisance.size());
-      opt.progress = [](const std::string& s) { std::fprintf(stderr, "[calibrate]   %s\n", s.c_str()); };
-    }
-    RecordingFit f{in.config, diagnose::fit_healthy(in.recording, in.config, opt, weighting)};
-    if (!o.common.quiet)
-      std::fprintf(stderr, "[calibrate]   nuisance-fitted chi2 %.4g (fit) / %.4g (held out), noise bounds %.4g / %.4g\n",
-                   f.noise_test().nuisance.fit.chi2, f.noise_test().nuisance.held_out.chi2, f.noise_test().bound_fit,
-                   f.noise_test().bound_held_out);
-    out.push_back(std::move(f));
-  }
+  for (std::size_t i = 0; i < o.recordings.size(); ++i)
+    out.push_back(fit_recording(o, i, rig, weighting, i < earlier.size() ? &earlier[i] : nullptr));
   return out;
+}
+
+/// The calibration-only elements' settings a recording's fit holds (structural_rig_settings of a
+/// calibration holding only that fit).
+std::vector<std::string> structure_of(const RecordingFit& f, const std::vector<std::string>& rig,
+                                      const model::SimulationConfig& base_config) {
+  diagnose::Calibration one;
+  one.rig_elements = rig;
+  one.fits.push_back(diagnose::calibration_fit(f.diagnosis().nuisance.parameters, 0, 0));
+  return diagnose::structural_rig_settings(one, base_config, std::size_t{0});
+}
+
+/// One rig structure for all operating points (docs/diagnose.md section 6a item 8): every recording
+/// refitted with every other recording's fitted structure held (its other nuisance values refitted,
+/// from its own fit's values as a second start), the structure of the largest joint profile
+/// likelihood (diagnose::choose_shared_structure) kept, and each recording's fit replaced by its fit
+/// under that structure, the structure's fitted parameters carried over so that the file's per-
+/// recording values, the medians and a calibrated reference all hold the same structure. Costs
+/// n(n-1) nuisance fits with fewer parameters. `structure_parameters`: the parameters the
+/// calibration-only elements add (the F test's p).
+void share_rig_structure(const CalibrateCommandOptions& o, const std::vector<std::string>& rig,
+                         diagnose::HealthyFit weighting, const model::SimulationConfig& base_config,
+                         int structure_parameters, std::vector<RecordingFit>& fits) {
+  const std::size_t n = fits.size();
+  std::vector<std::string> plain;
+  for (const std::string& r : rig)
+    if (!diagnose::find_candidate(r)->calibration_only()) plain.push_back(r);
+  std::vector<std::vector<std::string>> structure;
+  for (const RecordingFit& f : fits) structure.push_back(structure_of(f, rig, base_config));
+  if (structure.front().empty()) return;
+  std::vector<std::vector<double>> chi2(n, std::vector<double>(n, 0.0));
+  std::vector<std::vector<std::optional<RecordingFit>>> refit(n);
+  std::vector<int> features;
+  for (std::size_t j = 0; j < n; ++j) {
+    refit[j].resize(n);
+    features.push_back(fits[j].noise_test().nuisance.held_out.features);
+    for (std::size_t k = 0; k < n; ++k) {
+      if (k == j || structure[k] == structure[j]) {
+        chi2[j][k] = fits[j].noise_test().nuisance.held_out.chi2;
+        continue;
+      }
+      refit[j][k] = fit_recording(o, j, plain, weighting, &fits[j], structure[k]);
+      chi2[j][k] = refit[j][k]->noise_test().nuisance.held_out.chi2;
+    }
+  }
+  const diagnose::SharedStructure s = diagnose::choose_shared_structure(chi2, features, structure_parameters, o.alpha);
+  std::fprintf(stderr, "[calibrate] one rig structure for every operating point: recording %zu's (", s.from + 1);
+  for (std::size_t m = 0; m < structure[s.from].size(); ++m)
+    std::fprintf(stderr, "%s%s", m ? ", " : "", structure[s.from][m].c_str());
+  std::fprintf(stderr, "); joint profile log-likelihood loss per recording's structure:");
+  for (double l : s.loss) std::fprintf(stderr, " %.4g", l);
+  std::fprintf(stderr, " nats\n");
+  for (std::size_t j = 0; j < n; ++j) {
+    std::fprintf(stderr, "[calibrate]   recording %zu: held-out chi2 %.4g with the shared structure, %.4g with its own%s\n",
+                 j + 1, chi2[j][s.from], chi2[j][j],
+                 s.rejects_shared[j] ? " -- its own fits better than chance allows: the operating points disagree "
+                                       "on the rig's structure (the model's form differs between them)"
+                                     : "");
+    if (!refit[j][s.from]) continue;
+    RecordingFit f = std::move(*refit[j][s.from]);
+    // Carry the held structure's values into this recording's fit (names the refit lacks).
+    auto& params = f.fits.noise_weighted.nuisance.parameters;
+    std::vector<diagnose::FittedParameter> carried;
+    for (const diagnose::FittedParameter& q : fits[s.from].diagnosis().nuisance.parameters)
+      if (!q.sensor_gain &&
+          std::none_of(params.begin(), params.end(), [&](const diagnose::FittedParameter& r) { return r.name == q.name; }))
+        carried.push_back(q);
+    for (auto* d : {&f.fits.noise_weighted, f.fits.model_form_weighted ? &*f.fits.model_form_weighted : nullptr})
+      if (d) d->nuisance.parameters.insert(d->nuisance.parameters.end(), carried.begin(), carried.end());
+    f.config = fits[j].config;
+    fits[j] = std::move(f);
+  }
 }
 
 } // namespace
@@ -208,6 +295,9 @@ int run_calibrate(const CalibrateCommandOptions& o) {
         break;
       }
     }
+    if (rig.size() != plain.size() && fits.size() > 1 && o.rig_structure == "shared")
+      share_rig_structure(o, rig, cal.healthy_fit, fits.front().config,
+                          nuisance_count(fits.front()) - nuisance_count(without.front()), fits);
   }
   cal.rig_elements = rig;
   std::vector<std::vector<diagnose::CalibrationCell>> cells;

@@ -32,6 +32,9 @@ struct CalibrateCommandOptions {
   double alpha = 0.01;
   /// --healthy-fit: "noise" or "model_form" (diagnose::HealthyFit).
   std::string healthy_fit = "noise";
+  /// --rig-structure: "shared" (one structure of the calibration-only rig elements for every
+  /// recording) or "per_recording" (docs/diagnose.md section 6a item 8).
+  std::string rig_structure = "shared";
 };
 
 CLI::App* add_calibrate_command(CLI::App& app, CalibrateCommandOptions& options);

@@ -201,6 +201,35 @@ bool rig_elements_improve(const NestedFits& f, double alpha) {
   return (f.chi2_without - f.chi2_with) / p > f_quantile(p, m, alpha) * f.chi2_with / m;
 }
 
+SharedStructure choose_shared_structure(const std::vector<std::vector<double>>& held_out_chi2,
+                                        const std::vector<int>& features, int structure_parameters, double alpha) {
+  const std::size_t n = held_out_chi2.size();
+  if (n == 0 || features.size() != n)
+    throw InputError("held_out_chi2", "choose_shared_structure needs one row of chi2 and one feature count per recording");
+  for (const auto& row : held_out_chi2)
+    if (row.size() != n) throw InputError("held_out_chi2", "choose_shared_structure needs a square chi2 table");
+  SharedStructure out;
+  out.loss.assign(n, 0.0);
+  const auto usable = [](double c) { return std::isfinite(c) && c > 0; };
+  for (std::size_t k = 0; k < n; ++k)
+    for (std::size_t j = 0; j < n; ++j) {
+      const double own = held_out_chi2[j][j], with = held_out_chi2[j][k];
+      if (!usable(own) || !usable(with)) {
+        out.loss[k] = std::numeric_limits<double>::infinity();
+        break;
+      }
+      out.loss[k] += 0.5 * features[j] * std::log(with / own);
+    }
+  out.from = static_cast<std::size_t>(std::min_element(out.loss.begin(), out.loss.end()) - out.loss.begin());
+  for (std::size_t j = 0; j < n; ++j)
+    out.rejects_shared.push_back(rig_elements_improve(NestedFits{.chi2_without = held_out_chi2[j][out.from],
+                                                                 .chi2_with = held_out_chi2[j][j],
+                                                                 .features = features[j],
+                                                                 .extra_parameters = structure_parameters},
+                                                      alpha));
+  return out;
+}
+
 std::vector<std::string> parameters_at_bound(const std::vector<std::vector<FittedParameter>>& per_recording) {
   struct Count {
     int lower = 0, upper = 0;

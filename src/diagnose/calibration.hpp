@@ -93,6 +93,32 @@ struct NestedFits {
 /// values the fit with them is rarely worse, so "lower" alone would keep them on almost any rig.
 bool rig_elements_improve(const NestedFits& f, double alpha);
 
+/// One rig structure for every operating point (docs/diagnose.md section 6a item 8). A shaft's
+/// stiffness, a housing's mount, the gears' engagement ramp are properties of the rig, not of the
+/// speed; fitted on each healthy recording alone they scatter (indepsim2's rigA3: an input shaft of
+/// 1.1e4 and 2.0e3 N m/rad at 300 and 900 rpm; docs/diagnose-log.md, session 50), because each
+/// operating point lets them absorb a different part of the model's form error. Of the
+/// structures the recordings fitted, the one shared is the maximum of the Gaussian profile
+/// likelihood over all recordings, each with its own residual variance (the model-form error
+/// differs per operating point, so one common variance would let the worst-fitted recording
+/// decide): recording j's maximum-likelihood variance under structure k is chi2_jk / m_j, and
+///   loss(k) = sum_j (m_j / 2) ln(chi2_jk / chi2_jj)      [nats],
+/// chi2_jk the held-out chi2 of recording j with recording k's structure held and its other
+/// nuisance parameters refitted, chi2_jj its own fit. Scale-free per recording: multiplying one
+/// recording's chi2 row by a constant changes no choice.
+struct SharedStructure {
+  std::size_t from = 0;            ///< the recording whose fitted structure is shared
+  std::vector<double> loss;        ///< per structure k (recording k's) [nats]; +inf where a chi2 is missing
+  /// Per recording j: whether its own structure fits it better than the shared one by more than
+  /// the structure's parameters buy by chance (rig_elements_improve, the F test): the operating
+  /// points then disagree on the structure beyond chance, which the calibration reports.
+  std::vector<bool> rejects_shared;
+};
+/// `held_out_chi2[j][k]` as above (square, n >= 1); `features[j]` recording j's held-out features;
+/// `structure_parameters` the parameters a structure holds (the F test's p).
+SharedStructure choose_shared_structure(const std::vector<std::vector<double>>& held_out_chi2,
+                                        const std::vector<int>& features, int structure_parameters, double alpha);
+
 /// One line per nuisance parameter (sensor gains excepted) whose fit sat at a bound of its
 /// box on at least one recording: "stiffness.scale at its upper bound 2 on 8 of 8 recordings".
 /// A calibrated value at a bound is not a fit but a limit: the rig differs from the model by

@@ -2,6 +2,7 @@
 // model with known sigma_rel and sigma_abs: the estimates recover them within their standard
 // errors, the budget is the upper confidence limit, a model without discrepancy gets a budget
 // of about zero, and the calibrated model is the median of the fits.
+#include "core/error.hpp"
 #include "core/statistics.hpp"
 #include "diagnose/calibration.hpp"
 #include "diagnose/order_analysis.hpp"
@@ -64,6 +65,33 @@ TEST(Calibration, RigElementsAreKeptOnlyForAnImprovementBeyondWhatTheirParameter
   EXPECT_FALSE(rig_elements_improve({.chi2_without = 2e6, .chi2_with = 2.1e6, .features = 2000, .extra_parameters = 2}, 0.01));
   EXPECT_FALSE(rig_elements_improve({.chi2_without = 2e6, .chi2_with = 2e6, .features = 2000, .extra_parameters = 2}, 0.01));
   EXPECT_FALSE(rig_elements_improve({.chi2_without = 3e6, .chi2_with = 2e6, .features = 2000, .extra_parameters = 0}, 0.01));
+}
+
+TEST(Calibration, TheSharedRigStructureMaximizesTheJointProfileLikelihoodWithOneResidualVariancePerRecording) {
+  // Recording 0 (2000 features) loses 1 % with recording 1's structure; recording 1 (1000
+  // features) loses 10 % with recording 0's. loss(0) = 500 ln 1.1 = 47.7, loss(1) = 1000 ln 1.01 =
+  // 9.95 nats: recording 1's structure is shared, though its raw chi2 cost (1e4) is larger than
+  // recording 0's would be (2e3) -- the raw sum would let the worse-fitted recording decide.
+  const std::vector<std::vector<double>> chi2{{1e6, 1.01e6}, {2.2e4, 2e4}};
+  SharedStructure s = choose_shared_structure(chi2, {2000, 1000}, 2, 0.01);
+  EXPECT_EQ(s.from, 1u);
+  ASSERT_EQ(s.loss.size(), 2u);
+  EXPECT_NEAR(s.loss[0], 500 * std::log(1.1), 1e-9);
+  EXPECT_NEAR(s.loss[1], 1000 * std::log(1.01), 1e-9);
+  // Scale-free per recording: recording 0's chi2 row times 1000 chooses the same.
+  EXPECT_EQ(choose_shared_structure({{1e9, 1.01e9}, {2.2e4, 2e4}}, {2000, 1000}, 2, 0.01).from, 1u);
+  // The F test per recording: recording 0's 1 % (Δχ² 1e4 for p = 2 against 2 F χ²/m = 2 * 4.6 * 500)
+  // is beyond chance, recording 1's own fit is the shared one.
+  ASSERT_EQ(s.rejects_shared.size(), 2u);
+  EXPECT_TRUE(s.rejects_shared[0]);
+  EXPECT_FALSE(s.rejects_shared[1]);
+  // A recording whose refit failed (no chi2) rules that structure out.
+  EXPECT_EQ(choose_shared_structure({{1e6, std::nan("")}, {2.2e4, 2e4}}, {2000, 1000}, 2, 0.01).from, 0u);
+  // One recording: its own structure, no loss.
+  s = choose_shared_structure({{5.0}}, {10}, 1, 0.01);
+  EXPECT_EQ(s.from, 0u);
+  EXPECT_EQ(s.loss[0], 0.0);
+  EXPECT_THROW(choose_shared_structure({{1, 2}}, {1}, 1, 0.01), pw::InputError);
 }
 
 TEST(Calibration, DiscrepancyEstimatesRecoverTheDrawnRelativeAndAbsoluteVariances) {
