@@ -55,9 +55,11 @@ CLI::App* add_calibrate_command(CLI::App& app, CalibrateCommandOptions& o) {
       ->check(CLI::IsMember({"noise", "model_form"}));
   c->add_option("--rig-structure", o.rig_structure,
                 "the calibration-only rig elements (shafts, the housing's mount, the engagement ramp): 'shared' "
-                "(default) holds one structure for every operating point, the recordings' fitted structure of the "
-                "largest joint profile likelihood; 'per_recording' keeps each recording's own fit "
-                "(docs/diagnose.md section 6a item 8)")
+                "(default) refits every recording with every other's fitted structure and holds the one of the "
+                "largest joint profile likelihood on all of them, unless a recording's own structure fits it "
+                "better than chance allows (F test; then each keeps its own, and calibrate says so); "
+                "'per_recording' keeps each recording's own fit without the refits (docs/diagnose.md section 6a "
+                "item 8)")
       ->check(CLI::IsMember({"shared", "per_recording"}));
   c->add_option("--threads", o.threads, "OpenMP threads (default: OMP_NUM_THREADS or all cores)")
       ->check(CLI::Range(0, 1024));
@@ -126,6 +128,18 @@ int nuisance_count(const RecordingFit& f) {
   return static_cast<int>(std::count_if(p.begin(), p.end(), [](const diagnose::FittedParameter& q) { return !q.sensor_gain; }));
 }
 
+/// The nuisance parameters (sensor gains excepted) of `with` that `without` lacks: what the
+/// calibration-only rig elements add.
+std::vector<std::string> added_parameters(const RecordingFit& with, const RecordingFit& without) {
+  std::vector<std::string> out;
+  const auto& w = without.diagnosis().nuisance.parameters;
+  for (const diagnose::FittedParameter& p : with.diagnosis().nuisance.parameters)
+    if (!p.sensor_gain &&
+        std::none_of(w.begin(), w.end(), [&](const diagnose::FittedParameter& q) { return q.name == p.name; }))
+      out.push_back(p.name);
+  return out;
+}
+
 /// Recording i's nuisance-only fit with the rig elements `rig`. `earlier`: null, or a fit of the same
 /// recording (with fewer rig elements, or another structure) whose nuisance values are a second start
 /// (DiagnoseOptions::nuisance_start_values). `held`: "key=value" lines applied after --set (a rig
@@ -175,39 +189,57 @@ std::vector<RecordingFit> fit_recordings(const CalibrateCommandOptions& o, const
 
 /// The calibration-only elements' settings a recording's fit holds (structural_rig_settings of a
 /// calibration holding only that fit).
-std::vector<std::string> structure_of(const RecordingFit& f, const std::vector<std::string>& rig,
-                                      const model::SimulationConfig& base_config) {
+std::vector<std::string> structure_of(const std::vector<diagnose::FittedParameter>& params,
+                                      const std::vector<std::string>& rig, const model::SimulationConfig& base_config) {
   diagnose::Calibration one;
   one.rig_elements = rig;
-  one.fits.push_back(diagnose::calibration_fit(f.diagnosis().nuisance.parameters, 0, 0));
+  one.fits.push_back(diagnose::calibration_fit(params, 0, 0));
   return diagnose::structural_rig_settings(one, base_config, std::size_t{0});
 }
 
-/// One rig structure for all operating points (docs/diagnose.md section 6a item 8): every recording
-/// refitted with every other recording's fitted structure held (its other nuisance values refitted,
-/// from its own fit's values as a second start), the structure of the largest joint profile
-/// likelihood (diagnose::choose_shared_structure) kept, and each recording's fit replaced by its fit
-/// under that structure, the structure's fitted parameters carried over so that the file's per-
-/// recording values, the medians and a calibrated reference all hold the same structure. Costs
-/// n(n-1) nuisance fits with fewer parameters. `structure_parameters`: the parameters the
-/// calibration-only elements add (the F test's p).
+/// One rig structure for all operating points (docs/diagnose.md section 6a item 8). The candidates:
+/// each recording's fitted structure and their pooled one (diagnose::pooled_structure, the inverse-
+/// variance mean of the recordings' estimates). Every recording is refitted with every candidate
+/// other than its own held (its other nuisance values refitted, from its own fit's values as a
+/// second start), and the candidate of the largest joint profile likelihood
+/// (diagnose::choose_shared_structure) is taken. When no recording rejects it by the F test, each
+/// recording's fit is replaced by its fit under that structure, the structure's values carried
+/// over so that the file's per-recording values, the medians and a calibrated reference all hold
+/// the same structure. Costs n^2 nuisance fits with fewer parameters (n(n-1) without a pooled
+/// candidate). `structure_names`: the parameters the calibration-only elements add (the F test's p
+/// is their number).
 void share_rig_structure(const CalibrateCommandOptions& o, const std::vector<std::string>& rig,
                          diagnose::HealthyFit weighting, const model::SimulationConfig& base_config,
-                         int structure_parameters, std::vector<RecordingFit>& fits) {
+                         const std::vector<std::string>& structure_names, std::vector<RecordingFit>& fits) {
   const std::size_t n = fits.size();
   std::vector<std::string> plain;
   for (const std::string& r : rig)
     if (!diagnose::find_candidate(r)->calibration_only()) plain.push_back(r);
+  // Candidate k's parameters (their values; the other nuisance values are refitted) and settings.
+  std::vector<std::vector<diagnose::FittedParameter>> candidate;
+  for (const RecordingFit& f : fits) candidate.push_back(f.diagnosis().nuisance.parameters);
   std::vector<std::vector<std::string>> structure;
-  for (const RecordingFit& f : fits) structure.push_back(structure_of(f, rig, base_config));
+  for (const auto& params : candidate) structure.push_back(structure_of(params, rig, base_config));
   if (structure.front().empty()) return;
-  std::vector<std::vector<double>> chi2(n, std::vector<double>(n, 0.0));
+  if (const auto pooled = diagnose::pooled_structure(candidate, structure_names)) {
+    std::vector<diagnose::FittedParameter> params = candidate.front();
+    for (const diagnose::FittedParameter& q : *pooled)
+      for (diagnose::FittedParameter& p : params)
+        if (p.name == q.name) p = q;
+    std::vector<std::string> settings = structure_of(params, rig, base_config);
+    if (std::find(structure.begin(), structure.end(), settings) == structure.end()) {
+      candidate.push_back(std::move(params));
+      structure.push_back(std::move(settings));
+    }
+  }
+  const std::size_t kc = structure.size();
+  std::vector<std::vector<double>> chi2(n, std::vector<double>(kc, 0.0));
   std::vector<std::vector<std::optional<RecordingFit>>> refit(n);
   std::vector<int> features;
   for (std::size_t j = 0; j < n; ++j) {
-    refit[j].resize(n);
+    refit[j].resize(kc);
     features.push_back(fits[j].noise_test().nuisance.held_out.features);
-    for (std::size_t k = 0; k < n; ++k) {
+    for (std::size_t k = 0; k < kc; ++k) {
       if (k == j || structure[k] == structure[j]) {
         chi2[j][k] = fits[j].noise_test().nuisance.held_out.chi2;
         continue;
@@ -216,25 +248,40 @@ void share_rig_structure(const CalibrateCommandOptions& o, const std::vector<std
       chi2[j][k] = refit[j][k]->noise_test().nuisance.held_out.chi2;
     }
   }
-  const diagnose::SharedStructure s = diagnose::choose_shared_structure(chi2, features, structure_parameters, o.alpha);
-  std::fprintf(stderr, "[calibrate] one rig structure for every operating point: recording %zu's (", s.from + 1);
+  const int p = static_cast<int>(structure_names.size());
+  const diagnose::SharedStructure s = diagnose::choose_shared_structure(chi2, features, p, o.alpha);
+  const auto name = [&](std::size_t k) {
+    return k < n ? "recording " + std::to_string(k + 1) + "'s" : std::string("the recordings' pooled");
+  };
+  std::fprintf(stderr, "[calibrate] one rig structure for every operating point: %s (", name(s.from).c_str());
   for (std::size_t m = 0; m < structure[s.from].size(); ++m)
     std::fprintf(stderr, "%s%s", m ? ", " : "", structure[s.from][m].c_str());
-  std::fprintf(stderr, "); joint profile log-likelihood loss per recording's structure:");
+  std::fprintf(stderr, "); joint profile log-likelihood loss per candidate (");
+  for (std::size_t k = 0; k < kc; ++k) std::fprintf(stderr, "%s%s", k ? ", " : "", name(k).c_str());
+  std::fprintf(stderr, "):");
   for (double l : s.loss) std::fprintf(stderr, " %.4g", l);
   std::fprintf(stderr, " nats\n");
-  for (std::size_t j = 0; j < n; ++j) {
+  for (std::size_t j = 0; j < n; ++j)
     std::fprintf(stderr, "[calibrate]   recording %zu: held-out chi2 %.4g with the shared structure, %.4g with its own%s\n",
                  j + 1, chi2[j][s.from], chi2[j][j],
-                 s.rejects_shared[j] ? " -- its own fits better than chance allows: the operating points disagree "
-                                       "on the rig's structure (the model's form differs between them)"
-                                     : "");
+                 s.rejects_shared[j] ? " -- its own fits better than its parameters buy by chance (F test)" : "");
+  // A structure is the rig's only where every operating point accepts it (the same F test that
+  // keeps the elements at all, rig_elements_improve). Where one rejects it, the operating points
+  // disagree on the structure beyond chance: what the elements fit there is the model's form
+  // error, which differs per operating point, and holding one structure then moves that error
+  // into the nuisance values and the references (measured: docs/diagnose-log.md, session 51).
+  if (std::find(s.rejects_shared.begin(), s.rejects_shared.end(), true) != s.rejects_shared.end()) {
+    std::fprintf(stderr, "[calibrate] the operating points disagree on the rig's structure beyond chance: each "
+                         "recording keeps the structure its own fit measured\n");
+    return;
+  }
+  for (std::size_t j = 0; j < n; ++j) {
     if (!refit[j][s.from]) continue;
     RecordingFit f = std::move(*refit[j][s.from]);
     // Carry the held structure's values into this recording's fit (names the refit lacks).
     auto& params = f.fits.noise_weighted.nuisance.parameters;
     std::vector<diagnose::FittedParameter> carried;
-    for (const diagnose::FittedParameter& q : fits[s.from].diagnosis().nuisance.parameters)
+    for (const diagnose::FittedParameter& q : candidate[s.from])
       if (!q.sensor_gain &&
           std::none_of(params.begin(), params.end(), [&](const diagnose::FittedParameter& r) { return r.name == q.name; }))
         carried.push_back(q);
@@ -296,8 +343,8 @@ int run_calibrate(const CalibrateCommandOptions& o) {
       }
     }
     if (rig.size() != plain.size() && fits.size() > 1 && o.rig_structure == "shared")
-      share_rig_structure(o, rig, cal.healthy_fit, fits.front().config,
-                          nuisance_count(fits.front()) - nuisance_count(without.front()), fits);
+      share_rig_structure(o, rig, cal.healthy_fit, fits.front().config, added_parameters(fits.front(), without.front()),
+                          fits);
   }
   cal.rig_elements = rig;
   std::vector<std::vector<diagnose::CalibrationCell>> cells;

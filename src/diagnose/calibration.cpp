@@ -10,6 +10,7 @@
 #include <cmath>
 #include <limits>
 #include <map>
+#include <optional>
 #include <utility>
 
 namespace pw::diagnose {
@@ -206,12 +207,15 @@ SharedStructure choose_shared_structure(const std::vector<std::vector<double>>& 
   const std::size_t n = held_out_chi2.size();
   if (n == 0 || features.size() != n)
     throw InputError("held_out_chi2", "choose_shared_structure needs one row of chi2 and one feature count per recording");
+  const std::size_t candidates = held_out_chi2.front().size();
   for (const auto& row : held_out_chi2)
-    if (row.size() != n) throw InputError("held_out_chi2", "choose_shared_structure needs a square chi2 table");
+    if (row.size() != candidates || candidates < n)
+      throw InputError("held_out_chi2", "choose_shared_structure needs one chi2 per recording and candidate structure, "
+                                        "the recordings' own structures first (at least as many columns as rows)");
   SharedStructure out;
-  out.loss.assign(n, 0.0);
+  out.loss.assign(candidates, 0.0);
   const auto usable = [](double c) { return std::isfinite(c) && c > 0; };
-  for (std::size_t k = 0; k < n; ++k)
+  for (std::size_t k = 0; k < candidates; ++k)
     for (std::size_t j = 0; j < n; ++j) {
       const double own = held_out_chi2[j][j], with = held_out_chi2[j][k];
       if (!usable(own) || !usable(with)) {
@@ -227,6 +231,43 @@ SharedStructure choose_shared_structure(const std::vector<std::vector<double>>& 
                                                                  .features = features[j],
                                                                  .extra_parameters = structure_parameters},
                                                       alpha));
+  return out;
+}
+
+std::optional<std::vector<FittedParameter>> pooled_structure(const std::vector<std::vector<FittedParameter>>& per_recording,
+                                                             const std::vector<std::string>& names) {
+  if (per_recording.size() < 2 || names.empty()) return std::nullopt;
+  std::vector<FittedParameter> out;
+  for (const std::string& name : names) {
+    double weights = 0, sum = 0;
+    bool positive = true;
+    const FittedParameter* first = nullptr;
+    for (const auto& params : per_recording) {
+      const auto it = std::find_if(params.begin(), params.end(), [&](const FittedParameter& p) { return p.name == name; });
+      if (it == params.end()) return std::nullopt;  // a recording without the element: nothing to pool
+      if (!first) first = &*it;
+      positive = positive && it->value > 0;
+    }
+    for (const auto& params : per_recording) {
+      const FittedParameter& p =
+          *std::find_if(params.begin(), params.end(), [&](const FittedParameter& q) { return q.name == name; });
+      // A value at a bound is a limit, not a measurement, and a missing standard error says the
+      // recording does not see the parameter: neither carries a weight.
+      if (p.at_bound || !(std::isfinite(p.std_error) && p.std_error > 0)) continue;
+      const double x = positive ? std::log(p.value) : p.value;
+      const double se = positive ? p.std_error / p.value : p.std_error;
+      const double w = 1.0 / (se * se);
+      weights += w;
+      sum += w * x;
+    }
+    if (!(weights > 0)) return std::nullopt;
+    FittedParameter q = *first;
+    const double mean = sum / weights, se = 1.0 / std::sqrt(weights);
+    q.value = positive ? std::exp(mean) : mean;
+    q.std_error = positive ? q.value * se : se;
+    q.at_bound = false;
+    out.push_back(std::move(q));
+  }
   return out;
 }
 

@@ -96,8 +96,9 @@ bool rig_elements_improve(const NestedFits& f, double alpha);
 /// One rig structure for every operating point (docs/diagnose.md section 6a item 8). A shaft's
 /// stiffness, a housing's mount, the gears' engagement ramp are properties of the rig, not of the
 /// speed; fitted on each healthy recording alone they scatter (indepsim2's rigA3: an input shaft of
-/// 1.1e4 and 2.0e3 N m/rad at 300 and 900 rpm; docs/diagnose-log.md, session 50), because each
-/// operating point lets them absorb a different part of the model's form error. Of the
+/// 1.1e4 and 2.0e3 N m/rad at 300 and 900 rpm; docs/diagnose-log.md, session 51), because each
+/// operating point lets them absorb a different part of the model's form error. calibrate holds
+/// the shared structure only where no recording rejects it (rejects_shared). Of the
 /// structures the recordings fitted, the one shared is the maximum of the Gaussian profile
 /// likelihood over all recordings, each with its own residual variance (the model-form error
 /// differs per operating point, so one common variance would let the worst-fitted recording
@@ -114,10 +115,29 @@ struct SharedStructure {
   /// points then disagree on the structure beyond chance, which the calibration reports.
   std::vector<bool> rejects_shared;
 };
-/// `held_out_chi2[j][k]` as above (square, n >= 1); `features[j]` recording j's held-out features;
-/// `structure_parameters` the parameters a structure holds (the F test's p).
+/// `held_out_chi2[j][k]` as above, n >= 1 rows of K >= n columns: columns 0 .. n-1 the recordings'
+/// own fitted structures (chi2_jj recording j's own fit), further columns other candidates (the
+/// pooled structure below); `features[j]` recording j's held-out features; `structure_parameters`
+/// the parameters a structure holds (the F test's p). `from` indexes the columns.
 SharedStructure choose_shared_structure(const std::vector<std::vector<double>>& held_out_chi2,
                                         const std::vector<int>& features, int structure_parameters, double alpha);
+
+/// The structure parameters `names` pooled over the recordings' fits: per parameter the inverse-
+/// variance weighted mean of the recordings' estimates (in ln value when every estimate is
+/// positive: a shaft's stiffness is a scale, and its fits differ by factors), each weighted by its
+/// own fit's standard error; a value at a bound or without a standard error carries no weight.
+/// This is the one-step estimate of a joint fit's shared values when the recordings agree (each
+/// recording's information about its own nuisance values profiled out in its standard errors,
+/// their correlations across the structure's parameters neglected). It is a candidate of
+/// choose_shared_structure beside the recordings' own structures, which each hold one recording's
+/// estimation error: held on a recording that sees a parameter better than the one that fitted
+/// it, a single recording's structure can be rejected although the rig is one (measured:
+/// tests/diagnose/test_calibration_shared_structure.sh). Returns the parameters with the pooled
+/// value and its standard error (the other fields the first recording's), or nothing with fewer
+/// than two recordings, a recording without one of the parameters, or a parameter no recording
+/// weighs.
+std::optional<std::vector<FittedParameter>> pooled_structure(const std::vector<std::vector<FittedParameter>>& per_recording,
+                                                             const std::vector<std::string>& names);
 
 /// One line per nuisance parameter (sensor gains excepted) whose fit sat at a bound of its
 /// box on at least one recording: "stiffness.scale at its upper bound 2 on 8 of 8 recordings".

@@ -91,7 +91,54 @@ TEST(Calibration, TheSharedRigStructureMaximizesTheJointProfileLikelihoodWithOne
   s = choose_shared_structure({{5.0}}, {10}, 1, 0.01);
   EXPECT_EQ(s.from, 0u);
   EXPECT_EQ(s.loss[0], 0.0);
-  EXPECT_THROW(choose_shared_structure({{1, 2}}, {1}, 1, 0.01), pw::InputError);
+  // A further candidate (the pooled structure) is a column beyond the recordings' own.
+  s = choose_shared_structure({{1e6, 1.01e6, 1.0001e6}, {2.2e4, 2e4, 2.0001e4}}, {2000, 1000}, 2, 0.01);
+  EXPECT_EQ(s.from, 2u);
+  ASSERT_EQ(s.loss.size(), 3u);
+  EXPECT_FALSE(s.rejects_shared[0]);
+  EXPECT_FALSE(s.rejects_shared[1]);
+  EXPECT_THROW(choose_shared_structure({{1, 2}, {3}}, {1, 1}, 1, 0.01), pw::InputError);
+  EXPECT_THROW(choose_shared_structure({{1}, {3}}, {1, 1}, 1, 0.01), pw::InputError);
+}
+
+namespace {
+FittedParameter estimate(const std::string& name, double value, double std_error, bool at_bound = false) {
+  FittedParameter p;
+  p.name = name;
+  p.value = value;
+  p.std_error = std_error;
+  p.at_bound = at_bound;
+  p.nuisance = true;
+  return p;
+}
+} // namespace
+
+TEST(Calibration, ThePooledStructureIsTheInverseVarianceMeanOfTheRecordingsEstimatesInLnValue) {
+  // Two estimates of a shaft, 1e6 with a relative standard error of 1 %, 2e6 with 2 %: weights
+  // 1e4 and 2.5e3 in ln value, so ln k = (1e4 ln 1e6 + 2.5e3 ln 2e6) / 1.25e4 and its standard
+  // error 1 / sqrt(1.25e4) = 0.894 %.
+  const std::vector<std::vector<FittedParameter>> fits{
+      {estimate("stiffness.scale", 1.1, 0.01), estimate("rig.k", 1e6, 1e4), estimate("rig.c", -1.0, 0.5)},
+      {estimate("stiffness.scale", 0.9, 0.01), estimate("rig.k", 2e6, 4e4), estimate("rig.c", 2.0, 1.0)}};
+  const auto pooled = pooled_structure(fits, {"rig.k", "rig.c"});
+  ASSERT_TRUE(pooled.has_value());
+  ASSERT_EQ(pooled->size(), 2u);
+  const double ln_k = (1e4 * std::log(1e6) + 2.5e3 * std::log(2e6)) / 1.25e4;
+  EXPECT_EQ((*pooled)[0].name, "rig.k");
+  EXPECT_NEAR((*pooled)[0].value, std::exp(ln_k), 1e-9 * std::exp(ln_k));
+  EXPECT_NEAR((*pooled)[0].std_error / (*pooled)[0].value, 1 / std::sqrt(1.25e4), 1e-12);
+  // A parameter of either sign is pooled linearly: (4 * -1 + 1 * 2) / 5.
+  EXPECT_NEAR((*pooled)[1].value, -0.4, 1e-12);
+  EXPECT_NEAR((*pooled)[1].std_error, 1 / std::sqrt(5.0), 1e-12);
+  // A value at a bound carries no weight: the other recording's estimate is the pooled one.
+  auto bounded = fits;
+  bounded[1][1] = estimate("rig.k", 2e6, 4e4, true);
+  EXPECT_NEAR(pooled_structure(bounded, {"rig.k"})->front().value, 1e6, 1e-3);
+  // Nothing to pool: one recording, a parameter a recording lacks, or no weight at all.
+  EXPECT_FALSE(pooled_structure({fits[0]}, {"rig.k"}).has_value());
+  EXPECT_FALSE(pooled_structure(fits, {"rig.m"}).has_value());
+  bounded[0][1] = estimate("rig.k", 1e6, std::nan(""));
+  EXPECT_FALSE(pooled_structure(bounded, {"rig.k"}).has_value());
 }
 
 TEST(Calibration, DiscrepancyEstimatesRecoverTheDrawnRelativeAndAbsoluteVariances) {
