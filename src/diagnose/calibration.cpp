@@ -239,29 +239,27 @@ std::optional<std::vector<FittedParameter>> pooled_structure(const std::vector<s
   if (per_recording.size() < 2 || names.empty()) return std::nullopt;
   std::vector<FittedParameter> out;
   for (const std::string& name : names) {
-    double weights = 0, sum = 0;
-    bool positive = true;
-    const FittedParameter* first = nullptr;
+    std::vector<const FittedParameter*> estimates;
     for (const auto& params : per_recording) {
       const auto it = std::find_if(params.begin(), params.end(), [&](const FittedParameter& p) { return p.name == name; });
       if (it == params.end()) return std::nullopt;  // a recording without the element: nothing to pool
-      if (!first) first = &*it;
-      positive = positive && it->value > 0;
+      estimates.push_back(&*it);
     }
-    for (const auto& params : per_recording) {
-      const FittedParameter& p =
-          *std::find_if(params.begin(), params.end(), [&](const FittedParameter& q) { return q.name == name; });
+    const bool positive =
+        std::all_of(estimates.begin(), estimates.end(), [](const FittedParameter* p) { return p->value > 0; });
+    double weights = 0, sum = 0;
+    for (const FittedParameter* p : estimates) {
       // A value at a bound is a limit, not a measurement, and a missing standard error says the
       // recording does not see the parameter: neither carries a weight.
-      if (p.at_bound || !(std::isfinite(p.std_error) && p.std_error > 0)) continue;
-      const double x = positive ? std::log(p.value) : p.value;
-      const double se = positive ? p.std_error / p.value : p.std_error;
+      if (p->at_bound || !(std::isfinite(p->std_error) && p->std_error > 0)) continue;
+      const double x = positive ? std::log(p->value) : p->value;
+      const double se = positive ? p->std_error / p->value : p->std_error;
       const double w = 1.0 / (se * se);
       weights += w;
       sum += w * x;
     }
     if (!(weights > 0)) return std::nullopt;
-    FittedParameter q = *first;
+    FittedParameter q = *estimates.front();
     const double mean = sum / weights, se = 1.0 / std::sqrt(weights);
     q.value = positive ? std::exp(mean) : mean;
     q.std_error = positive ? q.value * se : se;
