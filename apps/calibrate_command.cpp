@@ -55,8 +55,9 @@ CLI::App* add_calibrate_command(CLI::App& app, CalibrateCommandOptions& o) {
       ->check(CLI::IsMember({"noise", "model_form"}));
   c->add_option("--rig-structure", o.rig_structure,
                 "the calibration-only rig elements (shafts, the housing's mount, the engagement ramp): 'shared' "
-                "(default) refits every recording with every other's fitted structure and holds the one of the "
-                "largest joint profile likelihood on all of them, unless a recording's own structure fits it "
+                "(default) refits every recording with every other's fitted structure and with their pooled one, and "
+                "holds the one of the largest joint profile likelihood on all of them, unless a recording's own "
+                "structure fits it "
                 "better than chance allows (F test; then each keeps its own, and calibrate says so); "
                 "'per_recording' keeps each recording's own fit without the refits (docs/diagnose.md section 6a "
                 "item 8)")
@@ -121,12 +122,6 @@ struct RecordingFit {
   const diagnose::Diagnosis& diagnosis() const { return fits.fit(); }
   const diagnose::Diagnosis& noise_test() const { return fits.noise_weighted; }
 };
-
-/// Fitted nuisance parameters of a recording's fit, sensor gains (profiled) excepted.
-int nuisance_count(const RecordingFit& f) {
-  const auto& p = f.diagnosis().nuisance.parameters;
-  return static_cast<int>(std::count_if(p.begin(), p.end(), [](const diagnose::FittedParameter& q) { return !q.sensor_gain; }));
-}
 
 /// The nuisance parameters (sensor gains excepted) of `with` that `without` lacks: what the
 /// calibration-only rig elements add.
@@ -326,7 +321,7 @@ int run_calibrate(const CalibrateCommandOptions& o) {
       const diagnose::NestedFits nested{.chi2_without = without[i].noise_test().nuisance.held_out.chi2,
                                         .chi2_with = fits[i].noise_test().nuisance.held_out.chi2,
                                         .features = fits[i].noise_test().nuisance.held_out.features,
-                                        .extra_parameters = nuisance_count(fits[i]) - nuisance_count(without[i])};
+                                        .extra_parameters = static_cast<int>(added_parameters(fits[i], without[i]).size())};
       if (!diagnose::rig_elements_improve(nested, o.alpha)) {
         std::string ended;  // where the fit with them ended: a rig engineer's lead even when it is not kept
         for (const diagnose::FittedParameter& p : fits[i].diagnosis().nuisance.parameters)
