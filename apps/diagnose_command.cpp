@@ -381,14 +381,26 @@ void diagnose_and_report(const DiagnoseCommandOptions& o_in, const std::string& 
     // shaft's mode: the calibration-only elements it kept) is the rig's at the reference too:
     // held at the values the calibration fitted on this reference, not refitted here nor taken
     // from the medians over the other operating points (§6a item 6).
-    const std::vector<std::string> structure =
+    std::vector<std::string> structure =
         calibration ? diagnose::structural_rig_settings(*calibration, read_gear_set_config(o.common),
                                                         reference->calibration_recording)
                     : std::vector<std::string>{};
+    // Its design elements (an encoder's bandwidth) too, where the calibration's fit of this
+    // recording measured them within their boxes (calibration.hpp reference_design_settings).
+    if (calibration && reference->calibration_recording)
+      for (std::string& line : diagnose::reference_design_settings(*calibration, read_gear_set_config(o.common),
+                                                                   *reference->calibration_recording))
+        structure.push_back(std::move(line));
     DiagnoseCommandOptions ro = o;
     ro.common.assignments = structure;
     ro.common.assignments.insert(ro.common.assignments.end(), o.common.assignments.begin(), o.common.assignments.end());
-    baseline = fit_reference(ro, *reference, opt, weighting);
+    // The calibration's own fit of this recording is a second start of the reference's fit (LM is
+    // local; calibration.hpp fitted_values), for the reference alone: the recording's own fit
+    // starts from the reference's values.
+    diagnose::DiagnoseOptions reference_opt = opt;
+    if (calibration && reference->calibration_recording)
+      reference_opt.nuisance_start_values = diagnose::fitted_values(*calibration, *reference->calibration_recording);
+    baseline = fit_reference(ro, *reference, reference_opt, weighting);
     if (!structure.empty()) {
       std::string lines;
       for (const std::string& l : structure) lines += (lines.empty() ? "" : ", ") + l;

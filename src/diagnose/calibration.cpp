@@ -196,6 +196,30 @@ std::vector<std::string> structural_rig_settings(const Calibration& calibration,
   return out;
 }
 
+std::vector<std::string> reference_design_settings(const Calibration& calibration, const model::SimulationConfig& config,
+                                                   std::size_t at_recording) {
+  std::vector<std::string> out;
+  if (at_recording >= calibration.fits.size()) return out;
+  const CalibrationFit& fit = calibration.fits[at_recording];
+  const std::map<std::string, double> own = override_values(fit.values);
+  for (const std::string& name : calibration.rig_elements) {
+    const Candidate* c = find_candidate(name);
+    if (!c || !c->rig_design()) continue;
+    const std::vector<ParameterSpec> specs = c->parameters(config);
+    const bool limit = std::any_of(specs.begin(), specs.end(), [&](const ParameterSpec& p) {
+      return std::find(fit.at_bound.begin(), fit.at_bound.end(), p.name) != fit.at_bound.end();
+    });
+    if (limit) continue;
+    for (std::string& line : applied_lines(*c, config, own)) out.push_back(std::move(line));
+  }
+  return out;
+}
+
+std::map<std::string, double> fitted_values(const Calibration& calibration, std::size_t at_recording) {
+  return at_recording < calibration.fits.size() ? override_values(calibration.fits[at_recording].values)
+                                                : std::map<std::string, double>{};
+}
+
 bool rig_elements_improve(const NestedFits& f, double alpha) {
   if (f.extra_parameters <= 0 || f.features <= 0 || !(f.chi2_with > 0) || !(f.chi2_without > f.chi2_with)) return false;
   const double p = f.extra_parameters, m = f.features;

@@ -262,6 +262,45 @@ TEST(Calibration, AReferenceHoldsTheStructureItsOwnFitMeasuredNotTheMedianOverOp
   EXPECT_DOUBLE_EQ(values(1).at("rig.input_shaft_stiffness_N_m_rad"), 5781);
 }
 
+TEST(Calibration, AReferenceHoldsItsOwnFitsRigDesignElementsOnlyWhereThatFitEndedInsideTheirBox) {
+  // The calibration's fit of the reference recording measured an encoder low-pass of 572 Hz
+  // within its box: the reference holds it (a sensor's design does not change between the
+  // calibration and the diagnosis). Not the median over operating points (900 Hz), not the
+  // calibration-only shaft (structural_rig_settings holds that), not a nuisance level.
+  pw::model::SimulationConfig base{};
+  Calibration cal;
+  cal.rig_elements = {"encoder_bandwidth", "input_shaft"};
+  cal.overrides = {"stiffness.scale=1.0", "sensor.encoder_bandwidth_Hz=900", "rig.input_shaft_stiffness_N_m_rad=5781",
+                   "rig.input_shaft_damping_N_m_s_rad=6.5"};
+  CalibrationFit inside, at_edge;
+  inside.values = {"stiffness.scale=0.725", "sensor.encoder_bandwidth_Hz=572", "rig.input_shaft_stiffness_N_m_rad=11198",
+                   "rig.input_shaft_damping_N_m_s_rad=3.6"};
+  at_edge.values = {"stiffness.scale=0.9", "sensor.encoder_bandwidth_Hz=20000", "rig.input_shaft_stiffness_N_m_rad=364",
+                    "rig.input_shaft_damping_N_m_s_rad=9.5"};
+  at_edge.at_bound = {"sensor.encoder_bandwidth_Hz"};  // a limit, not a measurement
+  cal.fits = {inside, at_edge};
+  const std::vector<std::string> held = reference_design_settings(cal, base, 0);
+  ASSERT_EQ(held.size(), 1u);
+  EXPECT_EQ(held[0].substr(0, held[0].find('=')), "sensor.encoder_bandwidth_Hz");
+  EXPECT_DOUBLE_EQ(std::stod(held[0].substr(held[0].find('=') + 1)), 572.0);
+  EXPECT_TRUE(reference_design_settings(cal, base, 1).empty());  // the fit ended at the box's edge
+  EXPECT_TRUE(reference_design_settings(cal, base, 2).empty());  // no fit of that recording
+  cal.rig_elements = {"input_shaft"};                            // no design element calibrated
+  EXPECT_TRUE(reference_design_settings(cal, base, 0).empty());
+}
+
+TEST(Calibration, TheReferenceFitsSecondStartIsTheCalibrationsOwnFitOfThatRecording) {
+  Calibration cal;
+  CalibrationFit a;
+  a.values = {"stiffness.scale=0.725", "contact.mesh_damping_ratio=0.051"};
+  cal.fits = {a};
+  const std::map<std::string, double> start = fitted_values(cal, 0);
+  ASSERT_EQ(start.size(), 2u);
+  EXPECT_DOUBLE_EQ(start.at("stiffness.scale"), 0.725);
+  EXPECT_DOUBLE_EQ(start.at("contact.mesh_damping_ratio"), 0.051);
+  EXPECT_TRUE(fitted_values(cal, 1).empty());  // a file without a fit of that recording: one start
+}
+
 TEST(Calibration, ParametersFittedAtABoundAreListedWithTheEndAndTheirCount) {
   auto p = [](const std::string& n, double v, double lo, double hi, bool at_bound) {
     FittedParameter f;
