@@ -218,23 +218,21 @@ std::vector<std::string> structural_rig_settings(const Calibration& calibration,
 /// as "key=value", for a calibrated reference at that recording (§6a item 6): each element only
 /// where that fit found it within its box (not in the fit's at_bound: a value at a bound is a
 /// limit, not a measurement). Without them the reference's own nuisance fit compensates for what
-/// they model: on indepsim2's rigB5 at 400 rpm, with the encoders' low-pass left out, the
-/// reference fitted stiffness.scale 2.0 and the damping 0.25, both at the tops of their boxes,
-/// where with the calibration's 572 Hz held it fits 0.70 and 0.051 (the calibration's own fit:
-/// 0.725) and leaves a fit-half chi2 of 1.61e6 instead of 2.76e6 (docs/diagnose-log.md, session
-/// 54). A fault's change is computed in that model, and its signature depends on the stiffness
-/// and damping it is computed at. Empty without a fit of that recording.
+/// they model: on indepsim2's rigB5 at 400 rpm (seed-21 corpus, docs/diagnose-log.md session 55)
+/// the reference without the calibration's 587 Hz encoder low-pass fitted stiffness.scale 1.99,
+/// at the top of its box; with it held, 0.71 (the calibration's own fit of that recording: 0.712).
+/// A fault's change is computed in that model, and its signature depends on the stiffness and
+/// damping it is computed at. Empty without a fit of that recording.
 std::vector<std::string> reference_design_settings(const Calibration& calibration, const model::SimulationConfig& config,
                                                    std::size_t at_recording);
 
 /// The nuisance values the calibration's fit of its recording `at_recording` ended at, by key
 /// (Calibration::fits; empty when the file has no fit of it). A calibrated diagnosis fits its
 /// reference, that same recording, again (§6a item 6); LM is local, and from the gear set's
-/// nominal start it can end in another basin than the calibration's fit did: on indepsim2's rigB5
-/// at 400 rpm the calibration's fit ended at stiffness.scale 0.725 and the reference's refit at
-/// the box's top 2, a held-out chi2 a third higher on the same recording (docs/diagnose-log.md,
-/// session 54). These values are therefore the reference fit's second start
-/// (DiagnoseOptions::nuisance_start_values: both fits run, the lower on the fit half is kept).
+/// nominal start it can end in another basin than the calibration's fit did. These values are
+/// therefore the reference fit's second start (DiagnoseOptions::nuisance_start_values: both fits
+/// run, the lower on the fit half is kept): the reference is never fitted worse on its fit half
+/// than from the nominal start alone.
 std::map<std::string, double> fitted_values(const Calibration& calibration, std::size_t at_recording);
 
 
