@@ -381,16 +381,17 @@ void diagnose_and_report(const DiagnoseCommandOptions& o_in, const std::string& 
     // shaft's mode: the calibration-only elements it kept) is the rig's at the reference too:
     // held at the values the calibration fitted on this reference, not refitted here nor taken
     // from the medians over the other operating points (§6a item 6).
-    std::vector<std::string> structure =
-        calibration ? diagnose::structural_rig_settings(*calibration, read_gear_set_config(o.common),
-                                                        reference->calibration_recording)
-                    : std::vector<std::string>{};
-    // Its design elements (an encoder's bandwidth) too, where the calibration's fit of this
-    // recording measured them within their boxes (calibration.hpp reference_design_settings).
-    if (calibration && reference->calibration_recording)
-      for (std::string& line : diagnose::reference_design_settings(*calibration, read_gear_set_config(o.common),
-                                                                   *reference->calibration_recording))
-        structure.push_back(std::move(line));
+    std::vector<std::string> structure;
+    if (calibration) {
+      const model::SimulationConfig gear_set = read_gear_set_config(o.common);
+      structure = diagnose::structural_rig_settings(*calibration, gear_set, reference->calibration_recording);
+      // Its design elements (an encoder's bandwidth) too, where the calibration's fit of this
+      // recording measured them within their boxes (calibration.hpp reference_design_settings).
+      if (reference->calibration_recording)
+        for (std::string& line :
+             diagnose::reference_design_settings(*calibration, gear_set, *reference->calibration_recording))
+          structure.push_back(std::move(line));
+    }
     DiagnoseCommandOptions ro = o;
     ro.common.assignments = structure;
     ro.common.assignments.insert(ro.common.assignments.end(), o.common.assignments.begin(), o.common.assignments.end());

@@ -180,12 +180,16 @@ std::vector<std::string> rig_element_settings(const std::vector<std::string>& ri
   return out;
 }
 
+std::map<std::string, double> fitted_values(const Calibration& calibration, std::size_t at_recording) {
+  return at_recording < calibration.fits.size() ? override_values(calibration.fits[at_recording].values)
+                                                : std::map<std::string, double>{};
+}
+
 std::vector<std::string> structural_rig_settings(const Calibration& calibration, const model::SimulationConfig& config,
                                                  std::optional<std::size_t> at_recording) {
   const std::map<std::string, double> median = override_values(calibration.overrides);
-  const std::map<std::string, double> own = at_recording && *at_recording < calibration.fits.size()
-                                                ? override_values(calibration.fits[*at_recording].values)
-                                                : std::map<std::string, double>{};
+  const std::map<std::string, double> own =
+      at_recording ? fitted_values(calibration, *at_recording) : std::map<std::string, double>{};
   std::vector<std::string> out;
   for (const std::string& name : calibration.rig_elements)
     if (const Candidate* c = find_candidate(name); c && c->calibration_only()) {
@@ -213,11 +217,6 @@ std::vector<std::string> reference_design_settings(const Calibration& calibratio
     for (std::string& line : applied_lines(*c, config, own)) out.push_back(std::move(line));
   }
   return out;
-}
-
-std::map<std::string, double> fitted_values(const Calibration& calibration, std::size_t at_recording) {
-  return at_recording < calibration.fits.size() ? override_values(calibration.fits[at_recording].values)
-                                                : std::map<std::string, double>{};
 }
 
 bool rig_elements_improve(const NestedFits& f, double alpha) {
