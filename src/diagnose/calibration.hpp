@@ -219,8 +219,9 @@ std::vector<std::string> structural_rig_settings(const Calibration& calibration,
 /// where that fit found it within its box (not in the fit's at_bound: a value at a bound is a
 /// limit, not a measurement). Without them the reference's own nuisance fit compensates for what
 /// they model: on indepsim2's rigB5 at 400 rpm (seed-21 corpus, docs/diagnose-log.md session 55)
-/// the reference without the calibration's 587 Hz encoder low-pass fitted stiffness.scale 1.99,
-/// at the top of its box; with it held, 0.71 (the calibration's own fit of that recording: 0.712).
+/// the reference without the calibration's 587 Hz encoder low-pass fitted stiffness.scale 2, the
+/// top of its box, and left a held-out chi2 of 3.10e6; with it held, 0.713 and 1.66e6 (the
+/// calibration's own fit of that recording: 0.712 and 1.66e6).
 /// A fault's change is computed in that model, and its signature depends on the stiffness and
 /// damping it is computed at. Empty without a fit of that recording.
 std::vector<std::string> reference_design_settings(const Calibration& calibration, const model::SimulationConfig& config,
