@@ -78,6 +78,7 @@ json candidate_json(const dg::CandidateResult& r, const std::vector<std::string>
   if (!r.failed.empty()) j["failed"] = r.failed;
   j["lm"] = r.lm_message;
   j["reason"] = r.reason;
+  if (!r.hold_refit.empty()) j["hold_refit"] = r.hold_refit;
   return j;
 }
 
@@ -341,7 +342,8 @@ void add_screening_and_candidates(Doc& doc, const dg::Diagnosis& d) {
       for (const auto& p : c.parameters)
         if (!p.nuisance) ps += (ps.empty() ? "" : "; ") + p.name + " = " + param_cell(p);
       t.push_back({std::to_string(rank++), c.name, c.variant, ps, g(c.delta_chi2_fit, 5), g(c.delta_chi2_held_out, 5),
-                   g(c.bic + c.bic_held_out, 6), c.reason});
+                   g(c.bic + c.bic_held_out, 6),
+                   c.hold_refit.empty() ? c.reason : c.reason + "; " + c.hold_refit});
     }
     doc.table(t);
   }

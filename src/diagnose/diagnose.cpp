@@ -105,6 +105,7 @@ public:
       try_nominal_mesh_phase();
       explain_ranking();
       if (d_.winner == 0) refine_winner();
+      if (d_.winner == 0) hold_nuisance_at_bound();
     }
     decide();
     check_changes_since_baseline();
@@ -926,6 +927,96 @@ private:
     d_.timing.phase_s = seconds_since(t);
     set_stage("step " + std::to_string(kSteps) + "/" + std::to_string(kSteps), "the lower limit of " + w.name);
     profile_saturating(ctx(), w, o_.alpha, [&](const std::string& s) { say(s); });
+  }
+
+  /// 12b. A lead whose joint fit moved a nuisance level to the edge of its box (verdict
+  /// condition (b)) is fitted once more with that level's candidate held at its start (the
+  /// reference's or the configuration's value), the other nuisance parameters free as before;
+  /// the refit replaces the lead if it still counts (step 10). If the refit moves another level
+  /// to its edge, that one is held too, and so on (at most every nuisance candidate once). The
+  /// verdict then judges the refit like any lead.
+  /// Why: a level at the edge of its box is a limit, not a measurement, so a finding that needs
+  /// it is not shown (condition (b)); but a level that ends there while the lead's own
+  /// parameters take the effect is often the fit absorbing model-form residual into a level
+  /// that the recording's physics did not change. Condition (b) asks whether the finding rests
+  /// on that limit, and the refit answers it: if the lead explains the recording with the level
+  /// unmoved, the limit was not needed. The refit has fewer free parameters and a fit-half chi2
+  /// no lower than the lead's, so every test it then faces (counting, (a), (d), (e)) is at least
+  /// as hard as the lead's own. Measured (docs/diagnose-log.md, session 56).
+  void hold_nuisance_at_bound() {
+    CandidateResult& w = d_.candidates.front();
+    const Candidate* cand = find_candidate(w.name);
+    if (!cand || cand->sensor_only() || !w.failed.empty() || any_saturates(cand->parameters(ctx().base))) return;
+    const auto tc = Clock::now();
+    std::vector<const Candidate*> held;  // nuisance candidates held at their starts
+    CandidateResult lead = w;
+    for (std::size_t pass = 0; pass < ctx().nuisance.size(); ++pass) {
+      const std::vector<const Candidate*> edge = nuisance_at_edge(lead);
+      if (edge.empty()) break;
+      held.insert(held.end(), edge.begin(), edge.end());
+      std::optional<CandidateResult> r = fit_holding(w, held);
+      if (!r) return;
+      d_.rule += " The lead " + w.name + "'s joint fit ended with a nuisance level it moved at the edge of its box; " +
+                 r->hold_refit + ".";
+      if (!r->counts()) {
+        w.hold_refit = r->hold_refit;
+        return;
+      }
+      lead = std::move(*r);
+    }
+    if (held.empty()) return;
+    lead.evidence_z = w.evidence_z;
+    lead.predicted_improvement = w.predicted_improvement;
+    lead.start_step_fraction = w.start_step_fraction;
+    lead.simulations += w.simulations;
+    lead.seconds = w.seconds + seconds_since(tc);
+    lead.reason = ranking_reason(lead, true, 0);
+    w = std::move(lead);
+  }
+
+  /// The nuisance candidates owning a parameter that r's joint fit moved to a bound (moved_nuisance_at_bound).
+  std::vector<const Candidate*> nuisance_at_edge(const CandidateResult& r) {
+    const std::vector<std::string> names = moved_nuisance_at_bound(r, normal_quantile(o_.alpha / 2));
+    std::vector<const Candidate*> out;
+    for (const Candidate* n : ctx().nuisance)
+      for (const ParameterSpec& ps : n->parameters(ctx().base))
+        if (std::find(names.begin(), names.end(), ps.name) != names.end()) {
+          out.push_back(n);
+          break;
+        }
+    return out;
+  }
+
+  /// The lead w fitted again with the nuisance candidates `held` left at ctx.base's values (the
+  /// starts of their specs), from w's own values and its other nuisance values; assessed.
+  std::optional<CandidateResult> fit_holding(const CandidateResult& w, const std::vector<const Candidate*>& held) {
+    std::vector<std::vector<ParameterSpec>> specs;
+    std::vector<bool> hold;
+    for (const Candidate* n : ctx().nuisance) {
+      specs.push_back(n->parameters(ctx().base));
+      hold.push_back(std::find(held.begin(), held.end(), n) != held.end());
+    }
+    const SplitParameters s = split_parameters(w, ctx().nuisance_x);
+    const HeldNuisance hn = hold_nuisance(specs, hold, ctx().nuisance_x, s.nuisance);
+    FitContext h = ctx();
+    h.nuisance.clear();
+    for (std::size_t c : hn.free) h.nuisance.push_back(ctx().nuisance[c]);
+    h.nuisance_x = hn.fitted;
+    std::vector<double> x0 = s.own;
+    x0.insert(x0.end(), hn.start.begin(), hn.start.end());
+    std::string list;
+    for (const std::string& t : hn.held) list += (list.empty() ? "" : ", ") + t;
+    say("refitting " + w.name + " with " + list + " held (its joint fit ended at the edge of the box)");
+    std::optional<CandidateResult> r =
+        try_fit_model(h, find_candidate(w.name), w.chosen, true, 1, o_.max_iterations, x0);
+    if (!r) return r;
+    assess(*r);
+    for (const std::string& t : hn.held) r->overrides.push_back(t);
+    r->hold_refit = "refitted with " + list + " held at the start (the joint fit ended at the edge of the box): " +
+                    (r->counts() ? "it counts, and the refit is judged" : "it does not count then") +
+                    " (fit-half chi2 " + fmt("%.0f", r->fit.chi2) + ", held out " + fmt("%.0f", r->held_out.chi2) + ")";
+    say("  " + r->hold_refit);
+    return r;
   }
 
   /// A candidate's held-out chi2 as the verdict judges its lead, and the 1 - alpha/2 quantile of

@@ -170,6 +170,9 @@ struct CandidateResult {
   std::string lm_message;
   std::string failed;                    ///< non-empty: why it could not be fitted
   std::string reason;                    ///< why it won or lost
+  /// The lead refitted with its nuisance levels at a box edge held (docs/diagnose.md §5, step
+  /// 12b): what was held and how the refit did; empty when there was no such refit.
+  std::string hold_refit;
   model::SimulationConfig config;
   Variant chosen;                        ///< the variant fitted
   std::vector<double> gains;             ///< per channel (housing gain factors on the model's 1 N -> m/s^2)

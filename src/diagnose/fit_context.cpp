@@ -108,6 +108,29 @@ SplitParameters split_parameters(const CandidateResult& r, const std::vector<dou
   return s;
 }
 
+HeldNuisance hold_nuisance(const std::vector<std::vector<ParameterSpec>>& specs, const std::vector<bool>& hold,
+                           std::span<const double> fitted, std::span<const double> start) {
+  HeldNuisance h;
+  std::size_t k = 0;
+  for (std::size_t c = 0; c < specs.size(); ++c) {
+    const bool held = c < hold.size() && hold[c];
+    if (!held) h.free.push_back(c);
+    for (const ParameterSpec& ps : specs[c]) {
+      if (k >= fitted.size() || k >= start.size())
+        throw SolverError("hold_nuisance: " + std::to_string(fitted.size()) + " fitted and " +
+                          std::to_string(start.size()) + " start values for more nuisance parameters");
+      if (held) {
+        h.held.push_back(ps.name + "=" + format_value(ps.initial));
+      } else {
+        h.fitted.push_back(fitted[k]);
+        h.start.push_back(start[k]);
+      }
+      ++k;
+    }
+  }
+  return h;
+}
+
 namespace {
 
 std::vector<FittedParameter> describe(const std::vector<ParameterSpec>& specs, const LmResult& r, std::size_t offset,

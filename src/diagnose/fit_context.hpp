@@ -108,6 +108,19 @@ struct SplitParameters {
 };
 SplitParameters split_parameters(const CandidateResult& r, const std::vector<double>& fixed_nuisance);
 
+/// The nuisance vector with some nuisance candidates held (docs/diagnose.md §5, step 12b):
+/// `specs[c]` the parameters of nuisance candidate c in the order of the vectors, `hold[c]` whether
+/// it is held. Of `fitted` (ctx.nuisance_x) and `start` (a fit's nuisance values) the free
+/// candidates' entries are kept, in order; each held parameter is listed as "key=value" at its
+/// spec's initial value (ctx.base's, where ctx.make leaves a key that no fitted candidate sets).
+struct HeldNuisance {
+  std::vector<std::size_t> free;      ///< indices of the candidates still fitted
+  std::vector<double> fitted, start;  ///< their entries of `fitted` and `start`
+  std::vector<std::string> held;      ///< "key=value" of every held parameter
+};
+HeldNuisance hold_nuisance(const std::vector<std::vector<ParameterSpec>>& specs, const std::vector<bool>& hold,
+                           std::span<const double> fitted, std::span<const double> start);
+
 /// Fits `cand` (null: the nuisance parameters alone) with variant v by bounded LM on the fit
 /// half. joint: the nuisance parameters are fitted too (else fixed at ctx.nuisance_x). Starts
 /// at x_start if given (own values, then the nuisance ones). Throws SolverError if the model

@@ -508,6 +508,13 @@ bool recalibrated(const FittedParameter& p, double z) {
          shift > kRecalibration * std::fabs(p.initial);
 }
 
+std::vector<std::string> moved_nuisance_at_bound(const CandidateResult& r, double z) {
+  std::vector<std::string> out;
+  for (const FittedParameter& p : r.parameters)
+    if (p.nuisance && !is_sensor_gain(p) && p.at_bound && recalibrated(p, z)) out.push_back(p.name);
+  return out;
+}
+
 bool change_since_baseline_testable(bool has_baseline, Verdict verdict, const std::vector<CandidateResult>& candidates) {
   if (!has_baseline) return false;
   if (verdict == Verdict::NoMissingPhysics) return true;

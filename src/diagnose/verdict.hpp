@@ -77,6 +77,11 @@ namespace pw::diagnose {
 /// value moved from initial by > z standard errors and > kRecalibration relative.
 bool recalibrated(const FittedParameter& p, double z);
 
+/// The nuisance parameters of r's joint fit that condition (b) withholds a name for and a held
+/// refit can hold (docs/diagnose.md §5, step 12b): moved (recalibrated at z) and at a bound of
+/// their box. Housing gains are profiled, not fitted, and are never listed.
+std::vector<std::string> moved_nuisance_at_bound(const CandidateResult& r, double z);
+
 /// What the verdict needs beyond the Diagnosis itself.
 struct VerdictInputs {
   /// Nuisance-fitted held-out chi2 within bound_held_out (the fit half is not required: its

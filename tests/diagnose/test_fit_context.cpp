@@ -47,5 +47,36 @@ TEST(ModelFormRange, WithoutABudgetItIsTheNoisesIntervalKeptInTheBox) {
   EXPECT_NEAR(nan.upper, 0.6 + kZ * 0.01, 1e-12);
 }
 
+TEST(HoldNuisance, AHeldCandidateLeavesTheVectorsWithAllItsParametersAtTheirSpecsStarts) {
+  auto spec = [](const std::string& name, double initial) {
+    ParameterSpec p;
+    p.name = name;
+    p.initial = initial;
+    return p;
+  };
+  // Three nuisance candidates of 1, 2 and 1 parameters; the two-parameter one is held.
+  const std::vector<std::vector<ParameterSpec>> specs = {
+      {spec("stiffness.scale", 1.0)},
+      {spec("rig.input_shaft_stiffness_N_m_rad", 2e4), spec("rig.input_shaft_damping_N_m_s_rad", 4.0)},
+      {spec("contact.mesh_damping_ratio", 0.05)}};
+  const std::vector<double> fitted = {1.1, 3e4, 5.0, 0.07}, start = {1.2, 3.5e4, 6.0, 0.25};
+  const HeldNuisance h = hold_nuisance(specs, {false, true, false}, fitted, start);
+  EXPECT_EQ(h.free, (std::vector<std::size_t>{0, 2}));
+  EXPECT_EQ(h.fitted, (std::vector<double>{1.1, 0.07}));
+  EXPECT_EQ(h.start, (std::vector<double>{1.2, 0.25}));
+  ASSERT_EQ(h.held.size(), 2u);
+  EXPECT_EQ(h.held[0].rfind("rig.input_shaft_stiffness_N_m_rad=", 0), 0u);
+  EXPECT_DOUBLE_EQ(std::stod(h.held[0].substr(h.held[0].find('=') + 1)), 2e4);
+  EXPECT_DOUBLE_EQ(std::stod(h.held[1].substr(h.held[1].find('=') + 1)), 4.0);
+  // Nothing held: the vectors as they were.
+  const HeldNuisance none = hold_nuisance(specs, {false, false, false}, fitted, start);
+  EXPECT_EQ(none.fitted, fitted);
+  EXPECT_EQ(none.start, start);
+  EXPECT_TRUE(none.held.empty());
+  // Vectors shorter than the specs are refused, not read past their end.
+  EXPECT_THROW(hold_nuisance(specs, {true, false, false}, std::vector<double>{1.0}, std::vector<double>{1.0}),
+               SolverError);
+}
+
 } // namespace
 } // namespace pw::diagnose

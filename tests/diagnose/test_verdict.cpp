@@ -90,6 +90,23 @@ VerdictInputs inputs(double lead_bound) {
   return in;
 }
 
+TEST(Verdict, TheHeldRefitHoldsOnlyMovedNuisanceParametersAtABoundNeverTheLeadsOwnOrAHousingGain) {
+  // z = 2.576 (alpha = 0.01): a move counts beyond 2.576 standard errors and 5 % of the start.
+  CandidateResult c = counting_friction().candidates.front();
+  c.parameters = {parameter("contact.friction_coefficient", 0.3, 0.001, 0.0, 0.3, 0.06, false),  // own, at bound
+                  parameter("stiffness.scale", 2.0, 0.001, 0.5, 2.0, 1.0, true),                 // moved, at bound
+                  parameter("contact.mesh_damping_ratio", 0.25, 0.2, 0.01, 0.25, 0.2, true),     // at bound, within its error
+                  parameter("rig.input_shaft_stiffness_N_m_rad", 3e4, 10, 1e3, 1e5, 2e4, true),  // moved, inside
+                  parameter("sensor.gain_m_s2_per_N", 9.0, 0.01, 0.0, 9.0, 1.0, true)};          // a housing gain
+  c.parameters[0].at_bound = c.parameters[1].at_bound = c.parameters[2].at_bound = c.parameters[4].at_bound = true;
+  c.parameters[4].sensor_gain = true;  // profiled per channel, at the edge of its search
+  const double z = 2.5758293035489;
+  EXPECT_EQ(moved_nuisance_at_bound(c, z), std::vector<std::string>{"stiffness.scale"});
+  // A shift within 5 % of the start is no move however small its error.
+  c.parameters[1].value = 1.04;
+  EXPECT_TRUE(moved_nuisance_at_bound(c, z).empty());
+}
+
 TEST(Verdict, WinnerWithinItsOwnBoundIsNamed) {
   Diagnosis d = counting_friction();
   decide_verdict(d, inputs(1110));
