@@ -950,12 +950,14 @@ private:
     const auto tc = Clock::now();
     std::vector<const Candidate*> held;  // nuisance candidates held at their starts
     CandidateResult lead = w;
+    int simulations = w.simulations;  // the winner's and every refit's
     for (std::size_t pass = 0; pass < ctx().nuisance.size(); ++pass) {
       const std::vector<const Candidate*> edge = nuisance_at_edge(lead);
       if (edge.empty()) break;
       held.insert(held.end(), edge.begin(), edge.end());
       std::optional<CandidateResult> r = fit_holding(w, held);
       if (!r) return;
+      simulations += r->simulations;
       d_.rule += " The lead " + w.name + "'s joint fit ended with a nuisance level it moved at the edge of its box; " +
                  r->hold_refit + ".";
       if (!r->counts()) {
@@ -968,7 +970,7 @@ private:
     lead.evidence_z = w.evidence_z;
     lead.predicted_improvement = w.predicted_improvement;
     lead.start_step_fraction = w.start_step_fraction;
-    lead.simulations += w.simulations;
+    lead.simulations = simulations;
     lead.seconds = w.seconds + seconds_since(tc);
     lead.reason = ranking_reason(lead, true, 0);
     w = std::move(lead);
