@@ -973,6 +973,7 @@ private:
     lead.simulations = simulations;
     lead.seconds = w.seconds + seconds_since(tc);
     lead.reason = ranking_reason(lead, true, 0);
+    unheld_winner_ = std::move(w);
     w = std::move(lead);
   }
 
@@ -1102,9 +1103,33 @@ private:
 
   /// The verdict (verdict.hpp): the best candidate is named only if its own fitted model
   /// explains the held-out half within its Monte-Carlo null and nothing it rests on sits at a bound.
+  /// A held refit (step 12b) that is not named gives the lead back to the winner as it was fitted:
+  /// it fits better, and what the report offers as the closest explanation and its share of the
+  /// excess is that fit's, withheld by condition (b) as before the refit; the refit's outcome is
+  /// kept in its hold_refit and in the decision rule.
   void decide() {
     set_stage("verdict", "the verdict");
     enter(kVerdictStep);
+    if (!unheld_winner_) {
+      decide_on_front();
+      return;
+    }
+    const Diagnosis before = d_;
+    decide_on_front();
+    if (d_.verdict == Verdict::MissingPhysicsFound) return;
+    const std::string why = d_.lead.failed;
+    d_ = before;
+    CandidateResult& w = d_.candidates.front();
+    unheld_winner_->hold_refit = w.hold_refit + "; the refit is not named either (" + why + ")";
+    w = std::move(*unheld_winner_);
+    unheld_winner_.reset();
+    d_.rule += " The refit is not named (" + why + "); the lead is the winner as fitted.";
+    say("the held refit is not named (" + why + "): the lead is the winner as fitted");
+    decide_on_front();
+  }
+
+  /// decide_verdict on the candidates as ranked, the front one scored at its own model.
+  void decide_on_front() {
     VerdictInputs vin;
     vin.noise_consistent = consistent_;
     vin.alpha = o_.alpha;
@@ -1480,6 +1505,8 @@ private:
   CompareOptions co_;
   std::optional<ModelComparison> cmp_;
   std::optional<FitContext> ctx_;
+  /// The winner as fitted, when a held refit (step 12b) replaced it; decide() falls back to it.
+  std::optional<CandidateResult> unheld_winner_;
   Diagnosis d_;
   std::shared_ptr<const ModelSpectra> nominal_;  ///< the gear set as given, at the recording's speed
   bool consistent_ = false;                      ///< noise test passed on the held-out half
