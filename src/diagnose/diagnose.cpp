@@ -940,9 +940,9 @@ private:
   /// parameters take the effect is often the fit absorbing model-form residual into a level
   /// that the recording's physics did not change. Condition (b) asks whether the finding rests
   /// on that limit, and the refit answers it: if the lead explains the recording with the level
-  /// unmoved, the limit was not needed. The refit has fewer free parameters and a fit-half chi2
-  /// no lower than the lead's, so every test it then faces (counting, (a), (d), (e)) is at least
-  /// as hard as the lead's own. Measured (docs/diagnose-log.md, session 56).
+  /// unmoved, the limit was not needed. The refit is a model with fewer free parameters and faces
+  /// every test the winner faced (counting, (a), (c), (d), (e)); no threshold is new. Measured
+  /// (docs/diagnose-log.md, session 56).
   void hold_nuisance_at_bound() {
     CandidateResult& w = d_.candidates.front();
     const Candidate* cand = find_candidate(w.name);
