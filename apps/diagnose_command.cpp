@@ -416,6 +416,7 @@ void diagnose_and_report(const DiagnoseCommandOptions& o_in, const std::string& 
     opt.compare.baseline = baseline->cells;
     opt.compare.discrepancy = baseline->budgets;
     opt.baseline_gains = baseline->gains;
+    opt.baseline_limits = baseline->limits;
   }
   const Inputs in = read_inputs(o);
   const diagnose::Diagnosis d = diagnose::diagnose(in.recording, in.config, opt);

@@ -66,6 +66,13 @@ std::vector<std::string> bound_texts(const std::vector<FittedParameter>& paramet
   return out;
 }
 
+std::map<std::string, int> bound_ends(const std::vector<FittedParameter>& parameters) {
+  std::map<std::string, int> out;
+  for (const FittedParameter& p : parameters)
+    if (p.at_bound && !p.sensor_gain) out[p.name] = p.nearer_bound() == p.upper ? 1 : -1;
+  return out;
+}
+
 BaselineReference fit_baseline(const Recording& baseline, const model::SimulationConfig& config,
                                DiagnoseOptions options, BaselineTransfer transfer, HealthyFit weighting) {
   const HealthyFitResult fits = fit_healthy(baseline, config, options, weighting);
@@ -88,6 +95,7 @@ BaselineReference fit_baseline(const Recording& baseline, const model::Simulatio
   ref.revolutions = d.window_revolutions;
   ref.noise_test = noise.verdict;
   ref.at_bound = bound_texts(d.nuisance.parameters);
+  ref.limits = bound_ends(d.nuisance.parameters);
   char buf[400];
   std::snprintf(buf, sizeof buf,
                 "baseline at %.6g rpm, %zu cells; its nuisance-fitted model leaves chi2 %.0f (held out) against a "

@@ -49,11 +49,16 @@ struct BaselineReference {
   /// upper bound 2"): limits, not fits. The model the recording's change is judged by then cannot
   /// reach the baseline's level, and a finding's size is stated against that limited model.
   std::vector<std::string> at_bound;
+  /// The same parameters by configuration key: +1 at the upper end of the box, -1 at the lower
+  /// (DiagnoseOptions::baseline_limits).
+  std::map<std::string, int> limits;
 };
 
 /// "<name> at its upper|lower bound <value>" for each parameter at a bound (the nearer end;
 /// sensor gains have no box and are skipped).
 std::vector<std::string> bound_texts(const std::vector<FittedParameter>& parameters);
+/// The same parameters as bound_texts, by name: +1 at the upper bound, -1 at the lower.
+std::map<std::string, int> bound_ends(const std::vector<FittedParameter>& parameters);
 
 /// Offset of one cell: the mean over both halves of the de-biased amplitude sqrt(max(A^2 - s^2, 0))
 /// (the estimator the comparison uses for the recording's own variances) minus the fitted model's

@@ -1431,6 +1431,12 @@ private:
     const ParameterSpec spec = cand->parameters(ctx().base).front();
     p.lower = spec.lower, p.upper = spec.upper, p.initial = lc.baseline_value;
     p.moved = true;
+    const auto limit = o_.baseline_limits.find(lc.parameter);
+    const std::string one_sided = one_sided_ratio_note(lc.parameter, lc.baseline_value, lc.rho,
+                                                       limit == o_.baseline_limits.end() ? 0 : limit->second);
+    if (!one_sided.empty())
+      p.size_conditional_on = "the baseline's " + lc.parameter + " at the " + (limit->second > 0 ? "upper" : "lower") +
+                              " edge of its box, a limit: a bound on the change";
     w.parameters = {p};
     w.own_parameters = 1;
     w.fit.chi2 = lc.chi2_fit;
@@ -1444,7 +1450,8 @@ private:
     d_.final_overrides = lc.overrides;
     d_.summary = "Missing physics: " + lc.candidate + " (changed since the baseline) — " + lc.parameter + " = " +
                  fmt("%.4g", p.value) + " ± " + fmt("%.2g", p.std_error) + ", x" + fmt("%.3g", lc.rho) +
-                 " the baseline's " + fmt("%.4g", lc.baseline_value) + "; chi2 " + fmt("%.0f", lc.chi2_fit_1) + " -> " +
+                 " the baseline's " + fmt("%.4g", lc.baseline_value) + (one_sided.empty() ? "" : " (" + one_sided + ")") +
+                 "; chi2 " + fmt("%.0f", lc.chi2_fit_1) + " -> " +
                  fmt("%.0f", lc.chi2_fit) + " on the fit half and " + fmt("%.0f", lc.chi2_held_1) + " -> " +
                  fmt("%.0f", lc.chi2_held) + " held out (against its own null " + fmt("%.0f", own.held_out_chi2) +
                  " <= " + fmt("%.0f", own.bound_held_out) + "). Everything else is as in the baseline: the gears' " +

@@ -69,6 +69,10 @@ struct DiagnoseOptions {
   /// N] (BaselineReference::gains). A recording whose model needs another gain, and fits with it,
   /// has a changed sensor path (DiagnosisRun::check_changes_since_baseline). Empty: no baseline.
   std::map<std::string, double> baseline_gains;
+  /// Differential diagnosis: the baseline's nuisance values that ended at an edge of their box, by
+  /// configuration key (+1 the upper edge, -1 the lower; BaselineReference::limits). A level
+  /// changed since the baseline is then a ratio to a limit, not to a fit: one-sided.
+  std::map<std::string, int> baseline_limits;
   /// Candidates fitted with the nuisance parameters instead of screened as findings (calibration
   /// fits the rig elements the documentation is silent on, e.g. "encoder_bandwidth").
   std::vector<std::string> extra_nuisance;

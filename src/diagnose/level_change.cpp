@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <cstdio>
 #include <limits>
 
 namespace pw::diagnose {
@@ -73,6 +74,18 @@ LevelChange fit_level_change(const FitContext& ctx, std::size_t index, const std
   out.config = config_at(x, &out.overrides);
   out.simulations = static_cast<int>(sims.load());
   return out;
+}
+
+std::string one_sided_ratio_note(const std::string& parameter, double baseline_value, double rho, int end) {
+  if (end == 0) return {};
+  char buf[400];
+  std::snprintf(buf, sizeof buf,
+                "the baseline's %s = %.4g is the %s edge of its box, a limit and not a fit: against the level the "
+                "baseline's fit asked for, beyond that edge, the ratio would be %s than x%.3g, so x%.3g is a bound "
+                "on the change, not its size",
+                parameter.c_str(), baseline_value, end > 0 ? "upper" : "lower", end > 0 ? "smaller" : "larger", rho,
+                rho);
+  return buf;
 }
 
 } // namespace pw::diagnose

@@ -54,4 +54,13 @@ inline constexpr double kLevelCurvatureStep = 0.02;
 /// A nuisance candidate of more than one parameter is not a level: failed.
 LevelChange fit_level_change(const FitContext& ctx, std::size_t index, const std::vector<double>& gains);
 
+/// What a level's ratio rho means when the baseline's value is an edge of its box, not a fit
+/// (`end`: +1 the upper edge, -1 the lower; 0: a fit, empty text). The baseline's own fit asked
+/// for a level beyond the edge, so against that level the recording's (fitted inside its box)
+/// would read a smaller ratio (upper edge) or a larger one (lower edge): rho is a bound on the
+/// change, not its size. Why: on the independent corpus a stiffness level x0.75 read x0.871 of a
+/// baseline whose stiffness.scale sat at its upper bound 2 (indepsim fresh4p rec_13, session 56),
+/// and the summary stated it as a size.
+std::string one_sided_ratio_note(const std::string& parameter, double baseline_value, double rho, int end);
+
 } // namespace pw::diagnose
