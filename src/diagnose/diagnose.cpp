@@ -1092,6 +1092,7 @@ private:
     vin.counting_alias = a.name;
     vin.alias_counts = a.fitted;
     vin.alias_mesh_shape = a.mesh_shape;
+    vin.alias_shape_family = a.shape_family;
     if (!a.fitted) return;
     // A counting near-alias blocks the name whether or not it passes the lead's test (a) too
     // (verdict.cpp, condition (e)); its score at its own model is computed for the reason.

@@ -233,6 +233,11 @@ std::string alias_reason(const VerdictInputs& in) {
           : "held-out chi2 " + fmt("%.0f", in.alias_held_out_chi2) +
                 (in.alias_held_out_chi2 <= in.alias_bound_held_out ? " <= " : " > ") +
                 fmt("%.0f", in.alias_bound_held_out) + " " + at;
+  if (in.alias_mesh_shape && in.alias_shape_family == Component::Sun)
+    return in.counting_alias + " explains the excess too (it improves both halves; " + score +
+           "): both put their lines in the sun family alone, and what tells them apart -- how the change is shared "
+           "among the family's orders -- is the transfer the model's form fixes, uncertain under the budget by more "
+           "than the difference";
   if (in.alias_mesh_shape)
     return in.counting_alias + " explains the excess too (it improves both halves; " + score +
            "): both change the mesh harmonics alone, and what tells them apart -- how the change is shared among "
@@ -564,7 +569,18 @@ NearAlias blocking_near_alias(const std::vector<CandidateResult>& ranked, const 
     // change among the harmonics and channels: the shape the stiffness law fixes, and two
     // plausible laws give harmonics 2-5 differing by factors 0.07-8 (docs/diagnose-log.md,
     // session 21). Under a budget that shape is model-form error, not evidence.
-    const bool mesh_shape = acts_on_mesh_harmonics_only(*lc) && acts_on_mesh_harmonics_only(*ac);
+    // A damaged sun tooth and a sun runout are such a pair in the sun family: each meets every
+    // planet once per sun-relative revolution and puts its lines in that family alone, in every
+    // channel; what tells them apart is how the change is shared among the family's orders (a
+    // pulse against a sinusoid), i.e. the transfer across those orders, which the model gets
+    // wrong by factors of 3-45 on the independent simulator's sun tooth (indepsim2 rigA3 rec_02,
+    // session 57). Measured: with a baseline's budget a sun tooth at 1100 rpm was named
+    // sun_runout (indepsim2 seed 47 rigB5 rec_06, docs/diagnose-log.md session 55), another led by
+    // it (seed 61 rec_11), and the runout improved both halves beside every sun-family lead of the
+    // four corpora of session 56. Other one-family pairs are not aliases: the carrier family's
+    // ring tooth changes the speeds too, a transfer path only the housing channel.
+    const std::optional<Component> lf = sole_family(*lc), af = sole_family(*ac);
+    const bool mesh_shape = lf && af && *lf == *af && (*lf == Component::Mesh || *lf == Component::Sun);
     // A displacement alias must count. A mesh-shape rival need only explain the excess on both
     // halves: one whose level moved by less than kRecalibration does not count as a finding, but
     // it still shows the excess is what a small level change absorbs (session 22: a stiffness
@@ -574,6 +590,7 @@ NearAlias blocking_near_alias(const std::vector<CandidateResult>& ranked, const 
     out.index = k;
     out.fitted = true;
     out.mesh_shape = !alias;
+    if (out.mesh_shape) out.shape_family = *lf;
     return out;
   }
   // No fitted alias counts. One whose fit failed to converge from its own start (held-out

@@ -113,6 +113,9 @@ struct VerdictInputs {
   /// harmonics' shape), not because one's parameters map onto the other's; it then need only
   /// improve both halves beyond its threshold, not count.
   bool alias_mesh_shape = false;
+  /// The family both act on alone when alias_mesh_shape (Mesh: the harmonics' shape; Sun: how the
+  /// change is shared among the sun family's orders).
+  Component alias_shape_family = Component::Mesh;
   double alias_held_out_chi2 = std::numeric_limits<double>::quiet_NaN();
   double alias_bound_held_out = std::numeric_limits<double>::quiet_NaN();
   double alpha = 0.01;
@@ -129,7 +132,8 @@ struct VerdictInputs {
 /// first candidate in ranked order that
 ///  * is a displacement near-alias of the lead (Candidate::start_from maps one's own parameters
 ///    onto the other's: pin errors and a carrier runout) and counts; or
-///  * acts on the mesh harmonics alone, as the lead does (acts_on_mesh_harmonics_only), and
+///  * acts on one family alone, the same as the lead's, that family being the mesh harmonics
+///    (acts_on_mesh_harmonics_only) or the sun's (a damaged sun tooth and a sun runout), and
 ///    improves both halves beyond its threshold (significant && holds), counting or not;
 /// fitted candidates that failed, and variants of the lead's own name, are never rivals. If no
 /// fitted one blocks, a displacement near-alias of the lead in the library that was screened
@@ -139,7 +143,8 @@ struct NearAlias {
   std::string name;         ///< empty: nothing blocks
   std::size_t index = 0;    ///< into `ranked` when fitted
   bool fitted = false;      ///< a fitted candidate (else a library alias, unscored)
-  bool mesh_shape = false;  ///< a mesh-harmonics rival rather than a displacement alias
+  bool mesh_shape = false;  ///< a one-family shape rival (see shape_family) rather than a displacement alias
+  Component shape_family = Component::Mesh;  ///< the family a shape rival and the lead act on alone
 };
 NearAlias blocking_near_alias(const std::vector<CandidateResult>& ranked, const std::vector<double>& nuisance_x,
                               const model::SimulationConfig& base,

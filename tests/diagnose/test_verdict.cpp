@@ -704,6 +704,34 @@ TEST(NearAlias, AScreenedLibraryAliasWhoseFitDidNotCountBlocksUnscoredAndOnlyThe
   EXPECT_TRUE(blocking_near_alias(tooth, kNuisance, three_planets(), all_screened).name.empty());
 }
 
+TEST(NearAlias, ASunToothAndASunRunoutAreShapeRivalsInTheSunFamilyButARingToothAndATransferPathAreNot) {
+  // Both put their lines in the sun family alone: a runout that improves both halves blocks a
+  // sun-tooth lead even with its eccentricity within its errors of 'absent', and the other way.
+  const std::vector<CandidateResult> tooth = {fitted("sun_tooth_damage", 1, true, true, true),
+                                              fitted("sun_runout", 1, true, true, false)};
+  const NearAlias a = blocking_near_alias(tooth, kNuisance, three_planets(), none_screened);
+  EXPECT_EQ(a.name, "sun_runout");
+  EXPECT_TRUE(a.fitted);
+  EXPECT_TRUE(a.mesh_shape);
+  EXPECT_EQ(a.shape_family, Component::Sun);
+  const std::vector<CandidateResult> runout = {fitted("sun_runout", 1, true, true, true),
+                                               fitted("sun_tooth_damage", 1, true, true, true)};
+  EXPECT_EQ(blocking_near_alias(runout, kNuisance, three_planets(), none_screened).name, "sun_tooth_damage");
+  // One that does not hold on the held-out half does not block.
+  const std::vector<CandidateResult> weak = {fitted("sun_tooth_damage", 1, true, true, true),
+                                             fitted("sun_runout", 1, true, false, true)};
+  EXPECT_TRUE(blocking_near_alias(weak, kNuisance, three_planets(), none_screened).name.empty());
+  // The carrier family's one-family members differ by channel (a ring tooth changes the speeds, a
+  // transfer path the housing channel alone): no shape rivals.
+  const std::vector<CandidateResult> ring = {fitted("ring_tooth_damage", 1, true, true, true),
+                                             fitted("sensor_transfer_path", 1, true, true, true)};
+  EXPECT_TRUE(blocking_near_alias(ring, kNuisance, three_planets(), none_screened).name.empty());
+  // A planet tooth (the planet family) and a sun runout act on different families.
+  const std::vector<CandidateResult> planet = {fitted("planet_tooth_damage", 1, true, true, true),
+                                               fitted("sun_runout", 1, true, true, true)};
+  EXPECT_TRUE(blocking_near_alias(planet, kNuisance, three_planets(), none_screened).name.empty());
+}
+
 } // namespace
 } // namespace pw::diagnose
 
@@ -742,6 +770,40 @@ VerdictInputs with_alias(const std::string& alias) {
 }
 
 } // namespace
+
+TEST(Verdict, ASunToothAndASunRunoutTheBudgetCannotTellApartNameTheClassSunDefectWithoutASize) {
+  // indepsim2 seed 61 rigB5 rec_11 (session 56): a sun tooth led by a sun runout, the tooth
+  // improving both halves beside it. With every condition of the lead's own met, the class is
+  // the finding; it states no size (a stiffness factor and an eccentricity are not one size).
+  Diagnosis d = counting_friction();
+  CandidateResult& w = d.candidates.front();
+  w.name = "sun_runout";
+  w.physics = "the sun is eccentric";
+  w.parameters.front() = parameter("sun_eccentricity_m", 2e-6, 1e-7, 1e-8, 4e-5, 1e-8, false);
+  w.bic = 1200;
+  w.bic_held_out = 1150;
+  CandidateResult tooth = w;
+  tooth.name = "sun_tooth_damage";
+  tooth.parameters.front() = parameter("stiffness_factor", 0.87, 0.01, 0.05, 1.0, 1.0, false);
+  tooth.bic_held_out += 400;  // far behind in BIC: only (e) blocks
+  d.candidates.push_back(tooth);
+  VerdictInputs in = with_alias("sun_tooth_damage");
+  in.alias_mesh_shape = true;
+  in.alias_shape_family = Component::Sun;
+  decide_verdict(d, in);
+  EXPECT_EQ(d.verdict, Verdict::MissingPhysicsFound) << d.summary;
+  EXPECT_EQ(d.lead.named_class, "sun_defect");
+  EXPECT_TRUE(d.lead.class_size.empty());
+  EXPECT_EQ(d.summary.rfind("Missing physics: sun_defect — ", 0), 0u) << d.summary;
+  EXPECT_NE(d.lead.failed.find("both put their lines in the sun family alone"), std::string::npos) << d.lead.failed;
+  // Without the alias the runout is named alone, as before.
+  Diagnosis alone = d;
+  alone.candidates.pop_back();
+  alone.lead = {};
+  decide_verdict(alone, inputs(1110));
+  EXPECT_EQ(alone.verdict, Verdict::MissingPhysicsFound) << alone.summary;
+  EXPECT_TRUE(alone.lead.named_class.empty());
+}
 
 TEST(Verdict, ARunoutAndAPinPatternTheDataCannotTellApartNameTheirClassWithTheSizeAsPinErrors) {
   // The independent corpus's eight planet-position recordings (docs/diagnose-log.md, session 36):

@@ -205,6 +205,14 @@ FindingClass planet_position_class();
 /// coefficient and a wear depth are not one size.
 FindingClass tooth_contact_class();
 
+/// The sun carries a defect that meets each planet once per sun-relative revolution: a damaged
+/// tooth or a runout. Both put their lines in the sun family alone, in every channel; what tells
+/// them apart is how the change is shared among the family's orders (a pulse spreads over many, an
+/// eccentricity's sinusoid stays near the first), and that is the transfer the model's form fixes
+/// (verdict.hpp, condition (e)). No canonical member: a stiffness factor and an eccentricity are
+/// not one size.
+FindingClass sun_defect_class();
+
 /// The class of the candidate called `name`; nullopt if it has none or is not in the library.
 std::optional<FindingClass> finding_class_of(const std::string& name);
 
@@ -212,6 +220,9 @@ std::optional<FindingClass> finding_class_of(const std::string& name);
 /// candidates differ only in how their change is shared among the harmonics and channels, the
 /// shape the stiffness law fixes (verdict condition (e), docs/diagnose.md §5 step 10).
 bool acts_on_mesh_harmonics_only(const Candidate& c);
+
+/// The one family a candidate's lines lie in, when they lie in one alone (nullopt: several or none).
+std::optional<Component> sole_family(const Candidate& c);
 
 /// A double for override strings: the shortest text that reads back exactly (core/format.hpp).
 std::string format_value(double v);

@@ -90,9 +90,24 @@ FindingClass tooth_contact_class() {
           .covers = {"friction", "worn_profile", "tip_relief", "backlash", "stiffness_level", "damping_level"}};
 }
 
+FindingClass sun_defect_class() {
+  return {.name = "sun_defect",
+          .physics = "the sun carries a defect that meets each planet once per sun-relative revolution -- a damaged "
+                     "tooth or a runout: both put their lines in the sun family alone, and what tells them apart, how "
+                     "the change is shared among the family's orders, is the transfer the model's form fixes",
+          .canonical = "",
+          .covers = {"sun_tooth_damage", "sun_runout"}};
+}
+
 std::optional<FindingClass> finding_class_of(const std::string& name) {
   const Candidate* c = find_candidate(name);
   return c ? c->finding_class() : std::nullopt;
+}
+
+std::optional<Component> sole_family(const Candidate& c) {
+  const std::vector<Component> f = c.families();
+  if (f.empty() || !std::all_of(f.begin(), f.end(), [&](Component x) { return x == f.front(); })) return std::nullopt;
+  return f.front();
 }
 
 bool acts_on_mesh_harmonics_only(const Candidate& c) {

@@ -54,7 +54,7 @@ public:
     return {s(0), s(1)};
   }
   std::optional<FindingClass> finding_class() const override {
-    if (sun_) return std::nullopt;  // the sun's runout rotates with the sun: lines of its own
+    if (sun_) return sun_defect_class();  // the sun's runout rotates with the sun: the sun family's lines
     return planet_position_class();
   }
   void apply(model::SimulationConfig& c, const Variant&, std::span<const double> x,

@@ -40,6 +40,10 @@ public:
     }
     return {};
   }
+  std::optional<FindingClass> finding_class() const override {
+    if (body_ == model::Body::Sun) return sun_defect_class();
+    return std::nullopt;
+  }
   std::vector<ParameterSpec> parameters(const model::SimulationConfig&) const override {
     return {ParameterSpec{.name = "stiffness_factor", .unit = "1", .lower = 0.05, .upper = 1.0,
         .log_scale = false, .initial = 0.7, .null_value = 1.0, .screen_value = 0.8}};
