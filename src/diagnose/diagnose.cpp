@@ -1095,7 +1095,8 @@ private:
     vin.alias_shape_family = a.shape_family;
     if (!a.fitted) return;
     // A counting near-alias blocks the name whether or not it passes the lead's test (a) too
-    // (verdict.cpp, condition (e)); its score at its own model is computed for the reason.
+    // (verdict.cpp, condition (e)), a sun-family shape rival only if it passes; its score at its
+    // own model is computed for the reason and that decision.
     say("scoring its near-alias " + a.name + " the same way");
     const OwnModelScore s = score_at_own_model(d_.candidates[a.index], true);
     vin.alias_held_out_chi2 = s.held_out_chi2;

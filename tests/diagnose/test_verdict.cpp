@@ -771,10 +771,11 @@ VerdictInputs with_alias(const std::string& alias) {
 
 } // namespace
 
-TEST(Verdict, ASunToothAndASunRunoutTheBudgetCannotTellApartNameTheClassSunDefectWithoutASize) {
-  // indepsim2 seed 61 rigB5 rec_11 (session 56): a sun tooth led by a sun runout, the tooth
-  // improving both halves beside it. With every condition of the lead's own met, the class is
-  // the finding; it states no size (a stiffness factor and an eccentricity are not one size).
+namespace {
+
+/// counting_friction() with the lead a sun runout of 2 um and a sun tooth at 0.87, 400 behind in
+/// BIC (so that only condition (e) can block).
+Diagnosis sun_runout_with_tooth_rival() {
   Diagnosis d = counting_friction();
   CandidateResult& w = d.candidates.front();
   w.name = "sun_runout";
@@ -785,24 +786,51 @@ TEST(Verdict, ASunToothAndASunRunoutTheBudgetCannotTellApartNameTheClassSunDefec
   CandidateResult tooth = w;
   tooth.name = "sun_tooth_damage";
   tooth.parameters.front() = parameter("stiffness_factor", 0.87, 0.01, 0.05, 1.0, 1.0, false);
-  tooth.bic_held_out += 400;  // far behind in BIC: only (e) blocks
+  tooth.bic_held_out += 400;
   d.candidates.push_back(tooth);
+  return d;
+}
+
+/// Condition (e)'s input for the sun tooth as a sun-family shape rival, its own held-out chi2
+/// `chi2` against its bound 1095.
+VerdictInputs with_sun_rival(double chi2) {
   VerdictInputs in = with_alias("sun_tooth_damage");
   in.alias_mesh_shape = true;
   in.alias_shape_family = Component::Sun;
-  decide_verdict(d, in);
+  in.alias_held_out_chi2 = chi2;
+  return in;
+}
+
+} // namespace
+
+TEST(Verdict, ASunToothAndASunRunoutThatBothExplainTheRecordingNameTheClassSunDefectWithoutASize) {
+  // indepsim2 seed 61 rigB5 rec_11 (session 56): a sun tooth led by a sun runout, the tooth
+  // improving both halves beside it. With every condition of the lead's own met and the rival's
+  // own model within its bound too, the class is the finding; it states no size (a stiffness
+  // factor and an eccentricity are not one size).
+  Diagnosis d = sun_runout_with_tooth_rival();
+  decide_verdict(d, with_sun_rival(1080));
   EXPECT_EQ(d.verdict, Verdict::MissingPhysicsFound) << d.summary;
   EXPECT_EQ(d.lead.named_class, "sun_defect");
   EXPECT_TRUE(d.lead.class_size.empty());
   EXPECT_EQ(d.summary.rfind("Missing physics: sun_defect — ", 0), 0u) << d.summary;
   EXPECT_NE(d.lead.failed.find("both put their lines in the sun family alone"), std::string::npos) << d.lead.failed;
-  // Without the alias the runout is named alone, as before.
-  Diagnosis alone = d;
-  alone.candidates.pop_back();
-  alone.lead = {};
-  decide_verdict(alone, inputs(1110));
-  EXPECT_EQ(alone.verdict, Verdict::MissingPhysicsFound) << alone.summary;
-  EXPECT_TRUE(alone.lead.named_class.empty());
+}
+
+TEST(Verdict, ASunFamilyRivalWhoseOwnModelFailsTheLeadsTestLeavesTheLeadNamedAlone) {
+  // The rival improves both halves but its own model leaves more than its bound (and no replicate
+  // term admits it): it is refuted, and the runout is named alone. Without it, the same.
+  Diagnosis d = sun_runout_with_tooth_rival();
+  decide_verdict(d, with_sun_rival(1400));
+  EXPECT_EQ(d.verdict, Verdict::MissingPhysicsFound) << d.summary;
+  EXPECT_TRUE(d.lead.named_class.empty()) << d.summary;
+  EXPECT_EQ(d.summary.rfind("Missing physics: sun_runout", 0), 0u) << d.summary;
+  // A displacement alias, by contrast, blocks whatever its own score (condition (e) as before).
+  Diagnosis pin = runout_with_pin_rival(30);
+  VerdictInputs in = with_alias("pin_error");
+  in.alias_held_out_chi2 = 1400;
+  decide_verdict(pin, in);
+  EXPECT_EQ(pin.lead.named_class, "planet_position_error") << pin.summary;
 }
 
 TEST(Verdict, ARunoutAndAPinPatternTheDataCannotTellApartNameTheirClassWithTheSizeAsPinErrors) {
