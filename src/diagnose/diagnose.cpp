@@ -1151,6 +1151,10 @@ private:
     }
     vin.replicate_chi2 = cmp().replicate_chi2(ctx().nuisance_gains);
     decide_verdict(d_, vin);
+    if (sun_rival_refuted(vin))
+      d_.rule += " Its sun-family rival " + vin.counting_alias + " improves both halves, but its own model fails the "
+                 "lead's test (a) (held-out chi2 " + fmt("%.0f", vin.alias_held_out_chi2) + " > " +
+                 fmt("%.0f", std::max(vin.alias_bound_held_out, vin.replicate_chi2)) + "): refuted, it does not block.";
     d_.summary += unresolved_text(d_);
     d_.final_overrides = d_.winner == 0 ? d_.candidates.front().overrides : d_.nuisance.overrides;
   }

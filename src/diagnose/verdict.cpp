@@ -357,12 +357,7 @@ LeadAssessment assess_lead(Diagnosis& d, const VerdictInputs& in) {
   // leaves that undecided both pass, where it does not the rival fails its own test and tells
   // nothing against the lead (own simulator behind a rig the model lacks, differential: the
   // sun tooth 0.634 for 0.6 is named, ctest diagnose.differential_baseline).
-  const bool sun_rival_refuted = in.alias_mesh_shape && in.alias_shape_family == Component::Sun &&
-                                 std::isfinite(in.alias_bound_held_out) &&
-                                 in.alias_held_out_chi2 > std::max(in.alias_bound_held_out, std::isfinite(in.replicate_chi2)
-                                                                                                ? in.replicate_chi2
-                                                                                                : 0.0);
-  if (!in.counting_alias.empty() && !sun_rival_refuted) {
+  if (!in.counting_alias.empty() && !sun_rival_refuted(in)) {
     // An alias of the lead's own class is the class finding's: a displacement alias of a
     // planet-position lead, or a mesh-shape alias of a tooth-contact lead (friction, wear,
     // relief, clearance: different physics that share their lines, and the class says only what
@@ -502,11 +497,13 @@ std::string verdict_rule(const Diagnosis& d) {
     r += " — " + fmt("%.4f", d.lead.posterior) + (d.lead.rival.empty() ? " (no rival)" : " (strongest rival " + d.lead.rival + ")");
   r += "; and (e) under a discrepancy budget (a calibration or a baseline), no near-alias of it (the same "
        "displacements read as another physics; for a candidate acting on the mesh harmonics alone, any other such "
-       "candidate) counts, or stays unrefuted because its fit did not converge, and no stiffness or damping level "
+       "candidate; for a damaged sun tooth or a sun runout, the other, when its own model passes (a) too) counts, "
+       "or stays unrefuted because its fit did not converge, and no stiffness or damping level "
        "that the lead's class covers moved with it from the reference's value";
   r += ". If (a)-(c) hold and (d) and (e) fail only against members of the lead's own class of findings (pin "
        "errors and a carrier runout: planet centres displaced in the carrier; friction, wear, relief, clearance "
-       "and the mesh levels: the tooth contact changed), and the class's BIC posterior "
+       "and the mesh levels: the tooth contact changed; a sun tooth and a sun runout: a sun defect), and the "
+       "class's BIC posterior "
        "(its members' summed) is >= 1 - alpha/2, the class is named";
   if (d.lead.candidate == 0 && d.lead.counts && finding_class_of(d.candidates.front().name))
     r += " — class posterior " + fmt("%.4f", d.lead.class_posterior);
@@ -558,6 +555,13 @@ std::string budget_sensitivity_text(const std::vector<DiscrepancyEntry>& budgets
          "up to about " + list + " (relative, one standard deviation" +
          (large.size() > 3 ? "; " + std::to_string(large.size() - 3) + " more" : std::string()) +
          "): an effect that changes those lines by less than that is not detectable with this calibration.";
+}
+
+bool sun_rival_refuted(const VerdictInputs& in) {
+  if (!in.alias_mesh_shape || in.alias_shape_family != Component::Sun || !std::isfinite(in.alias_bound_held_out))
+    return false;
+  const double budget = std::max(in.alias_bound_held_out, std::isfinite(in.replicate_chi2) ? in.replicate_chi2 : 0.0);
+  return in.alias_held_out_chi2 > budget;
 }
 
 NearAlias blocking_near_alias(const std::vector<CandidateResult>& ranked, const std::vector<double>& nuisance_x,

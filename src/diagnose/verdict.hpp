@@ -139,6 +139,12 @@ struct VerdictInputs {
 /// fitted one blocks, a displacement near-alias of the lead in the library that was screened
 /// (`screened`) but whose fit did not count blocks unscored (fitted = false): its fit not
 /// converging is not evidence against it. nuisance_x: the fixed nuisance values (split_parameters).
+/// Condition (e) for a sun-family shape rival (alias_shape_family Sun): refuted, so not blocking,
+/// when its own model fails the lead's test (a), held-out chi2 above max(its bound, the
+/// recording's replicate chi2). False for every other kind of alias, and for one that could not be
+/// scored (NaN bound: unscored aliases block).
+bool sun_rival_refuted(const VerdictInputs& in);
+
 struct NearAlias {
   std::string name;         ///< empty: nothing blocks
   std::size_t index = 0;    ///< into `ranked` when fitted

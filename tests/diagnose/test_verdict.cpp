@@ -825,6 +825,15 @@ TEST(Verdict, ASunFamilyRivalWhoseOwnModelFailsTheLeadsTestLeavesTheLeadNamedAlo
   EXPECT_EQ(d.verdict, Verdict::MissingPhysicsFound) << d.summary;
   EXPECT_TRUE(d.lead.named_class.empty()) << d.summary;
   EXPECT_EQ(d.summary.rfind("Missing physics: sun_runout", 0), 0u) << d.summary;
+  // The recording's own replicate term admits a rival as it admits the lead: not refuted then.
+  VerdictInputs admitted = with_sun_rival(1400);
+  admitted.replicate_chi2 = 1500;
+  EXPECT_FALSE(sun_rival_refuted(admitted));
+  EXPECT_TRUE(sun_rival_refuted(with_sun_rival(1400)));
+  // Unscored (its model could not be simulated): it blocks.
+  VerdictInputs unscored = with_sun_rival(1400);
+  unscored.alias_bound_held_out = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_FALSE(sun_rival_refuted(unscored));
   // A displacement alias, by contrast, blocks whatever its own score (condition (e) as before).
   Diagnosis pin = runout_with_pin_rival(30);
   VerdictInputs in = with_alias("pin_error");
