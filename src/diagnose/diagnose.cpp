@@ -1130,6 +1130,19 @@ private:
     decide_on_front();
   }
 
+  /// Differential, with a reference whose own nuisance fit left values at an edge of their box:
+  /// every candidate's own size is stated against that limited model (limited_reference_text),
+  /// unless it is already conditional on something else. Why: on indepsim2's rigB5 at 1100 rpm
+  /// both seeds' references end at stiffness.scale 0.5, the bottom of its box, and the sun tooth
+  /// named there read 0.846 and 0.858 for 0.65 with a model-form uncertainty of 0.05 (sessions 55-56).
+  void mark_sizes_against_a_limited_reference() {
+    const std::string text = limited_reference_text(o_.baseline_limits);
+    if (text.empty()) return;
+    for (CandidateResult& c : d_.candidates)
+      for (FittedParameter& p : c.parameters)
+        if (!p.nuisance && p.size_conditional_on.empty()) p.size_conditional_on = text;
+  }
+
   /// decide_verdict on the candidates as ranked, the front one scored at its own model.
   void decide_on_front() {
     VerdictInputs vin;
@@ -1150,6 +1163,7 @@ private:
       if (calibrated && l.counts()) check_near_aliases(vin);
     }
     vin.replicate_chi2 = cmp().replicate_chi2(ctx().nuisance_gains);
+    mark_sizes_against_a_limited_reference();
     decide_verdict(d_, vin);
     if (sun_rival_refuted(vin))
       d_.rule += " Its sun-family rival " + vin.counting_alias + " improves both halves, but its own model fails the "

@@ -557,6 +557,18 @@ std::string budget_sensitivity_text(const std::vector<DiscrepancyEntry>& budgets
          "): an effect that changes those lines by less than that is not detectable with this calibration.";
 }
 
+std::string limited_reference_text(const std::map<std::string, int>& limits) {
+  if (limits.empty()) return {};
+  std::string list;
+  std::size_t k = 0;
+  for (const auto& [name, end] : limits) {
+    list += (k == 0 ? "" : k + 1 == limits.size() ? " and " : ", ") + name + " at the " + (end > 0 ? "upper" : "lower") +
+            " edge of its box";
+    ++k;
+  }
+  return "the reference's model with " + list + (limits.size() > 1 ? " (limits, not fits)" : " (a limit, not a fit)");
+}
+
 bool sun_rival_refuted(const VerdictInputs& in) {
   if (!in.alias_mesh_shape || in.alias_shape_family != Component::Sun || !std::isfinite(in.alias_bound_held_out))
     return false;

@@ -70,6 +70,7 @@
 #include "diagnose/ranking.hpp"
 
 #include <functional>
+#include <map>
 #include <string>
 
 namespace pw::diagnose {
@@ -139,6 +140,13 @@ struct VerdictInputs {
 /// fitted one blocks, a displacement near-alias of the lead in the library that was screened
 /// (`screened`) but whose fit did not count blocks unscored (fitted = false): its fit not
 /// converging is not evidence against it. nuisance_x: the fixed nuisance values (split_parameters).
+
+/// What a finding's size is stated against when the reference's nuisance fit left values at an
+/// edge of their box (`limits`, bound_ends): "the reference's model with stiffness.scale at the
+/// lower edge of its box (a limit, not a fit)"; empty without limits. The model's change from the
+/// reference is computed at those values, so a size fitted to it is conditional on them
+/// (FittedParameter::size_conditional_on; docs/diagnose.md section 6b, "When it is valid").
+std::string limited_reference_text(const std::map<std::string, int>& limits);
 /// Condition (e) for a sun-family shape rival (alias_shape_family Sun): refuted, so not blocking,
 /// when its own model fails the lead's test (a), held-out chi2 above max(its bound, the
 /// recording's replicate chi2). False for every other kind of alias, and for one that could not be

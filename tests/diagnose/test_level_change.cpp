@@ -3,6 +3,7 @@
 #include "diagnose/level_change.hpp"
 
 #include "diagnose/baseline.hpp"
+#include "diagnose/verdict.hpp"
 
 #include <gtest/gtest.h>
 
@@ -46,6 +47,21 @@ TEST(BoundEnds, ListsTheBaselinesParametersAtAnEdgeByKeyWithTheEndAndSkipsGainsA
   EXPECT_EQ(ends.at("contact.mesh_damping_ratio"), -1);
   // The same parameters as the report's texts.
   EXPECT_EQ(bound_texts({k, z, inside, gain}).size(), 2u);
+}
+
+} // namespace
+} // namespace pw::diagnose
+
+namespace pw::diagnose {
+namespace {
+
+TEST(LimitedReference, NamesEachLimitWithItsEdgeAndNothingWithoutLimits) {
+  EXPECT_TRUE(limited_reference_text({}).empty());
+  EXPECT_EQ(limited_reference_text({{"stiffness.scale", -1}}),
+            "the reference's model with stiffness.scale at the lower edge of its box (a limit, not a fit)");
+  EXPECT_EQ(limited_reference_text({{"stiffness.scale", +1}, {"contact.mesh_damping_ratio", -1}}),
+            "the reference's model with contact.mesh_damping_ratio at the lower edge of its box and stiffness.scale "
+            "at the upper edge of its box (limits, not fits)");
 }
 
 } // namespace
