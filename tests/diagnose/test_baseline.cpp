@@ -10,6 +10,7 @@
 #include "diagnose/calibration.hpp"
 #include "diagnose/compare.hpp"
 #include "diagnose/fit.hpp"
+#include "diagnose/fitted_parameter.hpp"
 #include "diagnose/kinematics.hpp"
 #include "diagnose/stage_1200rpm.hpp"
 
@@ -459,6 +460,33 @@ TEST(Baseline, NuisanceValuesAtAnEdgeOfTheirBoxAreListedWithThatEdgeAndGainsAreN
   ASSERT_EQ(t.size(), 2u);
   EXPECT_EQ(t[0], "stiffness.scale at its upper bound 2");
   EXPECT_EQ(t[1], "contact.mesh_damping_ratio at its lower bound 0.002");
+}
+
+} // namespace
+} // namespace pw::diagnose
+
+namespace pw::diagnose {
+namespace {
+
+/// A nuisance value of the baseline's fit, at an edge of its box or not.
+FittedParameter baseline_value(const std::string& name, double value, double lower, double upper, bool at_bound) {
+  FittedParameter p = test::parameter(name, value, 0.0, lower, upper, value, true);
+  p.at_bound = at_bound;
+  return p;
+}
+
+TEST(BoundEnds, ListsTheBaselinesParametersAtAnEdgeByKeyWithTheEndAndSkipsGainsAndFits) {
+  const FittedParameter k = baseline_value("stiffness.scale", 2.0, 0.5, 2.0, true);
+  const FittedParameter z = baseline_value("contact.mesh_damping_ratio", 0.002, 0.002, 0.25, true);
+  const FittedParameter inside = baseline_value("sensor.encoder_bandwidth_Hz", 800, 10, 1e6, false);
+  FittedParameter gain = baseline_value("sensor.gain_m_s2_per_N", 3, 0, 1e6, true);
+  gain.sensor_gain = true;
+  const std::map<std::string, int> ends = bound_ends({k, z, inside, gain});
+  ASSERT_EQ(ends.size(), 2u);
+  EXPECT_EQ(ends.at("stiffness.scale"), +1);
+  EXPECT_EQ(ends.at("contact.mesh_damping_ratio"), -1);
+  // The same parameters as the report's texts.
+  EXPECT_EQ(bound_texts({k, z, inside, gain}).size(), 2u);
 }
 
 } // namespace

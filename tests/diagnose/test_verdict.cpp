@@ -6,6 +6,8 @@
 // from an independent simulator named "friction").
 #include "diagnose/verdict.hpp"
 
+#include "diagnose/fitted_parameter.hpp"
+
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -15,19 +17,7 @@
 namespace pw::diagnose {
 namespace {
 
-FittedParameter parameter(const std::string& name, double value, double se, double lower, double upper,
-                          double initial, bool nuisance) {
-  FittedParameter p;
-  p.name = name;
-  p.unit = "1";
-  p.value = value;
-  p.std_error = se;
-  p.lower = lower;
-  p.upper = upper;
-  p.initial = initial;
-  p.nuisance = nuisance;
-  return p;
-}
+using test::parameter;
 
 ScoreSummary score(double chi2_a, double chi2_b) {
   ScoreSummary s;
@@ -1032,4 +1022,19 @@ TEST(ChangeSinceBaseline, IsTestedAfterNoMissingPhysicsAndAfterAnUnexplainedResi
   EXPECT_FALSE(change_since_baseline_testable(false, none.verdict, none.candidates));
 }
 
+} // namespace pw::diagnose
+
+namespace pw::diagnose {
+namespace {
+
+TEST(LimitedReference, NamesEachLimitWithItsEdgeAndNothingWithoutLimits) {
+  EXPECT_TRUE(limited_reference_text({}).empty());
+  EXPECT_EQ(limited_reference_text({{"stiffness.scale", -1}}),
+            "the reference's model with stiffness.scale at the lower edge of its box (a limit, not a fit)");
+  EXPECT_EQ(limited_reference_text({{"stiffness.scale", +1}, {"contact.mesh_damping_ratio", -1}}),
+            "the reference's model with contact.mesh_damping_ratio at the lower edge of its box and stiffness.scale "
+            "at the upper edge of its box (limits, not fits)");
+}
+
+} // namespace
 } // namespace pw::diagnose
