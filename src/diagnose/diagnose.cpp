@@ -1095,8 +1095,7 @@ private:
     vin.alias_shape_family = a.shape_family;
     if (!a.fitted) return;
     // A counting near-alias blocks the name whether or not it passes the lead's test (a) too
-    // (verdict.cpp, condition (e)), a sun-family shape rival only if it passes; its score at its
-    // own model is computed for the reason and that decision.
+    // (verdict.cpp, condition (e)); its score at its own model is computed for the reason.
     say("scoring its near-alias " + a.name + " the same way");
     const OwnModelScore s = score_at_own_model(d_.candidates[a.index], true);
     vin.alias_held_out_chi2 = s.held_out_chi2;
@@ -1165,10 +1164,6 @@ private:
     vin.replicate_chi2 = cmp().replicate_chi2(ctx().nuisance_gains);
     mark_sizes_against_a_limited_reference();
     decide_verdict(d_, vin);
-    if (sun_rival_refuted(vin))
-      d_.rule += " Its sun-family rival " + vin.counting_alias + " improves both halves, but its own model fails the "
-                 "lead's test (a) (held-out chi2 " + fmt("%.0f", vin.alias_held_out_chi2) + " > " +
-                 fmt("%.0f", std::max(vin.alias_bound_held_out, vin.replicate_chi2)) + "): refuted, it does not block.";
     d_.summary += unresolved_text(d_);
     d_.final_overrides = d_.winner == 0 ? d_.candidates.front().overrides : d_.nuisance.overrides;
   }

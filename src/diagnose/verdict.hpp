@@ -147,12 +147,6 @@ struct VerdictInputs {
 /// reference is computed at those values, so a size fitted to it is conditional on them
 /// (FittedParameter::size_conditional_on; docs/diagnose.md section 6b, "When it is valid").
 std::string limited_reference_text(const std::map<std::string, int>& limits);
-/// Condition (e) for a sun-family shape rival (alias_shape_family Sun): refuted, so not blocking,
-/// when its own model fails the lead's test (a), held-out chi2 above max(its bound, the
-/// recording's replicate chi2). False for every other kind of alias, and for one that could not be
-/// scored (NaN bound: unscored aliases block).
-bool sun_rival_refuted(const VerdictInputs& in);
-
 struct NearAlias {
   std::string name;         ///< empty: nothing blocks
   std::size_t index = 0;    ///< into `ranked` when fitted
