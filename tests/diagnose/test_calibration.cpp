@@ -5,6 +5,7 @@
 #include "core/error.hpp"
 #include "core/statistics.hpp"
 #include "diagnose/calibration.hpp"
+#include "diagnose/fitted_parameter.hpp"
 #include "diagnose/order_analysis.hpp"
 #include "model/simulation.hpp"
 
@@ -102,13 +103,10 @@ TEST(Calibration, TheSharedRigStructureMaximizesTheJointProfileLikelihoodWithOne
 }
 
 namespace {
+/// A recording's fitted nuisance value (its box is not read).
 FittedParameter estimate(const std::string& name, double value, double std_error, bool at_bound = false) {
-  FittedParameter p;
-  p.name = name;
-  p.value = value;
-  p.std_error = std_error;
+  FittedParameter p = test::parameter(name, value, std_error, 0.0, 0.0, 0.0, true);
   p.at_bound = at_bound;
-  p.nuisance = true;
   return p;
 }
 } // namespace
