@@ -354,8 +354,9 @@ LeadAssessment assess_lead(Diagnosis& d, const VerdictInputs& in) {
   // A sun-family shape rival blocks as a mesh-shape one does, whatever its own score: whether
   // either model passes test (a) rests on the transfer across the family's orders, the very
   // thing the budget does not cover (tried in session 57: refuting a rival whose own model
-  // failed (a) named a sun runout for indepsim2 seed 61's sun tooth, whose own model failed
-  // (a) by the transfer, with the reference's stiffness level held at its configured value).
+  // failed (a) named a sun runout for the sun tooth of indepsim2 seed 73 rigB5 rec_08, a corpus
+  // never seen, and of seed 61 rec_11 with the reference's stiffness held; each tooth's own
+  // model failed (a) by the transfer).
   if (!in.counting_alias.empty()) {
     // An alias of the lead's own class is the class finding's: a displacement alias of a
     // planet-position lead, or a mesh-shape alias of a tooth-contact lead (friction, wear,
