@@ -140,13 +140,6 @@ struct VerdictInputs {
 /// fitted one blocks, a displacement near-alias of the lead in the library that was screened
 /// (`screened`) but whose fit did not count blocks unscored (fitted = false): its fit not
 /// converging is not evidence against it. nuisance_x: the fixed nuisance values (split_parameters).
-
-/// What a finding's size is stated against when the reference's nuisance fit left values at an
-/// edge of their box (`limits`, bound_ends): "the reference's model with stiffness.scale at the
-/// lower edge of its box (a limit, not a fit)"; empty without limits. The model's change from the
-/// reference is computed at those values, so a size fitted to it is conditional on them
-/// (FittedParameter::size_conditional_on; docs/diagnose.md section 6b, "When it is valid").
-std::string limited_reference_text(const std::map<std::string, int>& limits);
 struct NearAlias {
   std::string name;         ///< empty: nothing blocks
   std::size_t index = 0;    ///< into `ranked` when fitted
@@ -174,6 +167,13 @@ bool change_since_baseline_testable(bool has_baseline, Verdict verdict, const st
 /// " Under the calibration's discrepancy budget ... not detectable" for the largest relative
 /// budgets (at least kReportedBudget), or "" if none is that large.
 std::string budget_sensitivity_text(const std::vector<DiscrepancyEntry>& budgets);
+
+/// What a finding's size is stated against when the reference's nuisance fit left values at an
+/// edge of their box (`limits`, bound_ends): "the reference's model with stiffness.scale at the
+/// lower edge of its box (a limit, not a fit)"; empty without limits. The model's change from the
+/// reference is computed at those values, so a size fitted to it is conditional on them
+/// (FittedParameter::size_conditional_on; docs/diagnose.md section 6b, "When it is valid").
+std::string limited_reference_text(const std::map<std::string, int>& limits);
 
 /// Sets d.verdict, d.winner (0 = candidates.front() named, else -1), d.lead,
 /// d.excess_by_channel and d.summary; appends the verdict rule with its numbers

@@ -111,8 +111,7 @@ std::optional<Component> sole_family(const Candidate& c) {
 }
 
 bool acts_on_mesh_harmonics_only(const Candidate& c) {
-  const std::vector<Component> f = c.families();
-  return !f.empty() && std::all_of(f.begin(), f.end(), [](Component x) { return x == Component::Mesh; });
+  return sole_family(c) == Component::Mesh;
 }
 
 } // namespace pw::diagnose
