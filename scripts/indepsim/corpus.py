@@ -57,7 +57,13 @@ def gearsets():
     four_b = sim.GearSet("fresh4p", 4, sim.Gear(21, 0.00275, face_width_m=0.032),
                          sim.Gear(27, 0.00275, face_width_m=0.032), sim.Gear(75, 0.00275, face_width_m=0.032),
                          friction_coefficient=0.055, backlash_sun_planet_m=10e-6, backlash_planet_ring_m=10e-6)
-    return {"seed3p": seed, "four4p": four, "fresh5p": five, "fresh3p": three, "fresh4p": four_b}
+    # Added in session 58 for the next final check (--plan fresh4), after fresh4p had been seen in
+    # development: six planets (Zs 30 / Zp 21 / Zr 72, (Zs + Zr) / 6 = 17), module 2.5 mm, a
+    # friction and backlash no other set uses.
+    six = sim.GearSet("fresh6p", 6, sim.Gear(30, 0.0025, face_width_m=0.036), sim.Gear(21, 0.0025, face_width_m=0.036),
+                      sim.Gear(72, 0.0025, face_width_m=0.036), friction_coefficient=0.065,
+                      backlash_sun_planet_m=9e-6, backlash_planet_ring_m=9e-6)
+    return {"seed3p": seed, "four4p": four, "fresh5p": five, "fresh3p": three, "fresh4p": four_b, "fresh6p": six}
 
 
 # operating points: name -> (rpm, W, duration of its recordings [s])
@@ -68,8 +74,9 @@ OPS = {
     "fresh5p": {"a": (150, 2000, 8.0), "b": (350, 6000, 4.0), "c": (500, 12000, 3.0)},
     "fresh3p": {"a": (120, 1500, 8.0), "b": (300, 5000, 5.0), "c": (600, 15000, 3.0)},
     "fresh4p": {"a": (180, 3000, 6.0), "b": (420, 9000, 3.0), "c": (800, 4000, 2.0)},
+    "fresh6p": {"a": (250, 4000, 5.0), "b": (600, 10000, 3.0), "c": (1000, 6000, 2.0)},
 }
-PLANS = ("main", "fresh", "fresh2", "fresh3")
+PLANS = ("main", "fresh", "fresh2", "fresh3", "fresh4")
 HIGH = {"H1", "H2"}
 
 
@@ -153,6 +160,34 @@ def plan_fresh3():
     return P
 
 
+def plan_fresh4():
+    """The next final check (session 58), made after plan_fresh3 had been seen in development: six
+    planets, a tooth set, module, speeds and sizes no development run has used; every effect once,
+    a sun tooth also in a recording under two carrier revolutions (1.5 s at 250 rpm: 1.84
+    revolutions), a control per operating point. Run it once per change of the diagnosis that is
+    to be judged."""
+    F = "fresh6p"
+    P = [
+        (F, "b", "sun_tooth_damage", dict(tooth_body="sun", tooth_index=7, tooth_stiffness_factor=0.55), None),
+        (F, "a", "sun_tooth_damage", dict(tooth_body="sun", tooth_index=22, tooth_stiffness_factor=0.6), 1.5),
+        (F, "c", "planet_tooth_damage", dict(tooth_body="planet", tooth_planet=4, tooth_index=9,
+                                             tooth_stiffness_factor=0.6), None),
+        (F, "a", "ring_tooth_damage", dict(tooth_body="ring", tooth_index=47, tooth_stiffness_factor=0.55), None),
+        (F, "b", "pin_error", dict(pin_error_m=(0.0, 0.0, 0.0, 0.0, 3e-6, 0.0)), None),
+        (F, "a", "sun_runout", dict(sun_ecc_m=3e-6, sun_ecc_phase_rad=1.9), None),
+        (F, "c", "carrier_runout", dict(carrier_ecc_m=3e-6, carrier_ecc_phase_rad=0.6), None),
+        (F, "b", "stiffness_level", dict(stiffness_scale=1.3), None),
+        (F, "c", "damping_level", dict(damping_scale=0.35), None),
+        (F, "a", "friction", dict(friction_coefficient=0.12), None),
+        (F, "c", "torque_ripple", dict(ripple_fraction=0.06, ripple_order=2.0, ripple_phase_rad=2.3), None),
+        (F, "b", "worn_profile", dict(worn_depth_m=3e-6), None),
+        (F, "a", "sensor_transfer_path", dict(housing_gain_scale=0.65), None),
+    ]
+    for op in ("a", "b", "c"):
+        P.append((F, op, "none", {}, None))
+    return P
+
+
 def plan(quick=False, variant="main"):
     """List of (gearset, op, effect, faults kwargs, parameters for truth, duration override)."""
     if variant == "fresh":
@@ -161,6 +196,8 @@ def plan(quick=False, variant="main"):
         return plan_fresh2()
     if variant == "fresh3":
         return plan_fresh3()
+    if variant == "fresh4":
+        return plan_fresh4()
     P = []
     if quick:
         for eff, kw in (("none", {}), ("sun_tooth_damage", dict(tooth_body="sun", tooth_index=5,
