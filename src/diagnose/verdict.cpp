@@ -233,6 +233,11 @@ std::string alias_reason(const VerdictInputs& in) {
           : "held-out chi2 " + fmt("%.0f", in.alias_held_out_chi2) +
                 (in.alias_held_out_chi2 <= in.alias_bound_held_out ? " <= " : " > ") +
                 fmt("%.0f", in.alias_bound_held_out) + " " + at;
+  if (in.alias_mesh_shape && !in.alias_counts)
+    return in.counting_alias + ", which acts on the " + to_string(in.alias_shape_family) +
+           " family alone as the lead does, was not fitted (the screening's linear prediction left it out), so no "
+           "fit rules it out: what tells them apart -- how the change is shared among that family's lines -- is "
+           "the shape the model's form fixes, uncertain under the budget by more than the difference";
   if (in.alias_mesh_shape && in.alias_shape_family == Component::Sun)
     return in.counting_alias + " explains the excess too (it improves both halves; " + score +
            "): both put their lines in the sun family alone, and what tells them apart -- how the change is shared "
@@ -498,7 +503,7 @@ std::string verdict_rule(const Diagnosis& d) {
   r += "; and (e) under a discrepancy budget (a calibration or a baseline), no near-alias of it (the same "
        "displacements read as another physics; for a candidate acting on the mesh harmonics alone, any other such "
        "candidate; for a damaged sun tooth or a sun runout, the other) counts, "
-       "or stays unrefuted because its fit did not converge, and no stiffness or damping level "
+       "or stays unrefuted because its fit did not converge or (a shape rival) it was not fitted, and no stiffness or damping level "
        "that the lead's class covers moved with it from the reference's value";
   r += ". If (a)-(c) hold and (d) and (e) fail only against members of the lead's own class of findings (pin "
        "errors and a carrier runout: planet centres displaced in the carrier; friction, wear, relief, clearance "
@@ -578,6 +583,11 @@ NearAlias blocking_near_alias(const std::vector<CandidateResult>& ranked, const 
   const Candidate* lc = find_candidate(l.name);
   if (lc == nullptr) return out;
   const std::vector<double> lead_own = split_parameters(l, nuisance_x).own;
+  // The family the lead acts on alone when its rivals there differ from it only in shape (the
+  // mesh harmonics, or the sun family's orders; see below); nullopt: no shape rivals.
+  const std::optional<Component> lead_family = sole_family(*lc);
+  const bool has_shape_rivals = lead_family == Component::Mesh || lead_family == Component::Sun;
+  const Component shape_family = has_shape_rivals ? *lead_family : Component::Mesh;
   for (std::size_t k = 1; k < ranked.size(); ++k) {
     const CandidateResult& a = ranked[k];
     if (a.name == l.name || !a.failed.empty()) continue;
@@ -599,8 +609,7 @@ NearAlias blocking_near_alias(const std::vector<CandidateResult>& ranked, const 
     // it (seed 61 rec_11), and the runout improved both halves beside every sun-family lead of the
     // four corpora of session 56. Other one-family pairs are not aliases: the carrier family's
     // ring tooth changes the speeds too, a transfer path only the housing channel.
-    const std::optional<Component> lf = sole_family(*lc), af = sole_family(*ac);
-    const bool mesh_shape = lf && af && *lf == *af && (*lf == Component::Mesh || *lf == Component::Sun);
+    const bool mesh_shape = has_shape_rivals && sole_family(*ac) == shape_family;
     // A displacement alias must count. A mesh-shape rival need only explain the excess on both
     // halves: one whose level moved by less than kRecalibration does not count as a finding, but
     // it still shows the excess is what a small level change absorbs (session 22: a stiffness
@@ -610,18 +619,36 @@ NearAlias blocking_near_alias(const std::vector<CandidateResult>& ranked, const 
     out.index = k;
     out.fitted = true;
     out.mesh_shape = !alias;
-    if (out.mesh_shape) out.shape_family = *lf;
+    if (out.mesh_shape) out.shape_family = shape_family;
     return out;
   }
   // No fitted alias counts. One whose fit failed to converge from its own start (held-out
   // seed-gear pin error rec_43: pin_error ended 8e8 above the nuisance model while the runout
   // explained 91 %) is not shown to be worse either: a near-alias of the lead in the library
   // blocks the name as well, unscored.
+  // A shape rival the screening left unfitted is not shown to be worse either: the screening
+  // ranks by a linear prediction beyond the nuisance levels, and a tooth-contact member whose
+  // first-order change lies in the levels' span predicts nothing there while its fit, like the
+  // lead's, moves the levels with it. Found on the independent simulator's six-planet rig (a
+  // final check, unseen before): every stiffness x1.3, and a worn profile, both named friction
+  // with the worn profile and the backlash never fitted (screened at 0; docs/diagnose-log.md,
+  // session 58). It blocks unscored; a fit that does not improve both halves refutes it.
+  const auto refuted_by_fit = [&](const std::string& name) {
+    return std::any_of(ranked.begin(), ranked.end(),
+                       [&](const CandidateResult& r) { return r.name == name && r.failed.empty(); });
+  };
   for (const auto& c : candidate_library()) {
     if (c->name() == l.name || !screened(*c)) continue;
-    if (c->start_from(l.name, lead_own, base).empty()) continue;
-    out.name = c->name();
-    return out;
+    if (!c->start_from(l.name, lead_own, base).empty()) {
+      out.name = c->name();
+      return out;
+    }
+    if (has_shape_rivals && sole_family(*c) == shape_family && !refuted_by_fit(c->name())) {
+      out.name = c->name();
+      out.mesh_shape = true;
+      out.shape_family = shape_family;
+      return out;
+    }
   }
   return out;
 }

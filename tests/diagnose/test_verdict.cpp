@@ -573,6 +573,30 @@ TEST(Verdict, ANearAliasWhoseFitDidNotCountStillBlocksTheNameUnderABudget) {
       << d.lead.failed;
 }
 
+TEST(Verdict, AnUnfittedShapeRivalOfTheLeadsClassNamesTheClassAndSaysNoFitRulesItOut) {
+  // The six-planet rig of indepsim fresh4 (session 58): friction named for a stiffness x1.3 with
+  // the worn profile never fitted. The unfitted member of the tooth-contact class withholds the
+  // member's name and the class is the finding.
+  Diagnosis d = counting_friction();
+  VerdictInputs in = inputs(1110);
+  in.differential = true;
+  in.counting_alias = "worn_profile";
+  in.alias_counts = false;
+  in.alias_mesh_shape = true;
+  decide_verdict(d, in);
+  EXPECT_EQ(d.verdict, Verdict::MissingPhysicsFound) << d.summary;
+  EXPECT_EQ(d.lead.named_class, "tooth_contact_change") << d.summary;
+  EXPECT_NE(d.lead.failed.find("worn_profile, which acts on the mesh family alone as the lead does, was not fitted"),
+            std::string::npos)
+      << d.lead.failed;
+  // An unfitted mesh-only rig element is no member of the class: nothing is named.
+  Diagnosis rig = counting_friction();
+  in.counting_alias = "motor_inertia";
+  decide_verdict(rig, in);
+  EXPECT_EQ(rig.verdict, Verdict::Unexplained) << rig.summary;
+  EXPECT_TRUE(rig.lead.named_class.empty());
+}
+
 TEST(Verdict, ALeadWhoseOwnModelCouldNotBeSimulatedForItsTestIsALeadOnlyAndSaysWhy) {
   // The solver failed on the lead's model (or a fidelity variant of it) in the held-out test:
   // no bound, so (a) is not met, and the reason carries the solver's message.
@@ -631,6 +655,9 @@ model::SimulationConfig three_planets() {
 const std::vector<double> kNuisance = {1.0, 0.05};
 bool none_screened(const Candidate&) { return false; }
 bool all_screened(const Candidate&) { return true; }
+/// What a diagnosis under a budget screens as findings (DiagnosisRun::screened): no nuisance
+/// level, no calibration-only element, no rig-design element.
+bool findings_screened(const Candidate& c) { return !c.nuisance() && !c.calibration_only() && !c.rig_design(); }
 
 TEST(NearAlias, TheFirstCountingDisplacementAliasInRankedOrderBlocksAndOtherKindsDoNot) {
   // pin_error leads; a counting sun tooth (another physics) ranks second, the counting
@@ -690,9 +717,38 @@ TEST(NearAlias, AScreenedLibraryAliasWhoseFitDidNotCountBlocksUnscoredAndOnlyThe
   EXPECT_FALSE(a.fitted);
   // ... not screened (left out of the library by --candidates), it does not.
   EXPECT_TRUE(blocking_near_alias(ranked, kNuisance, three_planets(), none_screened).name.empty());
-  // A lead without displacement aliases has none in the library either.
-  const std::vector<CandidateResult> tooth = {fitted("sun_tooth_damage", 1, true, true, true)};
+  // A lead without displacement aliases or shape rivals (a planet tooth: the planet family) has
+  // none in the library either.
+  const std::vector<CandidateResult> tooth = {fitted("planet_tooth_damage", 1, true, true, true)};
   EXPECT_TRUE(blocking_near_alias(tooth, kNuisance, three_planets(), all_screened).name.empty());
+}
+
+TEST(NearAlias, AScreenedShapeRivalNeverFittedBlocksUnscoredAndAFitThatFailsToImproveRefutesIt) {
+  // Friction leads alone: the worn profile and the backlash (mesh harmonics alone, as friction)
+  // were screened but never fitted, so no fit rules them out; the first in the library blocks.
+  const std::vector<CandidateResult> alone = {fitted("friction", 1, true, true, true)};
+  const NearAlias a = blocking_near_alias(alone, kNuisance, three_planets(), findings_screened);
+  EXPECT_EQ(a.name, "worn_profile");
+  EXPECT_FALSE(a.fitted);
+  EXPECT_TRUE(a.mesh_shape);
+  EXPECT_EQ(a.shape_family, Component::Mesh);
+  // Fitted without improving both halves, both are refuted: nothing blocks.
+  const std::vector<CandidateResult> refuted = {fitted("friction", 1, true, true, true),
+                                                fitted("worn_profile", 1, false, false, false),
+                                                fitted("backlash", 1, true, false, false)};
+  EXPECT_TRUE(blocking_near_alias(refuted, kNuisance, three_planets(), findings_screened).name.empty());
+  // A fit that failed (its model could not be simulated) refutes nothing.
+  CandidateResult failed = fitted("backlash", 1, false, false, false);
+  failed.failed = "the model could not be simulated";
+  const std::vector<CandidateResult> one_failed = {refuted[0], refuted[1], failed};
+  EXPECT_EQ(blocking_near_alias(one_failed, kNuisance, three_planets(), findings_screened).name, "backlash");
+  // The sun family likewise: a sun tooth alone, the runout never fitted.
+  const std::vector<CandidateResult> sun = {fitted("sun_tooth_damage", 1, true, true, true)};
+  const NearAlias s = blocking_near_alias(sun, kNuisance, three_planets(), findings_screened);
+  EXPECT_EQ(s.name, "sun_runout");
+  EXPECT_EQ(s.shape_family, Component::Sun);
+  // Left out of the library (--candidates), they do not.
+  EXPECT_TRUE(blocking_near_alias(alone, kNuisance, three_planets(), none_screened).name.empty());
 }
 
 TEST(NearAlias, ASunToothAndASunRunoutAreShapeRivalsInTheSunFamilyButARingToothAndATransferPathAreNot) {
