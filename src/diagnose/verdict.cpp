@@ -503,8 +503,8 @@ std::string verdict_rule(const Diagnosis& d) {
   r += "; and (e) under a discrepancy budget (a calibration or a baseline), no near-alias of it (the same "
        "displacements read as another physics; for a candidate acting on the mesh harmonics alone, any other such "
        "candidate; for a damaged sun tooth or a sun runout, the other) counts, "
-       "or stays unrefuted because its fit did not converge or (a shape rival) it was not fitted, and no stiffness or damping level "
-       "that the lead's class covers moved with it from the reference's value";
+       "or stays unrefuted because its fit did not converge or (a shape rival) it was not fitted, and no "
+       "stiffness or damping level that the lead's class covers moved with it from the reference's value";
   r += ". If (a)-(c) hold and (d) and (e) fail only against members of the lead's own class of findings (pin "
        "errors and a carrier runout: planet centres displaced in the carrier; friction, wear, relief, clearance "
        "and the mesh levels: the tooth contact changed; a sun tooth and a sun runout: a sun defect), and the "
@@ -584,7 +584,7 @@ NearAlias blocking_near_alias(const std::vector<CandidateResult>& ranked, const 
   if (lc == nullptr) return out;
   const std::vector<double> lead_own = split_parameters(l, nuisance_x).own;
   // The family the lead acts on alone when its rivals there differ from it only in shape (the
-  // mesh harmonics, or the sun family's orders; see below); nullopt: no shape rivals.
+  // mesh harmonics, or the sun family's orders; see below); has_shape_rivals false: none.
   const std::optional<Component> lead_family = sole_family(*lc);
   const bool has_shape_rivals = lead_family == Component::Mesh || lead_family == Component::Sun;
   const Component shape_family = has_shape_rivals ? *lead_family : Component::Mesh;

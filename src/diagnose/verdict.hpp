@@ -139,7 +139,9 @@ struct VerdictInputs {
 /// fitted candidates that failed, and variants of the lead's own name, are never rivals. If no
 /// fitted one blocks, a displacement near-alias of the lead in the library that was screened
 /// (`screened`) but whose fit did not count blocks unscored (fitted = false): its fit not
-/// converging is not evidence against it. nuisance_x: the fixed nuisance values (split_parameters).
+/// converging is not evidence against it; so does a screened one-family shape rival of the kind
+/// above with no successful fit among `ranked` (the screening left it out), only a fit that fails
+/// to improve both halves refuting it. nuisance_x: the fixed nuisance values (split_parameters).
 struct NearAlias {
   std::string name;         ///< empty: nothing blocks
   std::size_t index = 0;    ///< into `ranked` when fitted
