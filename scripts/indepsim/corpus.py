@@ -63,7 +63,30 @@ def gearsets():
     six = sim.GearSet("fresh6p", 6, sim.Gear(30, 0.0025, face_width_m=0.036), sim.Gear(21, 0.0025, face_width_m=0.036),
                       sim.Gear(72, 0.0025, face_width_m=0.036), friction_coefficient=0.065,
                       backlash_sun_planet_m=9e-6, backlash_planet_ring_m=9e-6)
-    return {"seed3p": seed, "four4p": four, "fresh5p": five, "fresh3p": three, "fresh4p": four_b, "fresh6p": six}
+    # Added in session 59 for the next final check (--plan fresh5), after fresh6p had been seen:
+    # three planets with another tooth set (Zs 27 / Zp 33 / Zr 93, (Zs + Zr) / 3 = 40), module 2 mm,
+    # a friction and backlash no other set uses; on a rig of its own (RIGS).
+    three_b = sim.GearSet("fresh3q", 3, sim.Gear(27, 0.002, face_width_m=0.03), sim.Gear(33, 0.002, face_width_m=0.03),
+                          sim.Gear(93, 0.002, face_width_m=0.03), friction_coefficient=0.045,
+                          backlash_sun_planet_m=11e-6, backlash_planet_ring_m=11e-6)
+    return {"seed3p": seed, "four4p": four, "fresh5p": five, "fresh3p": three, "fresh4p": four_b, "fresh6p": six,
+            "fresh3q": three_b}
+
+
+# Rig internals per gear set where they differ from sim.Rig()'s (every set before fresh3q runs on
+# the default rig). fresh3q's rig (session 59): a heavier motor on a softer input shaft, a heavier
+# dynamometer with a faster speed loop, wider encoders, a housing path of other gain and width,
+# less structural loss -- none of it in the gear-set TOML, as for every rig.
+RIGS = {
+    "fresh3q": sim.Rig(motor_inertia_kgm2=0.3, input_shaft_N_m_rad=1.2e5, input_shaft_damping_Nms=10.0,
+                       dyno_inertia_kgm2=1.5, output_shaft_N_m_rad=6.0e5, output_shaft_damping_Nms=40.0,
+                       speed_loop_bandwidth_Hz=6.0, loss_factor=0.08, encoder_bandwidth_Hz=1500.0,
+                       housing_gain_m_s2_per_N=3.0e-3, housing_kappa=3.0),
+}
+
+
+def rig_of(gearset):
+    return RIGS.get(gearset, sim.Rig())
 
 
 # operating points: name -> (rpm, W, duration of its recordings [s])
@@ -75,8 +98,9 @@ OPS = {
     "fresh3p": {"a": (120, 1500, 8.0), "b": (300, 5000, 5.0), "c": (600, 15000, 3.0)},
     "fresh4p": {"a": (180, 3000, 6.0), "b": (420, 9000, 3.0), "c": (800, 4000, 2.0)},
     "fresh6p": {"a": (250, 4000, 5.0), "b": (600, 10000, 3.0), "c": (1000, 6000, 2.0)},
+    "fresh3q": {"a": (150, 2500, 6.0), "b": (450, 8000, 3.0), "c": (900, 12000, 2.0)},
 }
-PLANS = ("main", "fresh", "fresh2", "fresh3", "fresh4")
+PLANS = ("main", "fresh", "fresh2", "fresh3", "fresh4", "fresh5")
 HIGH = {"H1", "H2"}
 
 
@@ -188,6 +212,34 @@ def plan_fresh4():
     return P
 
 
+def plan_fresh5():
+    """The next final check (session 59), made after plan_fresh4 had been seen: three planets, a
+    tooth set, module, speeds, sizes and a rig (RIGS) no development run has used; every effect
+    once, a sun tooth also in a recording under two carrier revolutions (1.0 s at 450 rpm: 1.69
+    revolutions), a control per operating point. Run it once per change of the diagnosis that is
+    to be judged."""
+    F = "fresh3q"
+    P = [
+        (F, "a", "sun_tooth_damage", dict(tooth_body="sun", tooth_index=13, tooth_stiffness_factor=0.5), None),
+        (F, "b", "sun_tooth_damage", dict(tooth_body="sun", tooth_index=3, tooth_stiffness_factor=0.6), 1.0),
+        (F, "b", "planet_tooth_damage", dict(tooth_body="planet", tooth_planet=2, tooth_index=20,
+                                             tooth_stiffness_factor=0.5), None),
+        (F, "c", "ring_tooth_damage", dict(tooth_body="ring", tooth_index=66, tooth_stiffness_factor=0.6), None),
+        (F, "a", "pin_error", dict(pin_error_m=(0.0, 4e-6, 0.0)), None),
+        (F, "c", "sun_runout", dict(sun_ecc_m=4e-6, sun_ecc_phase_rad=4.0), None),
+        (F, "b", "carrier_runout", dict(carrier_ecc_m=4e-6, carrier_ecc_phase_rad=5.1), None),
+        (F, "a", "stiffness_level", dict(stiffness_scale=0.7), None),
+        (F, "b", "damping_level", dict(damping_scale=2.5), None),
+        (F, "c", "friction", dict(friction_coefficient=0.09), None),
+        (F, "b", "torque_ripple", dict(ripple_fraction=0.04, ripple_order=1.0, ripple_phase_rad=0.7), None),
+        (F, "c", "worn_profile", dict(worn_depth_m=4e-6), None),
+        (F, "a", "sensor_transfer_path", dict(housing_gain_scale=1.4), None),
+    ]
+    for op in ("a", "b", "c"):
+        P.append((F, op, "none", {}, None))
+    return P
+
+
 def plan(quick=False, variant="main"):
     """List of (gearset, op, effect, faults kwargs, parameters for truth, duration override)."""
     if variant == "fresh":
@@ -198,6 +250,8 @@ def plan(quick=False, variant="main"):
         return plan_fresh3()
     if variant == "fresh4":
         return plan_fresh4()
+    if variant == "fresh5":
+        return plan_fresh5()
     P = []
     if quick:
         for eff, kw in (("none", {}), ("sun_tooth_damage", dict(tooth_body="sun", tooth_index=5,
@@ -360,7 +414,7 @@ def rms_ratios(res, base):
 def run_batch(job):
     """job: dict(gearset, entries=[...]); returns per entry (result dict, fs) and info."""
     gs = gearsets()[job["gearset"]]
-    stage = sim.Stage(gs)
+    stage = sim.Stage(gs, rig_of(job["gearset"]))
     cases = [sim.Case(**e["case"], faults=sim.Faults(**e["faults"])) for e in job["entries"]]
     t0 = time.time()
     fs, res, info = sim.simulate_batch(stage, cases, warmup_s=job["warmup_s"], dt_factor=job["dt_factor"],
@@ -463,11 +517,11 @@ def build(out, quick=False, jobs=1, seed=1, limit=None, duration=None, variant="
     truth = {"generator": "scripts/indepsim/corpus.py", "seed": seed, "quick": quick, "plan": variant,
              "noise": "5 % of each channel's RMS about its mean; accelerometer DC offsets +-(10-50) % of RMS",
              "gearsets": {}, "recordings": {}, "batches": []}
-    rig = sim.Rig()
     for g, gs in gsets.items():
         if not any(e["gearset"] == g for e in entries):
             continue
-        st = sim.Stage(gs)
+        rig = rig_of(g)
+        st = sim.Stage(gs, rig)
         d = os.path.join(out, g, "recordings")
         os.makedirs(d, exist_ok=True)
         with open(os.path.join(out, g, "gearset.toml"), "w") as fh:
@@ -539,8 +593,10 @@ def main(argv=None):
     ap.add_argument("--plan", choices=PLANS, default="main",
                     help="main: the development corpus (two gear sets, 77 recordings); fresh: a final check on a "
                          "five-planet gear set (18 recordings, seen in sessions 37-38); fresh2: a three-planet gear set "
-                         "(19 recordings, seen in session 38); fresh3: the next final check, a four-planet gear set no "
-                         "development run has used (19 recordings, one under two carrier revolutions)")
+                         "(19 recordings, seen in session 38); fresh3: a four-planet gear set "
+                         "(19 recordings, seen in sessions 39-58); fresh4: a six-planet gear set "
+                         "(19 recordings, seen in session 58); fresh5: the next final check, a three-planet gear set on a "
+                         "rig of its own (19 recordings, one under two carrier revolutions)")
     a = ap.parse_args(argv)
     if a.quick and a.plan != "main":
         ap.error("--quick is a variant of the main plan")

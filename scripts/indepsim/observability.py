@@ -102,7 +102,7 @@ def noise_ratio(csv_path, effect, noise_fraction):
 
 def run_batch(job):
     gs = corpus.gearsets()[job["gearset"]]
-    stage = sim.Stage(gs)
+    stage = sim.Stage(gs, corpus.rig_of(job["gearset"]))
     cases = []
     for e in job["entries"]:
         base = dict(e["case"])
