@@ -233,6 +233,16 @@ std::vector<double> propagated_std(const LmResult& fit, const std::vector<std::v
   return out;
 }
 
+std::vector<double> propagated_std_correlated(const LmResult& fit, const std::vector<std::vector<double>>& shifts) {
+  if (shifts.empty()) return std::vector<double>(fit.sensitivity.size(), 0.0);
+  std::vector<double> sum(shifts.front().size(), 0.0);
+  for (const std::vector<double>& w : shifts) {
+    require(w.size() == sum.size(), "residual shift", "has ", w.size(), " entries, the first ", sum.size());
+    for (std::size_t k = 0; k < w.size(); ++k) sum[k] += w[k];
+  }
+  return propagated_std(fit, {sum});
+}
+
 BoxedLeastSquares boxed_least_squares(const Eigen::MatrixXd& A, const Eigen::VectorXd& lower,
                                       const Eigen::VectorXd& upper, const Eigen::MatrixXd& B, const Eigen::VectorXd& r) {
   const Eigen::Index p = A.cols(), q = B.cols(), m = r.size();

@@ -81,6 +81,10 @@ LmResult levenberg_marquardt(const ResidualFn& residual, const std::vector<Bound
 /// w_k, each with an independent N(0, 1) weight: sqrt(sum_k (sensitivity w_k)^2), through
 /// LmResult::sensitivity. Empty shifts give 0; a parameter without a sensitivity row gets NaN.
 std::vector<double> propagated_std(const LmResult& fit, const std::vector<std::vector<double>>& shifts);
+/// Per parameter, the standard deviation of the estimate when the residual carries the shifts
+/// w_k all with one common N(0, 1) weight (fully correlated): |sensitivity sum_k w_k|. Empty
+/// shifts give 0; a parameter without a sensitivity row gets NaN.
+std::vector<double> propagated_std_correlated(const LmResult& fit, const std::vector<std::vector<double>>& shifts);
 
 /// Minimizer of the linear least-squares cost |r + A a + B b|^2 with each a_i in the box
 /// [lower_i, upper_i] and b free, by a projected active set: solve for all free; every a_i whose

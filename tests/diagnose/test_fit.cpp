@@ -146,6 +146,44 @@ TEST(Fit, TheSensitivityMovesTheEstimateAsRefittingShiftedDataDoesForALinearMode
   EXPECT_GT(std::fabs(dx1), 1e-4);
 }
 
+TEST(Fit, ShiftsMovingTogetherAddTheirEffectsWhereIndependentOnesAddInQuadrature) {
+  // A scale theta fitted to r_i = (theta - 1) a_i / sigma: a residual shift w moves it by
+  // -sigma sum a_i w_i / sum a^2 (LmResult::sensitivity). Two entries each shift
+  // half the cells by -0.4 a_i / sigma (a 40 % relative error of each line): each moves the
+  // estimate by 0.4 times its share of sum a^2, so independent they give 0.4 sqrt(f^2 + (1-f)^2)
+  // and together 0.4 (f + (1-f)) = 0.4 -- the one relative error the whole change carries.
+  // With the second shift's sign reversed the correlated sum cancels to 0.4 |2f - 1| and the
+  // independent reading is the larger.
+  const int m = 10;
+  const double sigma = 0.1;
+  std::vector<double> a(m);
+  for (int i = 0; i < m; ++i) a[static_cast<std::size_t>(i)] = 1.0 + 0.1 * i;
+  LmOptions o;
+  o.threads = 1;
+  const ResidualFn f = [&](const std::vector<double>& x, const std::vector<double>*) {
+    std::vector<double> r(m);
+    for (int i = 0; i < m; ++i) r[static_cast<std::size_t>(i)] = (x[0] - 1.0) * a[static_cast<std::size_t>(i)] / sigma;
+    return r;
+  };
+  const LmResult fit = levenberg_marquardt(f, {{0.0, 3.0, false}}, {1.0}, o);
+  std::vector<double> w1(m, 0.0), w2(m, 0.0), w2_reversed(m, 0.0);
+  double s1 = 0, s2 = 0;
+  for (int i = 0; i < m; ++i) {
+    const std::size_t k = static_cast<std::size_t>(i);
+    (i < m / 2 ? w1 : w2)[k] = -0.4 * a[k] / sigma;
+    w2_reversed[k] = -w2[k];
+    (i < m / 2 ? s1 : s2) += a[k] * a[k];
+  }
+  const double share = s1 / (s1 + s2);
+  // Forward differences of a linear residual: the sensitivity is exact to round-off.
+  const double tol = 1e-6;
+  EXPECT_NEAR(propagated_std(fit, {w1, w2})[0], 0.4 * std::hypot(share, 1 - share), tol);
+  EXPECT_NEAR(propagated_std_correlated(fit, {w1, w2})[0], 0.4, tol);
+  EXPECT_NEAR(propagated_std_correlated(fit, {w1, w2_reversed})[0], 0.4 * std::fabs(2 * share - 1), tol);
+  EXPECT_LT(propagated_std_correlated(fit, {w1, w2_reversed})[0], propagated_std(fit, {w1, w2_reversed})[0]);
+  EXPECT_EQ(propagated_std_correlated(fit, {})[0], 0.0);
+}
+
 TEST(Fit, StaysInsideTheBoxAndFlagsTheBound) {
   // Minimum at x = 3 outside [0, 2]: the estimate sits on the upper bound.
   ResidualFn f = [](const std::vector<double>& x, const std::vector<double>*) {
