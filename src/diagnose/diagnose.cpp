@@ -753,7 +753,7 @@ private:
   /// fitted further.
   void fit_candidates() {
     const auto t = Clock::now();
-    step(7, "grid starts of the one-parameter candidates");
+    step(7, "grid starts of the one-parameter candidates and the transfer parameters");
     screening_->grid_starts(shortlist_, [&](const std::string& s) { say(s); });
     screening_->backtrack_starts(shortlist_, d_.nuisance.fit.chi2, [&](const std::string& s) { say(s); });
     d_.candidates.resize(shortlist_.size());

@@ -238,6 +238,22 @@ namespace {
 /// A shortlisted variant whose start comes from the grid: one parameter, simulated.
 bool gridded(const Screen& sc) { return !sc.failed && sc.spec.size() == 1 && !sc.c->sensor_only(); }
 
+/// Indices of the transfer parameters (ParameterSpec::transfer) of `spec`, in order.
+std::vector<std::size_t> transfer_parameters(const std::vector<ParameterSpec>& spec) {
+  std::vector<std::size_t> out;
+  for (std::size_t k = 0; k < spec.size(); ++k)
+    if (spec[k].transfer) out.push_back(k);
+  return out;
+}
+
+/// A shortlisted variant whose start's transfer parameters come from a grid (Screening::grid_starts):
+/// simulated, with a start for every parameter, and one or two transfer parameters.
+bool transfer_gridded(const Screen& sc) {
+  if (sc.failed || sc.c->sensor_only() || sc.start.size() != sc.spec.size()) return false;
+  const std::size_t n = transfer_parameters(sc.spec).size();
+  return n >= 1 && n <= Screening::kMaxGriddedTransfers;
+}
+
 /// The point a fraction t of the way from `from` to `to`, geometric where the parameter is
 /// fitted on a log scale (both ends positive there: the box's lower bound is > 0).
 double along(const ParameterSpec& ps, double from, double to, double t) {
@@ -263,6 +279,23 @@ BacktrackedStart backtrack_start(const std::vector<ParameterSpec>& spec, const s
     if (c < b.chi2) b.chi2 = c, b.fraction = t, b.x = x;
   }
   return b;
+}
+
+std::vector<std::vector<double>> transfer_grid(const std::vector<ParameterSpec>& spec, const std::vector<double>& start) {
+  std::vector<double> base = start;
+  for (std::size_t k = 0; k < spec.size() && k < base.size(); ++k)
+    if (!spec[k].transfer) base[k] = spec[k].screen_value;
+  std::vector<std::vector<double>> points{base};
+  for (std::size_t k : transfer_parameters(spec)) {
+    std::vector<std::vector<double>> next;
+    for (const std::vector<double>& p : points)
+      for (double x : Screening::grid_values(spec[k])) {
+        next.push_back(p);
+        next.back()[k] = x;
+      }
+    points = std::move(next);
+  }
+  return points;
 }
 
 void Screening::backtrack_starts(const std::vector<std::size_t>& list, double absent_chi2,
@@ -306,8 +339,10 @@ void Screening::backtrack_starts(const std::vector<std::size_t>& list, double ab
 
 std::size_t Screening::grid_simulations(const std::vector<std::size_t>& shortlist) const {
   std::size_t n = 0;
-  for (std::size_t i : shortlist)
+  for (std::size_t i : shortlist) {
     if (gridded(screens_[i])) n += kGridPoints + 1;
+    if (transfer_gridded(screens_[i])) n += transfer_grid(screens_[i].spec, screens_[i].start).size() + 1;
+  }
   return n;
 }
 
@@ -322,33 +357,37 @@ std::vector<double> Screening::grid_values(const ParameterSpec& ps) {
 
 void Screening::grid_starts(const std::vector<std::size_t>& shortlist,
                             const std::function<void(const std::string&)>& say) {
+  // Each grid point: a screen and its whole parameter vector there.
   struct GridPoint {
     std::size_t screen;
-    double x;
+    std::vector<double> x;
   };
   std::vector<GridPoint> grid;
   for (std::size_t i : shortlist) {
     const Screen& sc = screens_[i];
-    if (!gridded(sc)) continue;
-    for (double x : grid_values(sc.spec.front())) grid.push_back({i, x});
+    if (gridded(sc))
+      for (double x : grid_values(sc.spec.front())) grid.push_back({i, {x}});
+    if (transfer_gridded(sc))
+      for (std::vector<double>& x : transfer_grid(sc.spec, sc.start)) grid.push_back({i, std::move(x)});
   }
   if (grid.empty()) return;
-  say("grid starts for the one-parameter candidates (" + std::to_string(grid.size()) + " simulations)");
+  say("grid starts for the one-parameter candidates and the transfer parameters (" + std::to_string(grid.size()) +
+      " simulations)");
   std::vector<double> chi(grid.size(), std::numeric_limits<double>::infinity());
   parallel_for(static_cast<int>(grid.size()), ctx_.threads, [&](int gi) {
     const GridPoint& g = grid[static_cast<std::size_t>(gi)];
     const Screen& sc = screens_[g.screen];
-    const double x[1] = {g.x};
-    chi[static_cast<std::size_t>(gi)] = ctx_.fit_chi2(sc.c, sc.v, x, sc.nuisance_start);
+    chi[static_cast<std::size_t>(gi)] = ctx_.fit_chi2(sc.c, sc.v, g.x, sc.nuisance_start);
   });
   for (std::size_t i : shortlist) {
     Screen& sc = screens_[i];
-    if (!gridded(sc)) continue;
-    double best = std::numeric_limits<double>::infinity(), xb = sc.start.front();
+    if (!gridded(sc) && !transfer_gridded(sc)) continue;
+    double best = std::numeric_limits<double>::infinity();
+    const std::vector<double>* xb = nullptr;
     for (std::size_t gi = 0; gi < grid.size(); ++gi)
-      if (grid[gi].screen == i && chi[gi] < best) best = chi[gi], xb = grid[gi].x;
+      if (grid[gi].screen == i && chi[gi] < best) best = chi[gi], xb = &grid[gi].x;
     // The linearized start, +inf where the solver cannot simulate it (the grid's best then wins).
-    if (best < ctx_.fit_chi2(sc.c, sc.v, sc.start, sc.nuisance_start)) sc.start.front() = xb;
+    if (xb && best < ctx_.fit_chi2(sc.c, sc.v, sc.start, sc.nuisance_start)) sc.start = *xb;
   }
 }
 

@@ -50,6 +50,12 @@ std::vector<std::size_t> shortlist(const std::vector<Screen>& screens, const std
 std::vector<std::size_t> screened_rivals(const std::vector<Screen>& screens, const std::vector<std::size_t>& best,
                                          const std::vector<std::size_t>& shortlist, double lead_S, double margin);
 
+/// The points of Screening::grid_starts's transfer grid: every combination of the grid values
+/// (Screening::grid_values) of the transfer parameters of `spec`, the first transfer parameter
+/// varying slowest; the other parameters at their screening values (a moderate size, as the
+/// screening moved it). `start` gives the vector's length and is otherwise overwritten.
+std::vector<std::vector<double>> transfer_grid(const std::vector<ParameterSpec>& spec, const std::vector<double>& start);
+
 /// Where a fit starts after backtrack_start: x, its chi2, the fraction of the step it lies at
 /// (1: the start as given), the given start's chi2 and the chi2 evaluations made.
 struct BacktrackedStart {
@@ -96,6 +102,16 @@ public:
   /// swings the seed's sun speed by +-16 % through resonances; a softened tooth changes the
   /// contact pattern): the linearized step can start LM in the wrong basin near "absent".
   /// Their starts become the best of that step and a grid over the box (fit-half chi2).
+  /// A candidate with transfer parameters (ParameterSpec::transfer: how its size reaches the
+  /// sensors, the machines' inertias behind a torque ripple) acts through the product of its
+  /// size and a transfer that can be wrong by decades at the start; at the motor's speed-source
+  /// stand-in a ripple of any fraction hardly moves the speeds, so the size's secant and LM's
+  /// gradient vanish together. Its start becomes the best of the linearized step and a grid over
+  /// every combination of its transfer parameters' grid values (kGridPoints each, at most
+  /// kMaxGriddedTransfers of them), its own parameters at their screening values. *Why:* on
+  /// fresh4 rec_13 (a ripple of 0.06 at order 2, 1000 rpm) the fit stayed at the stand-in and
+  /// explained 0 % of the excess; with the rig's true inertias stated it fits 0.0586 and explains
+  /// 86 % (docs/diagnose-log.md, session 59).
   void grid_starts(const std::vector<std::size_t>& shortlist, const std::function<void(const std::string&)>& say);
   /// A start that fits the fit half worse than the candidate at its 'absent' values with the
   /// nuisance-fitted values (chi2 `absent_chi2`, the nuisance-only model) is a Gauss-Newton step
@@ -118,6 +134,9 @@ public:
   std::size_t grid_simulations(const std::vector<std::size_t>& shortlist) const;
   /// Values per one-parameter candidate in the grid of starts (at the centres of equal cells).
   static constexpr int kGridPoints = 6;
+  /// Transfer parameters gridded jointly (kGridPoints^2 = 36 simulations for the ripple's two
+  /// machines); a candidate with more keeps its linearized start (a cost cap: none has more).
+  static constexpr std::size_t kMaxGriddedTransfers = 2;
   /// The grid of starts over one parameter's box: kGridPoints values at the centres of equal
   /// cells (of ln x where the parameter is fitted on a log scale).
   static std::vector<double> grid_values(const ParameterSpec& ps);

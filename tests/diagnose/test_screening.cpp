@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 
 namespace pw::diagnose {
 namespace {
@@ -77,6 +78,7 @@ TEST(Screening, AFailedScreenIsNeverARival) {
   EXPECT_TRUE(screened_rivals(screens, best, shortlist(screens, best, 1), 18.5, 6.63).empty());
 }
 
+
 } // namespace
 
 // backtrack_start: an overshooting linearized step is shortened towards 'absent' until it fits
@@ -137,6 +139,35 @@ TEST(Screening, WhereNoHalvingFitsBetterThanAbsentTheBestPointTriedIsTheStart) {
   const BacktrackedStart k = backtrack_start({linear_spec(0)}, {64}, {0}, 20, 6, worse);
   EXPECT_EQ(k.x, std::vector<double>{64});
   EXPECT_EQ(k.fraction, 1);
+}
+
+TEST(Screening, TheTransferGridCrossesEveryTransferParameterWithTheSizeAtItsScreeningValue) {
+  // A size (screening value 0.02) and two transfer inertias on log boxes of 8 decades: the grid
+  // is their 6 x 6 combinations, each at the centres of equal cells of ln J (grid_values), the
+  // first varying slowest, the size at 0.02 whatever its start; a spec without transfer
+  // parameters gives the start with its size at the screening value alone.
+  ParameterSpec size = linear_spec(0);
+  size.screen_value = 0.02;
+  ParameterSpec j_out, j_in;
+  j_out.lower = 1e-6, j_out.upper = 1e2, j_out.log_scale = true, j_out.transfer = true;
+  j_in.lower = 1e-7, j_in.upper = 10, j_in.log_scale = true, j_in.transfer = true;
+  const std::vector<ParameterSpec> spec{size, j_out, j_in};
+  const auto grid = transfer_grid(spec, {0.005, 3e-3, 10});
+  const int n = Screening::kGridPoints;
+  ASSERT_EQ(grid.size(), static_cast<std::size_t>(n * n));
+  const std::vector<double> out = Screening::grid_values(j_out), in = Screening::grid_values(j_in);
+  EXPECT_NEAR(out.front(), 1e-6 * std::pow(1e8, 0.5 / n), 1e-18);
+  for (int a = 0; a < n; ++a)
+    for (int b = 0; b < n; ++b) {
+      const std::vector<double>& x = grid[static_cast<std::size_t>(a * n + b)];
+      ASSERT_EQ(x.size(), 3u);
+      EXPECT_DOUBLE_EQ(x[0], 0.02);
+      EXPECT_DOUBLE_EQ(x[1], out[static_cast<std::size_t>(a)]);
+      EXPECT_DOUBLE_EQ(x[2], in[static_cast<std::size_t>(b)]);
+    }
+  const auto plain = transfer_grid({size}, {0.005});
+  ASSERT_EQ(plain.size(), 1u);
+  EXPECT_DOUBLE_EQ(plain[0][0], 0.02);
 }
 
 } // namespace pw::diagnose
