@@ -341,7 +341,11 @@ std::size_t Screening::grid_simulations(const std::vector<std::size_t>& shortlis
   std::size_t n = 0;
   for (std::size_t i : shortlist) {
     if (gridded(screens_[i])) n += kGridPoints + 1;
-    if (transfer_gridded(screens_[i])) n += transfer_grid(screens_[i].spec, screens_[i].start).size() + 1;
+    if (transfer_gridded(screens_[i])) {
+      std::size_t points = 1;  // transfer_grid's size: kGridPoints per transfer parameter, crossed
+      for (std::size_t t = transfer_parameters(screens_[i].spec).size(); t > 0; --t) points *= kGridPoints;
+      n += points + 1;
+    }
   }
   return n;
 }

@@ -78,7 +78,6 @@ TEST(Screening, AFailedScreenIsNeverARival) {
   EXPECT_TRUE(screened_rivals(screens, best, shortlist(screens, best, 1), 18.5, 6.63).empty());
 }
 
-
 } // namespace
 
 // backtrack_start: an overshooting linearized step is shortened towards 'absent' until it fits
