@@ -359,6 +359,9 @@ void diagnose_and_report(const DiagnoseCommandOptions& o_in, const std::string& 
   opt.remote_slots = ranks - 1;
   opt.only_candidates = o.candidates;
   opt.always_fit_candidates = o.always_fit;
+  // How far the calibration's healthy recordings scatter each nuisance level: the sizes fitted
+  // jointly with those levels carry it (calibration.hpp nuisance_level_spread_ln).
+  if (calibration) opt.nuisance_level_spread_ln = diagnose::nuisance_level_spread_ln(*calibration);
   if (!o.common.quiet) opt.progress = [](const std::string& s) { std::fprintf(stderr, "[diagnose] %s\n", s.c_str()); };
   std::string reference_note;
   const std::optional<Reference> reference = choose_reference(o, calibration, reference_note);

@@ -48,7 +48,8 @@ json candidate_json(const dg::CandidateResult& r, const std::vector<std::string>
     json pj = {{"name", p.name}, {"unit", p.unit}, {"value", num(p.value)}, {"std_error", num(p.std_error)},
                {"lower", num(p.lower)}, {"upper", num(p.upper)}, {"initial", num(p.initial)},
                {"model_form_std", num(p.model_form_std)},
-               {"model_form_range", {num(p.model_form_lower), num(p.model_form_upper)}}, {"at_bound", p.at_bound},
+               {"model_form_range", {num(p.model_form_lower), num(p.model_form_upper)}},
+               {"level_spread_std", num(p.level_spread_std)}, {"level_spread_of", p.level_spread_of}, {"at_bound", p.at_bound},
                {"nuisance", p.nuisance}, {"moved", p.moved}};
     // Saturating: only a lower limit is identifiable (null when it was not profiled).
     if (p.saturates) {
@@ -111,6 +112,9 @@ std::string param_cell(const dg::FittedParameter& p) {
   if (p.model_form_std > 0 && !p.nuisance && std::isfinite(p.model_form_lower))
     s += " (model form ± " + g(p.model_form_std, 2) + unit + ": " + g(p.model_form_lower, 3) + " to " +
          g(p.model_form_upper, 3) + unit + ")";
+  if (p.level_spread_std > 0 && !p.nuisance && std::isfinite(p.model_form_lower))
+    s += " (± " + g(p.level_spread_std, 2) + unit + " of it from how far the calibration's healthy recordings scatter " +
+         p.level_spread_of + ")";
   if (p.at_bound) s += " (at bound)";
   if (p.transfer) s += " (how it reaches the sensors, not its size)";
   if (!p.size_conditional_on.empty()) s += " (the size for " + p.size_conditional_on + ")";
@@ -633,7 +637,8 @@ void write_diagnosis_report(const std::filesystem::path& dir, const dg::Diagnosi
     for (const auto& p : d.candidates.front().parameters) {
       json pj = {{"name", p.name}, {"value", num(p.value)}, {"std_error", num(p.std_error)},
                  {"model_form_std", num(p.model_form_std)},
-                 {"model_form_range", {num(p.model_form_lower), num(p.model_form_upper)}}, {"unit", p.unit},
+                 {"model_form_range", {num(p.model_form_lower), num(p.model_form_upper)}},
+               {"level_spread_std", num(p.level_spread_std)}, {"level_spread_of", p.level_spread_of}, {"unit", p.unit},
                  {"nuisance", p.nuisance}};
       if (p.saturates) {
         pj["saturates"] = true;

@@ -185,6 +185,26 @@ std::map<std::string, double> fitted_values(const Calibration& calibration, std:
                                                 : std::map<std::string, double>{};
 }
 
+std::map<std::string, double> nuisance_level_spread_ln(const Calibration& calibration) {
+  std::map<std::string, double> out;
+  if (calibration.fits.size() < 2) return out;
+  std::map<std::string, std::vector<double>> logs;
+  for (const CalibrationFit& fit : calibration.fits)
+    for (const auto& [key, value] : override_values(fit.values))
+      logs[key].push_back(value > 0 ? std::log(value) : std::numeric_limits<double>::quiet_NaN());
+  for (const auto& [key, v] : logs) {
+    if (v.size() != calibration.fits.size() || !std::all_of(v.begin(), v.end(), [](double x) { return std::isfinite(x); }))
+      continue;
+    double mean = 0;
+    for (double x : v) mean += x;
+    mean /= static_cast<double>(v.size());
+    double ss = 0;
+    for (double x : v) ss += (x - mean) * (x - mean);
+    out[key] = std::sqrt(ss / static_cast<double>(v.size() - 1));
+  }
+  return out;
+}
+
 std::vector<std::string> structural_rig_settings(const Calibration& calibration, const model::SimulationConfig& config,
                                                  std::optional<std::size_t> at_recording) {
   const std::map<std::string, double> median = override_values(calibration.overrides);

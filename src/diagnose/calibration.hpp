@@ -236,6 +236,16 @@ std::vector<std::string> reference_design_settings(const Calibration& calibratio
 /// than from the nominal start alone.
 std::map<std::string, double> fitted_values(const Calibration& calibration, std::size_t at_recording);
 
+/// How far the calibration's healthy recordings scatter each nuisance value: per key fitted on
+/// every one of at least two recordings (Calibration::fits), all values positive, the sample
+/// standard deviation of ln(value) over the recordings (n - 1 in the denominator) [-]. A level
+/// the model needs at 0.53 on one operating point and 1.30 on another is known to the rig no
+/// better than that spread, whatever one fit's standard error says: a finding's size that is
+/// conditional on it carries the spread (DiagnoseOptions::nuisance_level_spread_ln). Values at a
+/// box edge count as they are (limits: the spread is then at least this). Empty with fewer than
+/// two fits.
+std::map<std::string, double> nuisance_level_spread_ln(const Calibration& calibration);
+
 
 /// A healthy recording's nuisance-only diagnosis, and under HealthyFit::ModelForm its refit.
 struct HealthyFitResult {

@@ -299,7 +299,7 @@ private:
     d_.nonstationary_features = cmp().nonstationary_cells();
     d_.timing.analysis_s = seconds_since(t);
 
-    ctx_.emplace(FitContext{cmp(), cmp().base(), {}, {}, nullptr, {}, threads_, o_.alpha});
+    ctx_.emplace(FitContext{cmp(), cmp().base(), {}, {}, nullptr, {}, threads_, o_.alpha, o_.nuisance_level_spread_ln});
     for (const auto& c : candidate_library())
       if ((c->nuisance() || extra_nuisance(*c)) && allowed(*c)) ctx().nuisance.push_back(c.get());
     forecast_all_steps();

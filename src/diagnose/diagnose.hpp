@@ -91,6 +91,11 @@ struct DiagnoseOptions {
   /// calibration's fit without its calibration-only rig elements): a further start of the nuisance
   /// fit, the parameters it does not name at their 'absent' values (nuisance_start.hpp). Empty: none.
   std::map<std::string, double> nuisance_start_values;
+  /// A calibration's spread of each nuisance value over its healthy recordings, by key: the
+  /// standard deviation of ln(value) [-] (nuisance_level_spread_ln, calibration.hpp). A finding's
+  /// size range carries what that spread of the levels it is fitted jointly with moves it by
+  /// (FittedParameter::level_spread_std). Empty: no calibration, or one recording.
+  std::map<std::string, double> nuisance_level_spread_ln;
   int threads = 0;              ///< OpenMP threads (0: default)
   /// Simulation slots served elsewhere (compare.remote, e.g. other MPI ranks): that many more
   /// simulations run side by side, their threads mostly waiting.
@@ -108,6 +113,12 @@ struct FittedParameter {
   /// error. 0 without a budget (std_error is then all the value's uncertainty); NaN where the
   /// parameter has no standard error.
   double model_form_std = 0;
+  /// [unit] The part of model_form_std that the calibration's spread of the nuisance levels
+  /// fitted jointly with the finding carries into it (DiagnoseOptions::nuisance_level_spread_ln,
+  /// level_spread_std in fit.hpp); 0 without a calibration of two or more recordings.
+  double level_spread_std = 0;
+  /// The nuisance keys whose spread it carries, comma-separated.
+  std::string level_spread_of;
   /// [unit] A finding's own parameter under a budget: the values the noise and the model-form
   /// budget allow at 1 - alpha (model_form_range in fit_context.hpp; lopsided, since a relative
   /// error of the model's change scales the size). NaN without a budget.

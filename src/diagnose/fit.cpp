@@ -243,6 +243,36 @@ std::vector<double> propagated_std_correlated(const LmResult& fit, const std::ve
   return propagated_std(fit, {sum});
 }
 
+double level_spread_std(const LmResult& fit, std::size_t i, const std::vector<LevelSpread>& levels) {
+  std::vector<LevelSpread> used;
+  for (const LevelSpread& l : levels) {
+    require(l.index < fit.covariance.size(), "level", "index ", l.index, " of a fit with ", fit.covariance.size(),
+            " parameters");
+    if (l.index == i) return 0.0;  // the level itself: its own spread is not the fit's
+    if (l.std > 0) used.push_back(l);
+  }
+  if (used.empty()) return 0.0;
+  require(i < fit.covariance.size(), "parameter", "index ", i, " of a fit with ", fit.covariance.size(), " parameters");
+  const Eigen::Index q = static_cast<Eigen::Index>(used.size());
+  Eigen::MatrixXd cll(q, q);
+  Eigen::VectorXd cil(q);
+  for (Eigen::Index a = 0; a < q; ++a) {
+    const std::size_t ia = used[static_cast<std::size_t>(a)].index;
+    cil(a) = fit.covariance[i][ia];
+    for (Eigen::Index b = 0; b < q; ++b) cll(a, b) = fit.covariance[ia][used[static_cast<std::size_t>(b)].index];
+  }
+  if (!cll.allFinite() || !cil.allFinite()) return std::numeric_limits<double>::quiet_NaN();
+  const Eigen::LDLT<Eigen::MatrixXd> ldlt(cll);
+  if (ldlt.info() != Eigen::Success || !(ldlt.vectorD().minCoeff() > 0)) return std::numeric_limits<double>::quiet_NaN();
+  const Eigen::VectorXd b = ldlt.solve(cil);  // Cov(L, L)^-1 Cov(L, x_i): symmetric, so b^T = Cov(x_i, L) Cov(L, L)^-1
+  double var = 0;
+  for (Eigen::Index a = 0; a < q; ++a) {
+    const double d = b(a) * used[static_cast<std::size_t>(a)].std;
+    var += d * d;
+  }
+  return std::sqrt(var);
+}
+
 BoxedLeastSquares boxed_least_squares(const Eigen::MatrixXd& A, const Eigen::VectorXd& lower,
                                       const Eigen::VectorXd& upper, const Eigen::MatrixXd& B, const Eigen::VectorXd& r) {
   const Eigen::Index p = A.cols(), q = B.cols(), m = r.size();

@@ -86,6 +86,21 @@ std::vector<double> propagated_std(const LmResult& fit, const std::vector<std::v
 /// shifts give 0; a parameter without a sensitivity row gets NaN.
 std::vector<double> propagated_std_correlated(const LmResult& fit, const std::vector<std::vector<double>>& shifts);
 
+/// A nuisance level the estimate is conditional on, known only to within a spread: the fit's
+/// parameter `index` and the standard deviation of its value [x units] (e.g. how far a
+/// calibration's healthy recordings scatter it).
+struct LevelSpread {
+  std::size_t index = 0;
+  double std = 0;
+};
+/// The standard deviation of estimate `i` that the levels' spreads carry into it: each level held
+/// at another value and everything else refitted moves the estimate by the regression of x_i on
+/// the levels in the fit's covariance, b = Cov(x_i, L) Cov(L, L)^-1 (for a Gaussian the
+/// conditional mean's slope, exact for a residual linear in x); the levels' spreads taken as
+/// independent, sqrt(sum_j (b_j std_j)^2). 0 without levels or when i is one of them; NaN where
+/// the covariance of i or of a level is missing (a singular fit) or Cov(L, L) is singular.
+double level_spread_std(const LmResult& fit, std::size_t i, const std::vector<LevelSpread>& levels);
+
 /// Minimizer of the linear least-squares cost |r + A a + B b|^2 with each a_i in the box
 /// [lower_i, upper_i] and b free, by a projected active set: solve for all free; every a_i whose
 /// value leaves its box is held on the bound it crossed (its column times that value moves into

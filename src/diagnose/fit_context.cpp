@@ -177,6 +177,38 @@ void set_model_form_std(const ModelComparison& cmp, const LmResult& lm,
     parameters[i].model_form_std = std::isnan(independent[i]) ? independent[i] : std::max(independent[i], together[i]);
 }
 
+/// The calibration's spread of the nuisance levels fitted jointly with a finding, carried into the
+/// finding's own parameters (level_spread_std, fit.hpp) and added to their model-form std in
+/// quadrature. *Why:* a level the model needs at different values on different healthy
+/// recordings of one rig (a stiffness level of 0.53 at 150 rpm and 1.30 at 900 rpm) is fitted
+/// here once more, and a size that trades against it (a runout's lines scale with the mesh
+/// stiffness it acts through) is then stated for that one value: measured on the three-planet rig
+/// of docs/diagnose-log.md session 60, a 4 um sun runout fitted at 7.9 um with the stiffness level
+/// at 0.52: the level's spread over the calibration's three recordings (0.46 in ln) carries
+/// +- 4.5 um into it, and its range (3.1 to 40 um) then holds the truth, where 6.7 to 9.6 um did not.
+void add_level_spread(const std::map<std::string, double>& spread_ln, const LmResult& lm,
+                      const std::vector<ParameterSpec>& nspec, std::size_t nc, std::vector<FittedParameter>& parameters) {
+  if (spread_ln.empty()) return;
+  std::vector<LevelSpread> levels;
+  std::vector<std::string> names;
+  for (std::size_t j = 0; j < nspec.size(); ++j)
+    if (const auto it = spread_ln.find(nspec[j].name); it != spread_ln.end() && it->second > 0 && nc + j < lm.x.size()) {
+      levels.push_back({nc + j, std::fabs(lm.x[nc + j]) * it->second});
+      names.push_back(nspec[j].name);
+    }
+  if (levels.empty()) return;
+  std::string of;
+  for (const std::string& n : names) of += (of.empty() ? "" : ", ") + n;
+  for (std::size_t i = 0; i < nc && i < parameters.size(); ++i) {
+    FittedParameter& p = parameters[i];
+    const double s = level_spread_std(lm, i, levels);
+    if (!(s > 0) || std::isnan(p.model_form_std)) continue;
+    p.level_spread_std = s;
+    p.model_form_std = std::hypot(p.model_form_std, s);
+    p.level_spread_of = of;
+  }
+}
+
 /// The profiled housing-sensor gains of a fit, as nuisance parameters with their `--set` line.
 void append_gains(const FitContext& ctx, const WindowScore& fit, CandidateResult& res) {
   int housing_channels = 0;
@@ -263,6 +295,7 @@ CandidateResult fit_model(FitContext& ctx, const Candidate* cand, const Variant&
   const WindowScore held = ctx.cmp.score(amp, Half::HeldOut, fit.gains, HousingGains::Given);
   res.gains = fit.gains;
   set_model_form_std(ctx.cmp, lm, amp, fit.gains, res.parameters);
+  if (fit_nuisance) add_level_spread(ctx.level_spread_ln, lm, nspec, nc, res.parameters);
   const double z = normal_quantile(ctx.alpha / 2);
   for (std::size_t i = 0; i < nc && i < res.parameters.size(); ++i) {
     FittedParameter& p = res.parameters[i];

@@ -18,6 +18,7 @@
 #include <memory>
 #include <mutex>
 #include <limits>
+#include <map>
 #include <optional>
 #include <span>
 #include <string>
@@ -65,6 +66,9 @@ struct FitContext {
   std::vector<double> nuisance_gains;                ///< per channel
   int threads = 1;
   double alpha = 0.01;                               ///< the diagnosis's (DiagnoseOptions::alpha)
+  /// DiagnoseOptions::nuisance_level_spread_ln: sd of ln(value) per nuisance key over a
+  /// calibration's healthy recordings; a finding's size range carries it (fit_model).
+  std::map<std::string, double> level_spread_ln = {};
 
   /// The parameters of every nuisance candidate, in the order of nuisance_x.
   std::vector<ParameterSpec> nuisance_specs() const;

@@ -31,6 +31,11 @@ std::string param_text(const FittedParameter& p) {
                   p.unit == "1" ? "" : p.unit.c_str());
   std::string s = buf;
   while (!s.empty() && s.back() == ' ') s.pop_back();
+  if (p.level_spread_std > 0 && !p.nuisance && std::isfinite(p.model_form_lower)) {
+    std::snprintf(buf, sizeof buf, "%.2g", p.level_spread_std);
+    s += " (± " + std::string(buf) + " of it from how far the calibration's healthy recordings scatter " +
+         p.level_spread_of + ")";
+  }
   if (p.transfer) s += " (how it reaches the sensors, not its size)";
   if (!p.size_conditional_on.empty()) s += " (the size for " + p.size_conditional_on + ")";
   return s;

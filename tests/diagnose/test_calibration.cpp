@@ -299,6 +299,32 @@ TEST(Calibration, TheReferenceFitsSecondStartIsTheCalibrationsOwnFitOfThatRecord
   EXPECT_TRUE(fitted_values(cal, 1).empty());  // a file without a fit of that recording: one start
 }
 
+TEST(Calibration, ALevelsSpreadIsTheSampleStdOfItsLnValueOverRecordingsThatAllFittedIt) {
+  // The three-planet rig's stiffness levels (docs/diagnose-log.md session 60): ln 1.30, ln 0.527,
+  // ln 0.706 have sample std (n - 1) 0.4617.
+  Calibration cal;
+  CalibrationFit a, b, c;
+  a.values = {"stiffness.scale=1.3022689190544783", "contact.mesh_damping_ratio=0.25", "stage.shift_m=0.0"};
+  b.values = {"stiffness.scale=0.5269181964655391", "contact.mesh_damping_ratio=0.01", "stage.shift_m=1e-6",
+              "sensor.encoder_bandwidth_Hz=235"};
+  c.values = {"stiffness.scale=0.7063165169715657", "contact.mesh_damping_ratio=0.25", "stage.shift_m=2e-6"};
+  cal.fits = {a, b, c};
+  const std::map<std::string, double> spread = nuisance_level_spread_ln(cal);
+  std::vector<double> ln{std::log(1.3022689190544783), std::log(0.5269181964655391), std::log(0.7063165169715657)};
+  const double mean = (ln[0] + ln[1] + ln[2]) / 3;
+  double ss = 0;
+  for (double x : ln) ss += (x - mean) * (x - mean);
+  ASSERT_EQ(spread.count("stiffness.scale"), 1u);
+  EXPECT_NEAR(spread.at("stiffness.scale"), std::sqrt(ss / 2), 1e-12);
+  EXPECT_NEAR(spread.at("stiffness.scale"), 0.4617, 1e-4);
+  // 0.25, 0.01, 0.25: std of (ln 25 * (2/3, -4/3, 2/3)) = ln 25 / sqrt(3).
+  EXPECT_NEAR(spread.at("contact.mesh_damping_ratio"), std::log(25.0) / std::sqrt(3.0), 1e-12);
+  EXPECT_EQ(spread.count("stage.shift_m"), 0u);               // a value of 0: no ln, no spread
+  EXPECT_EQ(spread.count("sensor.encoder_bandwidth_Hz"), 0u);  // fitted on one recording only
+  cal.fits = {a};
+  EXPECT_TRUE(nuisance_level_spread_ln(cal).empty());  // one recording: nothing to scatter
+}
+
 TEST(Calibration, ParametersFittedAtABoundAreListedWithTheEndAndTheirCount) {
   auto p = [](const std::string& n, double v, double lo, double hi, bool at_bound) {
     FittedParameter f;

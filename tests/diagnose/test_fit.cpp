@@ -184,6 +184,70 @@ TEST(Fit, ShiftsMovingTogetherAddTheirEffectsWhereIndependentOnesAddInQuadrature
   EXPECT_EQ(propagated_std_correlated(fit, {})[0], 0.0);
 }
 
+TEST(Fit, ALevelsSpreadMovesAnEstimateByWhatRefittingWithTheLevelHeldElsewhereMovesIt) {
+  // A linear model r = (A x - y) / sigma in three parameters: a size x0 that trades against a
+  // level x1 (columns nearly parallel) and a second level x2. Holding the levels at x1 + d1,
+  // x2 + d2 and refitting x0 alone (closed form) moves x0 by b . d, b the regression slope of x0
+  // on the levels in the joint fit's covariance; level_spread_std with spreads s1, s2 must equal
+  // sqrt((b1 s1)^2 + (b2 s2)^2), each b_j read off such a refit. An independent computation: the
+  // refits never touch the covariance.
+  const int m = 12;
+  const double sigma = 0.05;
+  Eigen::MatrixXd A(m, 3);
+  Eigen::VectorXd y(m);
+  for (int i = 0; i < m; ++i) {
+    const double t = 0.1 * i;
+    A(i, 0) = 1.0 + t;
+    A(i, 1) = 1.0 + 0.8 * t + 0.05 * t * t;
+    A(i, 2) = std::cos(3 * t);
+    y(i) = 2.0 * A(i, 0) + 0.5 * A(i, 1) - 0.3 * A(i, 2) + 0.01 * std::sin(7.0 * i);
+  }
+  LmOptions o;
+  o.threads = 1;
+  const ResidualFn f = [&](const std::vector<double>& x, const std::vector<double>*) {
+    std::vector<double> r(m);
+    for (int i = 0; i < m; ++i)
+      r[static_cast<std::size_t>(i)] = (A(i, 0) * x[0] + A(i, 1) * x[1] + A(i, 2) * x[2] - y(i)) / sigma;
+    return r;
+  };
+  const LmResult fit = levenberg_marquardt(f, {{-10, 10, false}, {-10, 10, false}, {-10, 10, false}}, {0, 0, 0}, o);
+  ASSERT_TRUE(std::isfinite(fit.std_error[0]));
+  // x0 refitted with x1, x2 held at the joint fit plus (d1, d2): x0 = a0 . (y - a1 x1 - a2 x2) / |a0|^2.
+  const auto refit_x0 = [&](double d1, double d2) {
+    const Eigen::VectorXd rest = y - A.col(1) * (fit.x[1] + d1) - A.col(2) * (fit.x[2] + d2);
+    return A.col(0).dot(rest) / A.col(0).squaredNorm();
+  };
+  const double x0 = refit_x0(0, 0);
+  // Holding a level and refitting only x0 is the conditional mean when the other level is refitted
+  // too: so for b1, refit x0 and x2 with x1 held (a two-column least squares).
+  const auto refit_x0_x2 = [&](double d1) {
+    Eigen::MatrixXd B(m, 2);
+    B << A.col(0), A.col(2);
+    const Eigen::VectorXd sol = B.colPivHouseholderQr().solve(y - A.col(1) * (fit.x[1] + d1));
+    return sol(0);
+  };
+  const auto refit_x0_x1 = [&](double d2) {
+    Eigen::MatrixXd B(m, 2);
+    B << A.col(0), A.col(1);
+    const Eigen::VectorXd sol = B.colPivHouseholderQr().solve(y - A.col(2) * (fit.x[2] + d2));
+    return sol(0);
+  };
+  const double s1 = 0.2, s2 = 0.1;
+  const double b1 = (refit_x0_x2(s1) - refit_x0_x2(0)) / s1;
+  const double b2 = (refit_x0_x1(s2) - refit_x0_x1(0)) / s2;
+  // Forward-difference Jacobian of a linear residual: the covariance is exact to round-off, but the
+  // levels enter together (Cov(L, L)^-1), so the tolerance is relative to the slopes.
+  const double tol = 1e-6 * (std::fabs(b1) * s1 + std::fabs(b2) * s2);
+  EXPECT_NEAR(level_spread_std(fit, 0, {{1, s1}}), std::fabs(b1) * s1, tol);
+  EXPECT_NEAR(level_spread_std(fit, 0, {{2, s2}}), std::fabs(b2) * s2, tol);
+  // Both levels: the regression on both. Holding both and refitting x0 alone is that slope pair.
+  const double c1 = (refit_x0(s1, 0) - x0) / s1, c2 = (refit_x0(0, s2) - x0) / s2;
+  EXPECT_NEAR(level_spread_std(fit, 0, {{1, s1}, {2, s2}}), std::hypot(c1 * s1, c2 * s2), tol);
+  EXPECT_GT(std::fabs(c1), 0.5);  // the size does trade against the level
+  EXPECT_EQ(level_spread_std(fit, 1, {{1, s1}}), 0.0);  // a level's own spread is not its fit's
+  EXPECT_EQ(level_spread_std(fit, 0, {}), 0.0);
+}
+
 TEST(Fit, StaysInsideTheBoxAndFlagsTheBound) {
   // Minimum at x = 3 outside [0, 2]: the estimate sits on the upper bound.
   ResidualFn f = [](const std::vector<double>& x, const std::vector<double>*) {
