@@ -726,8 +726,15 @@ diagnose::Recording finish(RawTable&& t, const RecordingMeta& meta, const model:
                                                       : "Wrong unit? ",
                                              "(rpm read as rad/s is 9.55x too large)"));
     }
+    // A constant column (a dead sensor, a drive's speed exported as its setpoint) has no noise to
+    // judge anything against: its periodogram is 0 and every comparison would divide by it. Any
+    // quantity, speeds too (a speed channel carries the mesh harmonics' speed fluctuation).
+    // Compared with the first value, not through the RMS: the mean of n equal values need not
+    // equal them in floating point, and the RMS of a constant is then a round-off, not 0.
+    if (std::all_of(c.values.begin(), c.values.end(), [v0 = c.values.front()](double x) { return x == v0; }))
+      throw InputError(src, col + ": carries no signal (every value is the same): a dead sensor or a constant "
+                                  "export; leave the column out of the sidecar's \"columns\" to diagnose without it");
     if (is_acceleration(s.quantity)) {
-      if (rms == 0) throw InputError(src, col + ": carries no signal (every value is the same)");
       if (rms > kMaxAccelerationRms)
         throw InputError(src, detail::concat(col, ": RMS ", rms, " m/s^2 (read as '", unit, "') is over ",
                                              kMaxAccelerationRms, " m/s^2 (10^4 g); wrong unit?"));

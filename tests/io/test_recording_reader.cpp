@@ -122,8 +122,9 @@ TEST(RecordingReader, ConvertsHeaderUnitsToSI) {
                    make_csv({{"time [s]", time_of},
                              {"acc_housing [g]", acc},
                              {"acc sp (mm/s^2)", [](double t) { return 1000 * acc(t); }},
-                             {"w_sun [rpm]", [](double) { return kRpm; }},
-                             {"w_carrier [Hz]", [](double) { return kCarrierRadS / (2 * kPi); }},
+                             // Speeds fluctuate (a constant column is refused as a dead sensor): 0 at t = 0.
+                             {"w_sun [rpm]", [](double t) { return kRpm * (1 + 1e-3 * std::sin(2 * kPi * 50 * t)); }},
+                             {"w_carrier [Hz]", [](double t) { return kCarrierRadS / (2 * kPi) * (1 + 1e-3 * std::sin(2 * kPi * 50 * t)); }},
                              {"tacho [V]", [](double t) { return std::fmod(t * 50, 1.0) < 0.05 ? 5.0 : 0.0; }}},
                             3500));
   io::RecordingMeta m = base_meta();
@@ -149,7 +150,8 @@ TEST(RecordingReader, ConvertsHeaderUnitsToSI) {
   EXPECT_EQ(r.channels[1].planet, 2);
   EXPECT_NEAR(r.find(Quantity::SunSpeed)->values[0], kSunRadS, 1e-12) << "rpm -> rad/s";
   EXPECT_EQ(r.find(Quantity::SunSpeed)->unit, "rad/s");
-  EXPECT_NEAR(r.find(Quantity::CarrierSpeed)->values[7], kCarrierRadS, 1e-12) << "Hz (rev/s) -> rad/s";
+  EXPECT_NEAR(r.find(Quantity::CarrierSpeed)->values[7], kCarrierRadS * (1 + 1e-3 * std::sin(2 * kPi * 50 * 7 / kFs)), 1e-12)
+      << "Hz (rev/s) -> rad/s";
   EXPECT_EQ(r.find(Quantity::Tacho)->unit, "1");
 }
 
@@ -261,7 +263,9 @@ TEST(RecordingReader, ImplausibleSpeedMeansAWrongUnit) {
   EXPECT_TRUE(contains(e, "Wrong unit?"));
   // An encoder counting backwards: scale -1 fixes it.
   const std::string neg =
-      make_csv({{"time [s]", time_of}, {"w_sun [rpm]", [](double) { return -kRpm; }}, {"acc [g]", acc}}, 3500);
+      make_csv({{"time [s]", time_of}, {"w_sun [rpm]", [](double t) { return -kRpm - std::sin(2 * kPi * 50 * t); }},
+                {"acc [g]", acc}},
+               3500);
   EXPECT_TRUE(contains(csv_error(neg, m), "scale = -1"));
   m.columns[0].scale = -1;
   EXPECT_EQ(csv_error(neg, m), "");
@@ -299,6 +303,25 @@ TEST(RecordingReader, NaNAndInfinityNameTheLineAndColumn) {
   EXPECT_TRUE(contains(csv_error(replace_field(text, 300, 1, ""), standard_meta()), "line 300, column 'acc_housing [g]': empty value"));
   EXPECT_TRUE(contains(csv_error(replace_field(text, 301, 1, "1.2.3"), standard_meta()), "'1.2.3' is not a number"));
   EXPECT_TRUE(contains(csv_error(replace_field(text, 400, 2, "3000,5"), standard_meta()), "line 400 has 4 fields"));
+}
+
+TEST(RecordingReader, AConstantColumnOfAnyQuantityIsRefusedNamingItAndHowToLeaveItOut) {
+  // A speed channel exported as a constant (session 60: the diagnosis then divided by a noise
+  // of 0 and reported chi2 of 1e30) is refused like a dead accelerometer.
+  const io::RecordingMeta m = standard_meta();
+  const std::string flat_speed = make_csv({{"time [s]", time_of}, {"acc_housing [g]", acc}, {"w_sun [rpm]", [](double) {
+                                             return kRpm;
+                                           }}},
+                                           3500);
+  const std::string e = csv_error(flat_speed, m);
+  EXPECT_TRUE(contains(e, "column 'w_sun")) << e;
+  EXPECT_TRUE(contains(e, "carries no signal")) << e;
+  EXPECT_TRUE(contains(e, "leave the column out of the sidecar")) << e;
+  const std::string dead_acc = make_csv({{"time [s]", time_of}, {"acc_housing [g]", [](double) { return 0.25; }},
+                                         {"w_sun [rpm]", [](double t) { return kRpm + 2 * std::sin(2 * kPi * 50 * t); }}},
+                                        3500);
+  EXPECT_TRUE(contains(csv_error(dead_acc, m), "column 'acc_housing")) << csv_error(dead_acc, m);
+  EXPECT_EQ(csv_error(standard_csv(), m), "");  // the same columns with a signal read
 }
 
 TEST(RecordingReader, TimeMustIncreaseUniformly) {
@@ -442,7 +465,7 @@ TEST(RecordingReader, Hdf5DatasetsWithUnitAttributes) {
   for (std::size_t k = 0; k < n; ++k) {
     t[k] = static_cast<double>(k) / kFs;
     a[k] = acc(t[k]);
-    w[k] = kRpm;
+    w[k] = kRpm * (1 + 1e-3 * std::sin(2 * kPi * 50 * t[k]));  // a constant column is refused
   }
   {
     auto f = io::H5File::create(path);
@@ -458,7 +481,7 @@ TEST(RecordingReader, Hdf5DatasetsWithUnitAttributes) {
   m.columns = {column("/sensors/acc_housing", Quantity::HousingAcceleration), column("w_sun", Quantity::SunSpeed)};
   const auto r = io::read_recording(path, m, config());
   EXPECT_NEAR(r.channels[0].values[9], 9.80665 * a[9], 1e-12);
-  EXPECT_NEAR(r.channels[1].values[9], kSunRadS, 1e-12);
+  EXPECT_NEAR(r.channels[1].values[9], kSunRadS * (1 + 1e-3 * std::sin(2 * kPi * 50 * t[9])), 1e-12);
   // Missing dataset, NaN at a sample.
   m.columns.push_back(column("acc_ring", Quantity::MeshAccelerationPlanetRing, "g"));
   auto e = thrown<InputError>([&] { (void)io::read_recording(path, m, config()); });

@@ -37,7 +37,7 @@ diagnose::Recording sample_recording() {
   };
   for (std::size_t k = 0; k < n; ++k) r.time_s.push_back(0.1 + static_cast<double>(k) * 1e-4);
   r.channels.push_back(channel("sun_speed", Quantity::SunSpeed, "rad/s", [&](double t) { return ws + 0.1 * std::sin(t); }));
-  r.channels.push_back(channel("carrier_speed", Quantity::CarrierSpeed, "rad/s", [&](double) { return wc; }));
+  r.channels.push_back(channel("carrier_speed", Quantity::CarrierSpeed, "rad/s", [&](double t) { return wc + 0.05 * std::cos(t); }));
   r.channels.push_back(channel("a, sp \"1\"", Quantity::MeshAccelerationSunPlanet, "m/s^2",
                                [](double t) { return 7.0 * std::sin(2 * kPi * 834 * t) + 1.0 / 3; }));
   r.channels.back().planet = 1;
