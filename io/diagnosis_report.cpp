@@ -524,7 +524,13 @@ json location_json(const dg::Diagnosis& d) {
 json finding_class_json(const dg::Diagnosis& d) {
   if (d.winner != 0 || d.lead.named_class.empty()) return nullptr;
   json size = json::array();
-  for (const auto& [name, value] : d.lead.class_size) size.push_back({{"name", name}, {"value", num(value)}});
+  for (std::size_t i = 0; i < d.lead.class_size.size(); ++i) {
+    const auto& [name, value] = d.lead.class_size[i];
+    json e = {{"name", name}, {"value", num(value)}};
+    if (i < d.lead.class_size_range.size())
+      e["model_form_range"] = {num(d.lead.class_size_range[i].first), num(d.lead.class_size_range[i].second)};
+    size.push_back(e);
+  }
   return {{"name", d.lead.named_class}, {"members", d.lead.class_members}, {"posterior", num(d.lead.class_posterior)},
           {"covers", d.lead.class_covers}, {"size", size}, {"size_unit", d.lead.class_size_unit}};
 }

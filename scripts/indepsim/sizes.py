@@ -23,7 +23,9 @@ planets or measure the runout's phase alike).
 A size is "covered" when |z (total)| <= z_{1-alpha/2} with the diagnosis's alpha = 0.01 (2.576)
 (linear), and "in range" when the truth lies in the report's model_form_range (the lopsided range
 a relative error of the model's change allows, docs/diagnose.md section 5; computed here by the same
-formula from the report's values for reports that predate the field).
+formula from the report's values for reports that predate the field). A class size has no standard
+error (never "covered"); its range is the report's finding_class.size[].model_form_range scaled onto
+the norm (reports from session 60 on).
 
     /usr/bin/python3 scripts/indepsim/sizes.py DIR [--json OUT]
 
@@ -99,9 +101,19 @@ def class_size_row(key, t, rep):
     if true is None:
         return None
     nf, nt = math.sqrt(sum(v * v for v in fitted)), math.sqrt(sum(v * v for v in true))
+    # The class size's model-form range (report.json finding_class.size[].model_form_range, session
+    # 60): one relative error of the whole change, so every entry, the mean-free pattern and its norm
+    # scale by the same factor; the factors taken over the entries (min and max: an entry cut by
+    # its box widens them).
+    rng = None
+    ranges = [(e["value"], e.get("model_form_range")) for e in size]
+    if all(r and r[0] is not None and r[1] is not None and v for v, r in ranges):
+        f = [x / v for v, r in ranges for x in r]
+        rng = [nf * max(0.0, min(f)), nf * max(f)]
     return dict(recording=key, effect=t["effect"] + " (class)", parameter="|tangential pattern|", true=nt,
                 fitted=nf, std_error=None, model_form_std=None, severity_error=(nf - nt) / nt if nt else None,
-                z_noise=None, z_total=None, covered=None, range=None, in_range=None)
+                z_noise=None, z_total=None, covered=None, range=rng,
+                in_range=None if rng is None else bool(rng[0] <= nt <= rng[1]))
 
 
 def documented_friction(gearset_dir):
@@ -175,9 +187,9 @@ def main():
         print(f"{r['recording']:16s} {r['effect']:20s} {f(r['true']):>10s} {f(r['fitted'], '.4g'):>10s} "
               f"{f(r['std_error'], '.2g'):>9s} {f(r['model_form_std'], '.2g'):>9s} {f(r['severity_error'], '+.2f'):>8s} "
               f"{f(r['z_noise'], '+.1f'):>8s} {f(r['z_total'], '+.1f'):>8s} "
-              + ("—        —" if r["range"] is None else  # a class's size has no standard error or range
-                 f"{'yes' if r['covered'] else 'NO ':7s}  {r['range'][0]:.3g} to {r['range'][1]:.3g} "
-                 f"({'yes' if r['in_range'] else 'NO'})"))
+              + ("—        —" if r["range"] is None else  # a class's size has no standard error
+                 f"{'—      ' if r['covered'] is None else 'yes    ' if r['covered'] else 'NO     '}  "
+                 f"{r['range'][0]:.3g} to {r['range'][1]:.3g} ({'yes' if r['in_range'] else 'NO'})"))
     n = len(rows)
     within = sum(1 for r in rows if r["severity_error"] is not None and abs(r["severity_error"]) <= 0.2)
     cov = sum(1 for r in rows if r["covered"])
@@ -189,7 +201,7 @@ def main():
     n_cond = sum(1 for r in rows if r.get("conditional_on"))
     print(f"\n{n} sizes ({n_cond} stated as conditional: on the configured rig, or on a reference level that is a limit): {within} within 20 % of the true severity; {cov} covered by "
           f"value ± {Z_COVER:.3f} x sqrt(noise^2 + model form^2); {inr} inside the model-form range"
-          + (f" ({n_cls} class sizes have neither)" if n_cls else ""))
+          + (f" ({n_cls} class sizes have neither: reports from before session 60)" if n_cls else ""))
     if a.json:
         a.json.write_text(json.dumps(dict(rows=rows, within_20_percent=within, covered=cov, in_range=inr),
                                      indent=1) + "\n")

@@ -248,6 +248,14 @@ struct LeadAssessment {
   /// (FindingClass::canonical, Candidate::start_from), "name" and value in its unit.
   std::vector<std::pair<std::string, double>> class_size;
   std::string class_size_unit;
+  /// Per class_size entry, the values the lead's model-form budget allows at 1 - alpha
+  /// (model_form_range, fit_context.hpp) [class_size_unit]; empty without a budget. The mapping
+  /// onto the canonical member is linear and homogeneous (a carrier runout's tangential part at
+  /// each planet), so a relative error delta of the lead's whole change is the same delta of the
+  /// mapped size: r = |model_form_std| / |change| over the lead's own parameters (all in one unit),
+  /// the range s / (1 + z r) ... s / (1 - z r). The noise's standard error is not mapped (the
+  /// model form's is 8 to 18 000 times it in the eight class sizes of docs/diagnose-log.md session 60).
+  std::vector<std::pair<double, double>> class_size_range;
 };
 
 /// A channel's share of the held-out chi2 excess of the nuisance-fitted model.

@@ -190,7 +190,7 @@ Rivalry rivalry(const Diagnosis& d) {
 
 /// The lead's fitted parameters mapped onto its class's canonical member (FindingClass::canonical):
 /// the class's size whichever member led. Empty if the mapping does not exist.
-void class_size(LeadAssessment& a, const CandidateResult& w, const FindingClass& fc) {
+void class_size(LeadAssessment& a, const CandidateResult& w, const FindingClass& fc, double z) {
   const Candidate* canonical = find_candidate(fc.canonical);
   if (canonical == nullptr) return;
   std::vector<double> own;
@@ -201,6 +201,28 @@ void class_size(LeadAssessment& a, const CandidateResult& w, const FindingClass&
   if (x.size() != specs.size()) return;
   for (std::size_t i = 0; i < x.size(); ++i) a.class_size.emplace_back(specs[i].name, x[i]);
   a.class_size_unit = specs.empty() ? "" : specs.front().unit;
+  // The lead's relative model-form error of its whole change (LeadAssessment::class_size_range).
+  const Candidate* lead = find_candidate(w.name);
+  if (lead == nullptr) return;
+  const std::vector<ParameterSpec> lead_specs = lead->parameters(w.config);
+  double change2 = 0, mf2 = 0;
+  std::size_t k = 0;
+  for (const FittedParameter& p : w.parameters) {
+    if (p.nuisance) continue;
+    if (k >= lead_specs.size() || p.unit != a.class_size_unit || !std::isfinite(p.model_form_std)) return;
+    const double change = p.value - lead_specs[k++].null_value;
+    change2 += change * change;
+    mf2 += p.model_form_std * p.model_form_std;
+  }
+  if (!(mf2 > 0) || !(change2 > 0)) return;
+  const double r = std::sqrt(mf2 / change2);
+  for (std::size_t i = 0; i < x.size(); ++i) {
+    const double s = std::fabs(x[i] - specs[i].null_value);
+    const SizeRange range = model_form_range(x[i], specs[i].null_value, 0.0, r * s, z,
+                                             std::min(specs[i].lower, specs[i].upper),
+                                             std::max(specs[i].lower, specs[i].upper));
+    a.class_size_range.emplace_back(range.lower, range.upper);
+  }
 }
 
 /// Condition (a) failed under the linear own null but would have held under the folded one: why
@@ -406,7 +428,7 @@ LeadAssessment assess_lead(Diagnosis& d, const VerdictInputs& in) {
     for (const std::string& m : class_blockers)
       if (std::find(a.class_members.begin(), a.class_members.end(), m) == a.class_members.end())
         a.class_members.push_back(m);
-    class_size(a, w, *lead_class);
+    class_size(a, w, *lead_class, z);
   }
   return a;
 }
@@ -437,8 +459,13 @@ std::string named_summary(const Diagnosis& d, bool calibrated, bool differential
     for (std::size_t i = 1; i < d.lead.class_members.size(); ++i)
       members += (i > 1 ? " or " : "") + d.lead.class_members[i];
     std::string size;
-    for (const auto& [name, value] : d.lead.class_size)
+    for (std::size_t i = 0; i < d.lead.class_size.size(); ++i) {
+      const auto& [name, value] = d.lead.class_size[i];
       size += (size.empty() ? "" : ", ") + name + " = " + fmt("%.3g", value);
+      if (i < d.lead.class_size_range.size())
+        size += " (model form: " + fmt("%.3g", d.lead.class_size_range[i].first) + " to " +
+                fmt("%.3g", d.lead.class_size_range[i].second) + ")";
+    }
     head = "Missing physics: " + d.lead.named_class + " — " + (fc ? fc->physics : std::string()) +
            "; the data do not tell " + w.name + " from " + members +
            " within the model's fidelity, so the class is the finding, not either member (" + d.lead.failed + ")" +

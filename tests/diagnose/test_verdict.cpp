@@ -904,6 +904,34 @@ TEST(Verdict, ARunoutAndAPinPatternTheDataCannotTellApartNameTheirClassWithTheSi
   EXPECT_EQ(d.lead.class_size_unit, "m");
 }
 
+TEST(Verdict, AClassSizeCarriesTheLeadsRelativeModelFormErrorThroughTheLinearMapOntoPinErrors) {
+  // The runout (3, -1) um with model-form stds (0.6, 0.2) um: the relative error of its whole
+  // change r = |(0.6, 0.2)| / |(3, -1)| = 0.2. The map onto pin errors is linear and homogeneous,
+  // so each pin error s carries the range s / (1 + z r) ... s / (1 - z r) (model_form_range with
+  // its std r |s|), z = z_{0.995}.
+  Diagnosis d = runout_with_pin_rival(30);
+  CandidateResult& w = d.candidates.front();
+  w.parameters[0].unit = w.parameters[1].unit = "m";
+  w.parameters[0].model_form_std = 0.6e-6;
+  w.parameters[1].model_form_std = 0.2e-6;
+  decide_verdict(d, with_alias("pin_error"));
+  ASSERT_EQ(d.lead.named_class, "planet_position_error") << d.summary;
+  ASSERT_EQ(d.lead.class_size.size(), 2u);
+  ASSERT_EQ(d.lead.class_size_range.size(), 2u);
+  const double z = 2.5758293035489004, r = 0.2;
+  for (std::size_t i = 0; i < 2; ++i) {
+    const double s = d.lead.class_size[i].second;
+    const double near = s / (1 + z * r), far = s / (1 - z * r);
+    EXPECT_NEAR(d.lead.class_size_range[i].first, std::min(near, far), 1e-9 * std::fabs(s)) << i;
+    EXPECT_NEAR(d.lead.class_size_range[i].second, std::max(near, far), 1e-9 * std::fabs(s)) << i;
+  }
+  EXPECT_NE(d.summary.find("pin_error_m[2] = 4.1e-06 (model form: 2.7e-06 to 8.45e-06)"), std::string::npos) << d.summary;
+  // Without a budget (model_form_std 0) no range is stated.
+  Diagnosis bare = runout_with_pin_rival(30);
+  decide_verdict(bare, with_alias("pin_error"));
+  EXPECT_TRUE(bare.lead.class_size_range.empty());
+}
+
 TEST(Verdict, APinRivalCloseInBicIsPartOfTheClassPosteriorSoTheClassIsNamed) {
   // Condition (d) alone: the two members 0.3 apart in BIC (posterior 0.54 each way); the class
   // holds all of it.
