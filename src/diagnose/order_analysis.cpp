@@ -585,7 +585,7 @@ void estimate_noise(const Recording& rec, const model::StageSpec& stage, Recordi
   // are not integer orders leak into every bin of a rectangular window. So, per channel, the
   // Hann-windowed periodogram of the whole recording (leakage falls as 1/d^3), normalised so
   // that white noise of per-sample variance s_w^2 reads s_w^2, over the frequencies more than
-  // 4 N + 8 carrier orders from every mesh harmonic (and from 0): between the sideband groups,
+  // 4 N + 8 carrier orders (or fewer, see below) from every mesh harmonic (and from 0): between the sideband groups,
   // where a gear signal has little. Its bins are exponential with mean s_w^2; estimated by the
   // truncated mean (exponential_mean). Global unless the per-segment estimates (between
   // consecutive mesh harmonics, +-2 segments) disagree beyond their errors (chi-square
@@ -593,7 +593,6 @@ void estimate_noise(const Recording& rec, const model::StageSpec& stage, Recordi
   // variance s_w^2 sum_j w_j^2 (its trapezoid weights, sum w_j = 1).
   const double zr = s.kinematics.ring_teeth;
   const int nseg = s.layout.segments;
-  const double gap = 4.0 * stage.planet_count + 8.0;  // carrier orders kept clear of the mesh harmonics
   double w2[2];
   for (int w = 0; w < 2; ++w) {
     const auto& win = s.windows[static_cast<std::size_t>(w)];
@@ -627,16 +626,34 @@ void estimate_noise(const Recording& rec, const model::StageSpec& stage, Recordi
     const double fc = s.kinematics.carrier_Hz;
     std::vector<std::size_t> kbins;
     std::vector<int> kseg;
-    for (std::size_t k = 1; k < X.size(); ++k) {
-      const double ord = static_cast<double>(k) * df / fc;
-      if (ord > s.layout.max_order) break;
-      const double dist = std::fabs(ord - zr * std::round(ord / zr));
-      if (dist <= gap) continue;
-      kbins.push_back(k);
-      kseg.push_back(std::min(nseg - 1, static_cast<int>(std::floor(ord / zr + 0.5))));
+    // Carrier orders kept clear of each mesh harmonic: k (N + 2), sidebands up to the k-th
+    // planet-pass order and two more, k = 4 where that leaves at least kMinNoiseBins bins. A
+    // stage with many planets on a small ring has its sideband groups touching (seven planets
+    // on Zr = 63: 4 (N + 2) = 36 > Zr / 2, no bin left); k then steps down until enough bins
+    // remain: the estimate takes sideband lines in with the noise, which the truncated mean
+    // (exponential_mean) trims and which can only raise it (a less sensitive test, never a
+    // more confident one).
+    constexpr std::size_t kMinNoiseBins = 32;
+    for (int k = 4; k >= 1; --k) {
+      const double gap = k * (stage.planet_count + 2.0);
+      kbins.clear();
+      kseg.clear();
+      for (std::size_t b = 1; b < X.size(); ++b) {
+        const double ord = static_cast<double>(b) * df / fc;
+        if (ord > s.layout.max_order) break;
+        const double dist = std::fabs(ord - zr * std::round(ord / zr));
+        if (dist <= gap) continue;
+        kbins.push_back(b);
+        kseg.push_back(std::min(nseg - 1, static_cast<int>(std::floor(ord / zr + 0.5))));
+      }
+      s.noise_clearance_orders = gap;
+      if (kbins.size() >= kMinNoiseBins) break;
     }
-    require(kbins.size() >= 32, "recording", rec.source,
-            ": too few frequencies away from the gear lines to estimate the noise (record too short?)");
+    require(kbins.size() >= kMinNoiseBins, "recording", rec.source, ": only ", kbins.size(),
+            " frequencies (of at least ", kMinNoiseBins, ") lie more than ", s.noise_clearance_orders,
+            " carrier orders from every mesh harmonic (every ", zr, " orders) below order ", s.layout.max_order,
+            ", over ", s.layout.revolutions, " analysed carrier revolutions: too few to estimate the noise; a longer "
+            "recording has more frequencies between the gear lines");
     for (std::size_t c = 0; c < nc; ++c) {
       const auto& v = rec.channels[static_cast<std::size_t>(s.channels[c])].values;
       double mean = 0;

@@ -216,6 +216,9 @@ struct RecordingSpectra {
   /// speed channel as the angle reference.
   std::vector<std::vector<std::vector<double>>> amplitude_drift;
   std::vector<int> noise_bins_used;  ///< per channel
+  /// Carrier orders the noise's bins keep clear of every mesh harmonic: 4 (N + 2), less where a
+  /// stage's sideband groups leave too few bins between them (estimate_noise).
+  double noise_clearance_orders = 0;
   std::vector<double> carrier_angle; ///< per sample (for synchronous averages)
 };
 

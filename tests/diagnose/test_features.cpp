@@ -407,6 +407,34 @@ TEST(OrderAnalysis, InMeshCycleWindowsOnlyALineWithoutWholePeriodsMakesTheWindow
   EXPECT_TRUE(model_spectra(rippled_sun_record(st, 1.05, {{2, 567, 0.3}}, 5.0), rec, w, cfg, false).leak_variance.empty());
 }
 
+TEST(OrderAnalysis, ManyPlanetsOnASmallRingStillLeaveBinsForTheNoiseBetweenTheirSidebandGroups) {
+  // Eight planets, Zs 38 / Zp 18 / Zr 74 (profile shifts 0.3 and 0.6: a valid stage): keeping
+  // 4 (N + 2) = 40 carrier orders clear of every mesh harmonic (74 orders apart) leaves no bin, and
+  // such a recording was refused as "record too short?" (docs/diagnose-log.md session 60). The
+  // clearance steps down to 3 (N + 2) = 30, and the white noise of the mesh channel (0.5 m/s^2
+  // per sample, beside 8 mesh harmonics of 10/h m/s^2) is estimated within 4 standard errors of
+  // its exponential mean over the bins used (the truncated mean's relative se is ~1/sqrt(bins)).
+  model::SimulationConfig cfg = test::stage_1200rpm();
+  cfg.stage.planet_count = 8;
+  cfg.stage.sun.teeth = 38;
+  cfg.stage.planet.teeth = 18;
+  cfg.stage.planet.profile_shift = 0.3;
+  cfg.stage.ring.teeth = 74;
+  cfg.stage.ring.profile_shift = 0.6;
+  const Kinematics k = kinematics(cfg.stage, cfg.operating.input_speed_rpm);
+  const Recording rec = test::synthetic_of(cfg, 3.2 / k.carrier_Hz, 0.0, 0.0, 7);
+  const RecordingSpectra s = analyse_recording(rec, cfg.stage);
+  EXPECT_DOUBLE_EQ(s.noise_clearance_orders, 30.0);
+  ASSERT_EQ(s.noise_sample_variance.size(), 2u);
+  const std::size_t acc = s.channels[0] == 1 ? 0 : 1;  // the mesh-acceleration channel
+  ASSERT_GE(s.noise_bins_used[acc], 32);
+  const double se = 1.0 / std::sqrt(static_cast<double>(s.noise_bins_used[acc]) / 1.944);
+  EXPECT_NEAR(s.noise_sample_variance[acc] / 0.25, 1.0, 4 * se) << s.noise_bins_used[acc] << " bins";
+  // The seed stage keeps the full clearance.
+  const RecordingSpectra seed = analyse_recording(test::synthetic(0.0, 0.0, 3), test::stage_1200rpm().stage);
+  EXPECT_DOUBLE_EQ(seed.noise_clearance_orders, 4 * (3 + 2.0));
+}
+
 TEST(OrderAnalysis, ALongReferenceInAShortRecordingsMeshCycleWindowsHasItsCellsAndWindowLength) {
   // A reference longer than two carrier revolutions, analysed with OrderAnalysisOptions::mesh_cycles
   // set to a short recording's Q, gets the short recording's layout: the same cells at the same
