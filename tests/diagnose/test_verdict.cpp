@@ -181,6 +181,11 @@ TEST(Verdict, WinnerFarAboveItsBoundIsUnexplainedWithTheCandidateAsLead) {
   EXPECT_NEAR(d.lead.explained_fraction, (87850377.0 - 21281752.0) / (87850377.0 - 5828.0), 1e-12);
   EXPECT_EQ(d.summary.rfind("Unexplained residual: held-out chi2 21281752 left against a bound of 5828", 0), 0u)
       << d.summary;
+  // The best fit scored as the nuisance-only fit is: the pair the explained share compares.
+  EXPECT_NE(d.summary.find("after the best fit (scored as the nuisance-only fit is: 21281752 against 87850377 with "
+                           "the nuisance parameters alone, noise bound 5828)"),
+            std::string::npos)
+      << d.summary;
   EXPECT_NE(d.summary.find("closest lead: friction, explains 76 % of the held-out excess — not a finding"),
             std::string::npos)
       << d.summary;
