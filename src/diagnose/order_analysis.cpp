@@ -628,8 +628,8 @@ void estimate_noise(const Recording& rec, const model::StageSpec& stage, Recordi
     std::vector<int> kseg;
     // Carrier orders kept clear of each mesh harmonic: k (N + 2), sidebands up to the k-th
     // planet-pass order and two more, k = 4 where that leaves at least kMinNoiseBins bins. A
-    // stage with many planets on a small ring has its sideband groups touching (seven planets
-    // on Zr = 63: 4 (N + 2) = 36 > Zr / 2, no bin left); k then steps down until enough bins
+    // stage with many planets on a small ring has its sideband groups touching (eight planets
+    // on Zr = 74: 4 (N + 2) = 40 > Zr / 2, no bin left); k then steps down until enough bins
     // remain: the estimate takes sideband lines in with the noise, which the truncated mean
     // (exponential_mean) trims and which can only raise it (a less sensitive test, never a
     // more confident one).

@@ -495,8 +495,8 @@ std::string unexplained_summary(const Diagnosis& d) {
   // The lead's own test (its fidelity directions or discrepancy at its own model) first; then the
   // best fit scored as the nuisance-only fit is, the pair the explained share compares: the two
   // scores of one fit differ, and the own test's alone beside the nuisance-only chi2 read as if
-  // the fit had made things worse (an eight-planet... a 3000 rpm recording: 383498 "after the best
-  // fit" beside 219838 "with the nuisance parameters alone", 43 % explained; session 60).
+  // the fit had made things worse (a six-planet stage at 3000 rpm: 383498 "after the best fit"
+  // beside 219838 "with the nuisance parameters alone", 43 % explained; session 60).
   if (lead && std::isfinite(d.lead.bound_held_out))
     s += "held-out chi2 " + fmt("%.0f", d.lead.held_out_chi2) + " left against a bound of " +
          fmt("%.0f", d.lead.bound_held_out) + " after the best fit (scored as the nuisance-only fit is: " +
