@@ -337,6 +337,7 @@ template <int NE>
                                      " at t = ", t, " s, roll ", st.roll_m, " m, window margin ", h, " m, base pitch ",
                                      mg.base_pitch_m, " m)"));
   st.pairs = np;
+  st.first_pair = rec.cursor.k0;
 
   // A pair entering or leaving contact within the step counts with the
   // share of the step it spends in contact (engagement_weight).

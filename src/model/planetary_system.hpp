@@ -42,6 +42,10 @@ struct MeshState {
   double stiffness_N_m = 0;     ///< sum of k_j over the pairs geometrically in mesh [N/m]
   double friction_N = 0;        ///< sum of signed friction forces [N]
   int pairs = 0;                ///< pairs in the (engagement-widened) window: pair[0 .. pairs)
+  /// Sequence number of pair[0] along the run (pair[j] is pair first_pair + j): a tooth pair keeps
+  /// its number while it stays in the window, so a bookkeeper can follow pairs without comparing
+  /// their teeth (wear::FlankWearAccumulator). Meaningful only while pairs > 0.
+  long long first_pair = 0;
   /// Pairs with engagement weight >= 1/2: the sharp count at the step's midpoint (output).
   int pairs_engaged = 0;
   std::array<geometry::ContactPair, kMaxPairs> pair{};

@@ -60,8 +60,13 @@ public:
   /// Element index containing xi (clamped to [0, elements - 1]). Inline: the wear model calls
   /// it for both flanks of every loaded pair at every step.
   int element_at(double xi_m) const {
-    const int e = static_cast<int>(std::floor((xi_m - xi_min_) / dxi_));
-    return std::clamp(e, 0, elements_ - 1);
+    // floor(u) clamped, with the floor taken by truncation inside the grid: the default x86-64
+    // build has no rounding instruction, and the library's floor was a call per flank per step.
+    // The same index for every u (NaN included: element 0).
+    const double u = (xi_m - xi_min_) / dxi_;
+    if (!(u > 0)) return 0;
+    if (u >= elements_ - 1) return elements_ - 1;
+    return static_cast<int>(u);
   }
   /// True when `other` has the same microelement grid (range and count): an xi then falls in
   /// the same element of both.

@@ -47,8 +47,7 @@ FlankWearAccumulator::FlankWearAccumulator(const model::PlanetaryDynamics& sys, 
     const model::FlankSet& sa = id.sun_planet() ? s.sun : s.planet_ring_side[static_cast<std::size_t>(id.planet)];
     const model::FlankSet& sb = id.sun_planet() ? s.planet_sun_side[static_cast<std::size_t>(id.planet)] : s.ring;
     same_grid_[m] = sa.same_grid(sb) ? 1 : 0;
-    pending_[m].resize(model::MeshState::kMaxPairs + 2);
-    for (auto& p : pending_[m]) {
+    for (auto& p : pending_[m].slot) {
       p.wa.assign(E, 0.0);
       if (!same_grid_[m]) p.wb.assign(E, 0.0);
     }
@@ -67,8 +66,7 @@ void FlankWearAccumulator::begin_window() {
     std::fill(f.wear_m.begin(), f.wear_m.end(), 0.0);
     std::fill(f.passes.begin(), f.passes.end(), 0);
   }
-  for (auto& slots : pending_)
-    for (auto& p : slots) p.used = false;
+  for (MeshPasses& mp : pending_) mp.count = 0;  // passes under way are dropped
   window_start_ = true;
 }
 
@@ -77,6 +75,33 @@ void FlankWearAccumulator::book(int fi, int tooth, const std::vector<double>& w)
   double* dst = f.wear_m.data() + static_cast<std::size_t>(tooth) * f.elements;
   for (int e = 0; e < f.elements; ++e) dst[e] += w[e] / f.arc_length_m[static_cast<std::size_t>(e)];
   ++f.passes[tooth];
+}
+
+void FlankWearAccumulator::update_passes(MeshPasses& mp, const model::MeshState& ms, long long first, int fa, int fb,
+                                         bool shared) {
+  const int count = ms.pairs;
+  // Pairs that left the window complete their pass (sequence order; they have distinct teeth,
+  // so the order does not change the sums).
+  for (long long n = mp.first; n < mp.first + mp.count; ++n) {
+    if (n >= first && n < first + count) continue;
+    const Pending& p = mp.at(n);
+    if (!p.partial) {
+      book(fa, p.tooth_a, p.wa);
+      book(fb, p.tooth_b, shared ? p.wa : p.wb);
+    }
+  }
+  // Pairs that entered start a pass; those in contact when the window opened are partial.
+  for (int j = 0; j < count; ++j) {
+    if (mp.holds(first + j)) continue;
+    Pending& p = mp.at(first + j);
+    p.partial = window_start_;
+    p.tooth_a = ms.pair[j].tooth_a;
+    p.tooth_b = ms.pair[j].tooth_b;
+    std::fill(p.wa.begin(), p.wa.end(), 0.0);
+    std::fill(p.wb.begin(), p.wb.end(), 0.0);  // empty on a shared grid
+  }
+  mp.first = first;
+  mp.count = count;
 }
 
 void FlankWearAccumulator::accumulate(double dt) {
@@ -93,44 +118,19 @@ void FlankWearAccumulator::accumulate(double dt) {
     const model::FlankSet& sb = sp ? surf.planet_sun_side[i] : surf.ring;
     const double width = sp ? width_sp_m_ : width_pr_m_;
     const bool shared = same_grid_[m] != 0;
-    auto& slots = pending_[m];
-    for (auto& p : slots) p.seen = false;
-    for (int j = 0; j < ms.pairs; ++j) {
-      const auto& pr = ms.pair[j];
-      Pending* slot = nullptr;
-      for (auto& p : slots)
-        if (p.used && p.tooth_a == pr.tooth_a && p.tooth_b == pr.tooth_b) slot = &p;
-      if (!slot) {
-        for (auto& p : slots)
-          if (!p.used) {
-            slot = &p;
-            break;
-          }
-        if (!slot) throw SolverError("wear bookkeeping: more tooth pairs in contact than slots");
-        slot->used = true;
-        slot->partial = window_start_;
-        slot->tooth_a = pr.tooth_a;
-        slot->tooth_b = pr.tooth_b;
-        std::fill(slot->wa.begin(), slot->wa.end(), 0.0);
-        std::fill(slot->wb.begin(), slot->wb.end(), 0.0);  // empty on a shared grid
-      }
-      slot->seen = true;
+    MeshPasses& mp = pending_[m];
+    const int count = ms.pairs;
+    const long long first = count > 0 ? ms.first_pair : mp.first;
+    if (first != mp.first || count != mp.count) update_passes(mp, ms, first, fa, fb, shared);
+    for (int j = 0; j < count; ++j) {
       const double F = ms.pair_force_N[j];
       if (F <= 0) continue;
       // (W2): dh_e = kappa F' |v_s| dt / l_e on each flank; the division by l_e waits for book().
       const double base = kappa_ * (F / width) * std::fabs(ms.sliding_m_s[j]) * dt;
-      const int ea = sa.element_at(pr.xi_m);
-      slot->wa[static_cast<std::size_t>(ea)] += base;
-      if (!shared) slot->wb[static_cast<std::size_t>(sb.element_at(pr.xi_m))] += base;
-    }
-    // Pairs that left contact complete their pass.
-    for (auto& p : slots) {
-      if (!p.used || p.seen) continue;
-      if (!p.partial) {
-        book(fa, p.tooth_a, p.wa);
-        book(fb, p.tooth_b, shared ? p.wa : p.wb);
-      }
-      p.used = false;
+      const double xi = ms.pair[j].xi_m;
+      Pending& p = mp.at(first + j);
+      p.wa[static_cast<std::size_t>(sa.element_at(xi))] += base;
+      if (!shared) p.wb[static_cast<std::size_t>(sb.element_at(xi))] += base;
     }
   }
   window_start_ = false;

@@ -15,6 +15,7 @@
 
 #include "model/planetary_system.hpp"
 
+#include <array>
 #include <vector>
 
 namespace pw::wear {
@@ -57,10 +58,28 @@ private:
   /// once per pass instead of at every step). On a mesh whose two flank grids are the same
   /// (same_grid_) both flanks' loads are in `wa` and `wb` stays empty.
   struct Pending {
-    bool used = false, partial = false, seen = false;
+    bool partial = false;  ///< under way when the window opened: never booked
     int tooth_a = -1, tooth_b = -1;
     std::vector<double> wa, wb;
   };
+  /// A mesh's passes under way: pairs first .. first + count - 1 of the run (MeshState::first_pair),
+  /// pair n in slot[n mod kMaxPairs]. The window holds consecutive pairs, at most kMaxPairs, so
+  /// the pairs of one step never share a slot; a pair that left is booked before one that
+  /// entered takes its slot.
+  struct MeshPasses {
+    long long first = 0;
+    int count = 0;
+    std::array<Pending, model::MeshState::kMaxPairs> slot;
+    bool holds(long long n) const { return n >= first && n < first + count; }
+    Pending& at(long long n) {
+      constexpr long long S = model::MeshState::kMaxPairs;
+      return slot[static_cast<std::size_t>(((n % S) + S) % S)];
+    }
+  };
+  /// The window of one mesh moved to pairs first .. first + ms.pairs - 1: books the passes that
+  /// left it (families fa, fb; `shared`: one element grid for both flanks) and starts those
+  /// that entered.
+  void update_passes(MeshPasses& mp, const model::MeshState& ms, long long first, int fa, int fb, bool shared);
   /// Adds one completed pass of `tooth` of family `fam`: its loads per element `w` [m^2] over
   /// the elements' arc lengths.
   void book(int fam, int tooth, const std::vector<double>& w);
@@ -71,7 +90,7 @@ private:
   int planets_ = 0;
   bool window_start_ = true;
   std::vector<Family> fam_;
-  std::vector<std::vector<Pending>> pending_;  ///< per mesh, kMaxPairs + 2 slots
+  std::vector<MeshPasses> pending_;           ///< per mesh
   std::vector<char> same_grid_;                ///< per mesh: its flanks share one element grid
 };
 

@@ -3,6 +3,10 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
 using namespace pw::model;
 
 TEST(FlankSet, IsPristineUntilSomethingHasWriteAccess) {
@@ -19,6 +23,31 @@ TEST(FlankSet, IsPristineUntilSomethingHasWriteAccess) {
   d.set_stiffness_factor(3, 1.0);
   e.add_uniform(1, 0.0);
   for (const FlankSet* f : {&b, &c, &d, &e}) EXPECT_FALSE(f->pristine()) << "write access clears it, even of 0 or 1";
+}
+
+TEST(FlankSet, ElementAtIsTheClampedFloorOfTheGridPositionEverywhereIncludingBoundariesAndNaN) {
+  // element_at takes the floor by truncation; it must give clamp(floor((xi - xi_min) / dxi)) for
+  // every xi: inside, on every element boundary and its neighbouring doubles, outside on both sides.
+  const double x0 = -1.3e-3, x1 = 2.1e-3;
+  const int n = 17;
+  const FlankSet f(3, n, x0, x1);
+  const double dx = f.element_width_m();
+  auto reference = [&](double xi) {
+    const double u = std::floor((xi - x0) / dx);
+    return std::isnan(u) ? 0 : static_cast<int>(std::clamp(u, 0.0, static_cast<double>(n - 1)));
+  };
+  std::vector<double> xs = {x0 - 1.0, x0 - dx, x0, x1, x1 + dx, 1.0, -0.0, 0.0,
+                            std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity()};
+  for (int e = 0; e <= n; ++e) {
+    const double b = x0 + e * dx;
+    xs.push_back(b);
+    xs.push_back(std::nextafter(b, -1.0));
+    xs.push_back(std::nextafter(b, 1.0));
+    xs.push_back(b + 0.5 * dx);
+  }
+  for (int k = 0; k <= 1000; ++k) xs.push_back(x0 - dx + (x1 - x0 + 2 * dx) * k / 1000.0);
+  for (double xi : xs) EXPECT_EQ(f.element_at(xi), reference(xi)) << "xi = " << xi;
+  EXPECT_EQ(f.element_at(std::numeric_limits<double>::quiet_NaN()), 0);
 }
 
 TEST(FlankSet, UntouchedFlanksGiveTheSameForcesBitForBitAsFlanksWrittenToZero) {
