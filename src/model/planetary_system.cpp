@@ -344,6 +344,7 @@ template <int NE>
   const double xi_lo = mg.start_active_m, xi_hi = mg.end_active_m;
   const bool pristine_a = fa.pristine(), pristine_b = fb.pristine();
   const bool same_grid_a_b = !pristine_a && fa.same_grid(fb);
+  const bool unit_a = fa.unit_factors(), unit_b = fb.unit_factors();
   st.pairs_engaged = 0;
   double k_sum = 0;
   int ta = win.tooth_a, tb = win.tooth_b;
@@ -360,8 +361,8 @@ template <int NE>
     pg.k_N_m = w * pair_stiffness(fam.stiffness.k_N_m, rec.scales.stiffness_x0_m, rec.scales.stiffness_x1_m,
                                   rec.scales.stiffness_last, rec.scales.stiffness_index_1_m,
                                   std::clamp(p.xi_m, xi_lo, xi_hi));
-    if (!pristine_a) pg.k_N_m *= fa.stiffness_factor(p.tooth_a);
-    if (!pristine_b) pg.k_N_m *= fb.stiffness_factor(p.tooth_b);
+    if (!unit_a) pg.k_N_m *= fa.stiffness_factor(p.tooth_a);
+    if (!unit_b) pg.k_N_m *= fb.stiffness_factor(p.tooth_b);
     // The two flanks of a mesh share one element grid (same_grid_a_b): one grid point serves both.
     const FlankSet::GridPoint gp_a = pristine_a ? FlankSet::GridPoint{} : fa.grid_point(p.xi_m);
     const FlankSet::GridPoint gp_b = pristine_b ? FlankSet::GridPoint{} : same_grid_a_b ? gp_a : fb.grid_point(p.xi_m);

@@ -89,8 +89,13 @@ public:
   double stiffness_factor(int tooth) const { return factor_[tooth]; }
   void set_stiffness_factor(int tooth, double f) {
     pristine_ = false;
+    if (f != 1.0) unit_factors_ = false;
     factor_[tooth] = f;
   }
+  /// True while every tooth's stiffness factor is 1 (no factor other than 1 was ever set): the
+  /// time step then skips the factors' look-ups and multiplications, which would be by exactly 1
+  /// (worn flanks keep their factors: wear changes the deviations only).
+  bool unit_factors() const { return unit_factors_; }
   /// True while nothing has had write access to the deviations or factors since construction:
   /// every deviation is then 0 and every factor 1, and the time step skips their look-ups
   /// (same numbers: adding 0 and multiplying by 1 are exact). Any non-const accessor clears it
@@ -107,6 +112,7 @@ private:
   std::vector<double> deviation_;
   std::vector<double> factor_;
   bool pristine_ = true;
+  bool unit_factors_ = true;
 };
 
 struct ToothSurfaces {

@@ -25,6 +25,23 @@ TEST(FlankSet, IsPristineUntilSomethingHasWriteAccess) {
   for (const FlankSet* f : {&b, &c, &d, &e}) EXPECT_FALSE(f->pristine()) << "write access clears it, even of 0 or 1";
 }
 
+TEST(FlankSet, UnitFactorsHoldsUntilAFactorOtherThanOneIsSetAndWearDoesNotClearIt) {
+  // The time step skips the factor multiplications while unit_factors() holds: it must hold
+  // exactly while every factor is 1.
+  FlankSet a(5, 4, 0.0, 1e-3);
+  EXPECT_TRUE(a.unit_factors());
+  a.set_stiffness_factor(2, 1.0);
+  a.add_uniform(1, 3e-6);
+  a.deviations()[0] = 1e-6;
+  EXPECT_TRUE(a.unit_factors()) << "a factor of exactly 1 and worn deviations leave the factors at 1";
+  EXPECT_FALSE(a.pristine());
+  a.set_stiffness_factor(3, 0.6);
+  EXPECT_FALSE(a.unit_factors());
+  a.set_stiffness_factor(3, 1.0);
+  EXPECT_FALSE(a.unit_factors()) << "conservative: once cleared it stays cleared";
+  for (int t = 0; t < a.teeth(); ++t) EXPECT_EQ(a.stiffness_factor(t), 1.0);
+}
+
 TEST(FlankSet, ElementAtIsTheClampedFloorOfTheGridPositionEverywhereIncludingBoundariesAndNaN) {
   // element_at takes the floor by truncation; it must give clamp(floor((xi - xi_min) / dxi)) for
   // every xi: inside, on every element boundary and its neighbouring doubles, outside on both sides.
