@@ -1,6 +1,5 @@
 #include "wear/flank_wear.hpp"
 
-#include "core/error.hpp"
 #include "wear/archard.hpp"
 
 #include <algorithm>
