@@ -17,12 +17,13 @@ set -eu
 PW=$1
 rm -rf "$2"; mkdir -p "$2"; cd "$2"
 S="--power-w 1000 --seconds 1.0 --noise 0.05 --decimate 32"
-# shellcheck disable=SC2086
-"$PW" synth -q $S --speed-rpm 400 --seed 3 --set stiffness.scale=1.2 -o h400.csv
-# shellcheck disable=SC2086
-"$PW" synth -q $S --speed-rpm 800 --seed 4 --set stiffness.scale=0.85 -o h800.csv
-# shellcheck disable=SC2086
-"$PW" synth -q $S --speed-rpm 600 --seed 5 --set imperfections.sun_eccentricity_m=6e-6 -o runout.csv
+synth() {  # RPM SEED KEY=VALUE OUT: one recording of the stage with one setting changed
+  # shellcheck disable=SC2086
+  "$PW" synth -q $S --speed-rpm "$1" --seed "$2" --set "$3" -o "$4"
+}
+synth 400 3 stiffness.scale=1.2 h400.csv
+synth 800 4 stiffness.scale=0.85 h800.csv
+synth 600 5 imperfections.sun_eccentricity_m=6e-6 runout.csv
 OMP_NUM_THREADS=2 "$PW" calibrate -q -r h400.csv -r h800.csv -o cal_two.toml --threads 2 > cal_two.txt
 OMP_NUM_THREADS=2 "$PW" calibrate -q -r h400.csv -o cal_one.toml --threads 2 > cal_one.txt
 for c in two one; do
