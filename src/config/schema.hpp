@@ -45,6 +45,10 @@ inline constexpr double kMaxSensorGain_m_s2_per_N = 1e3;
 /// sqrt(2 pi) sigma <= pi: the Hann window spans at most the whole ring; above it the window
 /// overlaps itself around the ring and a Gaussian no longer localizes [rad].
 inline constexpr double kMaxSensorWindowWidth_rad = 1.25;
+/// Most lines per revolution a speed encoder may have [-]: 2^24, a 24-bit count per revolution,
+/// the finest optical and interpolated encoders sold (the period method needs whole edges; with
+/// several edges per time step only the last two are timed, so the cost does not grow with it).
+inline constexpr int kMaxEncoderLines = 1 << 24;
 
 /// Largest reference pressure angle [rad], pi/4: beyond it the tooth of a standard gear
 /// becomes pointed before its addendum (geometry/gear.cpp checks the tip of each gear).
@@ -229,6 +233,12 @@ void visit_config(V& v, Config& c) {
   v.field("encoder_bandwidth_Hz", c.sensor.encoder_bandwidth_Hz,
           "-3 dB bandwidth of the speed encoders' Butterworth low-pass (sun/speed, carrier/speed) [Hz]; 0 = ideal", at_least(0, "Hz; 0 = ideal encoder"));
   v.field("encoder_filter_order", c.sensor.encoder_filter_order, "order of the encoder low-pass, 1 or 2 [-]", integers(1, 2));
+  v.field("sun_encoder_lines", c.sensor.sun_encoder_lines,
+          "lines per revolution of the sun shaft's speed encoder, read by the period method (sun/speed) [-]; 0 = ideal",
+          integers(0, kMaxEncoderLines));
+  v.field("carrier_encoder_lines", c.sensor.carrier_encoder_lines,
+          "lines per revolution of the carrier's speed encoder, read by the period method (carrier/speed) [-]; 0 = ideal",
+          integers(0, kMaxEncoderLines));
   v.field("housing_mount_frequency_Hz", c.sensor.housing_mount_frequency_Hz,
           "resonance of the housing on its mount: housing/acceleration passes a second-order high-pass there [Hz]; 0 = none (flat gain)",
           rule("Hz; 0 = none, else > 0 and below the Nyquist frequency of the stored samples"));

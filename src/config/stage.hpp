@@ -336,6 +336,13 @@ struct SensorSettings {
   /// the simulated speeds at every time step, before any decimation (model/sensor.hpp).
   double encoder_bandwidth_Hz = 0.0;
   int encoder_filter_order = 2;  ///< order of that Butterworth low-pass, 1 or 2 [-]
+  /// Lines per revolution of the sun shaft's / the carrier's speed encoder, read by the period
+  /// method (the speed is the line pitch over the time between the last two edges, held until
+  /// the next; model/sensor.hpp LineEncoder); 0 = ideal (the true speed). Applied before the
+  /// bandwidth low-pass, at every time step. A rig's documentation gives the count; a recording's
+  /// sidecar may state it per speed column (columns.<name>.encoder_lines, docs/recordings.md).
+  int sun_encoder_lines = 0;
+  int carrier_encoder_lines = 0;
   /// Resonance of the housing on its mount [Hz]; 0 = none, today's flat transfer G. A housing
   /// (or the ring the accelerometer sits on) is a mass on its mount's stiffness: from the mesh
   /// force to its acceleration the transfer is -w^2 / (k - m w^2 + i c w), flat (1/m, the gain G)

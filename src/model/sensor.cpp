@@ -3,6 +3,7 @@
 #include "core/constants.hpp"
 #include "core/error.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 #include <stdexcept>
@@ -88,6 +89,64 @@ double housing_acceleration(const SensorSettings& s, const WindowWeight& w, std:
 double housing_acceleration(const SensorSettings& s, std::span<const double> psi, double theta_c,
                             std::span<const double> dF) {
   return housing_acceleration(s, WindowWeight(s.window, s.window_width_rad), psi, theta_c, dF);
+}
+
+LineEncoder::LineEncoder(int lines) : lines_(lines) {
+  if (lines < 0) throw std::invalid_argument("LineEncoder: lines must be >= 0, got " + std::to_string(lines));
+  if (lines > 0) {
+    pitch_rad_ = kTwoPi / lines;
+    inv_pitch_ = lines / kTwoPi;
+  }
+}
+
+void LineEncoder::start(double t_s, double angle_rad, double speed_rad_s) {
+  t_ = t_s;
+  angle_ = angle_rad;
+  speed_ = speed_rad_s;
+  held_ = speed_rad_s;
+  if (passes()) return;
+  const double last = std::floor(angle_rad * inv_pitch_);
+  next_edge_ = last + 1;
+  // The last edge where a constant speed would have put it; at rest, now.
+  t_edge_ = speed_rad_s > 0 ? t_s - (angle_rad - last * pitch_rad_) / speed_rad_s : t_s;
+}
+
+double LineEncoder::crossing_time(double target_rad, double t_s, double angle_rad, double speed_rad_s) const {
+  // theta(s) on s in [0, 1] over the step: the cubic Hermite interpolant of the angles and speeds
+  // at both ends; target lies between angle_ and angle_rad (an edge was passed), so a root exists.
+  const double h = t_s - t_;
+  const double a0 = angle_, a1 = angle_rad, m0 = h * speed_, m1 = h * speed_rad_s;
+  const double span = a1 - a0;
+  double s = span > 0 ? (target_rad - a0) / span : 1.0;
+  constexpr int kNewtonSteps = 3;  // from the linear estimate: quadratic convergence, 1e-15 in three
+  for (int it = 0; it < kNewtonSteps; ++it) {
+    const double s2 = s * s, s3 = s2 * s;
+    const double f = (2 * s3 - 3 * s2 + 1) * a0 + (s3 - 2 * s2 + s) * m0 + (3 * s2 - 2 * s3) * a1 + (s3 - s2) * m1 -
+                     target_rad;
+    const double df = (6 * s2 - 6 * s) * (a0 - a1) + (3 * s2 - 4 * s + 1) * m0 + (3 * s2 - 2 * s) * m1;
+    if (!(df > 0)) break;  // not monotonic here: keep the estimate
+    s = std::clamp(s - f / df, 0.0, 1.0);
+  }
+  return t_ + s * h;
+}
+
+double LineEncoder::step(double t_s, double angle_rad, double speed_rad_s) {
+  if (passes()) return speed_rad_s;
+  const double last = std::floor(angle_rad * inv_pitch_);  // the highest edge passed by now
+  if (last >= next_edge_) {
+    // Only the last two edges matter for the speed reported: earlier ones in this step are
+    // overwritten before anyone reads them.
+    const double t_last = crossing_time(last * pitch_rad_, t_s, angle_rad, speed_rad_s);
+    const double t_before = last - 1 >= next_edge_ ? crossing_time((last - 1) * pitch_rad_, t_s, angle_rad, speed_rad_s)
+                                                   : t_edge_;
+    if (t_last > t_before) held_ = pitch_rad_ / (t_last - t_before);
+    t_edge_ = t_last;
+    next_edge_ = last + 1;
+  }
+  t_ = t_s;
+  angle_ = angle_rad;
+  speed_ = speed_rad_s;
+  return held_;
 }
 
 double housing_transfer_gain(double gain_m_s2_per_N, double mount_Hz, double f_Hz) {

@@ -685,8 +685,30 @@ std::vector<RecordChannel> record_channels(const dynamics::LumpedStructure& S, i
 double sun_speed_change(Integration& r) { return r.sys().sun_rotation(r.st.v); }
 double carrier_speed_change(Integration& r) { return r.sys().carrier_rotation(r.st.v); }
 
+/// A speed channel's line-counting encoder (LineEncoder, SensorSettings::sun_encoder_lines and
+/// carrier_encoder_lines) with the shaft it sits on; what it reports goes on to the bandwidth
+/// low-pass as a change from the nominal speed, like the true speed's change.
+struct LineCountedSpeed {
+  LineEncoder encoder;
+  double nominal_rad_s;
+  /// The shaft's rotation in the model's coordinates (PlanetaryDynamics::sun_rotation / carrier_rotation).
+  double (PlanetaryDynamics::*rotation)(const Eigen::VectorXd&) const;
+
+  double angle_rad(Integration& r) const { return nominal_rad_s * r.st.t + (r.sys().*rotation)(r.st.q); }
+  double change_rad_s(Integration& r) const { return (r.sys().*rotation)(r.st.v); }
+  void start(Integration& r) {
+    if (!encoder.passes()) encoder.start(r.st.t, angle_rad(r), nominal_rad_s + change_rad_s(r));
+  }
+  /// The speed change the encoder reports at the current step [rad/s] (the true change if ideal).
+  double measured_change(Integration& r) {
+    if (encoder.passes()) return change_rad_s(r);
+    return encoder.step(r.st.t, angle_rad(r), nominal_rad_s + change_rad_s(r)) - nominal_rad_s;
+  }
+};
+
 /// The speed encoders' pre-roll before the record (no-op for ideal encoders).
-void settle_encoders(Integration& r, ButterworthFilter& sun_encoder, ButterworthFilter& carrier_encoder) {
+void settle_encoders(Integration& r, ButterworthFilter& sun_encoder, ButterworthFilter& carrier_encoder,
+                     LineCountedSpeed& sun_lines, LineCountedSpeed& carrier_lines) {
   if (sun_encoder.passes()) return;
   const PreparedStage& p = r.p;
   const long spm = p.steps_per_mesh;
@@ -716,7 +738,7 @@ void settle_encoders(Integration& r, ButterworthFilter& sun_encoder, Butterworth
   }
   for (long k = 0; k < pre; ++k) {
     r.step();
-    const double ws = sun_speed_change(r), wc = carrier_speed_change(r);
+    const double ws = sun_lines.measured_change(r), wc = carrier_lines.measured_change(r);
     if (periodic_start) {
       if (const long j = k - (pre - spm); j >= 0) {
         last_sun[static_cast<std::size_t>(j)] = ws;
@@ -793,7 +815,12 @@ RecordStats record(Integration& r, int cycles, SimulationResult& out, const Outp
   // channel by 4e-6 rad/s at 100 rpm, 1.6 % of its filtered mesh ripple.
   sun_encoder.reset(sun_speed_change(r));
   carrier_encoder.reset(carrier_speed_change(r));
-  settle_encoders(r, sun_encoder, carrier_encoder);
+  LineCountedSpeed sun_lines{LineEncoder(sn.sun_encoder_lines), p.sun_speed_rad_s, &PlanetaryDynamics::sun_rotation};
+  LineCountedSpeed carrier_lines{LineEncoder(sn.carrier_encoder_lines), p.carrier_speed_rad_s,
+                                 &PlanetaryDynamics::carrier_rotation};
+  sun_lines.start(r);
+  carrier_lines.start(r);
+  settle_encoders(r, sun_encoder, carrier_encoder, sun_lines, carrier_lines);
   const double t0 = r.st.t;
   MeshLoadRecorder loads(p.geometry, r.c.stage, sys.nominal_input_torque_Nm());
   // The body the speed reference holds (the motor's end or the load's), for the mean torque of
@@ -803,8 +830,8 @@ RecordStats record(Integration& r, int cycles, SimulationResult& out, const Outp
                                                                              : sys.output_theta_row();
   for (std::int64_t k = 0; k < nrec; ++k) {
     r.step();
-    const double w_sun = p.sun_speed_rad_s + sun_encoder.step(sun_speed_change(r));
-    const double w_carrier = p.carrier_speed_rad_s + carrier_encoder.step(carrier_speed_change(r));
+    const double w_sun = p.sun_speed_rad_s + sun_encoder.step(sun_lines.measured_change(r));
+    const double w_carrier = p.carrier_speed_rad_s + carrier_encoder.step(carrier_lines.measured_change(r));
     const auto& ms = sys.mesh_states();
     if (sel.mesh_load_summary) loads.add(ms);
     if (held_by_rig) {

@@ -334,3 +334,86 @@ TEST(Sensor, SimulatedHousingChannelFollowsThePlanetPasses) {
   EXPECT_GT(peak(fm - 3 * fc), 0.1 * peak(fm));
   EXPECT_LT(peak(fm + 1 * fc), 0.1 * peak(fm + 3 * fc));
 }
+
+namespace {
+
+/// A shaft turning at Omega + A cos(nu t): its angle Omega t + (A/nu) sin(nu t) and speed, in
+/// closed form, and the exact time of the angle `target` (Newton on the closed form, which is
+/// monotonic for A < Omega).
+struct ModulatedShaft {
+  double omega = 90.0, a = 3.0, nu = 700.0;  // [rad/s], [rad/s], [rad/s]
+  double angle(double t) const { return omega * t + a / nu * std::sin(nu * t); }
+  double speed(double t) const { return omega + a * std::cos(nu * t); }
+  double time_of(double target) const {
+    double t = target / omega;
+    for (int it = 0; it < 60; ++it) t -= (angle(t) - target) / speed(t);
+    return t;
+  }
+};
+
+} // namespace
+
+TEST(LineEncoder, WithoutLinesReportsTheTrueSpeed) {
+  LineEncoder e(0);
+  EXPECT_TRUE(e.passes());
+  e.start(0.0, 0.3, 10.0);
+  EXPECT_EQ(e.step(1e-3, 0.31, 12.5), 12.5);
+  EXPECT_THROW(LineEncoder(-1), std::invalid_argument);
+}
+
+TEST(LineEncoder, AtConstantSpeedReportsThatSpeedFromTheFirstEdgeOn) {
+  // start() places the last edge where the constant speed put it, so even the first edge's
+  // interval is exact; one step spanning several edges times only its last two.
+  const double omega = 50.0;
+  for (const double dt : {1e-5, 3e-4, 2.5e-3}) {  // 0.04, 1.2 and 10 edges per step at 50 lines
+    LineEncoder e(50);
+    e.start(0.0, 0.123, omega);
+    for (int k = 1; k <= 200; ++k) {
+      const double t = k * dt;
+      EXPECT_NEAR(e.step(t, 0.123 + omega * t, omega), omega, 1e-9 * omega) << "dt " << dt << ", step " << k;
+    }
+  }
+}
+
+TEST(LineEncoder, ReportsThePitchOverTheTimeBetweenItsLastTwoEdgesForAnyStepSize) {
+  // Against the closed-form edge times of a modulated shaft: after each step the speed reported
+  // is 2 pi / N over the interval of the last two edges passed, however many edges the step
+  // spans. The edge times come from the step ends' angles and speeds (cubic Hermite): its angle
+  // error is at most dt^4 max|theta''''| / 384 = dt^4 A nu^3 / 384, an edge time's that over the
+  // least speed Omega - A, the interval's twice that; relative to the shortest interval
+  // pitch / (Omega + A) that is the tolerance, plus 1e-11 for the round-off of times ~1 s in
+  // intervals ~1e-3 s (dt = 4e-4: 7e-7; linear interpolation's error, dt^2 A nu / 8, is 50
+  // times larger).
+  const ModulatedShaft shaft;
+  const int lines = 64;
+  const double pitch = 2 * kPi / lines;
+  for (const double dt : {2e-5, 1.5e-4, 4e-4}) {  // 0.02, 0.14 and 0.37 edges per step
+    const double hermite = std::pow(dt, 4) * shaft.a * std::pow(shaft.nu, 3) / 384 / (shaft.omega - shaft.a);
+    const double tolerance = 2 * hermite / (pitch / (shaft.omega + shaft.a)) + 1e-11;
+    LineEncoder e(lines);
+    const double t0 = 0.01;
+    e.start(t0, shaft.angle(t0), shaft.speed(t0));
+    double checked = 0;
+    for (int k = 1; k <= 4000; ++k) {
+      const double t = t0 + k * dt;
+      const double reported = e.step(t, shaft.angle(t), shaft.speed(t));
+      const double last = std::floor(shaft.angle(t) / pitch);
+      if (last * pitch < shaft.angle(t0) + pitch) continue;  // the first edge's interval is start()'s estimate
+      const double exact = pitch / (shaft.time_of(last * pitch) - shaft.time_of((last - 1) * pitch));
+      ASSERT_NEAR(reported, exact, tolerance * exact) << "dt " << dt << ", t " << t;
+      ++checked;
+    }
+    EXPECT_GT(checked, 3000) << "dt " << dt;
+  }
+}
+
+TEST(LineEncoder, CountsEdgesForwardOnly) {
+  // A shaft that turns back passes no new edge until it is past its last counted one again:
+  // the speed reported stays the last one.
+  LineEncoder e(4);  // pitch pi/2
+  e.start(0.0, 0.1, 1.0);
+  const double first = e.step(1.6, 1.7, 1.0);  // the edge at pi/2 passed at constant speed 1
+  EXPECT_NEAR(first, 1.0, 1e-12);
+  EXPECT_EQ(e.step(2.0, 1.2, -1.0), first);  // back below pi/2: no edge
+  EXPECT_EQ(e.step(2.2, 1.6, 1.0), first);   // pi/2 again: already counted
+}
