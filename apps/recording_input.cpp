@@ -37,6 +37,7 @@ RecordingInputs read_recording_inputs(const CommonOptions& common, const std::st
                                    "or describe it with --column, --speed-rpm and --power-w");
   const io::RecordingMeta m = have_sidecar ? io::merge(io::read_recording_meta(meta_path), cli) : cli;
   diagnose::Recording rec = io::read_recording(recording, m, config);
+  io::apply_encoder_lines(m, config);  // the model measures the speeds as the rig's encoders did
   return RecordingInputs{std::move(config), std::move(rec)};
 }
 

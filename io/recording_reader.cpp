@@ -10,6 +10,7 @@
 
 #include "core/constants.hpp"
 #include "core/error.hpp"
+#include "config/schema.hpp"
 
 #include <nlohmann/json.hpp>
 
@@ -610,6 +611,11 @@ void check_meta(const RecordingMeta& meta, const model::SimulationConfig& config
       throw InputError(src, col + ": sensor angle must be finite");
     if (!std::isfinite(c.scale) || c.scale == 0)
       throw InputError(src, detail::concat(col, ": scale must be finite and non-zero, got ", c.scale));
+    if (c.encoder_lines && c.quantity != Quantity::SunSpeed && c.quantity != Quantity::CarrierSpeed)
+      throw InputError(src, col + ": encoder_lines applies only to sun_speed and carrier_speed columns");
+    if (c.encoder_lines && (*c.encoder_lines < 1 || *c.encoder_lines > config::kMaxEncoderLines))
+      throw InputError(src, detail::concat(col, ": encoder_lines must lie in [1, ", config::kMaxEncoderLines, "], got ",
+                                           *c.encoder_lines));
     if (!c.unit.empty() && !si_factor(c.quantity, c.unit))
       throw InputError(src, detail::concat(col, ": unit '", c.unit, "' cannot be right for ",
                                            diagnose::to_string(c.quantity), " (it is ", kind_of_unit(c.unit),
@@ -833,7 +839,8 @@ RecordingMeta parse_recording_meta(std::string_view text, std::string_view sourc
       const json& c = it.value();
       if (!c.is_object()) json_error(source, key, detail::concat("expected an object, got ", json_type(c)));
       check_json_keys(c, source, key,
-                      {"quantity", "unit", "planet", "sensor_angle_deg", "sensor_angle_rad", "scale", "description"});
+                      {"quantity", "unit", "planet", "sensor_angle_deg", "sensor_angle_rad", "scale", "encoder_lines",
+                       "description"});
       ColumnSpec s;
       s.name = it.key();
       if (!c.contains("quantity")) json_error(source, key + ".quantity", "missing; one of " + quantity_list());
@@ -861,6 +868,14 @@ RecordingMeta parse_recording_meta(std::string_view text, std::string_view sourc
       if (c.contains("sensor_angle_rad"))
         s.sensor_angle_rad = json_number(c["sensor_angle_rad"], source, key + ".sensor_angle_rad");
       if (c.contains("scale")) s.scale = json_number(c["scale"], source, key + ".scale");
+      if (c.contains("encoder_lines")) {
+        const json& n = c["encoder_lines"];
+        if (!n.is_number_integer() || n.get<long long>() < 1 || n.get<long long>() > config::kMaxEncoderLines)
+          json_error(source, key + ".encoder_lines",
+                     detail::concat("expected an integer in [1, ", config::kMaxEncoderLines,
+                                    "] (lines per revolution of the encoder)"));
+        s.encoder_lines = static_cast<int>(n.get<long long>());
+      }
       m.columns.push_back(std::move(s));
     }
   }
@@ -889,7 +904,7 @@ ColumnSpec parse_column_option(std::string_view text, std::string_view option) {
     }
   }
   const std::string usage =
-      "expected NAME=QUANTITY[,unit=U][,planet=I][,sensor_angle_deg=A][,scale=S], e.g. "
+      "expected NAME=QUANTITY[,unit=U][,planet=I][,sensor_angle_deg=A][,scale=S][,encoder_lines=N], e.g. "
       "'acc=housing_acceleration,unit=g,sensor_angle_deg=30'";
   const auto eq = parts[0].find('=');
   if (eq == std::string::npos || eq == 0)
@@ -926,11 +941,32 @@ ColumnSpec parse_column_option(std::string_view text, std::string_view option) {
       s.sensor_angle_rad = number(key, value);
     } else if (key == "scale") {
       s.scale = number(key, value);
+    } else if (key == "encoder_lines") {
+      const double n = number(key, value);
+      if (n < 1 || n > config::kMaxEncoderLines || n != std::floor(n))
+        throw InputError(opt, detail::concat("'", text, "': encoder_lines must be an integer in [1, ",
+                                             config::kMaxEncoderLines, "]"));
+      s.encoder_lines = static_cast<int>(n);
     } else {
       throw InputError(opt, detail::concat("'", text, "': unknown key '", key, "'; ", usage));
     }
   }
   return s;
+}
+
+void apply_encoder_lines(const RecordingMeta& meta, model::SimulationConfig& config) {
+  for (const ColumnSpec& c : meta.columns) {
+    if (!c.encoder_lines) continue;
+    const bool sun = c.quantity == Quantity::SunSpeed;
+    if (!sun && c.quantity != Quantity::CarrierSpeed) continue;  // check_meta refuses it
+    int& lines = sun ? config.sensor.sun_encoder_lines : config.sensor.carrier_encoder_lines;
+    const char* key = sun ? "sensor.sun_encoder_lines" : "sensor.carrier_encoder_lines";
+    if (lines != 0 && lines != *c.encoder_lines)
+      throw InputError(key, detail::concat("the configuration gives ", lines, " lines, ", meta.source, "'s column '",
+                                           c.name, "' ", *c.encoder_lines,
+                                           ": they describe one encoder; correct one of them"));
+    lines = *c.encoder_lines;
+  }
 }
 
 RecordingMeta merge(RecordingMeta base, const RecordingMeta& o) {

@@ -51,6 +51,10 @@ struct ColumnSpec {
   /// Multiplies the raw values before the unit conversion (-1 for an encoder
   /// counting the other way; a sensitivity). Default 1.
   double scale = 1.0;
+  /// Speed columns (optional): lines per revolution of a line-counting encoder read by the
+  /// period method, in [1, 2^24]. The model then measures that shaft's speed the same way
+  /// (sensor.sun_encoder_lines / carrier_encoder_lines; apply_encoder_lines).
+  std::optional<int> encoder_lines;
 };
 
 /// Everything about a recording that is not in its samples.
@@ -65,6 +69,13 @@ struct RecordingMeta {
   std::vector<ColumnSpec> columns;
   std::string source;  ///< where this came from ("rec.json", "command line"), for messages
 };
+
+/// The encoders a recording's speed columns state (ColumnSpec::encoder_lines) as the model's
+/// sensor.sun_encoder_lines / sensor.carrier_encoder_lines, so that the model measures the
+/// speeds as the rig did. A count the configuration already sets to another non-zero value is
+/// an InputError naming both (the configuration and the sidecar describe one rig); a column
+/// without a count leaves the configuration's.
+void apply_encoder_lines(const RecordingMeta& meta, model::SimulationConfig& config);
 
 /// The sidecar (docs/recordings.md "JSON sidecar"). Unknown keys, wrong types
 /// and unknown quantities are errors naming the key ("rec.json: columns.acc.unit").

@@ -199,7 +199,7 @@ COLUMNS = [  # (csv name, unit, quantity, extra sidecar keys)
 ]
 
 
-def write_recording(csv_path, t, channels, rpm, power_W, sensor_angle_deg, fs, description=""):
+def write_recording(csv_path, t, channels, rpm, power_W, sensor_angle_deg, fs, description="", encoder_lines=None):
     """CSV (time + the COLUMNS, units in brackets) and its JSON sidecar (docs/recordings.md)."""
     header = ",".join(["time [s]"] + [f"{name} [{unit}]" for name, unit, _, _ in COLUMNS])
     data = np.column_stack([t] + [channels[name] for name, _, _, _ in COLUMNS])
@@ -216,6 +216,8 @@ def write_recording(csv_path, t, channels, rpm, power_W, sensor_angle_deg, fs, d
             d["sensor_angle_deg"] = round(float(sensor_angle_deg), 6)
         else:
             d.update(extra)
+        if encoder_lines and q in encoder_lines:  # what the rig's documentation gives (docs/recordings.md)
+            d["encoder_lines"] = int(encoder_lines[q])
         cols[name] = d
     meta = {"description": description, "generator": GENERATOR,
             "operating": {"input_speed_rpm": float(rpm), "input_power_W": float(power_W)},
@@ -262,7 +264,8 @@ def run_gearset(gname, entries, outdir, warmup_s=None, log=None):
         desc = (f"test rig recording, {e['fs']:.0f} Hz DAQ, encoders {g['rig'].lines_sun}/{g['rig'].lines_carrier} lines, "
                 f"housing accelerometer (IEPE)")
         write_recording(os.path.join(outdir, csv_rel), r["time"], ch, e["rpm"], e["W"], r["sensor_angle_deg"],
-                        e["fs"], desc)
+                        e["fs"], desc, encoder_lines={"sun_speed": g["rig"].lines_sun,
+                                                      "carrier_speed": g["rig"].lines_carrier})
         key = f"{gname}/{e['name']}"
         notes = []
         if e["effect"] == "backlash" and r["separated_fraction"] == 0 and r["coast_contact_fraction"] == 0:

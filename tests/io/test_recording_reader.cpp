@@ -587,3 +587,51 @@ TEST(RecordingMeta, CommandLineColumnsAndMerge) {
   EXPECT_EQ(m.columns[1].name, "w");
   EXPECT_EQ(m.source, "rec.json and command line");
 }
+
+TEST(RecordingMeta, EncoderLinesOfASpeedColumnBecomeTheModelsEncoderAndConflictsAreNamed) {
+  const auto m = io::parse_recording_meta(R"({
+    "operating": {"input_speed_rpm": 400, "input_power_W": 1000},
+    "columns": {
+      "w_sun": {"quantity": "sun_speed", "unit": "rpm", "encoder_lines": 1024},
+      "w_c": {"quantity": "carrier_speed", "unit": "rpm", "encoder_lines": 2048}
+    }
+  })", "rec.json");
+  ASSERT_EQ(m.columns.size(), 2u);
+  EXPECT_EQ(*m.columns[0].encoder_lines, 1024);
+  model::SimulationConfig c;
+  io::apply_encoder_lines(m, c);
+  EXPECT_EQ(c.sensor.sun_encoder_lines, 1024);
+  EXPECT_EQ(c.sensor.carrier_encoder_lines, 2048);
+  // The same count in the configuration is no conflict; another one is, naming the key and both.
+  io::apply_encoder_lines(m, c);
+  c.sensor.sun_encoder_lines = 1000;
+  const auto conflict = thrown<InputError>([&] { io::apply_encoder_lines(m, c); });
+  ASSERT_TRUE(conflict);
+  EXPECT_TRUE(contains(conflict->what(), "sensor.sun_encoder_lines")) << conflict->what();
+  EXPECT_TRUE(contains(conflict->what(), "1000")) << conflict->what();
+  EXPECT_TRUE(contains(conflict->what(), "1024")) << conflict->what();
+  // A column without a count leaves the configuration's.
+  model::SimulationConfig d;
+  d.sensor.carrier_encoder_lines = 500;
+  io::apply_encoder_lines(standard_meta(), d);
+  EXPECT_EQ(d.sensor.carrier_encoder_lines, 500);
+  EXPECT_EQ(d.sensor.sun_encoder_lines, 0);
+
+  auto error = [](const std::string& text) {
+    const auto e = thrown<InputError>([&] { (void)io::parse_recording_meta(text, "rec.json"); });
+    return e ? std::string(e->what()) : std::string();
+  };
+  EXPECT_TRUE(contains(error(R"({"columns": {"w": {"quantity": "sun_speed", "encoder_lines": 0}}})"),
+                       "columns.w.encoder_lines: expected an integer in [1, 16777216]"));
+  EXPECT_TRUE(contains(error(R"({"columns": {"w": {"quantity": "sun_speed", "encoder_lines": 10.5}}})"),
+                       "columns.w.encoder_lines"));
+  const auto cli = io::parse_column_option("w=carrier_speed,unit=rpm,encoder_lines=2000");
+  EXPECT_EQ(*cli.encoder_lines, 2000);
+  const auto bad = thrown<InputError>([] { (void)io::parse_column_option("w=sun_speed,encoder_lines=-3"); });
+  ASSERT_TRUE(bad);
+  EXPECT_TRUE(contains(bad->what(), "encoder_lines must be an integer in [1, 16777216]"));
+  // Only speed columns have encoder lines.
+  io::RecordingMeta acc = standard_meta();
+  acc.columns[0].encoder_lines = 100;
+  EXPECT_TRUE(contains(csv_error(standard_csv(), acc), "encoder_lines applies only to sun_speed and carrier_speed"));
+}
