@@ -264,6 +264,8 @@ int run_synth(const SynthOptions& o) {
   wo.description = detail::concat("synthesized by ", version_string(), " synth: simulated stage, white noise ",
                                   100 * o.noise, " % of each channel's RMS", o.dc_offset != 0 ? ", accelerometer DC offsets" : "",
                                   ", sample rate ", fs, " Hz");
+  wo.sun_encoder_lines = config.sensor.sun_encoder_lines;  // the encoders the speeds were measured with
+  wo.carrier_encoder_lines = config.sensor.carrier_encoder_lines;
   io::write_recording(out, rec, wo);
   if (!o.common.quiet) {
     const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - clock0).count();

@@ -65,6 +65,9 @@ std::string recording_meta_json(const diagnose::Recording& r, const RecordingWri
     if (c.quantity == Quantity::HousingAcceleration)
       // Rounded to 1e-9 deg so that 30 deg is written as 30, not 29.999999999999996.
       col["sensor_angle_deg"] = std::round(c.sensor_angle_rad * 180.0 / std::numbers::pi * 1e9) / 1e9;
+    if (c.quantity == Quantity::SunSpeed && options.sun_encoder_lines > 0) col["encoder_lines"] = options.sun_encoder_lines;
+    if (c.quantity == Quantity::CarrierSpeed && options.carrier_encoder_lines > 0)
+      col["encoder_lines"] = options.carrier_encoder_lines;
     cols[c.name] = col;
   }
   j["columns"] = cols;

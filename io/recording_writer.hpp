@@ -22,6 +22,11 @@ namespace pw::io {
 
 struct RecordingWriteOptions {
   std::string description;  ///< free text stored as "description" in the sidecar (optional)
+  /// Lines per revolution of the encoders the speed columns were measured with (period method,
+  /// sensor.sun_encoder_lines / carrier_encoder_lines), stated as the columns' encoder_lines;
+  /// 0 = ideal encoders, not stated.
+  int sun_encoder_lines = 0;
+  int carrier_encoder_lines = 0;
 };
 
 /// The sidecar's path for a recording file: same name, extension ".json".

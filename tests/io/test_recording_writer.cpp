@@ -87,6 +87,23 @@ TEST(RecordingWriter, SidecarStatesTheOperatingPointAndColumnsOnly) {
   EXPECT_EQ(m.columns.size(), 6u);
 }
 
+TEST(RecordingWriter, SidecarStatesTheEncodersLinesOnTheSpeedColumnsAndTheReaderTakesThemBack) {
+  io::RecordingWriteOptions o;
+  o.sun_encoder_lines = 1000;
+  o.carrier_encoder_lines = 2000;
+  const auto m = io::parse_recording_meta(io::recording_meta_json(sample_recording(), o), "x.json");
+  ASSERT_EQ(m.columns.size(), 6u);
+  EXPECT_EQ(m.columns[0].encoder_lines, 1000);
+  EXPECT_EQ(m.columns[1].encoder_lines, 2000);
+  for (std::size_t i = 2; i < m.columns.size(); ++i) EXPECT_FALSE(m.columns[i].encoder_lines) << m.columns[i].name;
+  model::SimulationConfig c;
+  io::apply_encoder_lines(m, c);
+  EXPECT_EQ(c.sensor.sun_encoder_lines, 1000);
+  EXPECT_EQ(c.sensor.carrier_encoder_lines, 2000);
+  // Ideal encoders: nothing stated.
+  EXPECT_FALSE(contains(io::recording_meta_json(sample_recording(), {"x"}), "encoder_lines"));
+}
+
 TEST(RecordingWriter, CsvHeaderHasUnitsAndQuotesWhereNeeded) {
   std::ostringstream out;
   io::write_recording_csv(out, sample_recording());
