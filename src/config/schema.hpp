@@ -236,9 +236,13 @@ void visit_config(V& v, Config& c) {
   v.field("sun_encoder_lines", c.sensor.sun_encoder_lines,
           "lines per revolution of the sun shaft's speed encoder, read by the period method (sun/speed) [-]; 0 = ideal",
           integers(0, kMaxEncoderLines));
+  v.field("sun_encoder_phase_rad", c.sensor.sun_encoder_phase_rad,
+          "angle of a line of the sun shaft's encoder from the shaft's zero [rad] (the phase of its images)", any_finite("rad"));
   v.field("carrier_encoder_lines", c.sensor.carrier_encoder_lines,
           "lines per revolution of the carrier's speed encoder, read by the period method (carrier/speed) [-]; 0 = ideal",
           integers(0, kMaxEncoderLines));
+  v.field("carrier_encoder_phase_rad", c.sensor.carrier_encoder_phase_rad,
+          "angle of a line of the carrier's encoder from the carrier's zero [rad] (the phase of its images)", any_finite("rad"));
   v.field("housing_mount_frequency_Hz", c.sensor.housing_mount_frequency_Hz,
           "resonance of the housing on its mount: housing/acceleration passes a second-order high-pass there [Hz]; 0 = none (flat gain)",
           rule("Hz; 0 = none, else > 0 and below the Nyquist frequency of the stored samples"));

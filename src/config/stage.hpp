@@ -343,6 +343,12 @@ struct SensorSettings {
   /// sidecar may state it per speed column (columns.<name>.encoder_lines, docs/recordings.md).
   int sun_encoder_lines = 0;
   int carrier_encoder_lines = 0;
+  /// Where those encoders' lines sit on their shafts: the angle of a line from the shaft's zero
+  /// (the model's angle at t = 0, tooth 0 of the sun or planet 0's arm at its reference) [rad].
+  /// It sets only the phase of the encoder's images against the gear lines; a rig does not know
+  /// it, so the diagnosis budgets the images' phase as unknown (docs/diagnose.md §2).
+  double sun_encoder_phase_rad = 0.0;
+  double carrier_encoder_phase_rad = 0.0;
   /// Resonance of the housing on its mount [Hz]; 0 = none, today's flat transfer G. A housing
   /// (or the ring the accelerometer sits on) is a mass on its mount's stiffness: from the mesh
   /// force to its acceleration the transfer is -w^2 / (k - m w^2 + i c w), flat (1/m, the gain G)

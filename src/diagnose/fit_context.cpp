@@ -1,5 +1,6 @@
 #include "diagnose/fit_context.hpp"
 
+#include "core/constants.hpp"
 #include "core/statistics.hpp"
 #include "model/validate.hpp"
 
@@ -329,10 +330,61 @@ std::optional<CandidateResult> try_fit_model(FitContext& ctx, const Candidate* c
   }
 }
 
+namespace {
+
+/// Encoder phases the reference model is simulated at besides its own (line-counting encoders
+/// only; model/sensor.hpp LineEncoder): the images of every mesh harmonic turn together by N
+/// times the encoder's angle, so a phase phi = N * angle covers them all; three equally spaced
+/// phases give the variance of an amplitude |G + I e^{i phi}| over a uniform phi exactly to first
+/// order in the smaller of the two (|I|^2 / 2 for |I| << |G|).
+constexpr int kEncoderPhases = 3;
+
+bool has_line_encoders(const model::SimulationConfig& c) {
+  return c.sensor.sun_encoder_lines > 0 || c.sensor.carrier_encoder_lines > 0;
+}
+
+/// c with both encoders' lines turned by k / kEncoderPhases of a line pitch.
+model::SimulationConfig encoder_phase_variant(model::SimulationConfig c, int k) {
+  const double turn = 2 * kPi * k / kEncoderPhases;
+  if (c.sensor.sun_encoder_lines > 0) c.sensor.sun_encoder_phase_rad += turn / c.sensor.sun_encoder_lines;
+  if (c.sensor.carrier_encoder_lines > 0) c.sensor.carrier_encoder_phase_rad += turn / c.sensor.carrier_encoder_lines;
+  return c;
+}
+
+/// The reference model with the variance its encoders' unknown phase leaves in each bin added to
+/// its leak variance (ModelSpectra::leak_variance, which V carries): twice the variance over the
+/// phases, since the recording's images have a phase of their own, independent of the model's
+/// (and, under a baseline, of the baseline's, while the model's own cancels there).
+std::shared_ptr<const ModelSpectra> with_encoder_phase_variance(const ModelSpectra& centre,
+                                                                const std::vector<const ModelSpectra*>& phases) {
+  auto m = std::make_shared<ModelSpectra>(centre);
+  if (m->leak_variance.empty()) {
+    m->leak_variance.resize(m->amplitude.size());
+    for (std::size_t ch = 0; ch < m->amplitude.size(); ++ch) m->leak_variance[ch].assign(m->amplitude[ch].size(), 0.0);
+  }
+  for (std::size_t ch = 0; ch < m->amplitude.size(); ++ch)
+    for (std::size_t b = 0; b < m->amplitude[ch].size() && b < m->leak_variance[ch].size(); ++b) {
+      double mean = 0, sq = 0;
+      for (const ModelSpectra* p : phases) mean += p->amplitude[ch][b] / static_cast<double>(phases.size());
+      for (const ModelSpectra* p : phases) {
+        const double d = p->amplitude[ch][b] - mean;
+        sq += d * d / static_cast<double>(phases.size());
+      }
+      m->leak_variance[ch][b] += 2 * sq;
+    }
+  return m;
+}
+
+} // namespace
+
 void set_fidelity(FitContext& ctx, const model::SimulationConfig& c, std::shared_ptr<const ModelSpectra>* centre) {
   ModelComparison& cmp = ctx.cmp;
-  // 0: c itself; 1: a second discretization; 2, 3: the speed +- its relative standard error.
-  std::vector<model::SimulationConfig> v(4, c);
+  // 0: c itself; 1: a second discretization; 2, 3: the speed +- its relative standard error;
+  // with line-counting encoders 4, 5: c with the encoders' lines turned by a third and two
+  // thirds of a pitch (their images' unknown phase).
+  const bool encoders = has_line_encoders(c);
+  std::vector<model::SimulationConfig> v(encoders ? 4 + kEncoderPhases - 1 : 4, c);
+  for (int k = 1; encoders && k < kEncoderPhases; ++k) v[static_cast<std::size_t>(3 + k)] = encoder_phase_variant(c, k);
   std::string disc;
   if (c.solver.time_step_s > 0) {
     v[1].solver.time_step_s *= 0.7;
@@ -345,8 +397,8 @@ void set_fidelity(FitContext& ctx, const model::SimulationConfig& c, std::shared
   const double u = std::max(cmp.spectra().speed.relative_std, 1e-9);
   v[2].operating.input_speed_rpm *= 1 + u;
   v[3].operating.input_speed_rpm *= 1 - u;
-  std::vector<std::shared_ptr<const ModelSpectra>> s(4);
-  parallel_for(4, ctx.threads, [&](int i) {
+  std::vector<std::shared_ptr<const ModelSpectra>> s(v.size());
+  parallel_for(static_cast<int>(v.size()), ctx.threads, [&](int i) {
     s[static_cast<std::size_t>(i)] = cmp.simulate(v[static_cast<std::size_t>(i)], i == 0);
   });
   const int nc = cmp.channels(), ncell = cmp.cells();
@@ -362,7 +414,14 @@ void set_fidelity(FitContext& ctx, const model::SimulationConfig& c, std::shared
   char buf[96];
   std::snprintf(buf, sizeof buf, "speed +- %.2g (its relative standard error)", u);
   cmp.set_fidelity(std::move(cols), {disc, buf}, 0);  // column 0: the discretization
-  if (centre) *centre = s[0];
+  if (centre) {
+    *centre = s[0];
+    if (encoders) {
+      std::vector<const ModelSpectra*> phases{s[0].get()};
+      for (std::size_t k = 4; k < s.size(); ++k) phases.push_back(s[k].get());
+      *centre = with_encoder_phase_variance(*s[0], phases);
+    }
+  }
 }
 
 } // namespace pw::diagnose

@@ -91,8 +91,9 @@ double housing_acceleration(const SensorSettings& s, std::span<const double> psi
   return housing_acceleration(s, WindowWeight(s.window, s.window_width_rad), psi, theta_c, dF);
 }
 
-LineEncoder::LineEncoder(int lines) : lines_(lines) {
+LineEncoder::LineEncoder(int lines, double phase_rad) : lines_(lines), phase_rad_(phase_rad) {
   if (lines < 0) throw std::invalid_argument("LineEncoder: lines must be >= 0, got " + std::to_string(lines));
+  if (!std::isfinite(phase_rad)) throw std::invalid_argument("LineEncoder: the phase must be finite");
   if (lines > 0) {
     pitch_rad_ = kTwoPi / lines;
     inv_pitch_ = lines / kTwoPi;
@@ -105,10 +106,10 @@ void LineEncoder::start(double t_s, double angle_rad, double speed_rad_s) {
   speed_ = speed_rad_s;
   held_ = speed_rad_s;
   if (passes()) return;
-  const double last = std::floor(angle_rad * inv_pitch_);
+  const double last = std::floor((angle_rad - phase_rad_) * inv_pitch_);
   next_edge_ = last + 1;
   // The last edge where a constant speed would have put it; at rest, now.
-  t_edge_ = speed_rad_s > 0 ? t_s - (angle_rad - last * pitch_rad_) / speed_rad_s : t_s;
+  t_edge_ = speed_rad_s > 0 ? t_s - (angle_rad - phase_rad_ - last * pitch_rad_) / speed_rad_s : t_s;
 }
 
 double LineEncoder::crossing_time(double target_rad, double t_s, double angle_rad, double speed_rad_s) const {
@@ -132,13 +133,14 @@ double LineEncoder::crossing_time(double target_rad, double t_s, double angle_ra
 
 double LineEncoder::step(double t_s, double angle_rad, double speed_rad_s) {
   if (passes()) return speed_rad_s;
-  const double last = std::floor(angle_rad * inv_pitch_);  // the highest edge passed by now
+  const double last = std::floor((angle_rad - phase_rad_) * inv_pitch_);  // the highest edge passed by now
   if (last >= next_edge_) {
     // Only the last two edges matter for the speed reported: earlier ones in this step are
     // overwritten before anyone reads them.
-    const double t_last = crossing_time(last * pitch_rad_, t_s, angle_rad, speed_rad_s);
-    const double t_before = last - 1 >= next_edge_ ? crossing_time((last - 1) * pitch_rad_, t_s, angle_rad, speed_rad_s)
-                                                   : t_edge_;
+    const double t_last = crossing_time(phase_rad_ + last * pitch_rad_, t_s, angle_rad, speed_rad_s);
+    const double t_before = last - 1 >= next_edge_
+                                ? crossing_time(phase_rad_ + (last - 1) * pitch_rad_, t_s, angle_rad, speed_rad_s)
+                                : t_edge_;
     if (t_last > t_before) held_ = pitch_rad_ / (t_last - t_before);
     t_edge_ = t_last;
     next_edge_ = last + 1;

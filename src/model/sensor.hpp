@@ -116,8 +116,9 @@ double housing_transfer_gain(double gain_m_s2_per_N, double mount_Hz, double f_H
 /// noise, which the diagnosis measures with the recording's own noise.
 class LineEncoder {
 public:
-  /// lines = 0: an ideal encoder (passes() == true). Throws std::invalid_argument for lines < 0.
-  explicit LineEncoder(int lines);
+  /// lines = 0: an ideal encoder (passes() == true); its lines at phase_rad + n 2 pi / lines.
+  /// Throws std::invalid_argument for lines < 0 or a phase that is not finite.
+  explicit LineEncoder(int lines, double phase_rad = 0.0);
   /// True when the encoder reports the true speed (no lines given).
   bool passes() const { return lines_ == 0; }
   /// Starts at time t [s] with the shaft at angle [rad] turning at speed [rad/s]: the last edge
@@ -131,9 +132,10 @@ private:
   /// Time of the angle `target_rad` inside the current step [t_, t_s] (cubic Hermite, Newton).
   double crossing_time(double target_rad, double t_s, double angle_rad, double speed_rad_s) const;
   int lines_ = 0;
+  double phase_rad_ = 0;  ///< angle of line 0 [rad]
   double pitch_rad_ = 0, inv_pitch_ = 0;
   double t_ = 0, angle_ = 0, speed_ = 0;  ///< the last sample
-  double next_edge_ = 0;                  ///< index of the next edge: its angle is next_edge_ * pitch
+  double next_edge_ = 0;                  ///< index of the next edge: its angle is phase + next_edge_ * pitch
   double t_edge_ = 0;                     ///< time of the last edge [s]
   double held_ = 0;                       ///< the speed reported [rad/s]
 };

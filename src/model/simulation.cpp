@@ -815,9 +815,10 @@ RecordStats record(Integration& r, int cycles, SimulationResult& out, const Outp
   // channel by 4e-6 rad/s at 100 rpm, 1.6 % of its filtered mesh ripple.
   sun_encoder.reset(sun_speed_change(r));
   carrier_encoder.reset(carrier_speed_change(r));
-  LineCountedSpeed sun_lines{LineEncoder(sn.sun_encoder_lines), p.sun_speed_rad_s, &PlanetaryDynamics::sun_rotation};
-  LineCountedSpeed carrier_lines{LineEncoder(sn.carrier_encoder_lines), p.carrier_speed_rad_s,
-                                 &PlanetaryDynamics::carrier_rotation};
+  LineCountedSpeed sun_lines{LineEncoder(sn.sun_encoder_lines, sn.sun_encoder_phase_rad), p.sun_speed_rad_s,
+                             &PlanetaryDynamics::sun_rotation};
+  LineCountedSpeed carrier_lines{LineEncoder(sn.carrier_encoder_lines, sn.carrier_encoder_phase_rad),
+                                 p.carrier_speed_rad_s, &PlanetaryDynamics::carrier_rotation};
   sun_lines.start(r);
   carrier_lines.start(r);
   settle_encoders(r, sun_encoder, carrier_encoder, sun_lines, carrier_lines);

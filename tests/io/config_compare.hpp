@@ -123,6 +123,8 @@ inline void expect_config_eq(const model::SimulationConfig& a, const model::Simu
   EXPECT_EQ(a.sensor.encoder_filter_order, b.sensor.encoder_filter_order);
   EXPECT_EQ(a.sensor.sun_encoder_lines, b.sensor.sun_encoder_lines);
   EXPECT_EQ(a.sensor.carrier_encoder_lines, b.sensor.carrier_encoder_lines);
+  EXPECT_EQ(a.sensor.sun_encoder_phase_rad, b.sensor.sun_encoder_phase_rad);
+  EXPECT_EQ(a.sensor.carrier_encoder_phase_rad, b.sensor.carrier_encoder_phase_rad);
   EXPECT_EQ(a.sensor.housing_mount_frequency_Hz, b.sensor.housing_mount_frequency_Hz);
 
   EXPECT_EQ(a.rig.input_control, b.rig.input_control);
