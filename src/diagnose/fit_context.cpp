@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cstdio>
 #include <limits>
+#include <span>
 
 namespace pw::diagnose {
 
@@ -334,10 +335,11 @@ namespace {
 
 /// Encoder phases the reference model is simulated at besides its own (line-counting encoders
 /// only; model/sensor.hpp LineEncoder): the images of every mesh harmonic turn together by N
-/// times the encoder's angle, so a phase phi = N * angle covers them all; three equally spaced
-/// phases give the variance of an amplitude |G + I e^{i phi}| over a uniform phi exactly to first
-/// order in the smaller of the two (|I|^2 / 2 for |I| << |G|).
-constexpr int kEncoderPhases = 3;
+/// times the encoder's angle, so a phase phi = N * angle covers them all. Four equally spaced
+/// phases give the variance of an amplitude |G + I e^{i phi}| over a uniform phi to a relative
+/// error of order (|I| / |G|)^2 where |I| << |G| (three leave one of order |I| / |G|: the
+/// amplitude's second harmonic in phi aliases onto its first; test EncoderPhaseVariance.*).
+constexpr int kEncoderPhases = 4;
 
 bool has_line_encoders(const model::SimulationConfig& c) {
   return c.sensor.sun_encoder_lines > 0 || c.sensor.carrier_encoder_lines > 0;
@@ -351,12 +353,10 @@ model::SimulationConfig encoder_phase_variant(model::SimulationConfig c, int k) 
   return c;
 }
 
-/// The reference model with the variance its encoders' unknown phase leaves in each bin added to
-/// its leak variance (ModelSpectra::leak_variance, which V carries): twice the variance over the
-/// phases, since the recording's images have a phase of their own, independent of the model's
-/// (and, under a baseline, of the baseline's, while the model's own cancels there).
+} // namespace
+
 std::shared_ptr<const ModelSpectra> with_encoder_phase_variance(const ModelSpectra& centre,
-                                                                const std::vector<const ModelSpectra*>& phases) {
+                                                                std::span<const ModelSpectra* const> phases) {
   auto m = std::make_shared<ModelSpectra>(centre);
   if (m->leak_variance.empty()) {
     m->leak_variance.resize(m->amplitude.size());
@@ -375,13 +375,11 @@ std::shared_ptr<const ModelSpectra> with_encoder_phase_variance(const ModelSpect
   return m;
 }
 
-} // namespace
-
 void set_fidelity(FitContext& ctx, const model::SimulationConfig& c, std::shared_ptr<const ModelSpectra>* centre) {
   ModelComparison& cmp = ctx.cmp;
   // 0: c itself; 1: a second discretization; 2, 3: the speed +- its relative standard error;
-  // with line-counting encoders 4, 5: c with the encoders' lines turned by a third and two
-  // thirds of a pitch (their images' unknown phase).
+  // with line-counting encoders 4 .. 6: c with the encoders' lines turned by a quarter, a half
+  // and three quarters of a pitch (their images' unknown phase).
   const bool encoders = has_line_encoders(c);
   std::vector<model::SimulationConfig> v(encoders ? 4 + kEncoderPhases - 1 : 4, c);
   for (int k = 1; encoders && k < kEncoderPhases; ++k) v[static_cast<std::size_t>(3 + k)] = encoder_phase_variant(c, k);
@@ -419,7 +417,7 @@ void set_fidelity(FitContext& ctx, const model::SimulationConfig& c, std::shared
     if (encoders) {
       std::vector<const ModelSpectra*> phases{s[0].get()};
       for (std::size_t k = 4; k < s.size(); ++k) phases.push_back(s[k].get());
-      *centre = with_encoder_phase_variance(*s[0], phases);
+      *centre = with_encoder_phase_variance(*s[0], std::span<const ModelSpectra* const>(phases));
     }
   }
 }

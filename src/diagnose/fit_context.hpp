@@ -141,4 +141,16 @@ std::optional<CandidateResult> try_fit_model(FitContext& ctx, const Candidate* c
 /// +- its standard error) set on ctx.cmp; *centre gets the simulation at c itself.
 void set_fidelity(FitContext& ctx, const model::SimulationConfig& c, std::shared_ptr<const ModelSpectra>* centre);
 
+/// `centre` with the variance its line-counting encoders' unknown phase leaves in each bin added
+/// to its leak variance (ModelSpectra::leak_variance, which V carries; model/sensor.hpp
+/// LineEncoder): `phases` are the same model with the encoders' lines turned by equally spaced
+/// fractions of a pitch (centre among them), and each bin gets twice the amplitude's variance
+/// over them. Twice, because the recording's images have a phase of their own, independent of the
+/// model's (under a baseline: of the baseline's, while the model's own cancels there), and the
+/// difference of two amplitudes at independent phases has twice the variance of one. Four phases
+/// give the variance over a uniform phase to a relative error of order (|I| / |G|)^2 for an image
+/// I beside content G (set_fidelity uses four).
+std::shared_ptr<const ModelSpectra> with_encoder_phase_variance(const ModelSpectra& centre,
+                                                                std::span<const ModelSpectra* const> phases);
+
 } // namespace pw::diagnose
