@@ -691,11 +691,13 @@ double carrier_speed_change(Integration& r) { return r.sys().carrier_rotation(r.
 struct LineCountedSpeed {
   LineEncoder encoder;
   double nominal_rad_s;
-  /// The shaft's rotation in the model's coordinates (PlanetaryDynamics::sun_rotation / carrier_rotation).
-  double (PlanetaryDynamics::*rotation)(const Eigen::VectorXd&) const;
+  bool sun;  ///< the sun shaft's encoder, else the carrier's
 
-  double angle_rad(Integration& r) const { return nominal_rad_s * r.st.t + (r.sys().*rotation)(r.st.q); }
-  double change_rad_s(Integration& r) const { return (r.sys().*rotation)(r.st.v); }
+  double rotation(Integration& r, const Eigen::VectorXd& x) const {
+    return sun ? r.sys().sun_rotation(x) : r.sys().carrier_rotation(x);
+  }
+  double angle_rad(Integration& r) const { return nominal_rad_s * r.st.t + rotation(r, r.st.q); }
+  double change_rad_s(Integration& r) const { return rotation(r, r.st.v); }
   void start(Integration& r) {
     if (!encoder.passes()) encoder.start(r.st.t, angle_rad(r), nominal_rad_s + change_rad_s(r));
   }
@@ -815,10 +817,9 @@ RecordStats record(Integration& r, int cycles, SimulationResult& out, const Outp
   // channel by 4e-6 rad/s at 100 rpm, 1.6 % of its filtered mesh ripple.
   sun_encoder.reset(sun_speed_change(r));
   carrier_encoder.reset(carrier_speed_change(r));
-  LineCountedSpeed sun_lines{LineEncoder(sn.sun_encoder_lines, sn.sun_encoder_phase_rad), p.sun_speed_rad_s,
-                             &PlanetaryDynamics::sun_rotation};
+  LineCountedSpeed sun_lines{LineEncoder(sn.sun_encoder_lines, sn.sun_encoder_phase_rad), p.sun_speed_rad_s, true};
   LineCountedSpeed carrier_lines{LineEncoder(sn.carrier_encoder_lines, sn.carrier_encoder_phase_rad),
-                                 p.carrier_speed_rad_s, &PlanetaryDynamics::carrier_rotation};
+                                 p.carrier_speed_rad_s, false};
   sun_lines.start(r);
   carrier_lines.start(r);
   settle_encoders(r, sun_encoder, carrier_encoder, sun_lines, carrier_lines);
