@@ -278,6 +278,9 @@ private:
       d_.noise_std.push_back(std::sqrt(sp.noise_floor[c]));
       d_.noise_coloured.push_back(sp.noise_local[c]);
       d_.noise_dispersion.push_back(cmp().dispersion(static_cast<int>(c)));
+      auto alien = sp.alien_lines[c];
+      std::sort(alien.begin(), alien.end(), [](const auto& a, const auto& b) { return a.amplitude > b.amplitude; });
+      d_.alien_lines.push_back(std::move(alien));
     }
     d_.fit_window = sp.windows[0];
     d_.held_out_window = sp.windows[1];
@@ -607,6 +610,27 @@ private:
         (d_.fidelity.empty() ? std::string() : d_.fidelity[0] + "; " + d_.fidelity[1]).c_str(), 1 - o_.alpha / 2,
         co_.null_draws, d_.bound_fit, d_.bound_held_out, o_.alpha, 100 * kRecalibration);
     d_.rule = rule;
+    d_.rule += aliens_sentence();
+  }
+
+  /// The rule's sentence on the lines at no gear order (empty without any).
+  std::string aliens_sentence() const {
+    std::size_t n = 0, strongest_channel = 0;
+    const RecordingSpectra::AlienLine* strongest = nullptr;
+    for (std::size_t c = 0; c < d_.alien_lines.size(); ++c) {
+      n += d_.alien_lines[c].size();
+      if (!d_.alien_lines[c].empty() && (!strongest || d_.alien_lines[c][0].amplitude / d_.noise_std[c] >
+                                                          strongest->amplitude / d_.noise_std[strongest_channel])) {
+        strongest = &d_.alien_lines[c][0];
+        strongest_channel = c;
+      }
+    }
+    if (!strongest) return {};
+    return " V also carries the leakage of " + std::to_string(n) +
+           " line(s) the recording holds at no gear family's order (a rig's own tones, e.g. a line-counting "
+           "encoder's images), whose phase against the gear lines no model can know (strongest: carrier order " +
+           fmt("%.2f", strongest->order) + " in " + d_.channels[strongest_channel] + ", amplitude " +
+           fmt("%.3g", strongest->amplitude) + "; report.json noise.<channel>.lines_at_no_gear_order).";
   }
 
   /// Calibration stops after the noise test with the per-cell data of the nuisance-fitted model.

@@ -320,6 +320,8 @@ struct Diagnosis {
   std::vector<double> noise_std;         ///< per channel: sqrt(mean noise variance per bin)
   std::vector<bool> noise_coloured;
   std::vector<double> noise_dispersion;  ///< per channel: noise variance scale from the halves (1 = floor as measured)
+  /// Per channel: the lines found at no gear order (RecordingSpectra::alien_lines), strongest first.
+  std::vector<std::vector<RecordingSpectra::AlienLine>> alien_lines;
   OrderWindow fit_window, held_out_window;
   int revolutions = 0;                   ///< R per half (0: halves of Q mesh cycles)
   int window_mesh_cycles = 0;            ///< Q per half when the recording is too short for R >= 1

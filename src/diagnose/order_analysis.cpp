@@ -575,6 +575,73 @@ void window_amplitudes(const Recording& rec, RecordingSpectra& s) {
     }
 }
 
+/// Family-wise false-alarm probability of find_alien_lines over a channel's bins: the diagnosis's
+/// default alpha (a line found by chance at this rate only adds variance, never a finding).
+constexpr double kAlienAlpha = 0.01;
+/// Hann main-lobe half-width [bins]: a peak nearer than this to a labelled line is that line's.
+constexpr double kHannMainLobeBins = 2.0;
+/// Bins of the window a leak is followed (the rectangular kernel is below 0.5 % of the line beyond).
+constexpr double kAlienLeakBins = 64.0;
+
+/// Lines of channel c that no gear family makes (docs/diagnose.md §2, "Lines at no gear
+/// order"): local maxima of the whole recording's Hann periodogram p_b (normalised as in
+/// estimate_noise: white noise of per-sample variance s_w^2 reads s_w^2, exponential) above
+/// ln(n / alpha) times the noise there (n the bins searched: a family-wise alpha under the
+/// noise alone), farther than the Hann main lobe from every labelled line and from order 0.
+/// Order by parabolic interpolation of ln p over the peak's neighbours; amplitude from the Hann
+/// DTFT there (no scalloping loss).
+std::vector<RecordingSpectra::AlienLine> find_alien_lines(const std::vector<double>& values, const std::vector<double>& time,
+                                                          std::span<const std::complex<double>> X, double sw2, double wsum,
+                                                          double df, double fc, const FeatureLayout& layout,
+                                                          const std::vector<double>& noise_by_bin) {
+  std::vector<RecordingSpectra::AlienLine> found;
+  std::size_t last = 1;
+  while (last + 1 < X.size() && static_cast<double>(last + 1) * df / fc <= layout.max_order) ++last;
+  if (last < 3) return found;
+  const double threshold = std::log(static_cast<double>(last) / kAlienAlpha);
+  const double lobe = kHannMainLobeBins * df / fc;  // [orders]
+  std::vector<double> labelled;
+  for (const OrderLine& l : layout.lines) labelled.push_back(l.order);
+  std::sort(labelled.begin(), labelled.end());
+  auto p = [&](std::size_t b) { return std::norm(X[b]) / sw2; };
+  for (std::size_t b = 2; b < last; ++b) {
+    const double pb = p(b);
+    if (!(pb > threshold * noise_by_bin[b]) || pb < p(b - 1) || pb < p(b + 1)) continue;
+    const double l0 = std::log(p(b - 1)), l1 = std::log(pb), l2 = std::log(p(b + 1));
+    const double den = l0 - 2 * l1 + l2;
+    const double delta = den < 0 ? std::clamp(0.5 * (l0 - l2) / den, -0.5, 0.5) : 0.0;
+    const double f = (static_cast<double>(b) + delta) * df;
+    const double order = f / fc;
+    if (order < lobe) continue;
+    const auto it = std::lower_bound(labelled.begin(), labelled.end(), order);
+    const double inf = std::numeric_limits<double>::infinity();
+    const double near = std::min(it != labelled.end() ? *it - order : inf,
+                                 it != labelled.begin() ? order - *(it - 1) : inf);
+    if (near <= lobe) continue;
+    found.push_back({order, 2 * hann_dtft_abs(values, time, f) / wsum});
+  }
+  return found;
+}
+
+/// Each cell's leak from the channel's alien lines through the window's rectangular kernel
+/// |sinc(W (o - x))| (x the cell's order, W the window in revolutions; a line's |c_k| is half its
+/// amplitude): {sum of squares, largest square}.
+std::vector<std::array<double, 2>> alien_leak(const std::vector<RecordingSpectra::AlienLine>& lines,
+                                              const FeatureLayout& layout) {
+  const double W = layout.window_revolutions;
+  std::vector<std::array<double, 2>> leak(layout.cells.size(), {0.0, 0.0});
+  for (std::size_t i = 0; i < layout.cells.size(); ++i)
+    for (const auto& a : lines) {
+      const double d = W * (a.order - layout.cells[i].order);
+      if (std::fabs(d) > kAlienLeakBins) continue;
+      const double k = d == 0 ? 1.0 : std::sin(kPi * d) / (kPi * d);
+      const double l2 = 0.25 * a.amplitude * a.amplitude * k * k;
+      leak[i][0] += l2;
+      leak[i][1] = std::max(leak[i][1], l2);
+    }
+  return leak;
+}
+
 /// The noise variance of every cell (see the comment inside).
 void estimate_noise(const Recording& rec, const model::StageSpec& stage, RecordingSpectra& s) {
   const std::size_t n = rec.time_s.size();
@@ -614,6 +681,8 @@ void estimate_noise(const Recording& rec, const model::StageSpec& stage, Recordi
   s.noise_floor.assign(nc, 0.0);
   s.noise_bins_used.assign(nc, 0);
   s.noise_local.assign(nc, false);
+  s.alien_lines.assign(nc, {});
+  s.alien_leak.assign(nc, {});
   {
     const std::size_t nn = n;
     const auto hw = signal::window_coefficients(signal::Window::Hann, nn);
@@ -694,6 +763,18 @@ void estimate_noise(const Recording& rec, const model::StageSpec& stage, Recordi
       s.noise_local[c] = coloured;
       s.noise_bins_used[c] = static_cast<int>(all.size());
       s.noise_sample_variance.push_back(global);
+      {
+        // Lines at no gear order, against the noise of their segment (coloured) or the channel's.
+        std::vector<double> noise_by_bin(X.size(), global);
+        if (coloured)
+          for (std::size_t b = 0; b < X.size(); ++b)
+            noise_by_bin[b] = local[static_cast<std::size_t>(
+                std::min(nseg - 1, std::max(0, static_cast<int>(std::floor(static_cast<double>(b) * df / fc / zr + 0.5)))))];
+        double wsum = 0;
+        for (double w : hw) wsum += w;
+        s.alien_lines[c] = find_alien_lines(v, rec.time_s, X, sw2, wsum, df, fc, s.layout, noise_by_bin);
+        s.alien_leak[c] = alien_leak(s.alien_lines[c], s.layout);
+      }
       for (const auto& cell : s.layout.cells) {
         const std::size_t seg = static_cast<std::size_t>(std::min(nseg - 1, std::max(0, cell.segment)));
         const double var = (coloured ? local[seg] : global) * w2mean;

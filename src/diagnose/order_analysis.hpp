@@ -216,6 +216,18 @@ struct RecordingSpectra {
   /// speed channel as the angle reference.
   std::vector<std::vector<std::vector<double>>> amplitude_drift;
   std::vector<int> noise_bins_used;  ///< per channel
+  /// A line the recording holds at no gear family's order (find_alien_lines): a rig's own tone
+  /// (a line-counting encoder's images, mains, a fan) or another content the layout does not
+  /// label. Its phase against the gear lines is the rig's, not the model's.
+  struct AlienLine {
+    double order = 0;      ///< carrier order
+    double amplitude = 0;  ///< of the sinusoid [unit] (twice a window's |c_k| for a line on a bin)
+  };
+  std::vector<std::vector<AlienLine>> alien_lines;  ///< per channel, by order
+  /// Per channel and cell: the alien lines' leak into the cell's bin through the window's
+  /// rectangular kernel, {sum of the leaks' squares, the largest square} [unit^2]
+  /// (ModelComparison adds what their unknown phases leave, docs/diagnose.md §2).
+  std::vector<std::vector<std::array<double, 2>>> alien_leak;
   /// Carrier orders the noise's bins keep clear of every mesh harmonic: 4 (N + 2), less where a
   /// stage's sideband groups leave too few bins between them (estimate_noise).
   double noise_clearance_orders = 0;
