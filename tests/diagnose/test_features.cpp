@@ -129,6 +129,52 @@ TEST(Features, InterpolationIsExactForCubics) {
   for (double t : {0.5, 0.537, 1.234, 2.39}) EXPECT_NEAR(interpolate_uniform(x, 0.5, 0.1, t), 2 - t + 0.5 * t * t * t, 1e-12);
 }
 
+TEST(OrderAnalysis, ALineAtNoGearOrderIsFoundWithItsOrderAndAmplitudeAndItsLeakIsTheWindowsSinc) {
+  // A rig's tone at a carrier order no gear family makes (as a line-counting encoder's image or
+  // mains hum would be), 1 m/s^2 beside 8 mesh harmonics of 10/h m/s^2 and 0.5 m/s^2 noise per
+  // sample in a 6.4-revolution recording: find_alien_lines must report it (order to a tenth of
+  // the recording's resolution, amplitude to 3 %: three standard deviations of the noise's share
+  // of a Hann DTFT there, 2 x 0.5 sqrt(3n/8) / (n/2) = 1 % for n = 15 600 samples), and no gear line; without the tone it reports nothing (its family-wise false
+  // alarm rate is 1 %: this seed is one draw of it). Each cell's leak is the window's
+  // rectangular kernel: (A/2)^2 sinc^2(W (o - x)).
+  const auto cfg = test::stage_1200rpm();
+  const Kinematics k = kinematics(cfg.stage, cfg.operating.input_speed_rpm);
+  const double revs = 6.4;
+  Recording clean = test::synthetic_of(cfg, revs / k.carrier_Hz, 0.0, 0.0, 21);
+  const RecordingSpectra s0 = analyse_recording(clean, cfg.stage);
+  const std::size_t acc = s0.channels[0] == 1 ? 0 : 1;  // the mesh-acceleration channel
+  EXPECT_TRUE(s0.alien_lines[acc].empty()) << s0.alien_lines[acc].size() << " found, the first at order "
+                                           << (s0.alien_lines[acc].empty() ? 0.0 : s0.alien_lines[acc][0].order);
+  // An order at least three resolutions from every labelled line.
+  const double resolution = 1.0 / revs, A = 1.0;
+  double o = 0;
+  for (double trial = 2.5 * k.ring_teeth + 0.37; trial < 4 * k.ring_teeth; trial += 0.05) {
+    double near = 1e9;
+    for (const auto& l : s0.layout.lines) near = std::min(near, std::fabs(l.order - trial));
+    if (near > 3 * resolution) {
+      o = trial;
+      break;
+    }
+  }
+  ASSERT_GT(o, 0) << "no clear order found";
+  Recording toned = clean;
+  for (std::size_t j = 0; j < toned.time_s.size(); ++j)
+    toned.channels[1].values[j] += A * std::cos(2 * kPi * o * k.carrier_Hz * toned.time_s[j] + 0.7);
+  const RecordingSpectra s = analyse_recording(toned, cfg.stage);
+  ASSERT_EQ(s.alien_lines[acc].size(), 1u);
+  EXPECT_NEAR(s.alien_lines[acc][0].order, o, 0.1 * resolution);
+  EXPECT_NEAR(s.alien_lines[acc][0].amplitude, A, 0.03 * A);
+  const double W = s.layout.window_revolutions, a = s.alien_lines[acc][0].amplitude;
+  for (std::size_t i = 0; i < s.layout.cells.size(); ++i) {
+    const double d = W * (s.alien_lines[acc][0].order - s.layout.cells[i].order);
+    const double sinc = d == 0 ? 1.0 : std::sin(kPi * d) / (kPi * d);
+    const double expected = std::fabs(d) > 64 ? 0.0 : 0.25 * a * a * sinc * sinc;
+    ASSERT_NEAR(s.alien_leak[acc][i][0], expected, 1e-12 * a * a) << "cell " << i;
+    ASSERT_EQ(s.alien_leak[acc][i][1], s.alien_leak[acc][i][0]) << "one line: the largest is the sum";
+  }
+  EXPECT_TRUE(s.alien_lines[1 - acc].empty()) << "the speed channel holds no tone";
+}
+
 TEST(OrderAnalysis, AngleFourierIsExactForIntegerOrdersAtAVaryingSpeed) {
   // x = 2 cos(81 theta + 0.3) + 0.5 cos(7 theta) sampled uniformly in time while the
   // speed varies slowly; a window of one revolution that starts between samples.
