@@ -86,22 +86,6 @@ double amplitude_at(const std::vector<double>& x, double f_Hz, double dt_s) {
   return 2.0 * std::abs(acc) / static_cast<double>(x.size());
 }
 
-/// Amplitude of the component at frequency f in `x` sampled at dt, Hann-windowed (for a line
-/// that is not a whole number of periods of the record: its leakage beyond a few bins is
-/// negligible), mean removed.
-double hann_amplitude_at(const std::vector<double>& x, double f_Hz, double dt_s) {
-  const double m = mean(x);
-  const double n = static_cast<double>(x.size());
-  std::complex<double> acc = 0;
-  double wsum = 0;
-  for (std::size_t k = 0; k < x.size(); ++k) {
-    const double w = 0.5 - 0.5 * std::cos(2 * kPi * static_cast<double>(k) / n);
-    acc += w * (x[k] - m) * std::polar(1.0, -2 * kPi * f_Hz * dt_s * static_cast<double>(k));
-    wsum += w;
-  }
-  return 2.0 * std::abs(acc) / wsum;
-}
-
 double sinc(double x) { return x == 0 ? 1.0 : std::sin(kPi * x) / (kPi * x); }
 
 /// The Hann-windowed DTFT of x at frequency f (complex; mean removed).
@@ -114,6 +98,16 @@ std::complex<double> hann_dtft(const std::vector<double>& x, double f_Hz, double
     acc += w * (x[k] - m) * std::polar(1.0, -2 * kPi * f_Hz * dt_s * static_cast<double>(k));
   }
   return acc;
+}
+
+/// Amplitude of the component at frequency f in `x` sampled at dt, Hann-windowed (for a line
+/// that is not a whole number of periods of the record: its leakage beyond a few bins is
+/// negligible), mean removed: 2 |DTFT| over the window's sum.
+double hann_amplitude_at(const std::vector<double>& x, double f_Hz, double dt_s) {
+  const double n = static_cast<double>(x.size());
+  double wsum = 0;
+  for (std::size_t k = 0; k < x.size(); ++k) wsum += 0.5 - 0.5 * std::cos(2 * kPi * static_cast<double>(k) / n);
+  return 2.0 * std::abs(hann_dtft(x, f_Hz, dt_s)) / wsum;
 }
 
 } // namespace
