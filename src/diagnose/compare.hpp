@@ -339,9 +339,6 @@ private:
   /// Variance the baseline offset's error adds to feature f's residual at compared amplitude
   /// `amplitude` (0 without a baseline).
   double offset_variance(std::size_t f, double amplitude) const;
-  /// Variance the unknown phases of the lines at no gear order (RecordingSpectra::alien_leak)
-  /// leave in channel c's cell i at compared amplitude `amplitude` (0 without such lines).
-  double alien_variance(int c, int i, double amplitude) const;
 
   const Recording& rec_;
   CompareOptions opt_;

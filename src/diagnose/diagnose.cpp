@@ -626,11 +626,12 @@ private:
       }
     }
     if (!strongest) return {};
-    return " V also carries the leakage of " + std::to_string(n) +
-           " line(s) the recording holds at no gear family's order (a rig's own tones, e.g. a line-counting "
-           "encoder's images), whose phase against the gear lines no model can know (strongest: carrier order " +
-           fmt("%.2f", strongest->order) + " in " + d_.channels[strongest_channel] + ", amplitude " +
-           fmt("%.3g", strongest->amplitude) + "; report.json noise.<channel>.lines_at_no_gear_order).";
+    return " The recording holds " + std::to_string(n) +
+           " line(s) at no gear family's order (a rig's own tones, e.g. a line-counting encoder's images; strongest: "
+           "carrier order " + fmt("%.2f", strongest->order) + " in " + d_.channels[strongest_channel] + ", amplitude " +
+           fmt("%.3g", strongest->amplitude) +
+           "; report.json noise.<channel>.lines_at_no_gear_order): their leak into the cells around them has a phase "
+           "against the gear lines that no model knows, and V does not carry it (docs/diagnose.md section 2).";
   }
 
   /// Calibration stops after the noise test with the per-cell data of the nuisance-fitted model.
