@@ -535,6 +535,21 @@ json finding_class_json(const dg::Diagnosis& d) {
           {"covers", d.lead.class_covers}, {"size", size}, {"size_unit", d.lead.class_size_unit}};
 }
 
+/// report.json's "noise": per channel the noise per bin, whether coloured, the halves' dispersion
+/// and the lines found at no gear order (reported; V does not carry them, docs/diagnose.md §2).
+json noise_json(const dg::Diagnosis& d) {
+  json noise = json::object();
+  for (std::size_t c = 0; c < d.channels.size(); ++c) {
+    noise[d.channels[c]] = {{"rms_per_bin", d.noise_std[c]}, {"coloured", static_cast<bool>(d.noise_coloured[c])},
+                            {"dispersion_from_halves", d.noise_dispersion[c]}};
+    json alien = json::array();
+    if (c < d.alien_lines.size())
+      for (const auto& a : d.alien_lines[c]) alien.push_back({{"carrier_order", a.order}, {"amplitude", a.amplitude}});
+    noise[d.channels[c]]["lines_at_no_gear_order"] = alien;
+  }
+  return noise;
+}
+
 } // namespace
 
 void write_diagnosis_report(const std::filesystem::path& dir, const dg::Diagnosis& d, const ReportContext& ctx) {
@@ -604,17 +619,7 @@ void write_diagnosis_report(const std::filesystem::path& dir, const dg::Diagnosi
   const auto& k = d.kinematics;
   j["kinematics"] = {{"sun_Hz", k.sun_Hz}, {"carrier_Hz", k.carrier_Hz}, {"sun_relative_Hz", k.sun_relative_Hz},
                      {"planet_relative_Hz", k.planet_relative_Hz}, {"mesh_Hz", k.mesh_Hz}};
-  json noise = json::object();
-  for (std::size_t c = 0; c < d.channels.size(); ++c) {
-    noise[d.channels[c]] = {{"rms_per_bin", d.noise_std[c]}, {"coloured", static_cast<bool>(d.noise_coloured[c])},
-                            {"dispersion_from_halves", d.noise_dispersion[c]}};
-    // Lines at no gear order: their leak's unknown phase is in V (docs/diagnose.md §2).
-    json alien = json::array();
-    if (c < d.alien_lines.size())
-      for (const auto& a : d.alien_lines[c]) alien.push_back({{"carrier_order", a.order}, {"amplitude", a.amplitude}});
-    noise[d.channels[c]]["lines_at_no_gear_order"] = alien;
-  }
-  j["noise"] = noise;
+  j["noise"] = noise_json(d);
   auto win = [](const dg::OrderWindow& w) {
     return json{{"first_sample", w.first_sample}, {"last_sample", w.last_sample}, {"t_begin_s", w.t_begin_s},
                 {"t_end_s", w.t_end_s}, {"carrier_angle_begin_rad", w.angle_begin_rad}};
