@@ -108,9 +108,9 @@ double housing_transfer_gain(double gain_m_s2_per_N, double mount_Hz, double f_H
 /// j = 40), and the mesh harmonics near N carry strong images down into the analysed band.
 ///
 /// Edge times are found inside each time step on the cubic Hermite interpolant of the angle
-/// through both ends' angles and speeds (error O(dt^4) in the angle; linear interpolation left
-/// errors of a few 1e-4 rad/s at 1000 lines and 900 rpm where the angle carries high mesh
-/// harmonics), by Newton's method from the linear estimate. Edges are counted forward only:
+/// through both ends' angles and speeds (error O(dt^4) in the angle against linear
+/// interpolation's O(dt^2): test LineEncoder.ReportsThePitchOverTheTimeBetweenItsLastTwoEdges…
+/// fails with the linear estimate alone), by Newton's method from the linear estimate. Edges are counted forward only:
 /// a shaft turning back gives no edge until it passes its last counted one again. The counter's
 /// clock (the resolution of the edge times) is not modelled: it adds broadband quantization
 /// noise, which the diagnosis measures with the recording's own noise.
