@@ -361,7 +361,10 @@ void diagnose_and_report(const DiagnoseCommandOptions& o_in, const std::string& 
   opt.always_fit_candidates = o.always_fit;
   // How far the calibration's healthy recordings scatter each nuisance level: the sizes fitted
   // jointly with those levels carry it (calibration.hpp nuisance_level_spread_ln).
-  if (calibration) opt.nuisance_level_spread_ln = diagnose::nuisance_level_spread_ln(*calibration);
+  if (calibration) {
+    opt.nuisance_level_spread_ln = diagnose::nuisance_level_spread_ln(*calibration);
+    opt.nuisance_level_spread_recordings = static_cast<int>(calibration->fits.size());
+  }
   if (!o.common.quiet) opt.progress = [](const std::string& s) { std::fprintf(stderr, "[diagnose] %s\n", s.c_str()); };
   std::string reference_note;
   const std::optional<Reference> reference = choose_reference(o, calibration, reference_note);

@@ -601,6 +601,8 @@ void write_diagnosis_report(const std::filesystem::path& dir, const dg::Diagnosi
   for (const dg::BaselineChange& c : d.baseline_changes)
     changes.push_back({{"name", c.name}, {"parameter", c.parameter}, {"ratio", num(c.ratio)},
                        {"ratio_std_error", num(c.ratio_std_error)},
+                       {"ln_ratio_healthy_scatter", num(c.ln_ratio_healthy_scatter)},
+                       {"ln_ratio_threshold", num(c.ln_ratio_threshold)},
                        {"chi2_fit", {{"unchanged", num(c.chi2_fit_unchanged)}, {"fitted", num(c.chi2_fit)}}},
                        {"chi2_held_out", {{"unchanged", num(c.chi2_held_unchanged)}, {"fitted", num(c.chi2_held)}}},
                        {"own_model_held_out_chi2", num(c.own_held_out_chi2)}, {"own_model_bound", num(c.own_bound)},

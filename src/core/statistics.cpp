@@ -4,6 +4,7 @@
 
 #include <boost/math/distributions/fisher_f.hpp>
 #include <boost/math/distributions/normal.hpp>
+#include <boost/math/distributions/students_t.hpp>
 #include <boost/math/special_functions/bessel.hpp>
 
 #include <cmath>
@@ -29,6 +30,12 @@ double f_quantile(double nu1, double nu2, double alpha) {
   require(nu2 > 0, "nu2", "must be > 0, got ", nu2);
   require(alpha > 0 && alpha < 1, "alpha", "must be in (0, 1), got ", alpha);
   return boost::math::quantile(boost::math::complement(boost::math::fisher_f_distribution<>(nu1, nu2), alpha));
+}
+
+double student_t_quantile(double nu, double alpha) {
+  require(nu > 0, "nu", "must be > 0, got ", nu);
+  require(alpha > 0 && alpha < 1, "alpha", "must be in (0, 1), got ", alpha);
+  return boost::math::quantile(boost::math::complement(boost::math::students_t_distribution<>(nu), alpha));
 }
 
 namespace {

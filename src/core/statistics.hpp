@@ -27,6 +27,13 @@ double chi2_quantile(double nu, double alpha);
 /// against it. Throws pw::InputError ("nu1", "nu2", "alpha") for nu <= 0 or alpha outside (0, 1).
 double f_quantile(double nu1, double nu2, double alpha);
 
+/// Upper quantile of Student's t with nu degrees of freedom: the value exceeded with
+/// probability alpha (Boost.Math, exact; nu may be fractional, as a Welch-Satterthwaite
+/// effective number is). A difference judged against a standard deviation estimated from nu
+/// degrees of freedom (a calibration's few healthy recordings) is a t variable, not a normal one.
+/// Throws pw::InputError ("nu", "alpha") for nu <= 0 or alpha outside (0, 1).
+double student_t_quantile(double nu, double alpha);
+
 /// Modified Bessel functions of the first kind I_0(x) and I_1(x), x >= 0 (Boost.Math's
 /// rational approximations for these orders, evaluated in double: within a few ulp, 3e-15
 /// relative of std::cyl_bessel_i over [0, 160], at a tenth of its cost: 55 against 630 ns per

@@ -1222,6 +1222,7 @@ private:
     int channel = -1;                 ///< sensor: its channel
     SensorScale sensor;               ///< sensor: its fit
     std::optional<LevelChange> level; ///< level: its fit
+    LevelMoveTest level_test;         ///< level: how far ln rho must lie from 0 (noise and healthy scatter)
     OwnModelScore own;                ///< level: its own model's held-out test
     double total() const { return chi2_fit + chi2_held; }
   };
@@ -1234,6 +1235,13 @@ private:
   /// kRecalibration from 1.
   bool moved(double rho, double ln_rho_std) const {
     return std::fabs(rho - 1) > kRecalibration && std::fabs(std::log(rho)) > normal_quantile(o_.alpha / 2) * ln_rho_std;
+  }
+
+  /// A level's ratio rho is a change: kRecalibration from 1 and |ln rho| beyond what the noise and
+  /// the calibration's healthy scatter of that level allow (level_move_test, level_change.hpp;
+  /// without a calibration of two or more recordings, `moved`).
+  static bool level_moved(double rho, const LevelMoveTest& t) {
+    return std::fabs(rho - 1) > kRecalibration && std::fabs(std::log(rho)) > t.threshold_ln;
   }
 
   /// Each housing channel's gain since the baseline (its hypothesis; a note when it is at the
@@ -1291,6 +1299,8 @@ private:
       b.parameter = h.level->parameter;
       b.ratio = h.level->rho;
       b.ratio_std_error = h.level->rho * h.level->ln_rho_std;
+      b.ln_ratio_healthy_scatter = h.level_test.scatter_ln;
+      b.ln_ratio_threshold = h.level_test.threshold_ln;
       b.at_edge = h.level->at_box_edge;
       b.own_held_out_chi2 = h.own.held_out_chi2;
       b.own_bound = h.own.bound_held_out;
@@ -1351,7 +1361,7 @@ private:
       if (d_.baseline_changes[i].explains)
         d_.baseline_changes[i].posterior = std::exp(-0.5 * std::min(hs[i].total() - best.total(), 1400.0)) / sum;
     if (best.passes && posterior >= 1 - o_.alpha / 2) {
-      if (best.level) name_level_change(*best.level, best.own);
+      if (best.level) name_level_change(*best.level, best.own, best.level_test);
       else name_sensor_gain_change(d_.channels[static_cast<std::size_t>(best.channel)], best.sensor);
       return;
     }
@@ -1364,8 +1374,21 @@ private:
     d_.summary += " Note: a single change since the baseline explains part of the recording -- " + names + " -- but " +
                   (best.passes ? "the data do not tell which (posterior probability of " + what(best) + " " +
                                      fmt("%.3f", posterior) + " < " + fmt("%.3f", 1 - o_.alpha / 2) + ")"
-                               : "the best of them, " + what(best) + ", does not pass its own tests") +
+                               : "the best of them, " + what(best) + ", does not pass its own tests" +
+                                     within_healthy_scatter(best)) +
                   ": not named.";
+  }
+
+  /// Why a level that explains is no change, when the calibration's healthy scatter is the reason
+  /// (level_move_test): its words for the summary; empty otherwise.
+  std::string within_healthy_scatter(const ChangeHypothesis& h) const {
+    if (!h.level || h.level_test.scatter_ln <= 0 || level_moved(h.level->rho, h.level_test) ||
+        !moved(h.level->rho, h.level->ln_rho_std))
+      return {};
+    return " (its |ln rho| " + fmt("%.3g", std::fabs(std::log(h.level->rho))) + " is " +
+           fmt("%.1f", std::fabs(std::log(h.level->rho)) / h.level->ln_rho_std) +
+           " noise standard errors, but within what the calibration's healthy recordings scatter " +
+           h.level->parameter + " by: a change needs more than " + fmt("%.3g", h.level_test.threshold_ln) + ")";
   }
 
   /// The verdict for check_changes_since_baseline: sensor_transfer_path, its parameter the ratio.
@@ -1433,13 +1456,22 @@ private:
       ChangeHypothesis h;
       h.name = name;
       h.chi2_fit_1 = lc.chi2_fit_1, h.chi2_fit = lc.chi2_fit, h.chi2_held_1 = lc.chi2_held_1, h.chi2_held = lc.chi2_held;
+      const auto spread = o_.nuisance_level_spread_ln.find(lc.parameter);
+      h.level_test = level_move_test(lc.ln_rho_std, spread == o_.nuisance_level_spread_ln.end() ? 0.0 : spread->second,
+                                     o_.nuisance_level_spread_recordings, o_.alpha);
+      if (h.level_test.scatter_ln > 0)
+        say("  the calibration's " + std::to_string(o_.nuisance_level_spread_recordings) +
+            " healthy recordings scatter ln " + lc.parameter + " by " + fmt("%.3g", spread->second) +
+            ": a change needs |ln rho| > " + fmt("%.3g", h.level_test.threshold_ln) + " (t quantile " +
+            fmt("%.3g", h.level_test.quantile) + " at " + fmt("%.2g", h.level_test.dof) +
+            " effective degrees of freedom), here " + fmt("%.3g", std::fabs(std::log(lc.rho))));
       h.level = std::move(lc);
       out.push_back(std::move(h));
     }
     for (std::size_t i = first; i < out.size(); ++i) {
       ChangeHypothesis& h = out[i];
       const LevelChange& lc = *h.level;
-      if (!explains(h) || !moved(lc.rho, lc.ln_rho_std) || lc.at_box_edge) continue;
+      if (!explains(h) || !level_moved(lc.rho, h.level_test) || lc.at_box_edge) continue;
       CandidateResult probe;
       probe.name = h.name;
       probe.config = lc.config;
@@ -1453,7 +1485,7 @@ private:
   }
 
   /// The verdict for check_changes_since_baseline: the level's candidate, its parameter the fitted value.
-  void name_level_change(const LevelChange& lc, const OwnModelScore& own) {
+  void name_level_change(const LevelChange& lc, const OwnModelScore& own, const LevelMoveTest& test) {
     const Candidate* cand = find_candidate(lc.candidate);
     CandidateResult w = d_.nuisance;
     w.name = lc.candidate;
@@ -1494,13 +1526,19 @@ private:
                  "; chi2 " + fmt("%.0f", lc.chi2_fit_1) + " -> " +
                  fmt("%.0f", lc.chi2_fit) + " on the fit half and " + fmt("%.0f", lc.chi2_held_1) + " -> " +
                  fmt("%.0f", lc.chi2_held) + " held out (against its own null " + fmt("%.0f", own.held_out_chi2) +
-                 " <= " + fmt("%.0f", own.bound_held_out) + "). Everything else is as in the baseline: the gears' " +
+                 " <= " + fmt("%.0f", own.bound_held_out) + ")" +
+                 (test.scatter_ln > 0 ? "; |ln x" + fmt("%.3g", lc.rho) + "| beyond the " + fmt("%.3g", test.threshold_ln) +
+                                            " that the noise and the calibration's healthy scatter of this level allow"
+                                      : "") +
+                 ". Everything else is as in the baseline: the gears' " +
                  (lc.candidate == "damping_level" ? "damping (lubricant film, bearing and housing losses)"
                                                   : "mesh stiffness level") +
                  " changed, not a fault on one tooth or part." + unresolved_text(d_);
     d_.rule += " Differential: after a 'no missing physics', each mesh stiffness and damping level is fitted alone from the baseline's value, "
                "everything else as the baseline's; it is named when it improves both halves by more than "
-               "chi2_{1-alpha}(1), moves more than z_{1-alpha/2} standard errors and " +
+               "chi2_{1-alpha}(1), moves more than z_{1-alpha/2} standard errors (with a calibration of two or more "
+               "healthy recordings: t_{1-alpha/2} of the noise error and twice the calibration's variance of that level "
+               "over its recordings, Welch-Satterthwaite degrees of freedom) and " +
                fmt("%.0f", 100 * kRecalibration) + " % from 1, is not at its box's edge, and its own model explains "
                "the held-out half within its null.";
   }

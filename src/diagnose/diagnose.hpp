@@ -96,6 +96,9 @@ struct DiagnoseOptions {
   /// size range carries what that spread of the levels it is fitted jointly with moves it by
   /// (FittedParameter::level_spread_std). Empty: no calibration, or one recording.
   std::map<std::string, double> nuisance_level_spread_ln;
+  /// The number of healthy recordings that spread is taken over (its degrees of freedom + 1); a
+  /// level changed since the baseline is judged against it (level_move_test, level_change.hpp).
+  int nuisance_level_spread_recordings = 0;
   int threads = 0;              ///< OpenMP threads (0: default)
   /// Simulation slots served elsewhere (compare.remote, e.g. other MPI ranks): that many more
   /// simulations run side by side, their threads mostly waiting.
@@ -287,6 +290,13 @@ struct BaselineChange {
   std::string parameter;   ///< housing_gain_ratio[<channel>] or the level's configuration key
   double ratio = 1;        ///< [-] fitted value / the baseline's (rho)
   double ratio_std_error = 0;  ///< [-] standard error of rho (curvature of the fit half's chi2)
+  /// [-] A level's healthy scatter of ln rho, sqrt(2) s (s the calibration's spread of that level
+  /// over its recordings, level_move_test in level_change.hpp); 0 for a sensor's gain, without a
+  /// calibration or with one of a single recording.
+  double ln_ratio_healthy_scatter = 0;
+  /// [-] |ln rho| beyond which a level is a change: the noise and healthy scatter's quantile
+  /// (level_move_test); NaN for a sensor's gain.
+  double ln_ratio_threshold = std::numeric_limits<double>::quiet_NaN();
   double chi2_fit_unchanged = 0, chi2_fit = 0;    ///< fit half at rho = 1 and at the fitted rho
   double chi2_held_unchanged = 0, chi2_held = 0;  ///< held-out half at rho = 1 and at the fitted rho
   /// Its own model's held-out test: chi2 and the null's 1 - alpha/2 quantile (NaN where not run:

@@ -1,6 +1,7 @@
 #include "diagnose/level_change.hpp"
 
 #include "core/golden_section.hpp"
+#include "core/statistics.hpp"
 
 #include <algorithm>
 #include <atomic>
@@ -74,6 +75,23 @@ LevelChange fit_level_change(const FitContext& ctx, std::size_t index, const std
   out.config = config_at(x, &out.overrides);
   out.simulations = static_cast<int>(sims.load());
   return out;
+}
+
+LevelMoveTest level_move_test(double ln_rho_std, double spread_ln, int recordings, double alpha) {
+  LevelMoveTest t;
+  const double a = ln_rho_std * ln_rho_std;
+  const double b = recordings >= 2 && std::isfinite(spread_ln) ? 2 * spread_ln * spread_ln : 0.0;
+  t.scatter_ln = std::sqrt(b);
+  t.ln_std = std::sqrt(a + b);
+  if (b > 0) {
+    t.dof = (a + b) * (a + b) / (b * b / static_cast<double>(recordings - 1));
+    t.quantile = student_t_quantile(t.dof, alpha / 2);
+  } else {
+    t.dof = std::numeric_limits<double>::infinity();
+    t.quantile = normal_quantile(alpha / 2);
+  }
+  t.threshold_ln = t.quantile * t.ln_std;
+  return t;
 }
 
 std::string one_sided_ratio_note(const std::string& parameter, double baseline_value, double rho, int end) {

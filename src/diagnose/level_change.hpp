@@ -54,6 +54,31 @@ inline constexpr double kLevelCurvatureStep = 0.02;
 /// A nuisance candidate of more than one parameter is not a level: failed.
 LevelChange fit_level_change(const FitContext& ctx, std::size_t index, const std::vector<double>& gains);
 
+/// How far a level's ln rho must lie from 0 to be a change since the baseline: beyond what the
+/// noise and the rig's healthy scatter of that level allow at false-alarm probability alpha
+/// (two-sided).
+///
+/// Why the scatter: the noise-only standard error (ln_rho_std, the fit half's chi2 curvature)
+/// knows nothing of what moves a fitted level between two healthy recordings of one rig, and on
+/// indepsim3's setB5 a healthy control's damping read x1.051 +- 0.013 of its baseline's (4
+/// standard errors; session 62). A calibration of n >= 2 healthy recordings measures that
+/// scatter: s, the sample std of ln(level) over them (nuisance_level_spread_ln, calibration.hpp).
+/// Each of two healthy recordings carries it, so their ratio carries variance 2 s^2. The
+/// calibration's recordings lie at different operating points, so s also holds the level's
+/// speed-dependent model-form error, which cancels in a ratio at one operating point: 2 s^2 is
+/// then an upper bound, and the test conservative. The variance is estimated from n - 1 degrees
+/// of freedom, so the quantile is Student's t at the Welch-Satterthwaite effective number
+/// nu = (a + b)^2 / (b^2 / (n - 1)), a = ln_rho_std^2 (known), b = 2 s^2 -- the normal quantile
+/// when b = 0 (no calibration, or one recording: the test as it was).
+struct LevelMoveTest {
+  double scatter_ln = 0;  ///< sqrt(2) s: the healthy scatter of ln rho [-]
+  double ln_std = 0;      ///< sqrt(ln_rho_std^2 + 2 s^2) [-]
+  double dof = 0;         ///< the effective degrees of freedom (+infinity without scatter)
+  double quantile = 0;    ///< t_{alpha/2}(dof), or z_{alpha/2}
+  double threshold_ln = 0;  ///< quantile * ln_std: |ln rho| beyond it is a change
+};
+LevelMoveTest level_move_test(double ln_rho_std, double spread_ln, int recordings, double alpha);
+
 /// What a level's ratio rho means when the baseline's value is an edge of its box, not a fit
 /// (`end`: +1 the upper edge, -1 the lower; 0: a fit, empty text). The baseline's own fit asked
 /// for a level beyond the edge, so against that level the recording's (fitted inside its box)

@@ -94,6 +94,23 @@ TEST(FQuantile, TendsToTheChiSquareQuantilePerDegreeOfFreedomAndSwapsItsTails) {
   EXPECT_THROW((void)f_quantile(2, 5, 1.0), InputError);
 }
 
+TEST(StudentTQuantile, MatchesTheTablesToTheirPrintedDigits) {
+  // NIST/SEMATECH e-Handbook of Statistical Methods, section 1.3.6.7.2 (upper critical values of
+  // Student's t, 3 decimals): the tolerance is half the last printed digit.
+  EXPECT_NEAR(student_t_quantile(1, 0.005), 63.657, 5e-4);
+  EXPECT_NEAR(student_t_quantile(3, 0.005), 5.841, 5e-4);
+  EXPECT_NEAR(student_t_quantile(10, 0.025), 2.228, 5e-4);
+  EXPECT_NEAR(student_t_quantile(30, 0.05), 1.697, 5e-4);
+}
+
+TEST(StudentTQuantile, TendsToTheNormalQuantileAndIsTheSquareRootOfF1) {
+  // t(nu) -> N(0, 1) as nu -> infinity; t^2(nu) = F(1, nu), so t_{a/2}(nu)^2 = F_a(1, nu).
+  expect_relative(student_t_quantile(1e9, 0.005), normal_quantile(0.005), 1e-6);
+  expect_relative(student_t_quantile(4.5, 0.005) * student_t_quantile(4.5, 0.005), f_quantile(1, 4.5, 0.01), 1e-9);
+  EXPECT_THROW((void)student_t_quantile(0, 0.01), InputError);
+  EXPECT_THROW((void)student_t_quantile(3, 0.0), InputError);
+}
+
 } // namespace
 // I0 and I1 at tabulated points (Abramowitz & Stegun, Table 9.8, 10 digits: e^-x I_n(x) there,
 // multiplied back here) and within 1e-14 of the standard library's over the range the Rician
