@@ -1387,8 +1387,10 @@ private:
       return {};
     return " (its |ln rho| " + fmt("%.3g", std::fabs(std::log(h.level->rho))) + " is " +
            fmt("%.1f", std::fabs(std::log(h.level->rho)) / h.level->ln_rho_std) +
-           " noise standard errors, but within what the calibration's healthy recordings scatter " +
-           h.level->parameter + " by: a change needs more than " + fmt("%.3g", h.level_test.threshold_ln) + ")";
+           " noise standard errors, but within what the calibration's " +
+           std::to_string(o_.nuisance_level_spread_recordings) + " healthy recordings scatter " + h.level->parameter +
+           " by (sqrt(2) s = " + fmt("%.3g", h.level_test.scatter_ln) + " in ln, " + fmt("%.2g", h.level_test.dof) +
+           " effective degrees of freedom): a change needs |ln rho| > " + fmt("%.3g", h.level_test.threshold_ln) + ")";
   }
 
   /// The verdict for check_changes_since_baseline: sensor_transfer_path, its parameter the ratio.
