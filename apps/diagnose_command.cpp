@@ -420,6 +420,7 @@ void diagnose_and_report(const DiagnoseCommandOptions& o_in, const std::string& 
     o.common.assignments = a;
     o.calibration.clear();
     opt.compare.baseline = baseline->cells;
+    opt.compare.baseline_alien_lines = baseline->alien_lines;
     opt.compare.discrepancy = baseline->budgets;
     opt.baseline_gains = baseline->gains;
     opt.baseline_limits = baseline->limits;

@@ -544,7 +544,8 @@ json noise_json(const dg::Diagnosis& d) {
                             {"dispersion_from_halves", d.noise_dispersion[c]}};
     json alien = json::array();
     if (c < d.alien_lines.size())
-      for (const auto& a : d.alien_lines[c]) alien.push_back({{"carrier_order", a.order}, {"amplitude", a.amplitude}});
+      for (const auto& a : d.alien_lines[c]) alien.push_back({{"carrier_order", a.order}, {"amplitude", a.amplitude},
+                          {"in_other_channels", a.in_other_channels}, {"in_baseline", a.in_baseline}});
     noise[d.channels[c]]["lines_at_no_gear_order"] = alien;
   }
   return noise;

@@ -96,6 +96,9 @@ BaselineReference fit_baseline(const Recording& baseline, const model::Simulatio
   ref.noise_test = noise.verdict;
   ref.at_bound = bound_texts(d.nuisance.parameters);
   ref.limits = bound_ends(d.nuisance.parameters);
+  for (std::size_t c = 0; c < d.channels.size() && c < d.alien_lines.size(); ++c)
+    for (const auto& a : d.alien_lines[c]) ref.alien_lines.orders[d.channels[c]].push_back(a.order);
+  ref.alien_lines.tolerance = d.alien_tolerance;
   char buf[400];
   std::snprintf(buf, sizeof buf,
                 "baseline at %.6g rpm, %zu cells; its nuisance-fitted model leaves chi2 %.0f (held out) against a "

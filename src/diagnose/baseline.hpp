@@ -52,6 +52,8 @@ struct BaselineReference {
   /// The same parameters by configuration key: +1 at the upper end of the box, -1 at the lower
   /// (DiagnoseOptions::baseline_limits).
   std::map<std::string, int> limits;
+  /// Its lines at no gear order by channel (CompareOptions::baseline_alien_lines).
+  BaselineAlienLines alien_lines;
 };
 
 /// "<name> at its upper|lower bound <value>" for each parameter at a bound (the nearer end;

@@ -86,6 +86,7 @@ ModelComparison::ModelComparison(const Recording& recording, const model::Simula
                                  CompareOptions options)
     : rec_(recording), opt_(std::move(options)) {
   spec_ = analyse_recording(rec_, config.stage, opt_.analysis);
+  if (!opt_.baseline.empty()) carry_baseline_alien_lines(spec_, opt_.baseline_alien_lines, spec_.alien_tolerance);
   base_ = config;
   base_.operating = rec_.operating;
   base_.operating.input_speed_rpm = spec_.speed.input_rpm;
@@ -258,6 +259,25 @@ void ModelComparison::set_reference(const ModelSpectra& m, const std::vector<dou
   set_reference(m.amplitude, gains);
 }
 
+double unknown_phase_difference_variance(double gear_amplitude, double leak_power_sum, double leak_power_max) {
+  // The cell holds |G + sum_l L_l e^{i phi_l}|. Over independent uniform phases an amplitude
+  // varies by about half the power of all but its largest term (exact to first order for small
+  // terms beside a large one), and the difference of two independent such amplitudes by twice
+  // that: P - D. For two equal terms it is conservative: P - D = L^2 against 0.758 L^2 (the
+  // difference of two 2 L |cos(phi/2)|; test UnknownPhaseVariance.*).
+  const double g2 = gear_amplitude * gear_amplitude;
+  return g2 + leak_power_sum - std::max(g2, leak_power_max);
+}
+
+double ModelComparison::alien_variance(int c, int i, double amplitude) const {
+  // Lines at no gear order (RecordingSpectra::alien_lines) leak into the cell with a phase the
+  // model cannot know, and the recording and the model (or the baseline) each have phases of
+  // their own; G is the compared model amplitude.
+  if (spec_.alien_leak.empty() || spec_.alien_leak[static_cast<std::size_t>(c)].empty()) return 0.0;
+  const auto& l = spec_.alien_leak[static_cast<std::size_t>(c)][static_cast<std::size_t>(i)];
+  return unknown_phase_difference_variance(amplitude, l[0], l[1]);
+}
+
 void ModelComparison::set_discrepancy_reference(const std::vector<std::vector<double>>& m,
                                                 const std::vector<double>& gains_in) {
   const int nc = channels(), ncell = cells();
@@ -275,7 +295,7 @@ void ModelComparison::set_discrepancy_reference(const std::vector<std::vector<do
                                                       : transfer_[f] * std::fabs(raw_model_amplitude(m, c, i, g) - base_model_[f]));
       const double a = model_amplitude(m, c, i, g);
       const double v = rice_ref_[f] + disc_sd_[f] * disc_sd_[f] + disc_abs_[f] + offset_variance(f, a) +
-                       (leak_.empty() ? 0.0 : leak_[f]);
+                       (leak_.empty() ? 0.0 : leak_[f]) + alien_variance(c, i, a);
       for (int w = 0; w < 2; ++w) d_[static_cast<std::size_t>(w)][f] = v + vns_[f];
     }
 }
@@ -746,9 +766,9 @@ ModelComparison::NullDraws ModelComparison::null_draws(const std::vector<std::ve
   // What every draw shares, per feature f = (channel c, cell i): fixed before the draws (the
   // same values the draw loop computed per draw before, so the draws keep their numbers).
   struct Feature {
-    double half_s2 = 0, noise_rse = 0, disc_sd = 0, abs_sd = 0, offset_sd = 0, leak_sd = 0, drift = 0;
+    double half_s2 = 0, noise_rse = 0, disc_sd = 0, abs_sd = 0, offset_sd = 0, leak_sd = 0, alien_sd = 0, drift = 0;
     std::size_t eps_index = 0;
-    bool disc = false, abs = false, offset = false, leak = false;
+    bool disc = false, abs = false, offset = false, leak = false, alien = false;
   };
   std::vector<Feature> ft(nf);
   std::vector<double> fid(nf * q);  // fidelity column k at feature f: fid[f q + k]
@@ -770,6 +790,9 @@ ModelComparison::NullDraws ModelComparison::null_draws(const std::vector<std::ve
       if (e.offset) e.offset_sd = std::sqrt(offset_variance(f, a[f]));
       e.leak = !leak_.empty() && leak_[f] > 0;
       if (e.leak) e.leak_sd = std::sqrt(leak_[f]);
+      const double alien = alien_variance(c, i, a[f]);
+      e.alien = alien > 0;
+      if (e.alien) e.alien_sd = std::sqrt(alien);
       e.drift = drift.empty() ? 0.0 : drift[f];
       for (std::size_t k = 0; k < q; ++k) fid[f * q + k] = fidelity_value(k, f, response);
     }
@@ -822,7 +845,7 @@ ModelComparison::NullDraws ModelComparison::null_draws(const std::vector<std::ve
       const double nx = nd(rng);
       const double y = s * nd(rng);
       const double drift_term = drift.empty() ? 0.0 : zd * e.drift;
-      double extra[3];  // the additive terms below, in their order of drawing
+      double extra[4];  // the additive terms below, in their order of drawing
       int n_extra = 0;
       // Calibrated absolute discrepancy: excess variance of the amplitude residual itself.
       if (e.abs) extra[n_extra++] = e.abs_sd * nd(rng);
@@ -830,6 +853,8 @@ ModelComparison::NullDraws ModelComparison::null_draws(const std::vector<std::ve
       if (e.offset) extra[n_extra++] = e.offset_sd * nd(rng);
       // The model's window-start variance (halves of Q mesh cycles; drawn only when present).
       if (e.leak) extra[n_extra++] = e.leak_sd * nd(rng);
+      // Lines at no gear order leaking with unknown phases (drawn only when present).
+      if (e.alien) extra[n_extra++] = e.alien_sd * nd(rng);
       if (folded) {
         double rf = rice_magnitude(af_fold + s * nx, y) - mu[f] + drift_term;
         for (int k = 0; k < n_extra; ++k) rf += extra[k];

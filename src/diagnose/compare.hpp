@@ -126,6 +126,10 @@ struct CompareOptions {
   /// Differential diagnosis: the baseline's per-cell offsets (empty: absolute comparison). Every
   /// cell of the recording must have its counterpart (the same analysis windows).
   std::vector<BaselineCell> baseline;
+  /// Differential diagnosis: the baseline recording's lines at no gear order; those the recording
+  /// shares with it are the rig's, and V carries their leak (carry_baseline_alien_lines). Empty
+  /// (no baseline): none is carried.
+  BaselineAlienLines baseline_alien_lines;
 };
 
 /// The two halves of a recording (docs/diagnose.md §2): the candidates are fitted on the first,
@@ -339,6 +343,9 @@ private:
   /// Variance the baseline offset's error adds to feature f's residual at compared amplitude
   /// `amplitude` (0 without a baseline).
   double offset_variance(std::size_t f, double amplitude) const;
+  /// Variance the unknown phases of the lines at no gear order (RecordingSpectra::alien_leak)
+  /// leave in channel c's cell i at compared amplitude `amplitude` (0 without such lines).
+  double alien_variance(int c, int i, double amplitude) const;
 
   const Recording& rec_;
   CompareOptions opt_;
@@ -396,6 +403,13 @@ private:
   std::vector<std::vector<double>> model_;
   std::vector<double> gains_;
 };
+
+/// Variance of the difference of two amplitudes |G + sum_l L_l e^{i phi_l}| whose phases phi_l are
+/// independent and uniform in each (a recording's lines at no gear order leaking into a cell, in
+/// the recording and in the model or baseline it is compared with): P - D, P = G^2 + sum_l L_l^2,
+/// D the largest of G^2 and the L_l^2 [amplitude^2]. `leak_power_sum` = sum_l L_l^2,
+/// `leak_power_max` = max_l L_l^2 (RecordingSpectra::alien_leak).
+double unknown_phase_difference_variance(double gear_amplitude, double leak_power_sum, double leak_power_max);
 
 /// The simulation cache key: every key of the configuration schema
 /// (config/schema.hpp) with its value, so no key can be left out of it.

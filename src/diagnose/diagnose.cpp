@@ -282,6 +282,7 @@ private:
       std::sort(alien.begin(), alien.end(), [](const auto& a, const auto& b) { return a.amplitude > b.amplitude; });
       d_.alien_lines.push_back(std::move(alien));
     }
+    d_.alien_tolerance = sp.alien_tolerance;
     d_.fit_window = sp.windows[0];
     d_.held_out_window = sp.windows[1];
     d_.revolutions = sp.layout.revolutions;
@@ -613,25 +614,37 @@ private:
     d_.rule += aliens_sentence();
   }
 
-  /// The rule's sentence on the lines at no gear order (empty without any).
+  /// The rule's sentence on the lines at no gear order (empty without any): those the healthy
+  /// baseline also holds, whose leak V carries, and the others, left to the diagnosis.
   std::string aliens_sentence() const {
-    std::size_t n = 0, strongest_channel = 0;
+    std::size_t carried = 0, others = 0, strongest_channel = 0;
     const RecordingSpectra::AlienLine* strongest = nullptr;
-    for (std::size_t c = 0; c < d_.alien_lines.size(); ++c) {
-      n += d_.alien_lines[c].size();
-      if (!d_.alien_lines[c].empty() && (!strongest || d_.alien_lines[c][0].amplitude / d_.noise_std[c] >
-                                                          strongest->amplitude / d_.noise_std[strongest_channel])) {
-        strongest = &d_.alien_lines[c][0];
-        strongest_channel = c;
+    for (std::size_t c = 0; c < d_.alien_lines.size(); ++c)
+      for (const auto& a : d_.alien_lines[c]) {
+        if (!a.in_baseline) {
+          ++others;
+          continue;
+        }
+        ++carried;
+        if (!strongest || a.amplitude / d_.noise_std[c] > strongest->amplitude / d_.noise_std[strongest_channel]) {
+          strongest = &a;
+          strongest_channel = c;
+        }
       }
-    }
-    if (!strongest) return {};
-    return " The recording holds " + std::to_string(n) +
-           " line(s) at no gear family's order (a rig's own tones, e.g. a line-counting encoder's images; strongest: "
-           "carrier order " + fmt("%.2f", strongest->order) + " in " + d_.channels[strongest_channel] + ", amplitude " +
-           fmt("%.3g", strongest->amplitude) +
-           "; report.json noise.<channel>.lines_at_no_gear_order): their leak into the cells around them has a phase "
-           "against the gear lines that no model knows, and V does not carry it (docs/diagnose.md section 2).";
+    std::string out;
+    if (strongest)
+      out += " V also carries the leakage of " + std::to_string(carried) +
+             " line(s) at no gear family's order that the healthy baseline holds too (the rig's own tones, e.g. a "
+             "line-counting encoder's images), whose phase against the gear lines no model can know (strongest: "
+             "carrier order " + fmt("%.2f", strongest->order) + " in " + d_.channels[strongest_channel] +
+             ", amplitude " + fmt("%.3g", strongest->amplitude) + "; report.json noise.<channel>.lines_at_no_gear_order).";
+    if (others > 0)
+      out += " The recording holds " + std::to_string(others) + " line(s) at no gear order " +
+             (co_.baseline.empty() ? std::string("and no healthy baseline to tell the rig's own tones from content a "
+                                                 "candidate may explain")
+                                   : std::string("that the healthy baseline does not")) +
+             ": reported (report.json noise.<channel>.lines_at_no_gear_order), not carried in V.";
+    return out;
   }
 
   /// Calibration stops after the noise test with the per-cell data of the nuisance-fitted model.

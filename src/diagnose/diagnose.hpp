@@ -332,6 +332,7 @@ struct Diagnosis {
   std::vector<double> noise_dispersion;  ///< per channel: noise variance scale from the halves (1 = floor as measured)
   /// Per channel: the lines found at no gear order (RecordingSpectra::alien_lines), strongest first.
   std::vector<std::vector<RecordingSpectra::AlienLine>> alien_lines;
+  double alien_tolerance = 0;            ///< [carrier orders] RecordingSpectra::alien_tolerance
   OrderWindow fit_window, held_out_window;
   int revolutions = 0;                   ///< R per half (0: halves of Q mesh cycles)
   int window_mesh_cycles = 0;            ///< Q per half when the recording is too short for R >= 1

@@ -625,13 +625,14 @@ std::vector<RecordingSpectra::AlienLine> find_alien_lines(const std::vector<doub
 
 /// Each cell's leak from the channel's alien lines through the window's rectangular kernel
 /// |sinc(W (o - x))| (x the cell's order, W the window in revolutions; a line's |c_k| is half its
-/// amplitude): {sum of squares, largest square}.
+/// amplitude): {sum of squares, largest square}. Lines the baseline does not hold are left out.
 std::vector<std::array<double, 2>> alien_leak(const std::vector<RecordingSpectra::AlienLine>& lines,
                                               const FeatureLayout& layout) {
   const double W = layout.window_revolutions;
   std::vector<std::array<double, 2>> leak(layout.cells.size(), {0.0, 0.0});
   for (std::size_t i = 0; i < layout.cells.size(); ++i)
     for (const auto& a : lines) {
+      if (!a.in_baseline) continue;  // not the rig's own tone: left to the diagnosis
       const double d = W * (a.order - layout.cells[i].order);
       if (std::fabs(d) > kAlienLeakBins) continue;
       const double k = d == 0 ? 1.0 : std::sin(kPi * d) / (kPi * d);
@@ -773,7 +774,6 @@ void estimate_noise(const Recording& rec, const model::StageSpec& stage, Recordi
         double wsum = 0;
         for (double w : hw) wsum += w;
         s.alien_lines[c] = find_alien_lines(v, rec.time_s, X, sw2, wsum, df, fc, s.layout, noise_by_bin);
-        s.alien_leak[c] = alien_leak(s.alien_lines[c], s.layout);
       }
       for (const auto& cell : s.layout.cells) {
         const std::size_t seg = static_cast<std::size_t>(std::min(nseg - 1, std::max(0, cell.segment)));
@@ -784,6 +784,11 @@ void estimate_noise(const Recording& rec, const model::StageSpec& stage, Recordi
         s.noise_floor[c] += var / static_cast<double>(s.layout.cells.size());
       }
     }
+    // Reported: which lines more than one channel holds (the machine's rather than a sensor's).
+    // No leak is carried until a baseline says which lines are the rig's (carry_baseline_alien_lines).
+    mark_lines_in_other_channels(s.alien_lines, kHannMainLobeBins * df / fc);
+    s.alien_tolerance = kHannMainLobeBins * df / fc;
+    for (std::size_t c = 0; c < nc; ++c) s.alien_leak[c] = alien_leak(s.alien_lines[c], s.layout);
   }
 }
 
@@ -1161,6 +1166,35 @@ std::optional<OrderAnalysisOptions> common_analysis_options(const Recording& rec
   if (reference_covers(analyse_recording(reference, reference_stage, o), analyse_recording(recording, stage, o)))
     return o;
   return std::nullopt;
+}
+
+void mark_lines_in_other_channels(std::vector<std::vector<RecordingSpectra::AlienLine>>& lines, double tolerance) {
+  for (std::size_t c = 0; c < lines.size(); ++c)
+    for (auto& a : lines[c]) {
+      a.in_other_channels = false;
+      for (std::size_t o = 0; o < lines.size() && !a.in_other_channels; ++o)
+        if (o != c)
+          for (const auto& b : lines[o])
+            if (std::fabs(a.order - b.order) <= tolerance) {
+              a.in_other_channels = true;
+              break;
+            }
+    }
+}
+
+
+void carry_baseline_alien_lines(RecordingSpectra& s, const BaselineAlienLines& baseline, double tolerance) {
+  const double tol = std::max(tolerance, baseline.tolerance);
+  for (std::size_t c = 0; c < s.alien_lines.size(); ++c) {
+    const auto it = baseline.orders.find(s.channel_names[c]);
+    for (auto& a : s.alien_lines[c]) {
+      a.in_baseline = false;
+      if (it != baseline.orders.end())
+        for (const double o : it->second)
+          if (std::fabs(a.order - o) <= tol) a.in_baseline = true;
+    }
+    s.alien_leak[c] = alien_leak(s.alien_lines[c], s.layout);
+  }
 }
 
 } // namespace pw::diagnose

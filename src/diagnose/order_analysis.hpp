@@ -48,6 +48,7 @@
 #include <complex>
 #include <optional>
 #include <span>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -222,17 +223,53 @@ struct RecordingSpectra {
   struct AlienLine {
     double order = 0;      ///< carrier order
     double amplitude = 0;  ///< of the sinusoid [unit] (twice a window's |c_k| for a line on a bin)
+    /// Another channel holds a line at this order too (mark_lines_in_other_channels): the
+    /// machine's vibration, not this sensor's own tone; its leak is not in alien_leak.
+    bool in_other_channels = false;
+    /// The healthy baseline (or calibrated reference) recording holds a line at this order in the
+    /// same channel (carry_baseline_alien_lines): the rig's own tone, whose leak V carries.
+    bool in_baseline = false;
   };
   std::vector<std::vector<AlienLine>> alien_lines;  ///< per channel, by order
-  /// Per channel and cell: the alien lines' leak into the cell's bin through the window's
+  /// Per channel and cell: the leak of the alien lines the healthy baseline also holds
+  /// (in_baseline) into the cell's bin through the window's
   /// rectangular kernel, {sum of the leaks' squares, the largest square} [unit^2]
   /// (ModelComparison adds what their unknown phases leave, docs/diagnose.md §2).
   std::vector<std::vector<std::array<double, 2>>> alien_leak;
+  /// [carrier orders] Two bins of the whole recording's spectrum: how near two lines at no gear
+  /// order must lie to be one (mark_lines_in_other_channels, carry_baseline_alien_lines).
+  double alien_tolerance = 0;
   /// Carrier orders the noise's bins keep clear of every mesh harmonic: 4 (N + 2), less where a
   /// stage's sideband groups leave too few bins between them (estimate_noise).
   double noise_clearance_orders = 0;
   std::vector<double> carrier_angle; ///< per sample (for synchronous averages)
 };
+
+/// Marks each line at no gear order that another channel also holds within `tolerance` carrier
+/// orders (RecordingSpectra::AlienLine::in_other_channels). Why: a sensor's own tone (a
+/// line-counting encoder's images, a pickup on one cable) is in its channel alone, while a line
+/// of the machine (a speed oscillation, a quasi-periodic response, a subharmonic: content a
+/// candidate may explain) reaches every sensor the structure carries it to. Only the former's
+/// leak is carried in V (docs/diagnose.md section 2): on a stage whose teeth separate at the mesh
+/// resonance the backlash's own lines at no gear order, in the sun speed and the mesh
+/// accelerations alike, had hidden the backlash when every line was carried (session 63).
+void mark_lines_in_other_channels(std::vector<std::vector<RecordingSpectra::AlienLine>>& lines, double tolerance);
+
+/// The lines at no gear order of a healthy recording of the same rig at the same operating point,
+/// by channel name, and how near [carrier orders] a line must lie to be the same one.
+struct BaselineAlienLines {
+  std::map<std::string, std::vector<double>> orders;
+  double tolerance = 0;
+};
+
+/// Marks the recording's lines at no gear order that the baseline holds in the same channel within
+/// the larger of the two recordings' tolerances (AlienLine::in_baseline) and sets alien_leak from
+/// those alone. Why only those: a line the healthy recording of the rig also holds is the rig's
+/// own tone (a line-counting encoder's images, a drive's harmonic), and its phase against the gear
+/// lines differs between recordings; a line it does not hold may be the fault's own content (the
+/// backlash of a stage whose teeth separate makes lines at no gear order in every channel). Without
+/// a baseline none is carried. `tolerance`: the recording's own (two bins of its whole spectrum).
+void carry_baseline_alien_lines(RecordingSpectra& s, const BaselineAlienLines& baseline, double tolerance);
 
 struct OrderAnalysisOptions {
   LayoutOptions layout{};

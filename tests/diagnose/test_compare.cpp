@@ -17,9 +17,11 @@
 
 #include <array>
 #include <cmath>
+#include <complex>
 #include <numbers>
 #include <random>
 #include <string>
+#include <vector>
 
 namespace pw::diagnose {
 namespace {
@@ -31,6 +33,50 @@ using test::synthetic;
 
 // The model a diagnosis simulates resolves the analysed band (0.3 f_s), not every mode; a
 // configuration that states a step or a band keeps its own.
+/// Monte-Carlo variance of |G + sum_l L_l e^{i phi_l}| - |G + sum_l L_l e^{i psi_l}|, phases uniform.
+double mc_difference_variance(double g, const std::vector<double>& leaks, int draws) {
+  std::mt19937_64 rng(7);
+  std::uniform_real_distribution<double> u(0, 2 * std::numbers::pi);
+  auto amp = [&] {
+    std::complex<double> z(g, 0);
+    for (const double l : leaks) z += std::polar(l, u(rng));
+    return std::abs(z);
+  };
+  double s = 0, s2 = 0;
+  for (int k = 0; k < draws; ++k) {
+    const double d = amp() - amp();
+    s += d, s2 += d * d;
+  }
+  return s2 / draws - (s / draws) * (s / draws);
+}
+
+TEST(UnknownPhaseVariance, SmallLeaksBesideALargeLineGiveTheirSummedPower) {
+  // G = 1, leaks 0.05 and 0.03: to first order each amplitude is G + sum L_l cos(phi_l), variance
+  // sum L_l^2 / 2, their difference sum L_l^2 = 0.0034. 4e5 draws: Monte-Carlo error of a variance
+  // ~ sqrt(2 / n) = 0.2 %; the first-order approximation's error is O(L^2 / G^2) ~ 0.3 %. 2 %.
+  const double want = unknown_phase_difference_variance(1.0, 0.05 * 0.05 + 0.03 * 0.03, 0.05 * 0.05);
+  EXPECT_NEAR(want, 0.0034, 1e-15);
+  const double got = mc_difference_variance(1.0, {0.05, 0.03}, 400000);
+  EXPECT_NEAR(got / want, 1.0, 0.02) << got;
+}
+
+TEST(UnknownPhaseVariance, ALeakLargerThanTheGearLineIsCountedAsTheLargeTerm) {
+  // A line's leak of 1 beside gear content 0.1: the roles swap, P - D = G^2 = 0.01.
+  const double want = unknown_phase_difference_variance(0.1, 1.0, 1.0);
+  EXPECT_NEAR(want, 0.01, 1e-15);
+  EXPECT_NEAR(mc_difference_variance(0.1, {1.0}, 400000) / want, 1.0, 0.02);
+}
+
+TEST(UnknownPhaseVariance, TwoEqualTermsAreOverstatedNotUnderstated) {
+  // |1 + e^{i phi}| = 2 |cos(phi / 2)|: mean 4/pi, second moment 2, variance 2 - 16/pi^2; the
+  // difference of two: 4 - 32/pi^2 = 0.758. P - D = 1: conservative by a third, never below.
+  const double exact = 4 - 32 / (std::numbers::pi * std::numbers::pi);
+  const double mc = mc_difference_variance(1.0, {1.0}, 400000);
+  EXPECT_NEAR(mc / exact, 1.0, 0.02);
+  EXPECT_GT(unknown_phase_difference_variance(1.0, 1.0, 1.0), exact);
+  EXPECT_LT(unknown_phase_difference_variance(1.0, 1.0, 1.0), 1.5 * exact);
+}
+
 TEST(Compare, TheModelsAutomaticStepResolvesTheAnalysedBandUnlessTheConfigurationStatesOne) {
   const Recording rec = synthetic(0.0, 0.0, 3);
   const double band = 0.3 / rec.sample_interval_s();  // LayoutOptions::band_fraction of f_s

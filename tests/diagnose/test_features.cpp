@@ -129,7 +129,7 @@ TEST(Features, InterpolationIsExactForCubics) {
   for (double t : {0.5, 0.537, 1.234, 2.39}) EXPECT_NEAR(interpolate_uniform(x, 0.5, 0.1, t), 2 - t + 0.5 * t * t * t, 1e-12);
 }
 
-TEST(OrderAnalysis, ALineAtNoGearOrderIsFoundWithItsOrderAndAmplitudeAndItsLeakIsTheWindowsSinc) {
+TEST(OrderAnalysis, ALineAtNoGearOrderIsFoundAndItsLeakIsTheWindowsSincWhereTheBaselineHoldsItToo) {
   // A rig's tone at a carrier order no gear family makes (as a line-counting encoder's image or
   // mains hum would be), 1 m/s^2 beside 8 mesh harmonics of 10/h m/s^2 and 0.5 m/s^2 noise per
   // sample in a 6.4-revolution recording: find_alien_lines must report it (order to a tenth of
@@ -149,9 +149,11 @@ TEST(OrderAnalysis, ALineAtNoGearOrderIsFoundWithItsOrderAndAmplitudeAndItsLeakI
   const double resolution = 1.0 / revs, A = 1.0;
   double o = 0;
   for (double trial = 2.5 * k.ring_teeth + 0.37; trial < 4 * k.ring_teeth; trial += 0.05) {
-    double near = 1e9;
+    double near = 1e9, near_cell = 1e9;
     for (const auto& l : s0.layout.lines) near = std::min(near, std::fabs(l.order - trial));
-    if (near > 3 * resolution) {
+    for (const auto& c : s0.layout.cells) near_cell = std::min(near_cell, std::fabs(c.order - trial));
+    // ... and within a few orders of some cell, so that its leak there is not negligible.
+    if (near > 3 * resolution && near_cell < 2.0) {
       o = trial;
       break;
     }
@@ -164,14 +166,31 @@ TEST(OrderAnalysis, ALineAtNoGearOrderIsFoundWithItsOrderAndAmplitudeAndItsLeakI
   ASSERT_EQ(s.alien_lines[acc].size(), 1u);
   EXPECT_NEAR(s.alien_lines[acc][0].order, o, 0.1 * resolution);
   EXPECT_NEAR(s.alien_lines[acc][0].amplitude, A, 0.03 * A);
+  // Without a baseline no line is known to be the rig's: reported, no leak carried.
+  EXPECT_FALSE(s.alien_lines[acc][0].in_baseline);
+  for (std::size_t i = 0; i < s.layout.cells.size(); ++i) ASSERT_EQ(s.alien_leak[acc][i][0], 0.0) << "cell " << i;
+  // A baseline that holds it (within the tolerance) makes it the rig's: its leak is carried.
+  RecordingSpectra with = s;
+  BaselineAlienLines baseline;
+  baseline.orders[s.channel_names[acc]] = {o + 0.5 * resolution};
+  carry_baseline_alien_lines(with, baseline, with.alien_tolerance);
+  EXPECT_TRUE(with.alien_lines[acc][0].in_baseline);
   const double W = s.layout.window_revolutions, a = s.alien_lines[acc][0].amplitude;
+  double largest = 0;
   for (std::size_t i = 0; i < s.layout.cells.size(); ++i) {
     const double d = W * (s.alien_lines[acc][0].order - s.layout.cells[i].order);
     const double sinc = d == 0 ? 1.0 : std::sin(kPi * d) / (kPi * d);
     const double expected = std::fabs(d) > 64 ? 0.0 : 0.25 * a * a * sinc * sinc;
-    ASSERT_NEAR(s.alien_leak[acc][i][0], expected, 1e-12 * a * a) << "cell " << i;
-    ASSERT_EQ(s.alien_leak[acc][i][1], s.alien_leak[acc][i][0]) << "one line: the largest is the sum";
+    largest = std::max(largest, expected);
+    ASSERT_NEAR(with.alien_leak[acc][i][0], expected, 1e-12 * a * a) << "cell " << i;
+    ASSERT_EQ(with.alien_leak[acc][i][1], with.alien_leak[acc][i][0]) << "one line: the largest is the sum";
   }
+  EXPECT_GT(largest, 1e-5 * a * a) << "the tone leaks into no cell: the check above tested nothing";
+  // A baseline line elsewhere (farther than both tolerances) does not.
+  baseline.orders[s.channel_names[acc]] = {o + 10 * resolution};
+  carry_baseline_alien_lines(with, baseline, with.alien_tolerance);
+  EXPECT_FALSE(with.alien_lines[acc][0].in_baseline);
+  for (std::size_t i = 0; i < s.layout.cells.size(); ++i) ASSERT_EQ(with.alien_leak[acc][i][0], 0.0) << "cell " << i;
   EXPECT_TRUE(s.alien_lines[1 - acc].empty()) << "the speed channel holds no tone";
 }
 
