@@ -273,43 +273,112 @@ double level_spread_std(const LmResult& fit, std::size_t i, const std::vector<Le
   return std::sqrt(var);
 }
 
+namespace {
+/// Up to this many boxed parameters the exact minimum is found over all 3^p faces of the box
+/// (6561 small solves at 8); beyond it by coordinate descent. The library's candidates have at
+/// most a handful of parameters (a pin error per planet but the first, two transfer inertias).
+constexpr Eigen::Index kBoxMaxEnumerated = 8;
+/// Coordinate-descent sweeps at most (each sweep moves every parameter once).
+constexpr int kBoxCoordinateSweeps = 10000;
+
+/// The box-constrained minimizer of the convex quadratic |rp + Ap a|^2 over every face of the box:
+/// each parameter free, on its lower or on its upper bound (3^p faces). On each face the free
+/// parameters take the face's minimum-norm minimizer; the box's minimum lies in the relative
+/// interior of some face, where it is that face's minimizer (or, if the face's minimizers form a
+/// set, that set meets a smaller face with the same cost), so the least cost over the faces whose
+/// minimizer lies in the box is the exact minimum.
+Eigen::VectorXd box_minimum_by_faces(const Eigen::MatrixXd& Ap, const Eigen::VectorXd& rp, const Eigen::VectorXd& lower,
+                                     const Eigen::VectorXd& upper) {
+  const Eigen::Index p = Ap.cols();
+  Eigen::VectorXd best = lower;
+  double best_cost = std::numeric_limits<double>::infinity();
+  std::vector<int> face(static_cast<std::size_t>(p), 0);  // 0 free, 1 lower, 2 upper
+  for (;;) {
+    Eigen::VectorXd a(p);
+    std::vector<Eigen::Index> free;
+    for (Eigen::Index i = 0; i < p; ++i) {
+      const int f = face[static_cast<std::size_t>(i)];
+      a(i) = f == 1 ? lower(i) : f == 2 ? upper(i) : 0.0;
+      if (f == 0) free.push_back(i);
+    }
+    bool inside = true;
+    if (!free.empty()) {
+      Eigen::VectorXd r_fixed = rp + Ap * a;  // the free parameters are 0 in a here
+      Eigen::MatrixXd J(Ap.rows(), static_cast<Eigen::Index>(free.size()));
+      for (std::size_t c = 0; c < free.size(); ++c) J.col(static_cast<Eigen::Index>(c)) = Ap.col(free[c]);
+      const Eigen::VectorXd x = -Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd>(J).solve(r_fixed);
+      for (std::size_t c = 0; c < free.size(); ++c) {
+        const Eigen::Index i = free[c];
+        const double v = x(static_cast<Eigen::Index>(c));
+        // A bound a hair away (round-off of the solve) still counts as inside: the face with that
+        // parameter on the bound is enumerated too and gives the same cost.
+        const double tol = 1e-12 * std::max(1.0, upper(i) - lower(i));
+        if (!(v >= lower(i) - tol && v <= upper(i) + tol)) inside = false;
+        a(i) = std::clamp(v, lower(i), upper(i));
+      }
+    }
+    if (inside) {
+      const double cost = (rp + Ap * a).squaredNorm();
+      if (cost < best_cost) best_cost = cost, best = a;
+    }
+    Eigen::Index i = 0;  // next face: count in base 3
+    while (i < p && ++face[static_cast<std::size_t>(i)] == 3) face[static_cast<std::size_t>(i++)] = 0;
+    if (i == p) break;
+  }
+  return best;
+}
+
+/// The same minimum by cyclic coordinate descent on the box (each parameter in turn set to its
+/// one-dimensional minimizer, clamped): convergent for a convex quadratic, used where 3^p faces
+/// are too many.
+Eigen::VectorXd box_minimum_by_coordinates(const Eigen::MatrixXd& Ap, const Eigen::VectorXd& rp,
+                                           const Eigen::VectorXd& lower, const Eigen::VectorXd& upper) {
+  const Eigen::Index p = Ap.cols();
+  const Eigen::MatrixXd G = Ap.transpose() * Ap;
+  const Eigen::VectorXd g = Ap.transpose() * rp;
+  Eigen::VectorXd a = Eigen::VectorXd::Zero(p).cwiseMax(lower).cwiseMin(upper);
+  for (int sweep = 0; sweep < kBoxCoordinateSweeps; ++sweep) {
+    double moved = 0;
+    for (Eigen::Index i = 0; i < p; ++i) {
+      if (!(G(i, i) > 0)) continue;
+      const double grad = g(i) + G.row(i).dot(a);
+      const double v = std::clamp(a(i) - grad / G(i, i), lower(i), upper(i));
+      moved = std::max(moved, std::fabs(v - a(i)) / std::max(1.0, upper(i) - lower(i)));
+      a(i) = v;
+    }
+    if (moved < 1e-14) break;
+  }
+  return a;
+}
+} // namespace
+
 BoxedLeastSquares boxed_least_squares(const Eigen::MatrixXd& A, const Eigen::VectorXd& lower,
                                       const Eigen::VectorXd& upper, const Eigen::MatrixXd& B, const Eigen::VectorXd& r) {
   const Eigen::Index p = A.cols(), q = B.cols(), m = r.size();
   if (A.rows() != m || B.rows() != m || lower.size() != p || upper.size() != p)
     throw std::invalid_argument("boxed_least_squares: the shapes of A, B, r and the bounds do not match");
+  for (Eigen::Index i = 0; i < p; ++i)
+    if (!(lower(i) <= upper(i))) throw std::invalid_argument("boxed_least_squares: a box with lower > upper");
+  // b is free: profiled out exactly by projecting r and A onto the complement of B's columns
+  // (b = -B^+ (r + A a) for any a), which leaves a box-constrained problem in a alone.
+  Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd> cod_b;
+  if (q > 0) cod_b.compute(B);
+  const auto project = [&](const Eigen::VectorXd& v) -> Eigen::VectorXd {
+    return q > 0 ? Eigen::VectorXd(v - B * cod_b.solve(v)) : v;
+  };
+  Eigen::MatrixXd Ap(m, p);
+  for (Eigen::Index i = 0; i < p; ++i) Ap.col(i) = project(A.col(i));
+  const Eigen::VectorXd rp = project(r);
+
   BoxedLeastSquares out;
-  out.a = Eigen::VectorXd::Zero(p);
-  out.held.assign(static_cast<std::size_t>(p), false);
-  for (Eigen::Index pass = 0; pass <= p; ++pass) {
-    Eigen::VectorXd r_eff = r;
-    std::vector<Eigen::Index> free;
-    for (Eigen::Index i = 0; i < p; ++i) {
-      if (out.held[static_cast<std::size_t>(i)]) r_eff += A.col(i) * out.a(i);
-      else free.push_back(i);
-    }
-    const Eigen::Index k = static_cast<Eigen::Index>(free.size());
-    Eigen::MatrixXd J(m, k + q);
-    for (Eigen::Index c = 0; c < k; ++c) J.col(c) = A.col(free[static_cast<std::size_t>(c)]);
-    J.rightCols(q) = B;
-    Eigen::VectorXd x = Eigen::VectorXd::Zero(k + q);
-    if (k + q > 0) x = -(J.transpose() * J).ldlt().solve(J.transpose() * r_eff);
-    bool inside = true;
-    for (Eigen::Index c = 0; c < k; ++c) {
-      const Eigen::Index i = free[static_cast<std::size_t>(c)];
-      out.a(i) = x(c);
-      if (x(c) < lower(i) || x(c) > upper(i)) {
-        out.a(i) = x(c) < lower(i) ? lower(i) : upper(i);
-        out.held[static_cast<std::size_t>(i)] = true;
-        inside = false;
-      }
-    }
-    if (!inside) continue;
-    out.b = x.tail(q);
-    out.cost = (r_eff + J * x).squaredNorm();
-    return out;
-  }
-  throw std::logic_error("boxed_least_squares: no solution inside the box after holding every parameter");
+  out.a = p <= kBoxMaxEnumerated ? box_minimum_by_faces(Ap, rp, lower, upper)
+                                 : box_minimum_by_coordinates(Ap, rp, lower, upper);
+  const Eigen::VectorXd ra = r + A * out.a;
+  out.b = q > 0 ? Eigen::VectorXd(-cod_b.solve(ra)) : Eigen::VectorXd();
+  out.cost = (q > 0 ? Eigen::VectorXd(ra + B * out.b) : ra).squaredNorm();
+  out.held.resize(static_cast<std::size_t>(p));
+  for (Eigen::Index i = 0; i < p; ++i) out.held[static_cast<std::size_t>(i)] = out.a(i) == lower(i) || out.a(i) == upper(i);
+  return out;
 }
 
 SecantProfile::SecantProfile(std::vector<double> x0, Eigen::VectorXd r0, Eigen::MatrixXd J0)

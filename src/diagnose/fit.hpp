@@ -102,11 +102,17 @@ struct LevelSpread {
 double level_spread_std(const LmResult& fit, std::size_t i, const std::vector<LevelSpread>& levels);
 
 /// Minimizer of the linear least-squares cost |r + A a + B b|^2 with each a_i in the box
-/// [lower_i, upper_i] and b free, by a projected active set: solve for all free; every a_i whose
-/// value leaves its box is held on the bound it crossed (its column times that value moves into
-/// the residual) and the rest solved again, until the solution is inside (at most columns(A) + 1
-/// solves). Exact when no held parameter would move back inside at the optimum (the usual case
-/// of a box smaller than the unconstrained step); a first step, not a full bounded solver.
+/// [lower_i, upper_i] and b free. b is profiled out exactly (r and A projected onto the complement
+/// of B's columns); the box problem in a is then solved exactly over the box's faces (each a_i
+/// free or on either bound; up to 8 parameters) or by coordinate descent beyond. The cost is never
+/// above the cost at any point of the box, a = 0 included when the box holds it.
+///
+/// Why not a projected active set (hold each a_i that leaves its box on the bound it crossed and
+/// solve the rest again), as before session 64: it can end above the cost of no step at all. On
+/// indepsim3's setB5 torque-ripple recording the motor inertia's linear step ran far below its
+/// box, was held at the bound, the fraction then wanted a negative value and was held at 0: cost
+/// 632 235 against 608 350 without a step, so the ripple screened at S = 0 and was never fitted
+/// (docs/diagnose-log.md, session 64).
 struct BoxedLeastSquares {
   Eigen::VectorXd a, b;   ///< the step (a on its boxes)
   double cost = 0;        ///< |r + A a + B b|^2 at the step

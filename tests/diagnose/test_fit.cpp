@@ -418,6 +418,79 @@ TEST(BoxedLeastSquares, CorrelatedColumnsMatchABruteForceSearchOfTheBox) {
   EXPECT_LE(s.a(1), upper(1));
 }
 
+TEST(BoxedLeastSquares, NeverEndsAboveTheCostOfNoStepWhereHoldingEachCrossedBoundDid) {
+  // The unconstrained step (-1.13, -1.98) leaves both boxes. Holding each parameter on the bound it
+  // crossed (the projected active set used before session 64) gives a = (0, -1) and cost 18, above
+  // the 17 of no step at all; the box's minimum is a = (0, -0.4): with a_0 on its bound the
+  // one-dimensional minimum in a_1 is -(r . A_1) / |A_1|^2 = -2 / 5, cost 17 - 2^2 / 5 = 16.2. A
+  // fourth row carries a free nuisance column, which the minimum sets to -5 whatever a is.
+  Eigen::MatrixXd A(4, 2), B = Eigen::MatrixXd::Zero(4, 1);
+  A << 3, 0, -2, 2, 3, -1, 0, 0;
+  B(3, 0) = 1;
+  const Eigen::Vector4d r(3, 2, 2, 5);
+  const BoxedLeastSquares s = boxed_least_squares(A, Eigen::Vector2d(0, -1), Eigen::Vector2d(1, 0), B, r);
+  EXPECT_NEAR(s.a(0), 0.0, 1e-12);
+  EXPECT_NEAR(s.a(1), -0.4, 1e-12);
+  EXPECT_NEAR(s.b(0), -5.0, 1e-12);
+  EXPECT_NEAR(s.cost, 16.2, 1e-12);
+  EXPECT_TRUE(s.held[0]);
+  EXPECT_FALSE(s.held[1]);
+}
+
+// The Karush-Kuhn-Tucker conditions of the convex box problem, necessary and sufficient for its
+// minimum: with b profiled, the gradient 2 A^T (r + A a + B b) is zero in every parameter strictly
+// inside its box, >= 0 on a lower bound, <= 0 on an upper one. Tolerance: 1e-7 of the gradient's
+// scale |A_i| |residual|, far above round-off (1e-15 relative) and far below a missed minimum.
+void expect_box_minimum(const Eigen::MatrixXd& A, const Eigen::VectorXd& lower, const Eigen::VectorXd& upper,
+                        const Eigen::MatrixXd& B, const Eigen::VectorXd& r) {
+  const BoxedLeastSquares s = boxed_least_squares(A, lower, upper, B, r);
+  const Eigen::VectorXd res = r + A * s.a + B * s.b;
+  EXPECT_NEAR(s.cost, res.squaredNorm(), 1e-9 * res.squaredNorm());
+  const Eigen::VectorXd gb = B.transpose() * res;
+  for (Eigen::Index j = 0; j < B.cols(); ++j) EXPECT_NEAR(gb(j), 0.0, 1e-7 * B.col(j).norm() * res.norm());
+  const Eigen::VectorXd ga = A.transpose() * res;
+  for (Eigen::Index i = 0; i < A.cols(); ++i) {
+    const double tol = 1e-7 * A.col(i).norm() * res.norm();
+    ASSERT_GE(s.a(i), lower(i));
+    ASSERT_LE(s.a(i), upper(i));
+    if (s.a(i) > lower(i) && s.a(i) < upper(i))
+      EXPECT_NEAR(ga(i), 0.0, tol) << "parameter " << i << " inside its box";
+    else if (s.a(i) == lower(i))
+      EXPECT_GE(ga(i), -tol) << "parameter " << i << " on its lower bound";
+    else
+      EXPECT_LE(ga(i), tol) << "parameter " << i << " on its upper bound";
+  }
+}
+
+void random_box_problems(Eigen::Index p, unsigned seed) {
+  std::mt19937 rng(seed);
+  std::normal_distribution<double> nd;
+  for (int trial = 0; trial < 50; ++trial) {
+    const Eigen::Index m = 3 * p + 4, q = 2;
+    Eigen::MatrixXd A(m, p), B(m, q);
+    Eigen::VectorXd r(m), lower(p), upper(p);
+    for (Eigen::Index k = 0; k < m; ++k) {
+      // Correlated columns (a common part) make the bounds interact, as the secants of one
+      // candidate's parameters do.
+      const double common = nd(rng);
+      for (Eigen::Index j = 0; j < p; ++j) A(k, j) = common + 0.5 * nd(rng);
+      for (Eigen::Index j = 0; j < q; ++j) B(k, j) = nd(rng);
+      r(k) = 3 * nd(rng);
+    }
+    for (Eigen::Index j = 0; j < p; ++j) {
+      lower(j) = -std::fabs(nd(rng));
+      upper(j) = std::fabs(nd(rng));
+    }
+    expect_box_minimum(A, lower, upper, B, r);
+  }
+}
+
+TEST(BoxedLeastSquares, ThreeParametersMeetTheOptimalityConditionsOfTheBoxOverTheFaces) { random_box_problems(3, 5); }
+
+TEST(BoxedLeastSquares, TenParametersMeetTheOptimalityConditionsOfTheBoxByCoordinateDescent) {
+  random_box_problems(10, 6);
+}
+
 TEST(BoxedLeastSquares, MismatchedShapesAreRefused) {
   const Eigen::MatrixXd A = Eigen::MatrixXd::Zero(3, 2), B = Eigen::MatrixXd::Zero(4, 1);
   EXPECT_THROW(boxed_least_squares(A, Eigen::Vector2d(0, 0), Eigen::Vector2d(1, 1), B, Eigen::Vector3d::Zero()),
