@@ -110,9 +110,6 @@ struct CompareOptions {
   double alpha = 0.01;                 ///< for the non-stationarity flag
   int null_draws = 2000;               ///< Monte Carlo draws of the null distribution
   std::uint64_t seed = 20240611;       ///< of those draws (the result is deterministic)
-  /// solver.periodicity_tolerance of simulations with tooth-level features (damaged teeth,
-  /// sun runout, torque ripple), whose warm-up otherwise runs until the mean speed holds to 1e-6.
-  double tooth_level_speed_tolerance = 1e-4;
   /// Runs a prepared simulation elsewhere (another MPI rank: sweep/simulation_pool.hpp) and
   /// returns what ModelComparison::evaluate would return there, or nullopt when it has no
   /// idle capacity (the simulation then runs in this process). Empty: always here. Called

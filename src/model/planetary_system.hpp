@@ -142,6 +142,19 @@ public:
   /// Backlash of mesh m [m] (initial; grows with wear).
   double backlash_m(int mesh) const { return mesh_[mesh].backlash_m; }
   void set_backlash_m(int mesh, double b) { mesh_[mesh].backlash_m = b; }
+  /// The excitations held in the dynamics that do not repeat every mesh period: the input torque
+  /// ripple's fraction and the sun runout's eccentricity (a tooth modifier's lives in the
+  /// surfaces). The warm-up settles the stage without them first (simulation.cpp, settle()).
+  struct AperiodicExcitation {
+    double torque_ripple_fraction = 0;
+    double sun_eccentricity_m = 0;
+  };
+  AperiodicExcitation aperiodic_excitation() const { return {ripple_, sun_ecc_}; }
+  void set_aperiodic_excitation(const AperiodicExcitation& e) {
+    ripple_ = e.torque_ripple_fraction;
+    sun_ecc_ = e.sun_eccentricity_m;
+    ++contact_epoch_;  // the runout enters the cached contact geometry (imposed deflection)
+  }
   /// Spreads each pair's entry into and exit from contact over the roll distance
   /// the mesh covers in dt_s at its nominal speed (geometry::engagement_weight):
   /// the force then depends continuously on the engagement instant instead of

@@ -205,6 +205,40 @@ double largest_engagement_ramp(const SimulationConfig& config) {
   return std::min(ContactSettings::kMaxEngagementRamp, ramp_room(geometry::make_stage_geometry(config.stage)));
 }
 
+/// Whether make_tooth_surfaces() applies imperfections.teeth.
+enum class ToothModifiers { Applied, Left_out };
+
+/// The flanks' initial state: each tooth's deviations (worn profile, tip relief) and stiffness
+/// factors (the tooth modifiers, when applied).
+ToothSurfaces make_tooth_surfaces(const SimulationConfig& c, const geometry::StageGeometry& geo,
+                                  ToothModifiers modifiers) {
+  ToothSurfaces surf;
+  const int N = c.stage.planet_count;
+  const auto& gs = geo.sun_planet;
+  const auto& gr = geo.planet_ring;
+  surf.sun = FlankSet(c.stage.sun.teeth, c.wear.elements_per_flank, gs.start_active_m, gs.end_active_m);
+  surf.ring = FlankSet(c.stage.ring.teeth, c.wear.elements_per_flank, gr.start_active_m, gr.end_active_m);
+  for (int i = 0; i < N; ++i) {
+    surf.planet_sun_side.emplace_back(c.stage.planet.teeth, c.wear.elements_per_flank, gs.start_active_m, gs.end_active_m);
+    surf.planet_ring_side.emplace_back(c.stage.planet.teeth, c.wear.elements_per_flank, gr.start_active_m, gr.end_active_m);
+  }
+  if (modifiers == ToothModifiers::Applied) apply_tooth_modifiers(c.imperfections, surf);
+  const double worn = c.imperfections.worn_profile_depth_m;
+  apply_worn_profile(worn, gs, true, surf.sun);
+  apply_worn_profile(worn, gr, false, surf.ring);
+  for (int i = 0; i < N; ++i) {
+    apply_worn_profile(worn, gs, false, surf.planet_sun_side[i]);
+    apply_worn_profile(worn, gr, true, surf.planet_ring_side[i]);
+  }
+  apply_tip_relief(c.contact, gs, true, surf.sun);
+  apply_tip_relief(c.contact, gr, false, surf.ring);
+  for (int i = 0; i < N; ++i) {
+    apply_tip_relief(c.contact, gs, false, surf.planet_sun_side[i]);
+    apply_tip_relief(c.contact, gr, true, surf.planet_ring_side[i]);
+  }
+  return surf;
+}
+
 PreparedStage prepare(const SimulationConfig& c) {
   validate(c);
   PreparedStage p;
@@ -309,31 +343,7 @@ PreparedStage prepare(const SimulationConfig& c) {
 
   // Tooth flank state: deviations and stiffness factors per tooth.
   check_flank_memory(c);
-  ToothSurfaces surf;
-  const int N = c.stage.planet_count;
-  const auto& gs = geo.sun_planet;
-  const auto& gr = geo.planet_ring;
-  surf.sun = FlankSet(c.stage.sun.teeth, c.wear.elements_per_flank, gs.start_active_m, gs.end_active_m);
-  surf.ring = FlankSet(c.stage.ring.teeth, c.wear.elements_per_flank, gr.start_active_m, gr.end_active_m);
-  for (int i = 0; i < N; ++i) {
-    surf.planet_sun_side.emplace_back(c.stage.planet.teeth, c.wear.elements_per_flank, gs.start_active_m, gs.end_active_m);
-    surf.planet_ring_side.emplace_back(c.stage.planet.teeth, c.wear.elements_per_flank, gr.start_active_m, gr.end_active_m);
-  }
-  apply_tooth_modifiers(c.imperfections, surf);
-  const double worn = c.imperfections.worn_profile_depth_m;
-  apply_worn_profile(worn, gs, true, surf.sun);
-  apply_worn_profile(worn, gr, false, surf.ring);
-  for (int i = 0; i < N; ++i) {
-    apply_worn_profile(worn, gs, false, surf.planet_sun_side[i]);
-    apply_worn_profile(worn, gr, true, surf.planet_ring_side[i]);
-  }
-  apply_tip_relief(c.contact, gs, true, surf.sun);
-  apply_tip_relief(c.contact, gr, false, surf.ring);
-  for (int i = 0; i < N; ++i) {
-    apply_tip_relief(c.contact, gs, false, surf.planet_sun_side[i]);
-    apply_tip_relief(c.contact, gr, true, surf.planet_ring_side[i]);
-  }
-
+  ToothSurfaces surf = make_tooth_surfaces(c, geo, ToothModifiers::Applied);
   p.dynamics = std::make_unique<PlanetaryDynamics>(c, std::move(structure), std::move(sp), std::move(pr),
                                                    geometry::mesh_phases(c.stage, geo), std::move(surf),
                                                    p.sun_speed_rad_s, p.carrier_speed_rad_s);
@@ -440,13 +450,13 @@ enum class SpeedLoop {
 /// Whole mesh periods until the deflections repeat and the load torque holds
 /// the nominal speed (steady state w_s ~ 1/T_L at constant power, so
 /// T_L <- T_L mean(w_s)/Omega_s converges in a few periods).
-WarmupStats warm_up(Integration& r, const ProgressFn& report, double f0, double f1, SpeedLoop loop) {
+WarmupStats warm_up(Integration& r, const ProgressFn& report, double f0, double f1, SpeedLoop loop,
+                    bool periodic_per_mesh) {
   const SimulationConfig& c = r.c;
   PreparedStage& p = r.p;
   PlanetaryDynamics& sys = r.sys();
   const int nm = static_cast<int>(sys.mesh_states().size());
   const int spm = p.steps_per_mesh;
-  const bool periodic_per_mesh = !has_tooth_level_features(c);
   double f_low = 0;
   for (int i = 0; i < p.natural_frequencies_Hz.size(); ++i)
     if (p.natural_frequencies_Hz(i) > 1e-3 * p.natural_frequencies_Hz.maxCoeff()) {
@@ -577,6 +587,46 @@ WarmupStats warm_up(Integration& r, const ProgressFn& report, double f0, double 
 /// ends at a load torque no steady state has (efficiency T_L Omega_c / P outside (0, 1]: the
 /// stage cannot deliver more power than it takes), it is restarted from the static start on
 /// the rigid mode's speed. Sets `loop` to the loop that was used.
+/// The static start and the warm-up on `loop`. With tooth-level features (a tooth modifier, a
+/// sun runout, a torque ripple) the stage is first settled without them, to the periodicity of
+/// every mesh period, and they are switched on after that for the windowed warm-up. Why: the
+/// windowed warm-up corrects the load once per window of z mesh periods and stops on the mean
+/// speed alone, so the torque steps of its first corrections set a lightly damped mode ringing
+/// that it never sees. Measured on a calibrated rig model (indepsim3's setA4 at 500 rpm: a motor of
+/// 2.5 kg m^2 behind an input shaft of 8268 N m/rad damped by 0.011 N m s/rad): a ring at 318.6
+/// Hz of 0.107 rad/s in the sun speed, 2.7 times the mesh line, in a model whose only tooth-level
+/// feature was a planet tooth of stiffness factor 1, i.e. none: its fit-half chi2 was 20.4 million
+/// against 71 875 for the same model without it, and no tooth candidate could be fitted
+/// (docs/diagnose-log.md, session 64). Settled without them first, a feature of size zero is the
+/// stage without it, and a small one starts only its own small transient.
+WarmupStats warm_up_from_static(Integration& r, const ProgressFn& report, double f1, SpeedLoop loop) {
+  start_static(r);
+  if (!has_tooth_level_features(r.c)) return warm_up(r, report, 0.0, f1, loop, true);
+  PlanetaryDynamics& sys = r.sys();
+  const PlanetaryDynamics::AperiodicExcitation excitation = sys.aperiodic_excitation();
+  ToothSurfaces featured = sys.surfaces();
+  // Restored however the first phase ends (a solver error is retried by settle()).
+  struct Restore {
+    PlanetaryDynamics& sys;
+    const PlanetaryDynamics::AperiodicExcitation& excitation;
+    ToothSurfaces& featured;
+    ~Restore() {
+      sys.set_aperiodic_excitation(excitation);
+      sys.surfaces() = featured;
+    }
+  };
+  WarmupStats plain;
+  {
+    const Restore restore{sys, excitation, featured};
+    sys.set_aperiodic_excitation({});
+    sys.surfaces() = make_tooth_surfaces(r.c, r.p.geometry, ToothModifiers::Left_out);
+    plain = warm_up(r, report, 0.0, 0.5 * f1, loop, true);
+  }
+  WarmupStats w = warm_up(r, report, 0.5 * f1, f1, loop, false);
+  w.cycles += plain.cycles;
+  return w;
+}
+
 WarmupStats settle(Integration& r, const ProgressFn& report, double f1, SpeedLoop& loop) {
   const SimulationConfig& c = r.c;
   PlanetaryDynamics& sys = r.sys();
@@ -585,8 +635,7 @@ WarmupStats settle(Integration& r, const ProgressFn& report, double f1, SpeedLoo
   if (!shafts) {
     loop = SpeedLoop::SunSpeed;
     try {
-      start_static(r);
-      const WarmupStats w = warm_up(r, report, 0.0, f1, loop);
+      const WarmupStats w = warm_up_from_static(r, report, f1, loop);
       const double efficiency = sys.load_torque_Nm() * r.p.carrier_speed_rad_s / c.operating.input_power_W;
       if (!sys.structure().has_rigid_mode || (efficiency > 0 && efficiency <= 1)) return w;
       sys.set_load_torque_Nm(nominal_load);  // ended off any steady state: restart below
@@ -595,8 +644,7 @@ WarmupStats settle(Integration& r, const ProgressFn& report, double f1, SpeedLoo
     }
   }
   loop = SpeedLoop::RigidMode;
-  start_static(r);
-  return warm_up(r, report, 0.0, f1, loop);
+  return warm_up_from_static(r, report, f1, loop);
 }
 
 /// Per-planet means over every recorded step that the summary scalars need
