@@ -451,7 +451,7 @@ enum class SpeedLoop {
 /// the nominal speed (steady state w_s ~ 1/T_L at constant power, so
 /// T_L <- T_L mean(w_s)/Omega_s converges in a few periods).
 WarmupStats warm_up(Integration& r, const ProgressFn& report, double f0, double f1, SpeedLoop loop,
-                    bool periodic_per_mesh) {
+                    bool periodic_per_mesh, int cycles_done = 0) {
   const SimulationConfig& c = r.c;
   PreparedStage& p = r.p;
   PlanetaryDynamics& sys = r.sys();
@@ -493,7 +493,8 @@ WarmupStats warm_up(Integration& r, const ProgressFn& report, double f0, double 
   // Torque ripple modulates the speed at k f_s, not a multiple of the mesh
   // period: average over whole ripple periods (the trend term then comes from
   // the speed means of the first and the last ripple period of the window).
-  const bool ripple = c.imperfections.torque_ripple_fraction != 0;
+  // (as the dynamics hold it: switched off while the stage settles without its features)
+  const bool ripple = sys.aperiodic_excitation().torque_ripple_fraction != 0;
   const long ripple_steps =
       ripple ? std::max(1L, std::lround(2 * kPi / (c.imperfections.torque_ripple_order * p.sun_speed_rad_s) /
                                         p.time_step_s))
@@ -506,7 +507,8 @@ WarmupStats warm_up(Integration& r, const ProgressFn& report, double f0, double 
   WarmupStats w;
   double progress = 0;
   int windows = 0;
-  for (w.cycles = 0; w.cycles < max_warm;) {
+  // A windowed warm-up runs at least two windows, also after a settled start that used the limit.
+  for (w.cycles = cycles_done; w.cycles < max_warm || (!periodic_per_mesh && windows < 2);) {
     double mean_ws = 0, mean_as = 0, mean_Ts = 0, last_ws = 0, first_ws = 0, mean_sun_ws = 0;
     const long n = n_window;
     const long tail = ripple ? ripple_steps : spm;  // speed at the end: last mesh (or ripple) period
@@ -602,6 +604,12 @@ WarmupStats warm_up(Integration& r, const ProgressFn& report, double f0, double 
 WarmupStats warm_up_from_static(Integration& r, const ProgressFn& report, double f1, SpeedLoop loop) {
   start_static(r);
   if (!has_tooth_level_features(r.c)) return warm_up(r, report, 0.0, f1, loop, true);
+  // A torque ripple alone keeps the windowed warm-up from the static start (session 63's): settled
+  // first, a ripple recording whose mesh is locked to time (stiffness.mesh_phase = nominal_time)
+  // was no longer named (ctest diagnose.mesh_phase_of_a_torque_ripple; not understood yet,
+  // docs/diagnose-log.md session 64).
+  const Imperfections& im = r.c.imperfections;
+  if (im.teeth.empty() && im.sun_eccentricity_m == 0) return warm_up(r, report, 0.0, f1, loop, false);
   PlanetaryDynamics& sys = r.sys();
   const PlanetaryDynamics::AperiodicExcitation excitation = sys.aperiodic_excitation();
   ToothSurfaces featured = sys.surfaces();
@@ -622,9 +630,10 @@ WarmupStats warm_up_from_static(Integration& r, const ProgressFn& report, double
     sys.surfaces() = make_tooth_surfaces(r.c, r.p.geometry, ToothModifiers::Left_out);
     plain = warm_up(r, report, 0.0, 0.5 * f1, loop, true);
   }
-  WarmupStats w = warm_up(r, report, 0.5 * f1, f1, loop, false);
-  w.cycles += plain.cycles;
-  return w;
+  // The settled stage has had plain.cycles to shed the static start's transient: they count
+  // towards the windowed warm-up's settling time and its limit (switching the features on starts
+  // only a transient of their own size).
+  return warm_up(r, report, 0.5 * f1, f1, loop, false, plain.cycles);
 }
 
 WarmupStats settle(Integration& r, const ProgressFn& report, double f1, SpeedLoop& loop) {
