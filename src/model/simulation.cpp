@@ -577,20 +577,8 @@ WarmupStats warm_up(Integration& r, const ProgressFn& report, double f0, double 
   return w;
 }
 
-/// Static start and warm-up. The loop holds the sun's speed, as every result before session 20
-/// did (bit-identical), unless a flexible rig shaft needs the rigid mode's own speed: a machine
-/// on a soft shaft moves against the train at the shaft's slow mode, which the sun's window
-/// mean carries (a 6 kg m^2 motor on a 2000 N m/rad shaft diverged, session 19). The sun's
-/// speed also carries the elastic modes, and each load update, a torque step, excites them:
-/// where their share of the window's mean sun acceleration outweighs the torque balance the
-/// loop feeds them back and diverges (the seed stage at 1 kW: 100 000 rpm, windows of 36 us,
-/// grew x1.2 every four windows until the roll reached 1e14 m; 50 000 rpm ended the warm-up
-/// with a load torque of 2.6e11 N m). So when the sun-speed warm-up fails (a solver failure) or
-/// ends at a load torque no steady state has (efficiency T_L Omega_c / P outside (0, 1]: the
-/// stage cannot deliver more power than it takes), it is restarted from the static start on
-/// the rigid mode's speed. Sets `loop` to the loop that was used.
-/// The static start and the warm-up on `loop`. With tooth-level features (a tooth modifier, a
-/// sun runout, a torque ripple) the stage is first settled without them, to the periodicity of
+/// The static start and the warm-up on `loop`. With a damaged tooth or a sun runout (tooth-level
+/// features; a torque ripple alone is the exception below) the stage is first settled without them, to the periodicity of
 /// every mesh period, and they are switched on after that for the windowed warm-up. Why: the
 /// windowed warm-up corrects the load once per window of z mesh periods and stops on the mean
 /// speed alone, so the torque steps of its first corrections set a lightly damped mode ringing
@@ -636,6 +624,18 @@ WarmupStats warm_up_from_static(Integration& r, const ProgressFn& report, double
   return warm_up(r, report, 0.5 * f1, f1, loop, false, plain.cycles);
 }
 
+/// Static start and warm-up. The loop holds the sun's speed, as every result before session 20
+/// did (bit-identical), unless a flexible rig shaft needs the rigid mode's own speed: a machine
+/// on a soft shaft moves against the train at the shaft's slow mode, which the sun's window
+/// mean carries (a 6 kg m^2 motor on a 2000 N m/rad shaft diverged, session 19). The sun's
+/// speed also carries the elastic modes, and each load update, a torque step, excites them:
+/// where their share of the window's mean sun acceleration outweighs the torque balance the
+/// loop feeds them back and diverges (the seed stage at 1 kW: 100 000 rpm, windows of 36 us,
+/// grew x1.2 every four windows until the roll reached 1e14 m; 50 000 rpm ended the warm-up
+/// with a load torque of 2.6e11 N m). So when the sun-speed warm-up fails (a solver failure) or
+/// ends at a load torque no steady state has (efficiency T_L Omega_c / P outside (0, 1]: the
+/// stage cannot deliver more power than it takes), it is restarted from the static start on
+/// the rigid mode's speed. Sets `loop` to the loop that was used.
 WarmupStats settle(Integration& r, const ProgressFn& report, double f1, SpeedLoop& loop) {
   const SimulationConfig& c = r.c;
   PlanetaryDynamics& sys = r.sys();
