@@ -411,8 +411,7 @@ std::shared_ptr<const ModelSpectra> ModelComparison::simulate(const model::Simul
   // torque ripple alone keeps session 63's warm-up from the static start and its tolerance: the
   // warm-up runs until the mean speed holds to 1e-4; every signal is analysed against its own
   // angle reference, so a mean speed off by 1e-4 moves no line off its bin.
-  const auto& im = c.imperfections;
-  if (im.teeth.empty() && im.sun_eccentricity_m == 0 && im.torque_ripple_fraction != 0)
+  if (c.imperfections.torque_ripple_fraction != 0 && !model::settles_without_tooth_level_features(c))
     c.solver.periodicity_tolerance = std::max(c.solver.periodicity_tolerance, kRippleSpeedTolerance);
   const std::string key = builtin_config_key(c) + (keep ? "#keep" : "");
   {

@@ -205,6 +205,10 @@ double largest_engagement_ramp(const SimulationConfig& config) {
   return std::min(ContactSettings::kMaxEngagementRamp, ramp_room(geometry::make_stage_geometry(config.stage)));
 }
 
+bool settles_without_tooth_level_features(const SimulationConfig& c) {
+  return !c.imperfections.teeth.empty() || c.imperfections.sun_eccentricity_m != 0;
+}
+
 /// Whether make_tooth_surfaces() applies imperfections.teeth.
 enum class ToothModifiers { Applied, Left_out };
 
@@ -596,8 +600,7 @@ WarmupStats warm_up_from_static(Integration& r, const ProgressFn& report, double
   // first, a ripple recording whose mesh is locked to time (stiffness.mesh_phase = nominal_time)
   // was no longer named (ctest diagnose.mesh_phase_of_a_torque_ripple; not understood yet,
   // docs/diagnose-log.md session 64).
-  const Imperfections& im = r.c.imperfections;
-  if (im.teeth.empty() && im.sun_eccentricity_m == 0) return warm_up(r, report, 0.0, f1, loop, false);
+  if (!settles_without_tooth_level_features(r.c)) return warm_up(r, report, 0.0, f1, loop, false);
   PlanetaryDynamics& sys = r.sys();
   const PlanetaryDynamics::AperiodicExcitation excitation = sys.aperiodic_excitation();
   ToothSurfaces featured = sys.surfaces();

@@ -58,6 +58,11 @@ struct PreparedStage {
 /// (8: the validity check of prepare()).
 double automatic_time_step(double T_mesh, double f_max, const SolverSettings& solver);
 
+/// True when the warm-up settles the stage without its tooth-level features before switching them
+/// on (a damaged tooth or a sun runout; a torque ripple alone keeps the warm-up from the static
+/// start): simulation.cpp, warm_up_from_static().
+bool settles_without_tooth_level_features(const SimulationConfig& config);
+
 /// Steps 1-4; throws pw::InputError for impossible geometry or an unusable
 /// time step (naming solver.time_step_s and the limit).
 PreparedStage prepare(const SimulationConfig& config);
