@@ -355,6 +355,9 @@ struct Diagnosis {
   /// Non-empty when the nuisance-only model was fitted again from this candidate's fitted
   /// nuisance values and fitted better there (diagnose.md §5, step 9b); the rule says so.
   std::string nuisance_refitted_from;
+  /// What the nuisance model's mesh stiffness follows: the gears' roll (the configuration's
+  /// default), or nominal time where only that form explains the recording (diagnose.md §5 step 4b).
+  model::MeshPhase nuisance_mesh_phase = model::MeshPhase::Rotation;
   bool located = false;
   Location location;
   std::vector<ScreenResult> screening;    ///< every candidate, largest S first

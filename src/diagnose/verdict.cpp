@@ -437,6 +437,10 @@ std::string nuisance_text(const Diagnosis& d) {
   std::string s;
   for (const auto& p : d.nuisance.parameters)
     s += (s.empty() ? "" : ", ") + param_text(p) + (p.moved ? " (recalibrated)" : "");
+  if (d.nuisance_mesh_phase == model::MeshPhase::NominalTime)
+    s += std::string(s.empty() ? "" : "; ") +
+         "the mesh stiffness locked to nominal time, stiffness.mesh_phase = nominal_time: the recording's mesh lines "
+         "follow time, as a simulator's k(t) does, not the gears' roll";
   return s;
 }
 
