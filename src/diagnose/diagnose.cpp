@@ -47,6 +47,36 @@ namespace {
 /// Candidates fitted further after the first ranking.
 constexpr std::size_t kRefinedCandidates = 2;
 
+/// The variant text of a fit whose mesh stiffness is locked to nominal time (§5 steps 4b, 9c).
+constexpr const char* kTimeLockedVariant =
+    "mesh stiffness locked to nominal time, not to the gears' roll (stiffness.mesh_phase = nominal_time)";
+
+/// A fit made with the time-locked mesh: its variant and its --set line say so.
+void mark_time_locked(CandidateResult& r) {
+  r.variant = (r.variant.empty() ? std::string() : r.variant + "; ") + kTimeLockedVariant;
+  r.overrides.push_back("stiffness.mesh_phase=nominal_time");
+}
+
+/// A trial of the time-locked mesh (stiffness.mesh_phase = nominal_time) on a diagnosis's base
+/// configuration: set for the scope, the roll-locked form put back when it ends unless kept.
+class TimeLockedTrial {
+public:
+  explicit TimeLockedTrial(model::SimulationConfig& base) : base_(base) {
+    base_.stiffness.mesh_phase = model::MeshPhase::NominalTime;
+  }
+  TimeLockedTrial(const TimeLockedTrial&) = delete;
+  TimeLockedTrial& operator=(const TimeLockedTrial&) = delete;
+  ~TimeLockedTrial() {
+    if (!keep_) base_.stiffness.mesh_phase = model::MeshPhase::Rotation;
+  }
+  /// The base stays time-locked after the scope.
+  void keep() { keep_ = true; }
+
+private:
+  model::SimulationConfig& base_;
+  bool keep_ = false;
+};
+
 /// Whether a candidate's evidence lies in a family the layout compares. The mesh harmonics
 /// alone do not single out a candidate that also names another family (the nuisance level
 /// parameters and the mesh-only candidates move them too): such a candidate is resolvable
@@ -486,14 +516,7 @@ private:
     const SplitParameters s = split_parameters(w, ctx().nuisance_x);
     // The base stays locked to nominal time once the lead is refitted so (the phase variants and
     // the lower limit that follow build on it); otherwise it is restored however this ends.
-    struct RestorePhase {
-      model::SimulationConfig& base;
-      bool keep = false;
-      ~RestorePhase() {
-        if (!keep) base.stiffness.mesh_phase = model::MeshPhase::Rotation;
-      }
-    } restore{ctx().base};
-    ctx().base.stiffness.mesh_phase = model::MeshPhase::NominalTime;
+    TimeLockedTrial trial{ctx().base};
     const double probe = ctx().fit_chi2(cand, w.chosen, s.own, s.nuisance);
     const double margin = chi2_quantile(1.0, o_.alpha);
     say(w.name + " with its mesh stiffness locked to nominal time: fit-half chi2 " + fmt("%.6g", probe) + " against " +
@@ -551,13 +574,11 @@ private:
     r->evidence_z = w.evidence_z;
     r->predicted_improvement = w.predicted_improvement;
     r->seconds = w.seconds + seconds_since(tc);
-    r->variant = (r->variant.empty() ? std::string() : r->variant + "; ") +
-                 "mesh stiffness locked to nominal time, not to the gears' roll (stiffness.mesh_phase = nominal_time)";
-    r->overrides.push_back("stiffness.mesh_phase=nominal_time");
+    mark_time_locked(*r);
     const double before = w.fit.chi2, before_held_out = w.held_out.chi2;
     assess(*r);
     w = std::move(*r);
-    restore.keep = true;
+    trial.keep();
     refit_rivals_locked_to_time();
     say(w.name + " locked to nominal time: chi2 " + fmt("%.6g", before) + " -> " + fmt("%.6g", w.fit.chi2) +
         " on the fit half, " + fmt("%.6g", before_held_out) + " -> " + fmt("%.6g", w.held_out.chi2) + " held out");
@@ -616,9 +637,7 @@ private:
       f->evidence_z = c.evidence_z;
       f->predicted_improvement = c.predicted_improvement;
       f->seconds += c.seconds;
-      f->variant = (f->variant.empty() ? std::string() : f->variant + "; ") +
-                   "mesh stiffness locked to nominal time, not to the gears' roll (stiffness.mesh_phase = nominal_time)";
-      f->overrides.push_back("stiffness.mesh_phase=nominal_time");
+      mark_time_locked(*f);
       assess(*f);
       c = std::move(*f);
     }
@@ -649,14 +668,7 @@ private:
     if (consistent_ || o_.nuisance_only || !co_.baseline.empty() || ctx().nuisance.empty() ||
         ctx().base.stiffness.mesh_phase != model::MeshPhase::Rotation)
       return;
-    struct RestorePhase {
-      model::SimulationConfig& base;
-      bool keep = false;
-      ~RestorePhase() {
-        if (!keep) base.stiffness.mesh_phase = model::MeshPhase::Rotation;
-      }
-    } restore{ctx().base};
-    ctx().base.stiffness.mesh_phase = model::MeshPhase::NominalTime;
+    TimeLockedTrial trial{ctx().base};
     const double margin = chi2_quantile(1.0, o_.alpha);
     double probe = std::numeric_limits<double>::infinity();
     try {
@@ -677,7 +689,7 @@ private:
     r->simulations += d_.nuisance.simulations + 1;
     r->overrides.push_back("stiffness.mesh_phase=nominal_time");
     d_.nuisance = std::move(*r);
-    restore.keep = true;
+    trial.keep();
     adopt_nuisance_values();
     set_fidelity(ctx(), d_.nuisance.config, &ctx().nuisance_sim);
     cmp().set_reference(*ctx().nuisance_sim, ctx().nuisance_gains);
