@@ -51,10 +51,13 @@ constexpr std::size_t kRefinedCandidates = 2;
 constexpr const char* kTimeLockedVariant =
     "mesh stiffness locked to nominal time, not to the gears' roll (stiffness.mesh_phase = nominal_time)";
 
+/// The --set line of a model whose mesh stiffness is locked to nominal time.
+constexpr const char* kTimeLockedOverride = "stiffness.mesh_phase=nominal_time";
+
 /// A fit made with the time-locked mesh: its variant and its --set line say so.
 void mark_time_locked(CandidateResult& r) {
   r.variant = (r.variant.empty() ? std::string() : r.variant + "; ") + kTimeLockedVariant;
-  r.overrides.push_back("stiffness.mesh_phase=nominal_time");
+  r.overrides.push_back(kTimeLockedOverride);
 }
 
 /// A trial of the time-locked mesh (stiffness.mesh_phase = nominal_time) on a diagnosis's base
@@ -687,7 +690,7 @@ private:
     if (!(r->fit.chi2 < d_.nuisance.fit.chi2 && r->held_out.chi2 <= d_.bound_held_out)) return;
     const double before = d_.nuisance.fit.chi2, before_held_out = d_.nuisance.held_out.chi2;
     r->simulations += d_.nuisance.simulations + 1;
-    r->overrides.push_back("stiffness.mesh_phase=nominal_time");
+    r->overrides.push_back(kTimeLockedOverride);  // the nuisance model has no variant to mark
     d_.nuisance = std::move(*r);
     trial.keep();
     adopt_nuisance_values();
