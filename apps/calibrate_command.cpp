@@ -105,6 +105,7 @@ void print_table(const diagnose::Calibration& cal) {
     std::printf("\n");
   }
   std::printf("calibrated model:");
+  for (const std::string& s : diagnose::model_form_settings(cal.mesh_phase)) std::printf(" --set %s", s.c_str());
   for (const std::string& s : cal.overrides) std::printf(" --set %s", s.c_str());
   std::printf("\n");
   for (const std::string& s : cal.at_bound)
@@ -287,9 +288,52 @@ void share_rig_structure(const CalibrateCommandOptions& o, const std::vector<std
   }
 }
 
+/// docs/diagnose.md §6a item 9: the calibrated model's mesh form. A simulator that excites the
+/// mesh with k(t) at the nominal speed makes recordings whose mesh lines are locked to time; the
+/// roll-locked model cannot reproduce them and its discrepancy budget would carry that form error
+/// into every diagnosis of the rig. Where every recording's roll-locked nuisance model failed the
+/// noise test and its time-locked probe fits better (diagnose::time_locked_probes_pass), every
+/// recording is refitted in that form from its own values; the form is taken only if each refit
+/// leaves less held-out chi2 (diagnose::time_locked_refits_improve). Then `fits` are the refits
+/// and `o` holds the form for every later fit. Costs one simulation per recording that failed
+/// the noise test, and one nuisance fit per recording where the probes pass.
+bool choose_mesh_form(CalibrateCommandOptions& o, const std::vector<std::string>& rig, diagnose::HealthyFit weighting,
+                      std::vector<RecordingFit>& fits) {
+  std::vector<diagnose::MeshFormFits> form;
+  for (const RecordingFit& f : fits) {
+    const diagnose::Diagnosis& d = f.noise_test();
+    form.push_back({.fit_chi2 = d.nuisance.fit.chi2, .probe_fit_chi2 = d.time_locked_probe_chi2,
+                    .fit_features = d.nuisance.fit.features, .held_out_chi2 = d.nuisance.held_out.chi2,
+                    .refit_held_out_chi2 = std::nullopt, .held_out_features = d.nuisance.held_out.features});
+  }
+  if (!diagnose::time_locked_probes_pass(form, o.alpha)) return false;
+  CalibrateCommandOptions locked = o;
+  for (const std::string& line : diagnose::model_form_settings(model::MeshPhase::NominalTime))
+    locked.common.assignments.insert(locked.common.assignments.begin(), line);  // the user's --set after it
+  if (!o.common.quiet)
+    std::fprintf(stderr, "[calibrate] every recording fits better with the mesh stiffness locked to nominal time "
+                         "(k(t)): each refitted in that form\n");
+  std::vector<RecordingFit> refits = fit_recordings(locked, rig, weighting, fits);
+  for (std::size_t i = 0; i < fits.size(); ++i) form[i].refit_held_out_chi2 = refits[i].noise_test().nuisance.held_out.chi2;
+  const bool taken = diagnose::time_locked_refits_improve(form, o.alpha);
+  if (!o.common.quiet) {
+    for (std::size_t i = 0; i < fits.size(); ++i)
+      std::fprintf(stderr, "[calibrate]   recording %zu: held-out chi2 %.4g locked to nominal time, %.4g to the gears' roll\n",
+                   i + 1, *form[i].refit_held_out_chi2, form[i].held_out_chi2);
+    std::fprintf(stderr, "[calibrate] the calibrated model's mesh follows %s\n",
+                 taken ? "nominal time (stiffness.mesh_phase = nominal_time)"
+                       : "the gears' roll: not every recording's held-out half fits better locked to time");
+  }
+  if (!taken) return false;
+  fits = std::move(refits);
+  o = std::move(locked);
+  return true;
+}
+
 } // namespace
 
-int run_calibrate(const CalibrateCommandOptions& o) {
+int run_calibrate(const CalibrateCommandOptions& o_in) {
+  CalibrateCommandOptions o = o_in;  // the calibrated mesh form joins its assignments (choose_mesh_form)
   require(o.metas.empty() || o.metas.size() == o.recordings.size(), "--meta", "give one sidecar per --recording (",
           o.recordings.size(), " recordings, ", o.metas.size(), " sidecars) or none");
   std::vector<std::string> rig = o.rig_elements;
@@ -312,10 +356,13 @@ int run_calibrate(const CalibrateCommandOptions& o) {
   for (const std::string& r : rig)
     if (!diagnose::find_candidate(r)->calibration_only()) plain.push_back(r);
   std::vector<RecordingFit> fits;
+  bool time_locked = false;
   if (plain.size() == rig.size()) {
     fits = fit_recordings(o, rig, cal.healthy_fit);
+    time_locked = choose_mesh_form(o, rig, cal.healthy_fit, fits);
   } else {
     std::vector<RecordingFit> without = fit_recordings(o, plain, cal.healthy_fit);
+    time_locked = choose_mesh_form(o, plain, cal.healthy_fit, without);
     fits = fit_recordings(o, rig, cal.healthy_fit, without);
     for (std::size_t i = 0; i < fits.size(); ++i) {
       const diagnose::NestedFits nested{.chi2_without = without[i].noise_test().nuisance.held_out.chi2,
@@ -342,6 +389,7 @@ int run_calibrate(const CalibrateCommandOptions& o) {
                           fits);
   }
   cal.rig_elements = rig;
+  cal.mesh_phase = time_locked ? model::MeshPhase::NominalTime : model::MeshPhase::Rotation;
   std::vector<std::vector<diagnose::CalibrationCell>> cells;
   std::vector<std::vector<diagnose::FittedParameter>> params;
   const model::SimulationConfig& base_config = fits.front().config;  // the gear set's, for the rig elements' settings

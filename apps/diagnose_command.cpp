@@ -173,7 +173,8 @@ DiagnoseInputs read_diagnose_inputs(const DiagnoseCommandOptions& o) {
   std::optional<diagnose::Calibration> calibration;
   if (!o.calibration.empty()) {
     calibration = io::read_calibration(o.calibration);
-    common.assignments = calibration->overrides;
+    common.assignments = diagnose::model_form_settings(calibration->mesh_phase);
+    common.assignments.insert(common.assignments.end(), calibration->overrides.begin(), calibration->overrides.end());
     common.assignments.insert(common.assignments.end(), o.common.assignments.begin(), o.common.assignments.end());
   }
   RecordingInputs in = read_recording_inputs(common, o.recording, o.meta, o.columns, o.speed_rpm, o.power_W);
@@ -387,6 +388,10 @@ void diagnose_and_report(const DiagnoseCommandOptions& o_in, const std::string& 
     // shaft's mode: the calibration-only elements it kept) is the rig's at the reference too:
     // held at the values the calibration fitted on this reference, not refitted here nor taken
     // from the medians over the other operating points (§6a item 6).
+    // The calibrated model's mesh form first (calibration.hpp model_form_settings): the reference
+    // is fitted in the form the calibration chose, as the recording is.
+    const std::vector<std::string> form =
+        calibration ? diagnose::model_form_settings(calibration->mesh_phase) : std::vector<std::string>{};
     std::vector<std::string> structure;
     if (calibration) {
       const model::SimulationConfig gear_set = read_gear_set_config(o.common);
@@ -399,7 +404,8 @@ void diagnose_and_report(const DiagnoseCommandOptions& o_in, const std::string& 
           structure.push_back(std::move(line));
     }
     DiagnoseCommandOptions ro = o;
-    ro.common.assignments = structure;
+    ro.common.assignments = form;
+    ro.common.assignments.insert(ro.common.assignments.end(), structure.begin(), structure.end());
     ro.common.assignments.insert(ro.common.assignments.end(), o.common.assignments.begin(), o.common.assignments.end());
     // The calibration's own fit of this recording is a second start of the reference's fit (LM is
     // local; calibration.hpp fitted_values), for the reference alone: the recording's own fit
@@ -414,7 +420,8 @@ void diagnose_and_report(const DiagnoseCommandOptions& o_in, const std::string& 
       reference_note += "; the rig's structure as the calibration identified it, held: " + lines;
       if (!o.common.quiet) std::fprintf(stderr, "[diagnose] reference with the calibrated rig structure: %s\n", lines.c_str());
     }
-    std::vector<std::string> a = structure;
+    std::vector<std::string> a = form;
+    a.insert(a.end(), structure.begin(), structure.end());
     a.insert(a.end(), baseline->overrides.begin(), baseline->overrides.end());
     a.insert(a.end(), o_in.common.assignments.begin(), o_in.common.assignments.end());
     o.common.assignments = a;

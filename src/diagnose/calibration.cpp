@@ -239,6 +239,26 @@ std::vector<std::string> reference_design_settings(const Calibration& calibratio
   return out;
 }
 
+std::vector<std::string> model_form_settings(model::MeshPhase mesh_phase) {
+  if (mesh_phase == model::MeshPhase::NominalTime) return {"stiffness.mesh_phase=nominal_time"};
+  return {};
+}
+
+bool time_locked_probes_pass(const std::vector<MeshFormFits>& fits, double alpha) {
+  return !fits.empty() && std::all_of(fits.begin(), fits.end(), [&](const MeshFormFits& f) {
+    return f.probe_fit_chi2 && rig_elements_improve({.chi2_without = f.fit_chi2, .chi2_with = *f.probe_fit_chi2,
+                                                      .features = f.fit_features, .extra_parameters = 1}, alpha);
+  });
+}
+
+bool time_locked_refits_improve(const std::vector<MeshFormFits>& fits, double alpha) {
+  return !fits.empty() && std::all_of(fits.begin(), fits.end(), [&](const MeshFormFits& f) {
+    return f.refit_held_out_chi2 &&
+           rig_elements_improve({.chi2_without = f.held_out_chi2, .chi2_with = *f.refit_held_out_chi2,
+                                 .features = f.held_out_features, .extra_parameters = 1}, alpha);
+  });
+}
+
 bool rig_elements_improve(const NestedFits& f, double alpha) {
   if (f.extra_parameters <= 0 || f.features <= 0 || !(f.chi2_with > 0) || !(f.chi2_without > f.chi2_with)) return false;
   const double p = f.extra_parameters, m = f.features;

@@ -189,12 +189,46 @@ struct Calibration {
   /// How each recording's nuisance values were fitted; a calibrated reference is fitted the same
   /// way (files written before session 43: Noise).
   HealthyFit healthy_fit = HealthyFit::Noise;
+  /// What the calibrated model's mesh stiffness follows (docs/diagnose.md §6a item 9): the gears'
+  /// roll (a real gear's), or nominal time where every healthy recording chose that form
+  /// (time_locked_probes_pass, time_locked_refits_improve). Files written before session 66: Rotation.
+  model::MeshPhase mesh_phase = model::MeshPhase::Rotation;
   std::vector<DiscrepancyEstimate> discrepancy;
   /// The budgets at z_{1-alpha}, for CompareOptions::discrepancy. A family without a relative
   /// estimate (relative_cells == 0) inherits the largest relative budget measured on its kind
   /// of channel (relative_inherited).
   std::vector<DiscrepancyEntry> budgets() const;
 };
+
+/// The "key=value" lines of a calibrated model's mesh form (Calibration::mesh_phase): none for the
+/// roll-locked mesh (the configuration's default), stiffness.mesh_phase=nominal_time otherwise.
+/// Applied before the calibrated values wherever the calibrated model is simulated.
+std::vector<std::string> model_form_settings(model::MeshPhase mesh_phase);
+
+/// One healthy recording's two fits in the calibration's choice of the mesh form.
+struct MeshFormFits {
+  double fit_chi2 = 0;                   ///< fit half, the roll-locked nuisance model
+  std::optional<double> probe_fit_chi2;  ///< fit half, its values with the time-locked mesh (Diagnosis::time_locked_probe_chi2)
+  int fit_features = 0;
+  double held_out_chi2 = 0;              ///< held-out half, the roll-locked nuisance model
+  std::optional<double> refit_held_out_chi2;  ///< held-out half, refitted with the time-locked mesh
+  int held_out_features = 0;
+};
+
+/// Whether the time-locked form is worth refitting every recording in (docs/diagnose.md §6a item 9):
+/// every recording was probed (its roll-locked nuisance model failed the noise test) and its probe
+/// fits the fit half better than one parameter buys by chance (rig_elements_improve's F test with
+/// p = 1: a discrete choice between two models with the same parameters counted as one, the
+/// improvement measured against the better model's chi2 per feature, so that on another
+/// simulator's recordings, whose chi2 is many times the noise's, an improvement of the noise's
+/// size does not count).
+bool time_locked_probes_pass(const std::vector<MeshFormFits>& fits, double alpha);
+
+/// Whether the time-locked refits are the calibrated model's form: on every recording the refit's
+/// held-out chi2 is below the roll-locked fit's by the same F test. One form for every operating
+/// point, as for the rig's structure: a rig whose operating points disagree keeps the roll-locked
+/// form (a real gear's), and its recordings' discrepancy carries the rest.
+bool time_locked_refits_improve(const std::vector<MeshFormFits>& fits, double alpha);
 
 /// The calibration's settings of the calibration-only rig elements it kept (a shaft behind a
 /// machine: Candidate::calibration_only), as "key=value": every line their apply() writes at the

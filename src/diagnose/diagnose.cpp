@@ -298,6 +298,7 @@ private:
 #endif
     threads_ += std::max(0, o_.remote_slots);
     d_.timing.threads = threads_;
+    d_.nuisance_mesh_phase = config_.stiffness.mesh_phase;  // a calibration's form, or --set's (§6a item 9)
     step(1, "order analysis of the recording");
     const auto t = Clock::now();
     co_ = o_.compare;
@@ -664,11 +665,12 @@ private:
   ///     explains keeps the roll-locked nuisance model (a real rig's), and its lead may still try
   ///     the other form (step 9c).
   /// Adopted, the form stays the base of every later simulation; the fidelity directions and the
-  /// noise test are taken again at the refit. Not in a calibration (nuisance_only: its pooled
-  /// model has one form per rig, not per recording) nor a differential diagnosis (the baseline's
-  /// model sets the form the change is measured against).
+  /// noise test are taken again at the refit. In a calibration (nuisance_only) only the probe runs
+  /// and is kept (Diagnosis::time_locked_probe_chi2): its pooled model has one form for every
+  /// operating point, which `calibrate` chooses from all its recordings (§6a). Not in a
+  /// differential diagnosis (the baseline's model sets the form the change is measured against).
   void try_time_locked_nuisance() {
-    if (consistent_ || o_.nuisance_only || !co_.baseline.empty() || ctx().nuisance.empty() ||
+    if (consistent_ || !co_.baseline.empty() || ctx().nuisance.empty() ||
         ctx().base.stiffness.mesh_phase != model::MeshPhase::Rotation)
       return;
     TimeLockedTrial trial{ctx().base};
@@ -681,6 +683,12 @@ private:
     }
     say("nuisance model with the mesh stiffness locked to nominal time: fit-half chi2 " + fmt("%.6g", probe) +
         " against " + fmt("%.6g", d_.nuisance.fit.chi2) + " locked to the gears' roll");
+    if (o_.nuisance_only) {
+      // A calibration's pooled model has one form for every operating point: the calibration
+      // decides from all its recordings' probes (calibrate, docs/diagnose.md §6a).
+      d_.time_locked_probe_chi2 = probe;
+      return;
+    }
     if (!(probe < d_.nuisance.fit.chi2 - margin)) return;
     std::optional<CandidateResult> r =
         try_fit_model(ctx(), nullptr, Variant{}, true, threads_, 2 * o_.max_iterations, ctx().nuisance_x);

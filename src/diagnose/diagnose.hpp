@@ -355,9 +355,14 @@ struct Diagnosis {
   /// Non-empty when the nuisance-only model was fitted again from this candidate's fitted
   /// nuisance values and fitted better there (diagnose.md §5, step 9b); the rule says so.
   std::string nuisance_refitted_from;
-  /// What the nuisance model's mesh stiffness follows: the gears' roll (the configuration's
-  /// default), or nominal time where only that form explains the recording (diagnose.md §5 step 4b).
+  /// What the nuisance model's mesh stiffness follows: the configuration's form (the gears' roll by
+  /// default; a calibration's choice, §6a item 9), or nominal time where only that form explains
+  /// the recording (diagnose.md §5 step 4b).
   model::MeshPhase nuisance_mesh_phase = model::MeshPhase::Rotation;
+  /// A calibration's recording (nuisance_only) whose nuisance model failed the noise test: the
+  /// fit-half chi2 of that model at its fitted values with the mesh stiffness locked to nominal
+  /// time (diagnose.md §5 step 4b's probe; the calibration chooses the form, §6a). Empty otherwise.
+  std::optional<double> time_locked_probe_chi2;
   bool located = false;
   Location location;
   std::vector<ScreenResult> screening;    ///< every candidate, largest S first

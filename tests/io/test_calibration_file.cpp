@@ -19,6 +19,7 @@ TEST(CalibrationFile, WrittenCalibrationReadsBackExactly) {
   c.speeds_rpm = {1000.0 / 3, 1500.0};
   c.verdicts = {"unexplained_residual", "no_missing_physics"};
   c.rig_elements = {"encoder_bandwidth"};
+  c.mesh_phase = model::MeshPhase::NominalTime;
   c.overrides = {"stiffness.scale=1.2345", "sensor.encoder_bandwidth_Hz=987.5"};
   c.at_bound = {"contact.mesh_damping_ratio at its upper bound 0.25 on 2 of 3 recordings"};
   diagnose::DiscrepancyEstimate d;
@@ -46,6 +47,7 @@ TEST(CalibrationFile, WrittenCalibrationReadsBackExactly) {
   EXPECT_EQ(r.speeds_rpm, c.speeds_rpm);
   EXPECT_EQ(r.verdicts, c.verdicts);
   EXPECT_EQ(r.rig_elements, c.rig_elements);
+  EXPECT_EQ(r.mesh_phase, c.mesh_phase);
   EXPECT_EQ(r.overrides, c.overrides);
   EXPECT_EQ(r.at_bound, c.at_bound);
   ASSERT_EQ(r.discrepancy.size(), 1u);
@@ -101,4 +103,26 @@ TEST(CalibrationFile, AFileWithoutSidecarsReadsAndOneWithTheWrongCountIsAnInputE
   const auto e = test::thrown<InputError>([&] { io::read_calibration(dir / "bad.toml"); });
   ASSERT_TRUE(e);
   EXPECT_TRUE(test::contains(e->what(), "calibration.sidecars"));
+}
+
+TEST(CalibrationFile, AFileWithoutAMeshFormIsRollLockedAndAnUnknownFormIsAnInputError) {
+  // Files written before session 66 have no mesh_phase: their models were roll-locked.
+  test::TempDir dir;
+  const std::string head = "[calibration]\nalpha = 0.01\nrecordings = []\nspeeds_rpm = []\n"
+                           "verdicts = []\nrig_elements = []\noverrides = []\n";
+  const std::string disc = "[[discrepancy]]\nquantity = \"sun_speed\"\nfamily = \"mesh\"\nrelative_variance = 0\n"
+                           "relative_variance_se = 0\nabsolute_variance = 0\nabsolute_variance_se = 0\n";
+  {
+    std::ofstream f(dir / "old.toml");
+    f << head << disc;
+  }
+  EXPECT_EQ(io::read_calibration(dir / "old.toml").mesh_phase, model::MeshPhase::Rotation);
+  {
+    std::ofstream f(dir / "bad.toml");
+    f << head << "mesh_phase = \"time\"\n" << disc;
+  }
+  const auto e = test::thrown<InputError>([&] { io::read_calibration(dir / "bad.toml"); });
+  ASSERT_TRUE(e);
+  EXPECT_TRUE(test::contains(e->what(), "calibration.mesh_phase"));
+  EXPECT_TRUE(test::contains(e->what(), "nominal_time"));
 }
