@@ -1,0 +1,366 @@
+#!/usr/bin/python3
+"""indepsim4 corpus: recordings of two gear sets on their test rigs, for `planetwear diagnose`.
+
+    /usr/bin/python3 scripts/indepsim4/corpus.py -o DIR --seed S [--jobs 2] [--quick]
+
+Writes DIR/<gearset>/gearset.toml (what the stage's drawing gives: gears, friction, design backlash),
+DIR/<gearset>/recordings/rec_NN.csv + rec_NN.json (docs/recordings.md), DIR/truth.json (per recording:
+role, effect, parameters, operating point, baseline, held_out, duration, carrier revolutions, noise,
+sensor angle, diagnostics of the run) and DIR/corpus.log. One batch (all recordings of a gear set,
+simulated together as numpy arrays) per process. The physics (the literature's k(t) model) is in
+sim.py and README.md next to this file. File writers and truth layout follow scripts/indepsim3/corpus.py.
+"""
+import os
+
+for _v in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS"):
+    os.environ.setdefault(_v, "1")
+
+import argparse  # noqa: E402
+import concurrent.futures as cf  # noqa: E402
+import importlib.util  # noqa: E402
+import json  # noqa: E402
+import math  # noqa: E402
+import sys  # noqa: E402
+import time  # noqa: E402
+from dataclasses import asdict  # noqa: E402
+
+import numpy as np  # noqa: E402
+
+# The sibling sim.py under a name of its own (other simulators' tests load their own `sim`).
+if "indepsim4_sim" not in sys.modules:
+    _SPEC = importlib.util.spec_from_file_location("indepsim4_sim",
+                                                   os.path.join(os.path.dirname(os.path.abspath(__file__)), "sim.py"))
+    sys.modules["indepsim4_sim"] = importlib.util.module_from_spec(_SPEC)
+    _SPEC.loader.exec_module(sys.modules["indepsim4_sim"])
+sim = sys.modules["indepsim4_sim"]
+
+GENERATOR = "indepsim4 (scripts/indepsim4/corpus.py)"
+NOISE_FRACTION = 0.05
+WARMUP_S = 0.35
+
+# ----------------------------------------------------------------------------------------------
+# Gear sets, rigs, operating points (rpm, input power W, DAQ rate Hz)
+# ----------------------------------------------------------------------------------------------
+
+GEARSETS = {
+    # 3 planets, in-phase meshes (Zs/N = 7, Zr/N = 27), module 2 mm
+    "setC3": dict(
+        gear=sim.GearSet("setC3", Zs=21, Zp=30, Zr=81, N=3, module_m=0.002, face_width_m=0.025,
+                         friction=0.05, backlash_sp_m=30e-6, backlash_pr_m=30e-6),
+        rig=sim.Rig(J_motor=0.05, J_load=0.3, f_input_shaft_Hz=40.0, f_output_shaft_Hz=220.0, shaft_zeta=0.03,
+                    speed_loop_bw_Hz=10.0, tacho_bw_Hz=1500.0),
+        ops={"op1": (600.0, 12000.0, 5000.0), "op2": (1200.0, 18000.0, 10000.0)}),
+    # 5 planets, sequentially phased meshes (Zs/N = 5.6), module 3 mm
+    "setD5": dict(
+        gear=sim.GearSet("setD5", Zs=28, Zp=17, Zr=62, N=5, module_m=0.003, face_width_m=0.030,
+                         friction=0.07, backlash_sp_m=40e-6, backlash_pr_m=40e-6),
+        rig=sim.Rig(J_motor=0.08, J_load=0.5, f_input_shaft_Hz=50.0, f_output_shaft_Hz=180.0, shaft_zeta=0.03,
+                    speed_loop_bw_Hz=12.0, tacho_bw_Hz=1200.0),
+        ops={"op1": (600.0, 40000.0, 5000.0), "op2": (1200.0, 50000.0, 10000.0)}),
+}
+
+EFFECTS = ("sun_tooth_damage", "planet_tooth_damage", "ring_tooth_damage", "pin_error", "sun_runout",
+           "carrier_runout", "torque_ripple", "worn_profile", "friction", "stiffness_level", "damping_level",
+           "backlash", "sensor_transfer_path")
+# effects that unload planets: at the higher-torque operating point (op1)
+HIGH_TORQUE = ("pin_error", "sun_runout", "carrier_runout")
+
+
+def carrier_hz(gs, rpm):
+    return rpm / 60.0 * gs.Zs / (gs.Zs + gs.Zr)
+
+
+def effect_faults(effect, gs, rng):
+    """A moderate size of each effect (the brief's ranges) -> (Faults, truth parameters)."""
+    N = gs.N
+    r2 = lambda x, q=0.05: round(round(x / q) * q, 6)  # noqa: E731
+    if effect in ("sun_tooth_damage", "planet_tooth_damage", "ring_tooth_damage"):
+        body = effect.split("_")[0]
+        fac = r2(rng.uniform(0.5, 0.7))
+        z = {"sun": gs.Zs, "planet": gs.Zp, "ring": gs.Zr}[body]
+        tooth = int(rng.integers(z))
+        planet = int(rng.integers(N)) if body == "planet" else 0
+        f = sim.Faults(tooth_body=body, tooth_planet=planet, tooth_index=tooth, tooth_stiffness_factor=fac)
+        return f, dict(tooth_stiffness_factor=fac, body=body, planet=planet, tooth=tooth)
+    if effect == "pin_error":
+        pins = [0.0] * N
+        i = int(rng.integers(1, N))
+        pins[i] = float(round(rng.choice([-1, 1]) * rng.uniform(3.0, 3.5), 2) * 1e-6)
+        return sim.Faults(pin_error_m=tuple(pins)), dict(pin_error_m=pins)
+    if effect == "sun_runout":
+        e, ph = round(rng.uniform(3.0, 3.5), 2) * 1e-6, round(rng.uniform(0, 2 * math.pi), 3)
+        return sim.Faults(sun_ecc_m=e, sun_ecc_phase_rad=ph), dict(sun_ecc_m=e, sun_ecc_phase_rad=ph)
+    if effect == "carrier_runout":
+        e, ph = round(rng.uniform(3.0, 3.5), 2) * 1e-6, round(rng.uniform(0, 2 * math.pi), 3)
+        return (sim.Faults(carrier_ecc_m=e, carrier_ecc_phase_rad=ph),
+                dict(carrier_ecc_m=e, carrier_ecc_phase_rad=ph))
+    if effect == "torque_ripple":
+        r, k, ph = (round(rng.uniform(0.03, 0.08), 3), float(rng.choice([1.0, 2.0])),
+                    round(rng.uniform(0, 2 * math.pi), 3))
+        return (sim.Faults(ripple_fraction=r, ripple_order=k, ripple_phase_rad=ph),
+                dict(ripple_fraction=r, ripple_order=k, ripple_phase_rad=ph))
+    if effect == "worn_profile":
+        d = round(rng.uniform(3.0, 6.0), 1) * 1e-6
+        return sim.Faults(worn_depth_m=d), dict(
+            worn_depth_m=d, shape="parabolic in the distance from the pitch point: 0 there, worn_depth_m at the "
+                                  "end of the path of contact farther from it; every mesh")
+    if effect == "friction":
+        fac = r2(rng.uniform(1.5, 2.0))
+        return sim.Faults(friction_factor=fac), dict(friction_factor=fac,
+                                                     friction_coefficient=round(gs.friction * fac, 6))
+    if effect == "stiffness_level":
+        fac = r2(rng.uniform(0.7, 0.8))
+        return sim.Faults(stiffness_scale=fac), dict(stiffness_scale=fac)
+    if effect == "damping_level":
+        fac = r2(rng.uniform(2.5, 3.0), 0.25)
+        return sim.Faults(damping_scale=fac), dict(damping_scale=fac, mesh_damping_ratio=round(sim.MESH_ZETA * fac, 6))
+    if effect == "backlash":
+        fac = 3.0
+        return sim.Faults(backlash_factor=fac), dict(backlash_factor=fac, backlash_sp_m=gs.backlash_sp_m * fac,
+                                                   backlash_pr_m=gs.backlash_pr_m * fac)
+    if effect == "sensor_transfer_path":
+        fac = r2(rng.uniform(0.6, 0.75)) if rng.random() < 0.5 else r2(rng.uniform(1.3, 1.5))
+        return sim.Faults(sensor_gain_factor=fac), dict(sensor_gain_factor=fac)
+    raise ValueError(effect)
+
+
+def plan_entries(quick, seed):
+    """Every recording of the corpus: list of dicts (gearset, role, effect, faults, parameters, op, duration)."""
+    rng = np.random.default_rng(seed)
+    entries = []
+    for gname in sorted(GEARSETS):
+        g = GEARSETS[gname]
+        gs = g["gear"]
+        ops = g["ops"]
+        if quick:
+            if gname != "setC3":
+                continue
+            spec = [("baseline", "none", "op2", 0.6), ("control", "none", "op2", 0.6),
+                    ("effect", "sun_tooth_damage", "op2", 0.6)]
+        else:
+            spec = [("baseline", "none", "op1", 3.0), ("baseline", "none", "op2", 3.0),
+                    ("control", "none", "op2", 2.5)]
+            other = [e for e in EFFECTS if e not in HIGH_TORQUE]
+            rng.shuffle(other)
+            for j, e in enumerate(other):
+                spec.append(("effect", e, "op1" if j % 2 == 0 else "op2", float(rng.choice([2.5, 3.0]))))
+            for e in HIGH_TORQUE:
+                spec.append(("effect", e, "op1", float(rng.choice([2.5, 3.0]))))
+        names = rng.permutation(len(spec)) + 1
+        for (role, effect, opn, dur), num in zip(spec, names):
+            rpm, P, fs = ops[opn]
+            if effect == "none":
+                faults, params = sim.Faults(), {}
+            else:
+                faults, params = effect_faults(effect, gs, rng)
+            entries.append(dict(gearset=gname, name=f"rec_{num:02d}", role=role, effect=effect, faults=faults,
+                                parameters=params, op=opn, rpm=rpm, W=P, fs=fs, duration_s=dur,
+                                held_out=(role == "control"),
+                                sensor_angle_deg=float(5 * rng.integers(72)),
+                                noise_seed=int(rng.integers(2 ** 31)),
+                                dc_housing=float(rng.choice([-1, 1]) * rng.uniform(0.1, 0.4)),
+                                dc_sp=float(rng.choice([-1, 1]) * rng.uniform(0.1, 0.4)),
+                                dc_pr=float(rng.choice([-1, 1]) * rng.uniform(0.1, 0.4))))
+    return entries
+
+
+# ----------------------------------------------------------------------------------------------
+# Writers (format as scripts/indepsim3/corpus.py writes it)
+# ----------------------------------------------------------------------------------------------
+
+def gearset_toml(gs: sim.GearSet):
+    """The gear set as docs/config.md keys: what the stage's drawing and documentation give."""
+    lines = [f"# gear set {gs.name}: indepsim4 corpus (written by {GENERATOR})",
+             "# what the stage's documentation gives; speeds and powers are in the recordings' sidecars", "",
+             "[stage]", f"planet_count = {gs.N}", ""]
+    for body, z, x in (("sun", gs.Zs, gs.shift_s), ("planet", gs.Zp, gs.shift_p), ("ring", gs.Zr, gs.shift_r)):
+        lines += [f"[stage.{body}]", f"teeth = {z}", f"module_m = {gs.module_m!r}",
+                  f"pressure_angle_deg = {gs.pressure_angle_deg!r}", f"face_width_m = {gs.face_width_m!r}",
+                  f"profile_shift = {float(x)!r}", f"addendum_coef = {gs.addendum_coef!r}",
+                  f"dedendum_coef = {gs.dedendum_coef!r}", f"youngs_modulus_Pa = {gs.youngs_modulus_Pa:.6g}",
+                  f"poisson_ratio = {gs.poisson_ratio!r}", f"density_kg_m3 = {gs.density_kg_m3!r}", ""]
+    lines += ["[contact]", f"friction_coefficient = {gs.friction!r}",
+              f"backlash_sun_planet_m = {gs.backlash_sp_m!r}", f"backlash_planet_ring_m = {gs.backlash_pr_m!r}", ""]
+    return "\n".join(lines)
+
+
+COLUMNS = [  # (csv name, unit, quantity, extra sidecar keys)
+    ("sun_speed", "rpm", "sun_speed", {}),
+    ("carrier_speed", "rpm", "carrier_speed", {}),
+    ("acc_housing", "m/s^2", "housing_acceleration", None),   # sensor angle filled per recording
+    ("acc_sun_planet0", "m/s^2", "mesh_acceleration_sun_planet", {"planet": 0}),
+    ("acc_planet0_ring", "m/s^2", "mesh_acceleration_planet_ring", {"planet": 0}),
+]
+
+
+def write_recording(csv_path, t, channels, rpm, power_W, sensor_angle_deg, fs, description="", encoder_lines=None):
+    """CSV (time + the COLUMNS, units in brackets) and its JSON sidecar (docs/recordings.md)."""
+    header = ",".join(["time [s]"] + [f"{name} [{unit}]" for name, unit, _, _ in COLUMNS])
+    data = np.column_stack([t] + [channels[name] for name, _, _, _ in COLUMNS])
+    fmt = ["%.7f", "%.5f", "%.6f", "%.6e", "%.6e", "%.6e"]
+    tmp = csv_path + ".tmp"
+    with open(tmp, "w") as f:
+        f.write(f"# {GENERATOR}: {description}\n")
+        np.savetxt(f, data, fmt=fmt, delimiter=",", header=header, comments="")
+    os.replace(tmp, csv_path)
+    cols = {}
+    for name, unit, q, extra in COLUMNS:
+        d = {"quantity": q, "unit": unit}
+        if extra is None:
+            d["sensor_angle_deg"] = round(float(sensor_angle_deg), 6)
+        else:
+            d.update(extra)
+        if encoder_lines and q in encoder_lines:  # what the rig's documentation gives (docs/recordings.md)
+            d["encoder_lines"] = int(encoder_lines[q])
+        cols[name] = d
+    meta = {"description": description, "generator": GENERATOR,
+            "operating": {"input_speed_rpm": float(rpm), "input_power_W": float(power_W)},
+            "time_column": "time", "time_unit": "s", "columns": cols}
+    side = os.path.splitext(csv_path)[0] + ".json"
+    with open(side + ".tmp", "w") as f:
+        json.dump(meta, f, indent=1)
+        f.write("\n")
+    os.replace(side + ".tmp", side)
+    return side
+
+
+# ----------------------------------------------------------------------------------------------
+# Running
+# ----------------------------------------------------------------------------------------------
+
+def make_channels(r, e):
+    rng = np.random.default_rng(e["noise_seed"])
+    return {"sun_speed": sim.add_daq_noise(r["sun_rpm"], rng, NOISE_FRACTION),
+            "carrier_speed": sim.add_daq_noise(r["carrier_rpm"], rng, NOISE_FRACTION),
+            "acc_housing": sim.add_daq_noise(r["housing"], rng, NOISE_FRACTION, e["dc_housing"]),
+            "acc_sun_planet0": sim.add_daq_noise(r["a_sp0"], rng, NOISE_FRACTION, e["dc_sp"]),
+            "acc_planet0_ring": sim.add_daq_noise(r["a_pr0"], rng, NOISE_FRACTION, e["dc_pr"])}
+
+
+def run_gearset(gname, entries, outdir, warmup_s=WARMUP_S, log=None):
+    """Simulate every recording of one gear set in one batch and write them. -> (truth rows, batch info)."""
+    g = GEARSETS[gname]
+    st = sim.Stage(g["gear"], g["rig"])
+    cases = [sim.Case(e["rpm"], e["W"], e["duration_s"], fs_daq=e["fs"],
+                      sensor_angle_rad=math.radians(e["sensor_angle_deg"]), faults=e["faults"]) for e in entries]
+    last = [0.0]
+
+    def progress(step, nsteps, wall):
+        if wall - last[0] > 30 or step == nsteps:
+            last[0] = wall
+            print(f"  {gname}: {100 * step / nsteps:5.1f} % of {nsteps} steps, {wall:.0f} s", flush=True)
+
+    res, info = sim.simulate_batch(st, cases, warmup_s=warmup_s, progress=progress)
+    gdir = os.path.join(outdir, gname)
+    os.makedirs(os.path.join(gdir, "recordings"), exist_ok=True)
+    with open(os.path.join(gdir, "gearset.toml"), "w") as f:
+        f.write(gearset_toml(g["gear"]))
+    rows = {}
+    for e, r in zip(entries, res):
+        ch = make_channels(r, e)
+        csv_rel = os.path.join(gname, "recordings", e["name"] + ".csv")
+        desc = (f"test rig recording, {e['fs']:.0f} Hz DAQ, analogue tachometers ({g['rig'].tacho_bw_Hz:.0f} Hz), "
+                f"housing accelerometer (radial)")
+        write_recording(os.path.join(outdir, csv_rel), r["time"], ch, e["rpm"], e["W"], r["sensor_angle_deg"],
+                        e["fs"], desc)
+        key = f"{gname}/{e['name']}"
+        notes = []
+        if e["effect"] == "backlash" and r["backlash_fraction"] == 0 and r["coast_contact_fraction"] == 0:
+            notes.append("no mesh left its drive flank in this run: the larger play is never traversed, so the "
+                         "recording is a healthy one up to noise (an unobservable effect)")
+        if e["effect"] == "sensor_transfer_path":
+            notes.append("a pure gain of the housing accelerometer channel")
+        if r["backlash_fraction"] > 0:
+            notes.append(f"a mesh was in its backlash (or coast contact) {100 * r['backlash_fraction']:.3f} % of the "
+                         "recorded steps")
+        fc = carrier_hz(g["gear"], e["rpm"])
+        rows[key] = dict(
+            gearset=gname, name=e["name"], csv=csv_rel, sidecar=os.path.splitext(csv_rel)[0] + ".json",
+            role=e["role"], effect=e["effect"], parameters=e["parameters"], faults=asdict(e["faults"]),
+            operating_point=e["op"], input_speed_rpm=e["rpm"], input_power_W=e["W"], fs_Hz=e["fs"],
+            duration_s=float(r["time"][-1] + 1.0 / e["fs"]), carrier_revolutions=round(e["duration_s"] * fc, 3),
+            short_recording=False, held_out=e["held_out"], baseline=None, notes=notes,
+            noise_seed=e["noise_seed"], noise_fraction=NOISE_FRACTION,
+            dc_offset_fraction={"acc_housing": e["dc_housing"], "acc_sun_planet0": e["dc_sp"],
+                                "acc_planet0_ring": e["dc_pr"]},
+            sensor_angle_deg=r["sensor_angle_deg"], sensor_angle_abs_deg=r["sensor_angle_abs_deg"],
+            diagnostics=dict(mean_sun_rpm=r["mean_sun_rpm"], mean_carrier_rpm=r["mean_carrier_rpm"],
+                             mean_input_power_W=r["mean_P_in_W"], mean_output_power_W=r["mean_P_out_W"],
+                             mean_friction_loss_W=r["mean_P_friction_W"], mean_damping_loss_W=r["mean_P_damping_W"],
+                             fraction_of_steps_a_mesh_in_backlash=r["backlash_fraction"],
+                             fraction_of_steps_a_coast_flank_in_contact=r["coast_contact_fraction"],
+                             rms_noise_free={k: float(np.sqrt(np.mean((r[k] - np.mean(r[k])) ** 2)))
+                                             for k in ("a_sp0", "a_pr0", "housing")}))
+    binfo = dict(gearset=gname, fs_Hz=sorted({e["fs"] for e in entries}), **info)
+    return rows, binfo, sim.describe(st)
+
+
+def _job(args):
+    gname, entries, outdir, warmup_s = args
+    t0 = time.time()
+    rows, binfo, desc = run_gearset(gname, entries, outdir, warmup_s)
+    binfo["process_wall_s"] = time.time() - t0
+    return gname, rows, binfo, desc
+
+
+def main(argv=None):
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("-o", "--out", required=True)
+    ap.add_argument("--seed", type=int, default=1)
+    ap.add_argument("--jobs", type=int, default=1)
+    ap.add_argument("--quick", action="store_true", help="3 short recordings of one gear set (smoke test)")
+    a = ap.parse_args(argv)
+    t0 = time.time()
+    if os.path.exists(a.out) and os.listdir(a.out):
+        sys.exit(f"corpus.py: {a.out} exists and is not empty")
+    os.makedirs(a.out, exist_ok=True)
+    entries = plan_entries(a.quick, a.seed)
+    by_gs = {}
+    for e in entries:
+        by_gs.setdefault(e["gearset"], []).append(e)
+    warm = 0.3 if a.quick else WARMUP_S
+    jobs = [(g, es, a.out, warm) for g, es in sorted(by_gs.items())]
+    print(f"indepsim4 corpus: {len(entries)} recordings of {len(jobs)} gear sets, {a.jobs} process(es)", flush=True)
+    if a.jobs > 1 and len(jobs) > 1:
+        with cf.ProcessPoolExecutor(max_workers=min(a.jobs, len(jobs), 2)) as ex:
+            results = list(ex.map(_job, jobs))
+    else:
+        results = [_job(j) for j in jobs]
+    recs, batches, gsets = {}, [], {}
+    for gname, rows, binfo, desc in results:
+        recs.update(rows)
+        batches.append(binfo)
+        g = GEARSETS[gname]
+        gsets[gname] = dict(gear=asdict(g["gear"]), rig=asdict(g["rig"]), derived=desc,
+                            operating_points={k: dict(input_speed_rpm=v[0], input_power_W=v[1], fs_Hz=v[2])
+                                              for k, v in g["ops"].items()})
+    for k, r in recs.items():
+        base = [kk for kk, rr in recs.items() if rr["gearset"] == r["gearset"] and rr["role"] == "baseline"
+                and rr["operating_point"] == r["operating_point"]]
+        r["baseline"] = base[0] if base else None
+    wall = time.time() - t0
+    truth = dict(generator=GENERATOR, seed=a.seed, plan="main", quick=a.quick, noise_fraction=NOISE_FRACTION,
+                 gearsets=gsets, batches=batches, generation_wall_s=round(wall, 1), jobs=a.jobs,
+                 notes=("roles: baseline (healthy, one per operating point, the reference of the others), control "
+                        "(healthy, held out), effect. parameters: the effect's true size (keys as "
+                        "scripts/indepsim/sizes.py reads them). diagnostics: measured in the simulation over the "
+                        "recorded window. Physics: the literature's k(t) lumped model (scripts/indepsim4/README.md)."),
+                 recordings=dict(sorted(recs.items())))
+    with open(os.path.join(a.out, "truth.json"), "w") as f:
+        json.dump(truth, f, indent=1, default=float)
+        f.write("\n")
+    with open(os.path.join(a.out, "corpus.log"), "w") as f:
+        f.write(f"{' '.join(sys.argv)}\n")
+        for b in batches:
+            f.write(json.dumps(b, default=float) + "\n")
+        for k, r in sorted(recs.items()):
+            f.write(f"{k}: {r['role']:8s} {r['effect']:20s} {r['operating_point']} {r['input_speed_rpm']:.0f} rpm "
+                    f"{r['input_power_W']:.0f} W {r['duration_s']:.3f} s ({r['carrier_revolutions']} carrier rev) "
+                    f"held_out={r['held_out']} {json.dumps(r['parameters'])}\n")
+        f.write(f"generation wall time {wall:.1f} s ({a.jobs} process(es))\n")
+    print(f"wrote {len(recs)} recordings to {a.out} in {wall:.1f} s wall ({a.jobs} process(es))", flush=True)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
