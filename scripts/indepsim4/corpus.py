@@ -36,6 +36,10 @@ sim = sys.modules["indepsim4_sim"]
 
 GENERATOR = "indepsim4 (scripts/indepsim4/corpus.py)"
 NOISE_FRACTION = 0.05
+# Absolute noise floor of the accelerometer channels [m/s^2 RMS over the DAQ band]: a general-purpose
+# 100 mV/g IEPE accelerometer with its DAQ, about 200 ug RMS broadband (session 66: without a floor, the
+# housing channel of setC3's healthy recordings, whose ring force cancels, carried noise of 1e-12 m/s^2).
+ACC_NOISE_FLOOR_M_S2 = 2e-3
 WARMUP_S = 0.35
 
 # ----------------------------------------------------------------------------------------------
@@ -232,9 +236,9 @@ def make_channels(r, e):
     rng = np.random.default_rng(e["noise_seed"])
     return {"sun_speed": sim.add_daq_noise(r["sun_rpm"], rng, NOISE_FRACTION),
             "carrier_speed": sim.add_daq_noise(r["carrier_rpm"], rng, NOISE_FRACTION),
-            "acc_housing": sim.add_daq_noise(r["housing"], rng, NOISE_FRACTION, e["dc_housing"]),
-            "acc_sun_planet0": sim.add_daq_noise(r["a_sp0"], rng, NOISE_FRACTION, e["dc_sp"]),
-            "acc_planet0_ring": sim.add_daq_noise(r["a_pr0"], rng, NOISE_FRACTION, e["dc_pr"])}
+            "acc_housing": sim.add_daq_noise(r["housing"], rng, NOISE_FRACTION, e["dc_housing"], ACC_NOISE_FLOOR_M_S2),
+            "acc_sun_planet0": sim.add_daq_noise(r["a_sp0"], rng, NOISE_FRACTION, e["dc_sp"], ACC_NOISE_FLOOR_M_S2),
+            "acc_planet0_ring": sim.add_daq_noise(r["a_pr0"], rng, NOISE_FRACTION, e["dc_pr"], ACC_NOISE_FLOOR_M_S2)}
 
 
 def run_gearset(gname, entries, outdir, warmup_s=WARMUP_S, log=None):
@@ -280,7 +284,7 @@ def run_gearset(gname, entries, outdir, warmup_s=WARMUP_S, log=None):
             operating_point=e["op"], input_speed_rpm=e["rpm"], input_power_W=e["W"], fs_Hz=e["fs"],
             duration_s=float(r["time"][-1] + 1.0 / e["fs"]), carrier_revolutions=round(e["duration_s"] * fc, 3),
             short_recording=False, held_out=e["held_out"], baseline=None, notes=notes,
-            noise_seed=e["noise_seed"], noise_fraction=NOISE_FRACTION,
+            noise_seed=e["noise_seed"], noise_fraction=NOISE_FRACTION, acc_noise_floor_m_s2=ACC_NOISE_FLOOR_M_S2,
             dc_offset_fraction={"acc_housing": e["dc_housing"], "acc_sun_planet0": e["dc_sp"],
                                 "acc_planet0_ring": e["dc_pr"]},
             sensor_angle_deg=r["sensor_angle_deg"], sensor_angle_abs_deg=r["sensor_angle_abs_deg"],
@@ -339,7 +343,7 @@ def main(argv=None):
                 and rr["operating_point"] == r["operating_point"]]
         r["baseline"] = base[0] if base else None
     wall = time.time() - t0
-    truth = dict(generator=GENERATOR, seed=a.seed, plan="main", quick=a.quick, noise_fraction=NOISE_FRACTION,
+    truth = dict(generator=GENERATOR, seed=a.seed, plan="main", quick=a.quick, noise_fraction=NOISE_FRACTION, acc_noise_floor_m_s2=ACC_NOISE_FLOOR_M_S2,
                  gearsets=gsets, batches=batches, generation_wall_s=round(wall, 1), jobs=a.jobs,
                  notes=("roles: baseline (healthy, one per operating point, the reference of the others), control "
                         "(healthy, held out), effect. parameters: the effect's true size (keys as "

@@ -753,7 +753,10 @@ def simulate_batch(st: Stage, cases, warmup_s=0.35, progress=None, h=None, chunk
     return results, info
 
 
-def add_daq_noise(x, rng, frac, dc_fraction=0.0):
-    """White Gaussian noise at frac x the RMS of the signal's AC part, plus a DC offset of dc_fraction x that RMS."""
+def add_daq_noise(x, rng, frac, dc_fraction=0.0, floor=0.0):
+    """White Gaussian noise at frac x the RMS of the signal's AC part and an absolute floor (added in quadrature),
+    plus a DC offset of dc_fraction x that RMS. The floor is the sensor chain's own broadband noise: without it a
+    channel whose signal cancels (the ring's translation of an in-phase stage with equal planets, ~1e-11 m/s^2)
+    would carry noise of that size, which no accelerometer has."""
     ac = np.sqrt(np.mean((x - np.mean(x)) ** 2))
-    return x + rng.normal(0.0, frac * ac, size=x.shape) + dc_fraction * ac
+    return x + rng.normal(0.0, np.hypot(frac * ac, floor), size=x.shape) + dc_fraction * ac

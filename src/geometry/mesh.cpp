@@ -78,6 +78,57 @@ double zero_backlash_centre_distance(const GearSpec& a, const GearSpec& b) {
   return 0.5 * a.module_m * z_sum * std::cos(a.pressure_angle_rad) / std::cos(alpha_w);
 }
 
+namespace {
+/// Roll distance [m] up to which the rack's flank end point, a distance e = (h_FfP* - x) m inside the
+/// reference circle, cuts away the involute it generated (an undercut gear, rho_F < 0 in
+/// form_roll_distance). In the gear's frame that point traces a trochoid: with w = -e tan(a0) - r phi
+/// (its abscissa beside the pitch point while the gear turns by phi) and h = r - e, its radius is
+/// hypot(w, h) and its polar angle atan2(h, w) - phi; the involute its flank generated has the polar
+/// angle pi/2 - inv(alpha_rho) + inv(a0) at radius rho (cos alpha_rho = r_b / rho), the tooth's
+/// material on the side of smaller angles. The involute is cut where the trochoid reaches that side;
+/// the largest roll distance sqrt(rho^2 - r_b^2) of such a point is the undercut's end. Scanned over
+/// the trochoid's points up to roll |rho_F| (never beyond: checked against a finer scan for
+/// z = 8..17, where it ends at 0.38..0.49 |rho_F|), the last crossing refined by bisection.
+double undercut_roll_distance(const GearSpec& s, const GearGeometry& g, double rho_f) {
+  const double a0 = s.pressure_angle_rad, r = g.reference_radius_m, rb = g.base_radius_m;
+  const double e = (s.dedendum_coef - s.root_fillet_coef * (1.0 - std::sin(a0)) - s.profile_shift) * s.module_m;
+  const double h = r - e;
+  if (!(h > 0) || !(h < rb)) return 0.0;  // the flank end stays outside the base circle: no cut
+  // Whether the trochoid's point at roll distance `roll` (radius hypot(r_b, roll)) on the branch
+  // `side` (sign of w) lies on the tooth's side of the involute.
+  const auto cut = [&](double roll, double side) {
+    const double rho2 = rb * rb + roll * roll;
+    const double w = side * std::sqrt(rho2 - h * h);
+    const double phi = (-e * std::tan(a0) - w) / r;
+    const double theta_trochoid = std::atan2(h, w) - phi;
+    const double theta_involute = 0.5 * kPi - involute(std::acos(rb / std::sqrt(rho2))) + involute(a0);
+    return theta_trochoid < theta_involute;
+  };
+  // Sampled by roll distance, not by the trochoid's abscissa: near the base circle a roll distance of
+  // 1e-3 m is an abscissa window of 1e-6 m, which a scan of the abscissa steps over.
+  constexpr int kScan = 4000;
+  const double span = -rho_f;
+  double best = 0.0;
+  for (double side : {-1.0, 1.0})
+    for (int i = kScan; i > 0; --i) {  // from the top: the first cut sample bounds the cut's end
+      const double hi = span * i / kScan, lo = span * (i - 1) / kScan;
+      if (!cut(hi, side) && !cut(std::fmax(lo, 1e-9 * span), side)) continue;
+      if (cut(hi, side)) {
+        best = std::fmax(best, hi);
+        break;
+      }
+      double a = lo, b = hi;  // a cuts, b does not
+      for (int k = 0; k < 60; ++k) {
+        const double mid = 0.5 * (a + b);
+        (cut(mid, side) ? a : b) = mid;
+      }
+      best = std::fmax(best, a);
+      break;
+    }
+  return best;
+}
+} // namespace
+
 double form_roll_distance(const GearSpec& s, const GearGeometry& g) {
   // The tool's straight flank ends h_FfP = (h_f* - rho_f* (1 - sin a0)) m from
   // its datum line (the tip round takes the rest of the dedendum, ISO 53). The
@@ -87,7 +138,12 @@ double form_roll_distance(const GearSpec& s, const GearGeometry& g) {
   const double sa = std::sin(s.pressure_angle_rad);
   const double h_ff = (s.dedendum_coef - s.root_fillet_coef * (1.0 - sa)) * s.module_m;
   const double shift = s.profile_shift * s.module_m;
-  if (s.kind == GearKind::External) return g.reference_radius_m * sa - (h_ff - shift) / sa;
+  if (s.kind == GearKind::External) {
+    const double rho_f = g.reference_radius_m * sa - (h_ff - shift) / sa;
+    // Beyond T the straight flank generates no involute; its end cuts away the involute near the
+    // base circle (undercut), and the involute starts where that cut ends.
+    return rho_f >= 0 ? rho_f : undercut_roll_distance(s, g, rho_f);
+  }
   // Internal: the datum is moved outwards by x m (gear.hpp convention) and the
   // form point lies beyond the pitch point, away from T.
   return g.reference_radius_m * sa + (h_ff + shift) / sa;
@@ -108,21 +164,9 @@ MeshGeometry make_mesh(const GearSpec& a, const GearSpec& b, double centre_dista
   require(!internal || b.teeth > a.teeth, key(label_b, "teeth"), "an internal gear needs more teeth than its pinion (",
           a.teeth, "), got ", b.teeth);
 
-  // Rack undercut of the external gears: the form point falls below the base
-  // circle (§2.4). z_min and x_min are the textbook limits with h_FfP.
-  const double a0 = a.pressure_angle_rad;
-  const double s2 = std::sin(a0) * std::sin(a0);
-  for (int k = 0; k < 2; ++k) {
-    const GearSpec& g = k == 0 ? a : b;
-    if (g.kind != GearKind::External) continue;
-    const double rho_f = form_roll_distance(g, k == 0 ? ga : gb);
-    const double h_ff = g.dedendum_coef - g.root_fillet_coef * (1.0 - std::sin(a0));
-    require(rho_f >= -1e-12 * g.module_m, key(k == 0 ? label_a : label_b, "teeth"),
-            "the generating rack undercuts this gear: z = ", g.teeth, " with profile_shift x = ", g.profile_shift,
-            " is below z_min = 2 (h_FfP* - x)/sin^2(alpha) = ", 2.0 * (h_ff - g.profile_shift) / s2,
-            " (h_FfP* = h_f* - rho_f* (1 - sin alpha) = ", h_ff, "); use more teeth or profile_shift >= ",
-            h_ff - 0.5 * g.teeth * s2);
-  }
+  // Rack undercut of an external gear (z below 2 (h_FfP* - x)/sin^2 a0) is no error by itself: its
+  // involute starts where the cut ends (form_roll_distance). Contact reaching into the cut is, below
+  // (a mate's tips would meet a flank the rack removed).
 
   // Working centre distance and pressure angle (§2.1).
   const double rba = ga.base_radius_m;
@@ -185,6 +229,25 @@ MeshGeometry make_mesh(const GearSpec& a, const GearSpec& b, double centre_dista
             label_a.empty() ? "a" : label_a, ") meet this gear's flank ", m.end_active_m - L,
             " m below its base circle (contact would end at xi = ", m.end_active_m, " m > L = ", L,
             " m); increase this gear's profile shift or reduce the mate's addendum");
+  }
+
+  // Undercut (§2.4): the path of contact must stay on the involute the rack left, above the roll
+  // distance where its cut ends (form_roll_distance of an undercut gear).
+  const double a_sin2 = std::sin(a.pressure_angle_rad) * std::sin(a.pressure_angle_rad);
+  for (int k = 0; k < 2; ++k) {
+    const GearSpec& g = k == 0 ? a : b;
+    const GearGeometry& gg = k == 0 ? ga : gb;
+    if (g.kind != GearKind::External) continue;
+    const double h_ff = g.dedendum_coef - g.root_fillet_coef * (1.0 - std::sin(g.pressure_angle_rad));
+    if (!(2.0 * (h_ff - g.profile_shift) / a_sin2 > g.teeth)) continue;  // not undercut
+    const double cut_end = form_roll_distance(g, gg);
+    const double lowest = k == 0 ? m.start_active_m : L - m.end_active_m;  // lowest contact, roll on g
+    require(lowest >= cut_end, key(k == 0 ? label_a : label_b, "teeth"), "the generating rack undercuts this gear (z = ",
+            g.teeth, ", profile_shift x = ", g.profile_shift, " below z_min = 2 (h_FfP* - x)/sin^2(alpha) = ",
+            2.0 * (h_ff - g.profile_shift) / a_sin2, ", h_FfP* = h_f* - rho_f* (1 - sin alpha) = ", h_ff,
+            ") and removes its involute up to roll distance ", cut_end, " m, but its mate's tips reach down to ",
+            lowest, " m: use more teeth or profile_shift >= ", h_ff - 0.5 * g.teeth * a_sin2,
+            " (no undercut), or a smaller addendum of the mate");
   }
 
   m.contact_ratio = (m.end_active_m - m.start_active_m) / m.base_pitch_m;

@@ -52,8 +52,7 @@ struct MeshGeometry {
 /// shifts). `label_a` / `label_b` prefix the parameter names in error messages
 /// (e.g. "stage.sun" gives "stage.sun.profile_shift"). Throws pw::InputError on
 /// mismatched module / pressure angle / kind, a centre distance at which the
-/// teeth would overlap, rack undercut of an external gear, tip-to-root
-/// clearance < 0, contact reaching below a base circle (interference), or
+/// teeth would overlap, tip-to-root clearance < 0, contact reaching below a base circle (interference), or
 /// contact ratio < 1.
 MeshGeometry make_mesh(const GearSpec& a, const GearSpec& b, double centre_distance_m = 0.0,
                        const std::string& label_a = "", const std::string& label_b = "");
@@ -68,8 +67,10 @@ double zero_backlash_centre_distance(const GearSpec& a, const GearSpec& b);
 /// Signed roll distance rho_F [m] of the form point (where the generated
 /// involute meets the root fillet) of a gear cut by the basic rack of its
 /// dedendum h_f* m and tool tip radius rho_f* m (ISO 21771 d_Ff); the form
-/// radius is sqrt(r_b^2 + rho_F^2). External gear: rho_F < 0 means the rack
-/// undercuts the tooth (z < 2 (h_f* - rho_f* (1 - sin a0) - x) / sin^2 a0).
+/// radius is sqrt(r_b^2 + rho_F^2). External gear: where the rack undercuts the
+/// tooth (z < 2 (h_f* - rho_f* (1 - sin a0) - x) / sin^2 a0, the straight flank
+/// ending beyond T) the involute starts where the cut of the flank's end point
+/// ends: that roll distance (>= 0; 0.0077 m for z = 17, x = 0, m = 1 m, 20 deg).
 /// Internal gear: the rack limit of a shaper cutter (an upper estimate of the
 /// involute's outer end; a finite shaper ends it lower).
 double form_roll_distance(const GearSpec& spec, const GearGeometry& g);

@@ -268,19 +268,68 @@ TEST(MeshErrors, ContactRatioBelowOneNamesAddendum) {
   EXPECT_TRUE(contains(msg, "contact ratio 0.89")) << msg;
 }
 
-TEST(MeshErrors, TenToothUnshiftedSunIsUndercutAndNamesItsTeeth) {
-  // z_min = 2 (1.25 - 0.38 (1 - sin 20)) / sin^2 20 = 17.1.
-  const std::string msg =
-      input_error([] { make_stage_geometry(stage(10, 30, 70, 2)); }, "stage.sun.teeth");
+TEST(MeshErrors, AnUndercutReachingIntoThePathOfContactNamesTheTeeth) {
+  // z_min = 2 (1.25 - 0.38 (1 - sin 20)) / sin^2 20 = 17.1. Two 13-tooth gears: the rack's cut ends
+  // 0.317 m up each involute (module 1 m), the mate's tips reach down to 0.094 m (an independent
+  // scan, session 66): contact on a flank the rack removed.
+  GearSpec z13;
+  z13.teeth = 13;
+  z13.module_m = 1.0;
+  const std::string msg = input_error([&] { make_mesh(z13, z13, 0.0, "pinion", "wheel"); }, "pinion.teeth");
   EXPECT_TRUE(contains(msg, "undercut")) << msg;
   EXPECT_TRUE(contains(msg, "(h_FfP* - x)/sin^2(alpha) = 17.09")) << msg;
-  GearSpec z18, z17;
+  // A ten-tooth sun against a 30-tooth planet meets the flank below the base circle before that.
+  input_error([] { make_stage_geometry(stage(10, 30, 70, 2)); }, "stage.sun.profile_shift");
+}
+
+TEST(Mesh, ASlightlyUndercutGearMeshesWhereItsMatesTipsStayAboveTheCut) {
+  // z = 17 at x = 0 is just below z_min = 17.1: the straight flank ends 0.0166 m (module 1 m) beyond
+  // T, and its end cuts the involute up to roll 0.0077 m -- far below any mate's tips. z = 18 is not
+  // undercut: its form point is rho_F = r sin a - h_FfP / sin a, as before.
+  GearSpec z18, z17, wheel;
   z18.teeth = 18;
   z17.teeth = 17;
-  GearSpec wheel;
   wheel.teeth = 40;
+  for (GearSpec* g : {&z18, &z17, &wheel}) g->module_m = 1.0;
   EXPECT_NO_THROW(make_mesh(z18, wheel));
-  input_error([&] { make_mesh(z17, wheel); }, "teeth");
+  const MeshGeometry m = make_mesh(z17, wheel);
+  const GearGeometry g17 = make_geometry(z17), g18 = make_geometry(z18);
+  const double sa = std::sin(z17.pressure_angle_rad);
+  const double h_ff = z17.dedendum_coef - z17.root_fillet_coef * (1 - sa);
+  EXPECT_NEAR(form_roll_distance(z18, g18), g18.reference_radius_m * sa - h_ff / sa, 1e-12);
+  // Independent check: a vectorized scan of the trochoid by roll distance at 2e6 points (session 66)
+  // gave 0.0082517; the two agree to 5e-6 m (the scan's resolution near the crossing).
+  EXPECT_NEAR(form_roll_distance(z17, g17), 0.0082517, 5e-6);
+  EXPECT_GT(m.start_active_m, 0.1);
+  EXPECT_EQ(m.fillet_overlap_a_m, 0.0);
+  // A 17-tooth sun in a stage (refused before session 66 as undercut).
+  EXPECT_NO_THROW(make_stage_geometry(stage(17, 30, 77, 2)));
+  // A 17-tooth planet in a standard internal ring is refused, but for the ring's tips reaching below
+  // its base circle (involute interference), not for the undercut (the 28/17/62 stage of an
+  // independent simulator: contact would start 1.57 mm below the planet's base circle).
+  input_error([] { make_stage_geometry(stage(28, 17, 62, 3)); }, "stage.planet.profile_shift");
+}
+
+TEST(Mesh, TheUndercutGrowsAsTeethAreRemovedAndVanishesWithTheProfileShiftThatRemovesIt) {
+  // Roll distance of the cut's end against the flank end's overshoot |rho_F| (module 1 m): 0.38-0.49
+  // of it for z = 8..17 (scan, session 66); a shift x >= h_FfP* - z sin^2(a)/2 removes it.
+  double previous = 0;
+  for (int z : {17, 16, 15, 14, 12, 10, 8}) {
+    GearSpec g;
+    g.teeth = z;
+    g.module_m = 1.0;
+    const GearGeometry gg = make_geometry(g);
+    const double sa = std::sin(g.pressure_angle_rad);
+    const double overshoot = (g.dedendum_coef - g.root_fillet_coef * (1 - sa)) / sa - gg.reference_radius_m * sa;
+    const double cut = form_roll_distance(g, gg);
+    EXPECT_GT(cut, 0.35 * overshoot) << z;
+    EXPECT_LT(cut, 0.5 * overshoot) << z;
+    EXPECT_GT(cut, previous) << z;
+    previous = cut;
+    g.profile_shift = (g.dedendum_coef - g.root_fillet_coef * (1 - sa)) - 0.5 * z * sa * sa + 1e-9;
+    EXPECT_GE(form_roll_distance(g, make_geometry(g)), 0.0);
+    EXPECT_LT(form_roll_distance(g, make_geometry(g)), 1e-6) << z;
+  }
 }
 
 TEST(MeshErrors, WheelTipsBelowPinionBaseCircleAreInterferenceNamingPinionShift) {

@@ -340,9 +340,9 @@ TEST(Reference, Pair17To43PitchPointStiffnessAgreesWithPlaneStrainFeWithinFiftee
     g->material.poisson_ratio = 0.3;
     g->material.shear_modulus_Pa = 206e9 / 2.6;
   }
-  // z 17 is at the rack-undercut limit (z_min = 17.1 for this rack), which
-  // make_mesh rejects; the pitch-point stiffness needs only the line of
-  // action, written out here for the standard centre distance.
+  // z 17 is at the rack-undercut limit (z_min = 17.1 for this rack); the
+  // pitch-point stiffness needs only the line of action, written out here for
+  // the standard centre distance.
   const geometry::GearGeometry ga = geometry::make_geometry(a), gb = geometry::make_geometry(b);
   MeshGeometry m;
   m.centre_distance_m = ga.reference_radius_m + gb.reference_radius_m;
