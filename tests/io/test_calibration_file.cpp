@@ -6,9 +6,24 @@
 
 #include <gtest/gtest.h>
 
+#include <filesystem>
 #include <fstream>
 
 using namespace pw;
+
+namespace {
+/// A minimal calibration file: its [calibration] table with `extra` lines (keys of that table) and
+/// one discrepancy entry, written to `path`. `recordings`: its two recordings named, or none.
+void write_minimal_calibration(const std::filesystem::path& path, const std::string& extra, bool recordings) {
+  std::ofstream f(path);
+  f << "[calibration]\nalpha = 0.01\n"
+    << (recordings ? "recordings = [\"a.csv\", \"b.csv\"]\nspeeds_rpm = [1.0, 2.0]\n" : "recordings = []\nspeeds_rpm = []\n")
+    << "verdicts = []\nrig_elements = []\noverrides = []\n"
+    << extra
+    << "[[discrepancy]]\nquantity = \"sun_speed\"\nfamily = \"mesh\"\nrelative_variance = 0\n"
+       "relative_variance_se = 0\nabsolute_variance = 0\nabsolute_variance_se = 0\n";
+}
+} // namespace
 
 TEST(CalibrationFile, WrittenCalibrationReadsBackExactly) {
   test::TempDir dir;
@@ -87,19 +102,9 @@ TEST(CalibrationFile, AFileWithoutSidecarsReadsAndOneWithTheWrongCountIsAnInputE
   // Files written before session 25 have no sidecars (the default names apply); a list of
   // another length than the recordings' cannot be matched to them.
   test::TempDir dir;
-  const std::string head = "[calibration]\nalpha = 0.01\nrecordings = [\"a.csv\", \"b.csv\"]\nspeeds_rpm = [1.0, 2.0]\n"
-                           "verdicts = []\nrig_elements = []\noverrides = []\n";
-  const std::string disc = "[[discrepancy]]\nquantity = \"sun_speed\"\nfamily = \"mesh\"\nrelative_variance = 0\n"
-                           "relative_variance_se = 0\nabsolute_variance = 0\nabsolute_variance_se = 0\n";
-  {
-    std::ofstream f(dir / "old.toml");
-    f << head << disc;
-  }
+  write_minimal_calibration(dir / "old.toml", "", true);
   EXPECT_TRUE(io::read_calibration(dir / "old.toml").sidecars.empty());
-  {
-    std::ofstream f(dir / "bad.toml");
-    f << head << "sidecars = [\"a.json\"]\n" << disc;
-  }
+  write_minimal_calibration(dir / "bad.toml", "sidecars = [\"a.json\"]\n", true);
   const auto e = test::thrown<InputError>([&] { io::read_calibration(dir / "bad.toml"); });
   ASSERT_TRUE(e);
   EXPECT_TRUE(test::contains(e->what(), "calibration.sidecars"));
@@ -108,19 +113,9 @@ TEST(CalibrationFile, AFileWithoutSidecarsReadsAndOneWithTheWrongCountIsAnInputE
 TEST(CalibrationFile, AFileWithoutAMeshFormIsRollLockedAndAnUnknownFormIsAnInputError) {
   // Files written before session 66 have no mesh_phase: their models were roll-locked.
   test::TempDir dir;
-  const std::string head = "[calibration]\nalpha = 0.01\nrecordings = []\nspeeds_rpm = []\n"
-                           "verdicts = []\nrig_elements = []\noverrides = []\n";
-  const std::string disc = "[[discrepancy]]\nquantity = \"sun_speed\"\nfamily = \"mesh\"\nrelative_variance = 0\n"
-                           "relative_variance_se = 0\nabsolute_variance = 0\nabsolute_variance_se = 0\n";
-  {
-    std::ofstream f(dir / "old.toml");
-    f << head << disc;
-  }
+  write_minimal_calibration(dir / "old.toml", "", false);
   EXPECT_EQ(io::read_calibration(dir / "old.toml").mesh_phase, model::MeshPhase::Rotation);
-  {
-    std::ofstream f(dir / "bad.toml");
-    f << head << "mesh_phase = \"time\"\n" << disc;
-  }
+  write_minimal_calibration(dir / "bad.toml", "mesh_phase = \"time\"\n", false);
   const auto e = test::thrown<InputError>([&] { io::read_calibration(dir / "bad.toml"); });
   ASSERT_TRUE(e);
   EXPECT_TRUE(test::contains(e->what(), "calibration.mesh_phase"));
