@@ -54,9 +54,11 @@ GEARSETS = {
         rig=sim.Rig(J_motor=0.05, J_load=0.3, f_input_shaft_Hz=40.0, f_output_shaft_Hz=220.0, shaft_zeta=0.03,
                     speed_loop_bw_Hz=10.0, tacho_bw_Hz=1500.0),
         ops={"op1": (600.0, 12000.0, 5000.0), "op2": (1200.0, 18000.0, 10000.0)}),
-    # 5 planets, sequentially phased meshes (Zs/N = 5.6), module 3 mm
-    "setD5": dict(
-        gear=sim.GearSet("setD5", Zs=28, Zp=17, Zr=62, N=5, module_m=0.003, face_width_m=0.030,
+    # 4 planets, sequentially phased meshes (Zs/N = 6.75), module 3 mm. Session 66: was 28/17/62 with 5
+    # planets, which planetwear refuses as involute interference (a standard internal ring's tips reach
+    # 1.6 mm below the 17-tooth planet's base circle); this simulator has no interference check.
+    "setD4": dict(
+        gear=sim.GearSet("setD4", Zs=27, Zp=21, Zr=69, N=4, module_m=0.003, face_width_m=0.030,
                          friction=0.07, backlash_sp_m=40e-6, backlash_pr_m=40e-6),
         rig=sim.Rig(J_motor=0.08, J_load=0.5, f_input_shaft_Hz=50.0, f_output_shaft_Hz=180.0, shaft_zeta=0.03,
                     speed_loop_bw_Hz=12.0, tacho_bw_Hz=1200.0),
