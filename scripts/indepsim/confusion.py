@@ -4,7 +4,7 @@
     /usr/bin/python3 scripts/indepsim/confusion.py DIR --planetwear PATH/planetwear
         [--jobs N] [--threads 1] [--include-held-out] [--calibration-per-rig | --calibrate [--rig-elements E,...] | --differential]
         [--timeout S]
-        [--only NAME,...] [--gearset G] [--sensors all|rig] [--dry-run] [--check-reader]
+        [--only NAME,...] [--gearset G] [--sensors all|rig|speeds] [--dry-run] [--check-reader]
 
 For each recording DIR/<gearset>/recordings/rec_NN.csv (sidecar rec_NN.json) it runs
     planetwear diagnose -c DIR/<gearset>/gearset.toml -r rec.csv --meta rec.json
@@ -40,6 +40,8 @@ section 6b); outputs under DIR/diagnosis_diff/.
 accelerometer; the line-of-action mesh accelerations (which need instrumented gears or
 telemetry) are left out. Each recording (and baseline) is read through a copy of its sidecar
 without those columns, written under the output directory; outputs go to <outroot>_rigsensors/.
+--sensors speeds: the two speed encoders alone (a rig without an accelerometer; or, beside a run
+with rig, what the housing channel's transfer-path model adds or costs); <outroot>_speedssensors/.
 """
 import argparse
 import concurrent.futures as cf
@@ -53,18 +55,21 @@ import time
 NUISANCE_PREFIXES = ("stiffness.scale", "contact.mesh_damping_ratio", "sensor.")
 # Quantities a test rig rarely measures (instrumented gears, slip rings or telemetry).
 MESH_QUANTITIES = ("mesh_acceleration_sun_planet", "mesh_acceleration_planet_ring")
-SENSOR_SETS = ("all", "rig")
+SENSOR_SETS = ("all", "rig", "speeds")
+# quantities each reduced sensor set leaves out
+LEFT_OUT = {"rig": ("mesh_acceleration_sun_planet", "mesh_acceleration_planet_ring"),
+            "speeds": ("mesh_acceleration_sun_planet", "mesh_acceleration_planet_ring", "housing_acceleration")}
 
 
 def sidecar(corpus, csv_rel, outroot, sensors):
-    """The sidecar a recording is read through: its own for --sensors all; for rig, a copy
-    under DIR/<outroot>/sidecars/ without the mesh-acceleration columns."""
+    """The sidecar a recording is read through: its own for --sensors all; for rig (speeds), a copy
+    under DIR/<outroot>/sidecars/ without the mesh-acceleration columns (and the housing accelerometer)."""
     own = os.path.join(corpus, os.path.splitext(csv_rel)[0] + ".json")
     if sensors == "all":
         return own
     with open(own) as f:
         meta = json.load(f)
-    meta["columns"] = {k: v for k, v in meta["columns"].items() if v.get("quantity") not in MESH_QUANTITIES}
+    meta["columns"] = {k: v for k, v in meta["columns"].items() if v.get("quantity") not in LEFT_OUT[sensors]}
     path = os.path.join(corpus, outroot, "sidecars", os.path.splitext(csv_rel)[0] + ".json")
     os.makedirs(os.path.dirname(path), exist_ok=True)
     with open(path, "w") as f:
