@@ -33,6 +33,13 @@ if "indepsim4_sim" not in sys.modules:
     sys.modules["indepsim4_sim"] = importlib.util.module_from_spec(_SPEC)
     _SPEC.loader.exec_module(sys.modules["indepsim4_sim"])
 sim = sys.modules["indepsim4_sim"]
+# The writers (file formats only) shared with the other corpora, under one module name.
+if "indepsim_writers" not in sys.modules:
+    _WSPEC = importlib.util.spec_from_file_location("indepsim_writers", os.path.join(
+        os.path.dirname(os.path.abspath(__file__)), "..", "indepsim_common", "writers.py"))
+    sys.modules["indepsim_writers"] = importlib.util.module_from_spec(_WSPEC)
+    _WSPEC.loader.exec_module(sys.modules["indepsim_writers"])
+writers = sys.modules["indepsim_writers"]
 
 GENERATOR = "indepsim4 (scripts/indepsim4/corpus.py)"
 NOISE_FRACTION = 0.05
@@ -174,60 +181,8 @@ def plan_entries(quick, seed):
 # Writers (format as scripts/indepsim3/corpus.py writes it)
 # ----------------------------------------------------------------------------------------------
 
-def gearset_toml(gs: sim.GearSet):
-    """The gear set as docs/config.md keys: what the stage's drawing and documentation give."""
-    lines = [f"# gear set {gs.name}: indepsim4 corpus (written by {GENERATOR})",
-             "# what the stage's documentation gives; speeds and powers are in the recordings' sidecars", "",
-             "[stage]", f"planet_count = {gs.N}", ""]
-    for body, z, x in (("sun", gs.Zs, gs.shift_s), ("planet", gs.Zp, gs.shift_p), ("ring", gs.Zr, gs.shift_r)):
-        lines += [f"[stage.{body}]", f"teeth = {z}", f"module_m = {gs.module_m!r}",
-                  f"pressure_angle_deg = {gs.pressure_angle_deg!r}", f"face_width_m = {gs.face_width_m!r}",
-                  f"profile_shift = {float(x)!r}", f"addendum_coef = {gs.addendum_coef!r}",
-                  f"dedendum_coef = {gs.dedendum_coef!r}", f"youngs_modulus_Pa = {gs.youngs_modulus_Pa:.6g}",
-                  f"poisson_ratio = {gs.poisson_ratio!r}", f"density_kg_m3 = {gs.density_kg_m3!r}", ""]
-    lines += ["[contact]", f"friction_coefficient = {gs.friction!r}",
-              f"backlash_sun_planet_m = {gs.backlash_sp_m!r}", f"backlash_planet_ring_m = {gs.backlash_pr_m!r}", ""]
-    return "\n".join(lines)
-
-
-COLUMNS = [  # (csv name, unit, quantity, extra sidecar keys)
-    ("sun_speed", "rpm", "sun_speed", {}),
-    ("carrier_speed", "rpm", "carrier_speed", {}),
-    ("acc_housing", "m/s^2", "housing_acceleration", None),   # sensor angle filled per recording
-    ("acc_sun_planet0", "m/s^2", "mesh_acceleration_sun_planet", {"planet": 0}),
-    ("acc_planet0_ring", "m/s^2", "mesh_acceleration_planet_ring", {"planet": 0}),
-]
-
-
-def write_recording(csv_path, t, channels, rpm, power_W, sensor_angle_deg, fs, description="", encoder_lines=None):
-    """CSV (time + the COLUMNS, units in brackets) and its JSON sidecar (docs/recordings.md)."""
-    header = ",".join(["time [s]"] + [f"{name} [{unit}]" for name, unit, _, _ in COLUMNS])
-    data = np.column_stack([t] + [channels[name] for name, _, _, _ in COLUMNS])
-    fmt = ["%.7f", "%.5f", "%.6f", "%.6e", "%.6e", "%.6e"]
-    tmp = csv_path + ".tmp"
-    with open(tmp, "w") as f:
-        f.write(f"# {GENERATOR}: {description}\n")
-        np.savetxt(f, data, fmt=fmt, delimiter=",", header=header, comments="")
-    os.replace(tmp, csv_path)
-    cols = {}
-    for name, unit, q, extra in COLUMNS:
-        d = {"quantity": q, "unit": unit}
-        if extra is None:
-            d["sensor_angle_deg"] = round(float(sensor_angle_deg), 6)
-        else:
-            d.update(extra)
-        if encoder_lines and q in encoder_lines:  # what the rig's documentation gives (docs/recordings.md)
-            d["encoder_lines"] = int(encoder_lines[q])
-        cols[name] = d
-    meta = {"description": description, "generator": GENERATOR,
-            "operating": {"input_speed_rpm": float(rpm), "input_power_W": float(power_W)},
-            "time_column": "time", "time_unit": "s", "columns": cols}
-    side = os.path.splitext(csv_path)[0] + ".json"
-    with open(side + ".tmp", "w") as f:
-        json.dump(meta, f, indent=1)
-        f.write("\n")
-    os.replace(side + ".tmp", side)
-    return side
+# gearset_toml, COLUMNS, write_recording: scripts/indepsim_common/writers.py (`writers` above),
+# shared with the other corpora: the file formats, not the physics.
 
 
 # ----------------------------------------------------------------------------------------------
@@ -260,15 +215,15 @@ def run_gearset(gname, entries, outdir, warmup_s=WARMUP_S, log=None):
     gdir = os.path.join(outdir, gname)
     os.makedirs(os.path.join(gdir, "recordings"), exist_ok=True)
     with open(os.path.join(gdir, "gearset.toml"), "w") as f:
-        f.write(gearset_toml(g["gear"]))
+        f.write(writers.gearset_toml(g["gear"], "indepsim4", GENERATOR))
     rows = {}
     for e, r in zip(entries, res):
         ch = make_channels(r, e)
         csv_rel = os.path.join(gname, "recordings", e["name"] + ".csv")
         desc = (f"test rig recording, {e['fs']:.0f} Hz DAQ, analogue tachometers ({g['rig'].tacho_bw_Hz:.0f} Hz), "
                 f"housing accelerometer (radial)")
-        write_recording(os.path.join(outdir, csv_rel), r["time"], ch, e["rpm"], e["W"], r["sensor_angle_deg"],
-                        e["fs"], desc)
+        writers.write_recording(os.path.join(outdir, csv_rel), r["time"], ch, e["rpm"], e["W"], r["sensor_angle_deg"],
+                                e["fs"], GENERATOR, desc)
         key = f"{gname}/{e['name']}"
         notes = []
         if e["effect"] == "backlash" and r["backlash_fraction"] == 0 and r["coast_contact_fraction"] == 0:

@@ -242,7 +242,7 @@ def test_recording_csv_and_sidecar_have_the_documented_columns_and_keys(tmp_path
           "acc_housing": rng.normal(size=n), "acc_sun_planet0": rng.normal(size=n),
           "acc_planet0_ring": rng.normal(size=n)}
     path = str(tmp_path / "rec_01.csv")
-    side = corpus.write_recording(path, t, ch, 500.0, 15000.0, 37.5, fs, "test")
+    side = corpus.writers.write_recording(path, t, ch, 500.0, 15000.0, 37.5, fs, corpus.GENERATOR, "test")
     with open(path) as f:
         lines = [ln for ln in f if not ln.startswith("#")]
     rows = list(csv.reader(lines))
@@ -276,7 +276,7 @@ def test_recording_csv_and_sidecar_have_the_documented_columns_and_keys(tmp_path
 
 def test_gearset_toml_uses_only_documented_keys():
     for g in corpus.GEARSETS.values():
-        cfg = tomllib.loads(corpus.gearset_toml(g["gear"]))
+        cfg = tomllib.loads(corpus.writers.gearset_toml(g["gear"], "test", corpus.GENERATOR))
         assert set(cfg) == {"stage", "contact"}
         st = cfg["stage"]
         assert set(st) - {"sun", "planet", "ring"} <= CONFIG_KEYS["stage"]
