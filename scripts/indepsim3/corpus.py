@@ -35,13 +35,8 @@ if "indepsim3_sim" not in sys.modules:
     sys.modules["indepsim3_sim"] = importlib.util.module_from_spec(_SPEC)
     _SPEC.loader.exec_module(sys.modules["indepsim3_sim"])
 sim = sys.modules["indepsim3_sim"]
-# The writers (file formats only) shared with the other corpora, under one module name.
-if "indepsim_writers" not in sys.modules:
-    _WSPEC = importlib.util.spec_from_file_location("indepsim_writers", os.path.join(
-        os.path.dirname(os.path.abspath(__file__)), "..", "indepsim_common", "writers.py"))
-    sys.modules["indepsim_writers"] = importlib.util.module_from_spec(_WSPEC)
-    _WSPEC.loader.exec_module(sys.modules["indepsim_writers"])
-writers = sys.modules["indepsim_writers"]
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "indepsim_common"))
+import indepsim_writers as writers  # noqa: E402  (the file formats, shared with the other corpora)
 
 GENERATOR = "indepsim3 (scripts/indepsim3/corpus.py)"
 NOISE_FRACTION = 0.05
@@ -181,7 +176,7 @@ def plan_entries(quick, seed, plan="main"):
 # Writers
 # ----------------------------------------------------------------------------------------------
 
-# gearset_toml, COLUMNS, write_recording: scripts/indepsim_common/writers.py (`writers` above),
+# gearset_toml, COLUMNS, write_recording: scripts/indepsim_common/indepsim_writers.py (`writers` above),
 # shared with the other corpora: the file formats, not the physics.
 
 

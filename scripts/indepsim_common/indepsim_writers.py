@@ -2,8 +2,8 @@
 recording as CSV with its JSON sidecar, in planetwear's documented formats (docs/config.md,
 docs/recordings.md). Format only: each simulator's physics stays its own.
 
-Loaded by each corpus.py through importlib under the name `indepsim_writers` (their tests put
-modules of their own names into one pytest run)."""
+Imported by each corpus.py as `indepsim_writers` (a name no other module of the project has: their
+tests load several simulators into one pytest run)."""
 import json
 import os
 
