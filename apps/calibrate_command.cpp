@@ -69,7 +69,10 @@ CLI::App* add_calibrate_command(CLI::App& app, CalibrateCommandOptions& o) {
   c->add_flag("-q,--quiet", o.common.quiet, "no progress on stderr");
   c->footer("Example: planetwear calibrate -c gearset.toml -r healthy_1000rpm.csv -r healthy_1500rpm.csv "
             "-o calibration.toml\n         planetwear diagnose -c gearset.toml --calibration calibration.toml "
-            "-r suspect.csv -o report/");
+            "-r suspect.csv -o report/\n\n"
+            "The calibrated model's mesh follows the gears' roll unless every healthy recording fits better with it "
+            "locked to nominal time (the k(t) of many simulators): then the file says mesh_phase = \"nominal_time\" "
+            "and diagnose --calibration uses that form (docs/diagnose.md section 6a item 10).");
   return c;
 }
 
