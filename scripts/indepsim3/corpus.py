@@ -37,6 +37,7 @@ if "indepsim3_sim" not in sys.modules:
 sim = sys.modules["indepsim3_sim"]
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "indepsim_common"))
 import indepsim_writers as writers  # noqa: E402  (the file formats, shared with the other corpora)
+import indepsim_effects as effects  # noqa: E402  (the effects' sizes, shared likewise)
 
 GENERATOR = "indepsim3 (scripts/indepsim3/corpus.py)"
 NOISE_FRACTION = 0.05
@@ -76,54 +77,11 @@ def carrier_hz(gs, rpm):
 
 
 def effect_faults(effect, gs, rng):
-    """A moderate size of each effect (brief's ranges) -> (Faults, truth parameters)."""
-    N = gs.N
-    r2 = lambda x, q=0.05: round(round(x / q) * q, 6)  # noqa: E731
-    if effect in ("sun_tooth_damage", "planet_tooth_damage", "ring_tooth_damage"):
-        body = effect.split("_")[0]
-        fac = r2(rng.uniform(0.5, 0.7))
-        z = {"sun": gs.Zs, "planet": gs.Zp, "ring": gs.Zr}[body]
-        tooth = int(rng.integers(z))
-        planet = int(rng.integers(N)) if body == "planet" else 0
-        f = sim.Faults(tooth_body=body, tooth_planet=planet, tooth_index=tooth, tooth_stiffness_factor=fac)
-        return f, dict(tooth_stiffness_factor=fac, body=body, planet=planet, tooth=tooth)
-    if effect == "pin_error":
-        pins = [0.0] * N
-        i = int(rng.integers(1, N))
-        pins[i] = float(round(rng.choice([-1, 1]) * rng.uniform(3.0, 3.5), 2) * 1e-6)
-        return sim.Faults(pin_error_m=tuple(pins)), dict(pin_error_m=pins)
-    if effect == "sun_runout":
-        e, ph = round(rng.uniform(3.0, 3.5), 2) * 1e-6, round(rng.uniform(0, 2 * math.pi), 3)
-        return sim.Faults(sun_ecc_m=e, sun_ecc_phase_rad=ph), dict(sun_ecc_m=e, sun_ecc_phase_rad=ph)
-    if effect == "carrier_runout":
-        e, ph = round(rng.uniform(3.0, 3.5), 2) * 1e-6, round(rng.uniform(0, 2 * math.pi), 3)
-        return (sim.Faults(carrier_ecc_m=e, carrier_ecc_phase_rad=ph),
-                dict(carrier_ecc_m=e, carrier_ecc_phase_rad=ph))
-    if effect == "torque_ripple":
-        r, k, ph = round(rng.uniform(0.03, 0.08), 3), float(rng.choice([1.0, 2.0])), round(rng.uniform(0, 2 * math.pi), 3)
-        return (sim.Faults(ripple_fraction=r, ripple_order=k, ripple_phase_rad=ph),
-                dict(ripple_fraction=r, ripple_order=k, ripple_phase_rad=ph))
-    if effect == "worn_profile":
-        d = round(rng.uniform(3.0, 6.0), 1) * 1e-6
-        return sim.Faults(worn_depth_m=d), dict(worn_depth_m=d, worn_depth_end_m=0.6 * d,
-                                               shape="parabolic in the distance from the pitch point")
-    if effect == "friction":
-        fac = r2(rng.uniform(1.5, 2.0))
-        return sim.Faults(friction_factor=fac), dict(friction_factor=fac, friction_coefficient=round(gs.friction * fac, 6))
-    if effect == "stiffness_level":
-        fac = r2(rng.uniform(0.7, 0.8))
-        return sim.Faults(stiffness_scale=fac), dict(stiffness_scale=fac)
-    if effect == "damping_level":
-        fac = r2(rng.uniform(2.5, 3.0), 0.25)
-        return sim.Faults(damping_scale=fac), dict(damping_scale=fac, mesh_damping_ratio=round(sim.MESH_ZETA * fac, 6))
-    if effect == "backlash":
-        fac = 3.0
-        return sim.Faults(backlash_factor=fac), dict(backlash_factor=fac, backlash_sp_m=gs.backlash_sp_m * fac,
-                                                   backlash_pr_m=gs.backlash_pr_m * fac)
-    if effect == "sensor_transfer_path":
-        fac = r2(rng.uniform(0.6, 0.75)) if rng.random() < 0.5 else r2(rng.uniform(1.3, 1.5))
-        return sim.Faults(sensor_gain_factor=fac), dict(sensor_gain_factor=fac)
-    raise ValueError(effect)
+    """A moderate size of each effect (the brief's ranges; scripts/indepsim_common/indepsim_effects.py)
+    -> (Faults, truth parameters)."""
+    kwargs, params = effects.draw_effect(effect, gs, rng, sim.MESH_ZETA,
+                                         worn_truth=lambda d: dict(worn_depth_end_m=0.6 * d, shape="parabolic in the distance from the pitch point"))
+    return sim.Faults(**kwargs), params
 
 
 def plan_entries(quick, seed, plan="main"):
