@@ -79,12 +79,14 @@ def carrier_hz(gs, rpm):
     return rpm / 60.0 * gs.Zs / (gs.Zs + gs.Zr)
 
 
+WORN_SHAPE = ("parabolic in the distance from the pitch point: 0 there, worn_depth_m at the end of the path of "
+              "contact farther from it; every mesh")
+
+
 def effect_faults(effect, gs, rng):
     """A moderate size of each effect (the brief's ranges; scripts/indepsim_common/indepsim_effects.py)
     -> (Faults, truth parameters)."""
-    kwargs, params = effects.draw_effect(effect, gs, rng, sim.MESH_ZETA,
-                                         worn_truth=lambda d: dict(shape="parabolic in the distance from the pitch point: 0 there, worn_depth_m at the "
-                                            "end of the path of contact farther from it; every mesh"))
+    kwargs, params = effects.draw_effect(effect, gs, rng, sim.MESH_ZETA, worn_truth=lambda d: dict(shape=WORN_SHAPE))
     return sim.Faults(**kwargs), params
 
 
