@@ -291,7 +291,7 @@ void share_rig_structure(const CalibrateCommandOptions& o, const std::vector<std
   }
 }
 
-/// docs/diagnose.md §6a item 9: the calibrated model's mesh form. A simulator that excites the
+/// docs/diagnose.md §6a item 10: the calibrated model's mesh form. A simulator that excites the
 /// mesh with k(t) at the nominal speed makes recordings whose mesh lines are locked to time; the
 /// roll-locked model cannot reproduce them and its discrepancy budget would carry that form error
 /// into every diagnosis of the rig. Where every recording's roll-locked nuisance model failed the

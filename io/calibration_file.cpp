@@ -69,7 +69,7 @@ void write_calibration(const diagnose::Calibration& c, const std::filesystem::pa
   cal.insert("verdicts", to_array(c.verdicts));
   cal.insert("rig_elements", to_array(c.rig_elements));
   cal.insert("healthy_fit", std::string(diagnose::to_string(c.healthy_fit)));
-  cal.insert("mesh_phase", std::string(c.mesh_phase == model::MeshPhase::NominalTime ? "nominal_time" : "rotation"));
+  cal.insert("mesh_phase", std::string(model::mesh_phase_name(c.mesh_phase)));
   cal.insert("at_bound", to_array(c.at_bound));
   cal.insert("overrides", to_array(c.overrides));
   toml::array disc;
@@ -134,9 +134,12 @@ diagnose::Calibration read_calibration(const std::filesystem::path& path) {
   if (const auto h = cal["healthy_fit"].value<std::string>())  // optional: written since session 43
     c.healthy_fit = diagnose::healthy_fit_from_string(*h, where(path, "calibration.healthy_fit"));
   if (const auto m = cal["mesh_phase"].value<std::string>()) {  // optional: written since session 66
-    require(*m == "rotation" || *m == "nominal_time", where(path, "calibration.mesh_phase"),
-            "must be \"rotation\" or \"nominal_time\", got '", *m, "'");
-    c.mesh_phase = *m == "nominal_time" ? model::MeshPhase::NominalTime : model::MeshPhase::Rotation;
+    using model::MeshPhase;
+    const char* rotation = model::mesh_phase_name(MeshPhase::Rotation);
+    const char* time = model::mesh_phase_name(MeshPhase::NominalTime);
+    require(*m == rotation || *m == time, where(path, "calibration.mesh_phase"), "must be \"", rotation, "\" or \"",
+            time, "\", got '", *m, "'");
+    c.mesh_phase = *m == time ? MeshPhase::NominalTime : MeshPhase::Rotation;
   }
   if (cal["at_bound"])  // optional: files written before it existed have none
     c.at_bound = read_array<std::string>(cal["at_bound"].as_array(), path, "calibration.at_bound");

@@ -92,7 +92,8 @@ struct EnumNames<model::LoadControl> {
 template <>
 struct EnumNames<model::MeshPhase> {
   static constexpr std::array<std::pair<model::MeshPhase, std::string_view>, 2> values{
-      {{model::MeshPhase::Rotation, "rotation"}, {model::MeshPhase::NominalTime, "nominal_time"}}};
+      {{model::MeshPhase::Rotation, model::mesh_phase_name(model::MeshPhase::Rotation)},
+       {model::MeshPhase::NominalTime, model::mesh_phase_name(model::MeshPhase::NominalTime)}}};
 };
 
 template <class E>

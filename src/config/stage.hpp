@@ -71,6 +71,10 @@ enum class MeshPhase {
   NominalTime,
 };
 
+/// The configuration's name of a mesh form (stiffness.mesh_phase), also the calibration file's and
+/// report.json's.
+constexpr const char* mesh_phase_name(MeshPhase p) { return p == MeshPhase::NominalTime ? "nominal_time" : "rotation"; }
+
 /// Mesh stiffness model (potential energy method, docs/derivation.md §2).
 struct StiffnessSettings {
   int samples_per_pair = 200;      ///< roll positions sampled over one pair's contact [-]

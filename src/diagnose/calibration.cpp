@@ -240,8 +240,8 @@ std::vector<std::string> reference_design_settings(const Calibration& calibratio
 }
 
 std::vector<std::string> model_form_settings(model::MeshPhase mesh_phase) {
-  if (mesh_phase == model::MeshPhase::NominalTime) return {"stiffness.mesh_phase=nominal_time"};
-  return {};
+  if (mesh_phase == model::MeshPhase::Rotation) return {};  // the configuration's default
+  return {std::string("stiffness.mesh_phase=") + model::mesh_phase_name(mesh_phase)};
 }
 
 bool time_locked_probes_pass(const std::vector<MeshFormFits>& fits, double alpha) {

@@ -189,7 +189,7 @@ struct Calibration {
   /// How each recording's nuisance values were fitted; a calibrated reference is fitted the same
   /// way (files written before session 43: Noise).
   HealthyFit healthy_fit = HealthyFit::Noise;
-  /// What the calibrated model's mesh stiffness follows (docs/diagnose.md §6a item 9): the gears'
+  /// What the calibrated model's mesh stiffness follows (docs/diagnose.md §6a item 10): the gears'
   /// roll (a real gear's), or nominal time where every healthy recording chose that form
   /// (time_locked_probes_pass, time_locked_refits_improve). Files written before session 66: Rotation.
   model::MeshPhase mesh_phase = model::MeshPhase::Rotation;
@@ -215,7 +215,7 @@ struct MeshFormFits {
   int held_out_features = 0;
 };
 
-/// Whether the time-locked form is worth refitting every recording in (docs/diagnose.md §6a item 9):
+/// Whether the time-locked form is worth refitting every recording in (docs/diagnose.md §6a item 10):
 /// every recording was probed (its roll-locked nuisance model failed the noise test) and its probe
 /// fits the fit half better than one parameter buys by chance (rig_elements_improve's F test with
 /// p = 1: a discrete choice between two models with the same parameters counted as one, the

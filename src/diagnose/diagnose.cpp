@@ -52,7 +52,7 @@ constexpr const char* kTimeLockedVariant =
     "mesh stiffness locked to nominal time, not to the gears' roll (stiffness.mesh_phase = nominal_time)";
 
 /// The --set line of a model whose mesh stiffness is locked to nominal time.
-constexpr const char* kTimeLockedOverride = "stiffness.mesh_phase=nominal_time";
+const std::string kTimeLockedOverride = model_form_settings(model::MeshPhase::NominalTime).front();
 
 /// A fit made with the time-locked mesh: its variant and its --set line say so.
 void mark_time_locked(CandidateResult& r) {
@@ -298,7 +298,7 @@ private:
 #endif
     threads_ += std::max(0, o_.remote_slots);
     d_.timing.threads = threads_;
-    d_.nuisance_mesh_phase = config_.stiffness.mesh_phase;  // a calibration's form, or --set's (§6a item 9)
+    d_.nuisance_mesh_phase = config_.stiffness.mesh_phase;  // a calibration's form, or --set's (§6a item 10)
     step(1, "order analysis of the recording");
     const auto t = Clock::now();
     co_ = o_.compare;

@@ -356,7 +356,7 @@ struct Diagnosis {
   /// nuisance values and fitted better there (diagnose.md §5, step 9b); the rule says so.
   std::string nuisance_refitted_from;
   /// What the nuisance model's mesh stiffness follows: the configuration's form (the gears' roll by
-  /// default; a calibration's choice, §6a item 9), or nominal time where only that form explains
+  /// default; a calibration's choice, §6a item 10), or nominal time where only that form explains
   /// the recording (diagnose.md §5 step 4b).
   model::MeshPhase nuisance_mesh_phase = model::MeshPhase::Rotation;
   /// A calibration's recording (nuisance_only) whose nuisance model failed the noise test: the
