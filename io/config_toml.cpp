@@ -73,6 +73,13 @@ struct EnumNames<SensorWindow> {
 };
 
 template <>
+struct EnumNames<model::HousingPath> {
+  static constexpr std::array<std::pair<model::HousingPath, std::string_view>, 2> values{
+      {{model::HousingPath::PlanetPass, model::housing_path_name(model::HousingPath::PlanetPass)},
+       {model::HousingPath::RingTranslation, model::housing_path_name(model::HousingPath::RingTranslation)}}};
+};
+
+template <>
 struct EnumNames<model::InputControl> {
   static constexpr std::array<std::pair<model::InputControl, std::string_view>, 4> values{
       {{model::InputControl::Power, "power"},

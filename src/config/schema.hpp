@@ -230,6 +230,8 @@ void visit_config(V& v, Config& c) {
           rule("m/s^2 per N; > 0, and at most 1000 through the mount (sensor.housing_mount_frequency_Hz) at the mesh frequency"));
   v.field("window_width_rad", c.sensor.window_width_rad, "transfer-path window width sigma [rad]", interval(0, kMaxSensorWindowWidth_rad, Ends::OpenLow, "rad"));
   v.field("window", c.sensor.window, "window shape: \"gaussian\" or \"hann\"");
+  v.field("housing_path", c.sensor.housing_path,
+          "mesh forces -> sensor: \"planet_pass\" (window) or \"ring_translation\" (rigid ring, G = 1/ring mass)");
   v.field("encoder_bandwidth_Hz", c.sensor.encoder_bandwidth_Hz,
           "-3 dB bandwidth of the speed encoders' Butterworth low-pass (sun/speed, carrier/speed) [Hz]; 0 = ideal", at_least(0, "Hz; 0 = ideal encoder"));
   v.field("encoder_filter_order", c.sensor.encoder_filter_order, "order of the encoder low-pass, 1 or 2 [-]", integers(1, 2));

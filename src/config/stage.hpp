@@ -317,6 +317,24 @@ enum class SensorWindow {
   Hann,      ///< w(d) = cos^2(pi d / (2 h)) for |d| < h, else 0; half-width h = sqrt(2 pi) sigma (same area)
 };
 
+/// What a housing accelerometer reads of the planet-ring mesh forces (model/sensor.hpp).
+enum class HousingPath {
+  /// Each planet's ring-mesh force fluctuation through a window of its angular distance from the
+  /// sensor (McFadden & Smith 1985): a flexible ring that carries a planet's force to the sensor
+  /// only while the planet passes, Eq. (S1).
+  PlanetPass,
+  /// The ring's rigid-body translation along the sensor's radial direction: every planet's full
+  /// ring-mesh force projected on it, a = G sum_i F_pr,i sin(psi_i + theta_c - phi_s + alpha'_pr),
+  /// Eq. (S2) (a stiff ring on a compliant housing, the lumped models of Lin & Parker 1999).
+  RingTranslation,
+};
+
+/// The configuration's name of a housing path (sensor.housing_path), also the calibration
+/// file's and report.json's.
+constexpr const char* housing_path_name(HousingPath p) {
+  return p == HousingPath::RingTranslation ? "ring_translation" : "planet_pass";
+}
+
 /// Accelerometer fixed on the ring/housing (McFadden & Smith 1985; Inalpolat
 /// & Kahraman 2009): it sees each planet's planet-ring mesh force through a
 /// window of the planet's angular distance from the sensor,
@@ -334,6 +352,10 @@ struct SensorSettings {
   /// window has the same area, half-width sqrt(2 pi) sigma).
   double window_width_rad = 0.5;
   SensorWindow window = SensorWindow::Gaussian;
+  /// The path from the ring-mesh forces to the sensor (HousingPath): the planet-pass window
+  /// (today's, the default) or the ring's rigid-body translation, where G is 1 / (ring mass) and
+  /// the window (window, window_width_rad) plays no part.
+  HousingPath housing_path = HousingPath::PlanetPass;
   /// Speed encoders (channels sun/speed and carrier/speed): -3 dB bandwidth of a Butterworth
   /// low-pass [Hz] that the measured speed has passed through (a finite encoder line count,
   /// the differentiation and smoothing filter of its counter); 0 = ideal (no filter). Applied to

@@ -1062,6 +1062,7 @@ ModelSpectra model_spectra(const model::SimulationResult& r, const Recording& re
   for (const auto& sc : r.scalars) {
     if (sc.name == "steps_per_mesh_period") m.steps_per_mesh = static_cast<int>(sc.value);
     if (sc.name == "warmup_mesh_cycles") m.warmup_mesh_cycles = static_cast<int>(sc.value);
+    if (sc.name == "planet_ring/working_pressure_angle") m.ring_pressure_angle_rad = sc.value;
   }
   if (const model::Channel* sp = r.find("sun/speed")) {
     double sum = 0;
@@ -1085,9 +1086,12 @@ ModelSpectra model_spectra(const model::SimulationResult& r, const Recording& re
     if (rc.quantity == Quantity::HousingAcceleration) {
       need_forces();
       model::SensorSettings sensor = config.sensor;
+      if (sensor.housing_path == model::HousingPath::RingTranslation && !std::isfinite(m.ring_pressure_angle_rad))
+        throw SolverError("diagnose: the simulation has no planet_ring/working_pressure_angle for the ring's translation");
       sensor.gain_m_s2_per_N = 1.0;
       sensor.angle_rad = rc.sensor_angle_rad;
-      const auto h = model::housing_acceleration_history(sensor, psi, std::span<const double>(ca->values.data(), N), forces,
+      const auto h = model::housing_acceleration_history(sensor, psi, m.ring_pressure_angle_rad,
+                                                          std::span<const double>(ca->values.data(), N), forces,
                                                           r.time_step_s);
       m.amplitude.push_back(spectrum(h));
       continue;
@@ -1116,7 +1120,8 @@ std::vector<double> housing_spectrum(const ModelSpectra& m, const model::SensorS
   s.angle_rad = angle_rad;
   std::vector<std::span<const double>> f;
   for (const auto& v : m.ring_force) f.emplace_back(v);
-  const auto y = model::housing_acceleration_history(s, m.planet_angles_rad, m.carrier_angle, f, m.time_step_s);
+  const auto y = model::housing_acceleration_history(s, m.planet_angles_rad, m.ring_pressure_angle_rad, m.carrier_angle,
+                                                     f, m.time_step_s);
   return AngleSpectrum(ModelAngle{m.angle_theta}, revolutions, max_bin)(y);
 }
 

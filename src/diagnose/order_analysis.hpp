@@ -50,6 +50,7 @@
 #include <span>
 #include <map>
 #include <string>
+#include <limits>
 #include <vector>
 
 namespace pw::diagnose {
@@ -327,6 +328,8 @@ struct ModelSpectra {
   std::vector<std::vector<double>> ring_force;
   std::vector<double> carrier_angle;
   std::vector<double> planet_angles_rad;
+  /// alpha'_pr of the simulated stage (model/sensor.hpp Eq. S2); NaN where the simulation did not say
+  double ring_pressure_angle_rad = std::numeric_limits<double>::quiet_NaN();
   std::vector<double> angle_theta;  ///< the angle reference at each kept sample [rad] (see model_spectra)
   /// Halves of Q mesh cycles only: per channel and bin, the mean square change of the amplitude
   /// over kLeakWindows - 1 other window starts ([unit^2]; empty otherwise; model_spectra).

@@ -157,29 +157,54 @@ double housing_transfer_gain(double gain_m_s2_per_N, double mount_Hz, double f_H
   return gain_m_s2_per_N * r2 / std::sqrt(1.0 + r2 * r2);
 }
 
+namespace {
+/// Eq. (S1) at every sample: the window over each planet's force about its record mean.
+void planet_pass_history(const SensorSettings& s, std::span<const double> psi, std::span<const double> theta_c,
+                         const std::vector<std::span<const double>>& force, std::vector<double>& out) {
+  const std::size_t n = theta_c.size();
+  std::vector<double> mean(psi.size(), 0.0);
+  for (std::size_t i = 0; i < psi.size(); ++i) {
+    double m = 0;
+    for (double f : force[i]) m += f;
+    mean[i] = n > 0 ? m / static_cast<double>(n) : 0.0;
+  }
+  std::vector<double> dF(psi.size());
+  const WindowWeight w(s.window, s.window_width_rad);
+  for (std::size_t k = 0; k < n; ++k) {
+    for (std::size_t i = 0; i < psi.size(); ++i) dF[i] = force[i][k] - mean[i];
+    out[k] = housing_acceleration(s, w, psi, theta_c[k], dF);
+  }
+}
+
+/// Eq. (S2) at every sample: each planet's whole force projected on the sensor's radial direction.
+void ring_translation_history(const SensorSettings& s, std::span<const double> psi, double alpha_pr,
+                              std::span<const double> theta_c, const std::vector<std::span<const double>>& force,
+                              std::vector<double>& out) {
+  for (std::size_t k = 0; k < theta_c.size(); ++k) {
+    double a = 0;
+    for (std::size_t i = 0; i < psi.size(); ++i) a += force[i][k] * std::sin(psi[i] + theta_c[k] - s.angle_rad + alpha_pr);
+    out[k] = s.gain_m_s2_per_N * a;
+  }
+}
+} // namespace
+
 std::vector<double> housing_acceleration_history(const SensorSettings& s, std::span<const double> psi,
-                                                 std::span<const double> theta_c,
+                                                 double ring_pressure_angle_rad, std::span<const double> theta_c,
                                                  const std::vector<std::span<const double>>& force,
                                                  double sample_interval_s) {
   if (force.size() != psi.size())
     throw std::invalid_argument("housing_acceleration_history: " + std::to_string(force.size()) +
                                 " force histories for " + std::to_string(psi.size()) + " planets");
   const std::size_t n = theta_c.size();
-  std::vector<double> mean(psi.size(), 0.0);
-  for (std::size_t i = 0; i < psi.size(); ++i) {
+  for (std::size_t i = 0; i < psi.size(); ++i)
     if (force[i].size() != n)
       throw std::invalid_argument("housing_acceleration_history: planet " + std::to_string(i) + " force has " +
                                   std::to_string(force[i].size()) + " samples, carrier angle " + std::to_string(n));
-    double m = 0;
-    for (double f : force[i]) m += f;
-    mean[i] = n > 0 ? m / static_cast<double>(n) : 0.0;
-  }
-  std::vector<double> out(n), dF(psi.size());
-  const WindowWeight w(s.window, s.window_width_rad);
-  for (std::size_t k = 0; k < n; ++k) {
-    for (std::size_t i = 0; i < psi.size(); ++i) dF[i] = force[i][k] - mean[i];
-    out[k] = housing_acceleration(s, w, psi, theta_c[k], dF);
-  }
+  std::vector<double> out(n);
+  if (s.housing_path == HousingPath::RingTranslation)
+    ring_translation_history(s, psi, ring_pressure_angle_rad, theta_c, force, out);
+  else
+    planet_pass_history(s, psi, theta_c, force, out);
   if (s.housing_mount_frequency_Hz > 0 && n > 0) {
     // A model the record cannot represent, not a bad input: a fit that reaches it scores it as
     // failed (SolverError) and steps back; the configuration's own value is checked up front.

@@ -23,7 +23,27 @@
 // With N equal planets whose ring meshes are in phase, the window sum is
 // periodic at N f_c, so the mesh harmonics carry sidebands at k f_m +- j N f_c
 // (McFadden & Smith's Fig. 3); turning the sensor by d phi delays the
-// envelope by d phi / Omega_c. Pure functions, no state.
+// envelope by d phi / Omega_c.
+//
+// The second path (SensorSettings::housing_path = ring_translation): a stiff ring
+// that moves as one body on a compliant housing (the lumped models of Lin &
+// Parker 1999, whose ring has two translations). Planet i pushes the ring along
+// its ring mesh's line of action n = sin a' e_r - cos a' e_t at its position
+// psi_i + theta_c (docs/derivation.md section 3.2), and a radial sensor at phi_s
+// reads the projection of the net force, n . e_r(phi_s) = sin(d_i + a'):
+//
+//   a_s(t) = G sum_i F_pr,i(t) sin(psi_i + theta_c(t) - phi_s + alpha'_pr)          (S2)
+//
+//  * alpha'_pr  working pressure angle of the planet-ring mesh [rad]
+//  * G          1 / (ring mass) [m/s^2 per N]
+//  * F_pr,i     the whole force: static loads are included. Equal loads of equally
+//               spaced planets cancel (sum_i sin(2 pi i / N + c) = 0 for N >= 2);
+//               unequal ones (a pin error, a runout) turn with the carrier and
+//               appear at carrier orders.
+// No window: every planet moves the ring wherever it is. With N equal planets in
+// phase the mesh lines cancel too, and only what differs between the planets moves
+// the ring. The housing mount (its high-pass) applies to either path: the ring on
+// its support is the mass on the mount's stiffness. Pure functions, no state.
 #pragma once
 
 #include "config/stage.hpp"
@@ -70,15 +90,17 @@ double sensor_window(double distance_rad, SensorWindow window, double width_rad)
 double housing_acceleration(const SensorSettings& sensor, std::span<const double> planet_angles_rad,
                             double carrier_angle_rad, std::span<const double> force_deviation_N);
 
-/// Eq. (S1) over a record: `carrier_angle_rad[k]` and `ring_force_N[i][k]`
-/// (planet i's ring-mesh force at sample k, all as long as the angles), samples
-/// `sample_interval_s` apart. The mean of each planet's force over the record is subtracted.
+/// Eq. (S1) or (S2) (SensorSettings::housing_path) over a record: `carrier_angle_rad[k]` and
+/// `ring_force_N[i][k]` (planet i's ring-mesh force at sample k, all as long as the angles),
+/// samples `sample_interval_s` apart; `ring_pressure_angle_rad` alpha'_pr enters (S2) only.
+/// (S1) subtracts the mean of each planet's force over the record; (S2) takes the whole force.
 /// With a housing mount (SensorSettings::housing_mount_frequency_Hz > 0) the result passes
 /// the mount's second-order high-pass, started in the periodic steady state of the record
 /// (ButterworthFilter::set_periodic_state). Throws std::invalid_argument for mismatched sizes,
 /// pw::SolverError for a mount frequency at or above 1 / (2 sample_interval_s).
 std::vector<double> housing_acceleration_history(const SensorSettings& sensor,
                                                  std::span<const double> planet_angles_rad,
+                                                 double ring_pressure_angle_rad,
                                                  std::span<const double> carrier_angle_rad,
                                                  const std::vector<std::span<const double>>& ring_force_N,
                                                  double sample_interval_s);

@@ -403,6 +403,10 @@ std::vector<Scalar> stiffness_scalars(const PreparedStage& p) {
                    "stiffness excitation')",
                    s.first_harmonic_N_m});
     out.push_back({name + "/contact_ratio", "1", "transverse contact ratio", f.geometry.contact_ratio});
+    // The planet-ring one sets the direction in which a planet pushes the ring (model/sensor.hpp
+    // Eq. S2), which the diagnosis needs to compute the housing channel from the ring forces.
+    out.push_back({name + "/working_pressure_angle", "rad", "working (operating) pressure angle alpha'",
+                   f.geometry.working_pressure_angle_rad});
   }
   return out;
 }
@@ -732,7 +736,7 @@ std::vector<RecordChannel> record_channels(const dynamics::LumpedStructure& S, i
       "absolute carrier angle Omega_c t + perturbation; planet i is at psi_i + carrier/angle in the housing frame");
   add("housing/acceleration", "m/s^2",
       "housing accelerometer at sensor.angle_rad: planet-ring mesh force fluctuations through the transfer-path "
-      "window (model/sensor.hpp)");
+      "window, or the ring's translation (sensor.housing_path; model/sensor.hpp)");
   const ChannelLayout layout{S.meshes.size(), static_cast<std::size_t>(planets)};
   if (ch.size() != layout.count())  // a programming error: the two orders disagree
     throw std::logic_error(detail::concat("record_channels built ", ch.size(), " channels, ChannelLayout has ",
@@ -934,6 +938,7 @@ RecordStats record(Integration& r, int cycles, SimulationResult& out, const Outp
     for (int i = 0; i < N; ++i)
       ring_force.emplace_back(out.channels[stored_index[ring_force_channel(i)]].values);
     std::vector<double> h = housing_acceleration_history(r.c.sensor, p.geometry.planet_angles_rad,
+                                                         p.geometry.planet_ring.working_pressure_angle_rad,
                                                          out.channels[stored_index[at.carrier_angle()]].values,
                                                          ring_force, out.time_step_s);
     // Last, as in the documented order (record_channels).

@@ -191,6 +191,8 @@ void validate_imperfections(const Imperfections& im, const StageSpec& stage) {
 void validate_sensor(const SensorSettings& s, double largest_gain_m_s2_per_N) {
   require(s.window == SensorWindow::Gaussian || s.window == SensorWindow::Hann, "sensor.window",
           "must be \"gaussian\" or \"hann\"");
+  require(s.housing_path == HousingPath::PlanetPass || s.housing_path == HousingPath::RingTranslation,
+          "sensor.housing_path", "must be \"planet_pass\" or \"ring_translation\"");
   require(s.housing_mount_frequency_Hz >= 0 && std::isfinite(s.housing_mount_frequency_Hz),
           "sensor.housing_mount_frequency_Hz", "must be >= 0 Hz (0 = no mount resonance), got ",
           s.housing_mount_frequency_Hz);

@@ -84,9 +84,11 @@ WearSnapshot record_snapshot(model::Integration& r, double mesh_cycles, wear::Fl
   }
   std::vector<std::span<const double>> forces(ring_force.begin(), ring_force.end());
   Channel housing{"housing/acceleration", "m/s^2",
-                  "housing accelerometer at sensor.angle_rad (model/sensor.hpp), planet-ring force fluctuations "
-                  "about their means over the snapshot",
-                  model::housing_acceleration_history(r.c.sensor, r.p.geometry.planet_angles_rad, carrier_angle, forces,
+                  "housing accelerometer at sensor.angle_rad through sensor.housing_path (model/sensor.hpp): "
+                  "planet-ring force fluctuations about their means over the snapshot (planet_pass) or the "
+                  "ring's translation (ring_translation)",
+                  model::housing_acceleration_history(r.c.sensor, r.p.geometry.planet_angles_rad,
+                                                      r.p.geometry.planet_ring.working_pressure_angle_rad, carrier_angle, forces,
                                                       r.p.time_step_s)};
   const signal::Spectrum hs = signal::amplitude_spectrum(housing.values, r.p.time_step_s, signal::Window::Hann);
   s.spectra.push_back({housing.name, "frequency", "Hz", "amplitude", housing.unit,

@@ -118,6 +118,7 @@ inline void expect_config_eq(const model::SimulationConfig& a, const model::Simu
   EXPECT_EQ(a.sensor.angle_rad, b.sensor.angle_rad);
   EXPECT_EQ(a.sensor.gain_m_s2_per_N, b.sensor.gain_m_s2_per_N);
   EXPECT_EQ(a.sensor.window_width_rad, b.sensor.window_width_rad);
+  EXPECT_EQ(a.sensor.housing_path, b.sensor.housing_path);
   EXPECT_EQ(a.sensor.window, b.sensor.window);
   EXPECT_EQ(a.sensor.encoder_bandwidth_Hz, b.sensor.encoder_bandwidth_Hz);
   EXPECT_EQ(a.sensor.encoder_filter_order, b.sensor.encoder_filter_order);
@@ -226,6 +227,7 @@ inline model::SimulationConfig nondefault_config() {
   c.sensor.gain_m_s2_per_N = 2e-3 / 3;
   c.sensor.window_width_rad = 0.1 + 0.2;
   c.sensor.window = model::SensorWindow::Hann;
+  c.sensor.housing_path = model::HousingPath::RingTranslation;
   c.sensor.encoder_bandwidth_Hz = 1000.0 / 3;
   c.sensor.encoder_filter_order = 1;
   c.sensor.housing_mount_frequency_Hz = 1500;

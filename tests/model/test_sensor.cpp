@@ -10,7 +10,9 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <complex>
 #include <cmath>
+#include <limits>
 #include <numbers>
 #include <vector>
 
@@ -19,6 +21,17 @@ using namespace pw::model;
 namespace {
 
 using pw::kPi;
+
+/// A working pressure angle of a planet-ring mesh [rad] (the default stage's is near 20 deg); only
+/// Eq. (S2) reads it.
+constexpr double kRingPressureAngle = 0.36;
+
+/// The simulation's planet-ring working pressure angle [rad] (its scalar; NaN if absent).
+double ring_pressure_angle(const SimulationResult& r) {
+  for (const auto& s : r.scalars)
+    if (s.name == "planet_ring/working_pressure_angle") return s.value;
+  return std::numeric_limits<double>::quiet_NaN();
+}
 
 /// Amplitude of the single-sided rectangular-window DFT of x at bin k.
 double bin_amplitude(const std::vector<double>& x, std::size_t k) {
@@ -56,7 +69,7 @@ struct Synthetic {
   }
   std::vector<double> housing(const SensorSettings& s) const {
     std::vector<std::span<const double>> f(force.begin(), force.end());
-    return housing_acceleration_history(s, psi, theta, f, dt);
+    return housing_acceleration_history(s, psi, kRingPressureAngle, theta, f, dt);
   }
   /// Bin of frequency f [Hz].
   std::size_t bin(double f) const { return static_cast<std::size_t>(std::lround(f * carrier_revs / f_c)); }
@@ -256,9 +269,125 @@ TEST(Sensor, HistorySubtractsEachPlanetsMeanForce) {
   SensorSettings sensor;
   const std::vector<double> psi{0.0, 2.0, 4.0}, theta{0.0, 0.1, 0.2, 0.3};
   const std::vector<double> f0(4, 500.0), f1(4, 300.0), f2(4, 100.0);
-  const auto a = housing_acceleration_history(sensor, psi, theta, {f0, f1, f2}, 1e-4);
+  const auto a = housing_acceleration_history(sensor, psi, kRingPressureAngle, theta, {f0, f1, f2}, 1e-4);
   for (double x : a) EXPECT_EQ(x, 0.0);
-  EXPECT_THROW(housing_acceleration_history(sensor, psi, theta, {f0, f1}, 1e-4), std::invalid_argument);
+  EXPECT_THROW(housing_acceleration_history(sensor, psi, kRingPressureAngle, theta, {f0, f1}, 1e-4), std::invalid_argument);
+}
+
+TEST(SensorRingTranslation, EqualStaticLoadsOfEquallySpacedPlanetsCancel) {
+  // Eq. (S2) takes the whole force: sum_i F sin(2 pi i / N + c) = 0 for N >= 2 equally spaced
+  // planets, so a balanced stage's static load does not move the ring (to round-off: 1e-12 of F G).
+  SensorSettings sensor;
+  sensor.housing_path = HousingPath::RingTranslation;
+  sensor.gain_m_s2_per_N = 2e-3;
+  sensor.angle_rad = 0.7;
+  std::vector<double> theta;
+  for (int k = 0; k < 360; ++k) theta.push_back(2 * kPi * k / 360.0);
+  for (int N : {2, 3, 4, 5, 7}) {
+    std::vector<double> psi;
+    for (int i = 0; i < N; ++i) psi.push_back(2 * kPi * i / N);
+    const std::vector<double> f(theta.size(), 5000.0);
+    const std::vector<std::span<const double>> forces(static_cast<std::size_t>(N), std::span<const double>(f));
+    for (double a : housing_acceleration_history(sensor, psi, kRingPressureAngle, theta, forces, 1e-4))
+      EXPECT_NEAR(a, 0.0, 1e-12 * 5000 * sensor.gain_m_s2_per_N * N) << N << " planets";
+  }
+}
+
+TEST(SensorRingTranslation, UnequalStaticLoadsTurnWithTheCarrierAtTheirPhasorSum) {
+  // Closed form: sum_i F_i sin(psi_i + x) = |S| sin(x + arg S), S = sum_i F_i e^{i psi_i}, with
+  // x = theta_c - phi_s + alpha'. Loads 500, 300, 100 N on 0, 120, 240 deg: S = 300 + 173.2 i N,
+  // |S| = 346.41 N: a carrier-order line of amplitude G |S| whose zero sits at
+  // theta_c = phi_s - alpha' - arg S. The planet-pass path subtracts these means (test above).
+  SensorSettings sensor;
+  sensor.housing_path = HousingPath::RingTranslation;
+  sensor.gain_m_s2_per_N = 1e-3;
+  sensor.angle_rad = 0.4;
+  const std::vector<double> psi{0, 2 * kPi / 3, 4 * kPi / 3};
+  const std::vector<double> F{500, 300, 100};
+  std::complex<double> S = 0;
+  for (int i = 0; i < 3; ++i) S += F[i] * std::polar(1.0, psi[i]);
+  ASSERT_NEAR(std::abs(S), 346.41016, 1e-5);
+  std::vector<double> theta;
+  for (int k = 0; k < 720; ++k) theta.push_back(2 * kPi * k / 720.0);
+  std::vector<std::vector<double>> f(3);
+  for (int i = 0; i < 3; ++i) f[i].assign(theta.size(), F[i]);
+  const std::vector<std::span<const double>> forces(f.begin(), f.end());
+  const auto a = housing_acceleration_history(sensor, psi, kRingPressureAngle, theta, forces, 1e-4);
+  for (std::size_t k = 0; k < theta.size(); ++k) {
+    const double x = theta[k] - sensor.angle_rad + kRingPressureAngle;
+    EXPECT_NEAR(a[k], sensor.gain_m_s2_per_N * std::abs(S) * std::sin(x + std::arg(S)), 1e-12) << k;
+  }
+  EXPECT_NEAR(*std::max_element(a.begin(), a.end()), sensor.gain_m_s2_per_N * std::abs(S), 1e-5 * 0.35);
+}
+
+TEST(SensorRingTranslation, ProjectsEachPlanetsLineOfActionOnTheSensorsRadialDirection) {
+  // An independent computation in Cartesian vectors of what Eq. (S2) abbreviates: planet i at
+  // angle phi_i pushes the ring along n = sin a' e_r(phi_i) - cos a' e_t(phi_i)
+  // (docs/derivation.md section 3.2, e_t = z x e_r), the ring's acceleration is G sum_i F_i n_i,
+  // and a radial sensor at phi_s reads its component along e_r(phi_s). A sign slip in the
+  // pressure angle or in the tangent would fail it at every non-trivial angle.
+  SensorSettings sensor;
+  sensor.housing_path = HousingPath::RingTranslation;
+  sensor.gain_m_s2_per_N = 1.0;
+  const std::vector<double> psi{0.0, 1.9, 4.1, 5.0};  // unequal spacing on purpose
+  const std::vector<double> F{120, -40, 75, 10};
+  for (const double alpha : {0.0, 0.35, 0.52})
+    for (const double phi_s : {0.0, 1.0, -2.5})
+      for (const double theta_c : {0.0, 0.3, 2.2, 4.0}) {
+        sensor.angle_rad = phi_s;
+        double ax = 0, ay = 0;
+        for (std::size_t i = 0; i < psi.size(); ++i) {
+          const double phi = psi[i] + theta_c;
+          const double er_x = std::cos(phi), er_y = std::sin(phi), et_x = -std::sin(phi), et_y = std::cos(phi);
+          ax += F[i] * (std::sin(alpha) * er_x - std::cos(alpha) * et_x);
+          ay += F[i] * (std::sin(alpha) * er_y - std::cos(alpha) * et_y);
+        }
+        const double expected = ax * std::cos(phi_s) + ay * std::sin(phi_s);
+        const std::vector<double> th{theta_c};
+        std::vector<std::vector<double>> f;
+        for (double x : F) f.push_back({x});
+        const std::vector<std::span<const double>> forces(f.begin(), f.end());
+        EXPECT_NEAR(housing_acceleration_history(sensor, psi, alpha, th, forces, 1e-4)[0], expected, 1e-12)
+            << "alpha " << alpha << ", phi_s " << phi_s << ", theta_c " << theta_c;
+      }
+}
+
+TEST(SensorRingTranslation, SimulatedChannelIsTheRingsTranslationOfItsForcesThroughTheMount) {
+  // The simulator's housing/acceleration with housing_path = ring_translation is Eq. (S2) of its
+  // own ring forces, carrier angle and working pressure angle, through the mount's high-pass;
+  // a pin error makes the planets' loads unequal, so the carrier-order line is not zero.
+  SimulationConfig c;
+  c.operating.input_speed_rpm = 1200;
+  c.sensor.angle_rad = 0.5;
+  c.sensor.housing_path = HousingPath::RingTranslation;
+  c.sensor.housing_mount_frequency_Hz = 400;
+  c.imperfections.pin_error_m = {20e-6, 0, 0};
+  c.solver.record_mesh_cycles = 2 * c.stage.ring.teeth;  // two carrier revolutions
+  const SimulationResult r = simulate(c);
+  const double alpha = ring_pressure_angle(r);
+  ASSERT_TRUE(std::isfinite(alpha));
+  EXPECT_GT(alpha, 0.0);
+  EXPECT_LT(alpha, kPi / 4);
+  const Channel* h = r.find("housing/acceleration");
+  const Channel* th = r.find("carrier/angle");
+  ASSERT_TRUE(h && th);
+  std::vector<std::span<const double>> f;
+  for (int i = 0; i < 3; ++i) f.emplace_back(r.find("planet_ring/" + std::to_string(i) + "/force")->values);
+  const std::vector<double> psi{0, 2 * kPi / 3, 4 * kPi / 3};
+  const auto expect = housing_acceleration_history(c.sensor, psi, alpha, th->values, f, r.time_step_s);
+  double peak = 0;
+  for (std::size_t k = 0; k < expect.size(); ++k) {
+    ASSERT_EQ(h->values[k], expect[k]) << k;
+    peak = std::max(peak, std::fabs(expect[k]));
+  }
+  EXPECT_GT(peak, 0.0);
+  // The two paths differ: the planet-pass channel of the same run is another signal.
+  SensorSettings window = c.sensor;
+  window.housing_path = HousingPath::PlanetPass;
+  const auto other = housing_acceleration_history(window, psi, alpha, th->values, f, r.time_step_s);
+  double diff = 0;
+  for (std::size_t k = 0; k < expect.size(); ++k) diff = std::max(diff, std::fabs(other[k] - expect[k]));
+  EXPECT_GT(diff, 0.1 * peak);
 }
 
 TEST(Sensor, SimulatedHousingChannelFollowsThePlanetPasses) {
@@ -295,7 +424,7 @@ TEST(Sensor, SimulatedHousingChannelFollowsThePlanetPasses) {
   std::vector<std::span<const double>> f;
   for (int i = 0; i < 3; ++i) f.emplace_back(r.find("planet_ring/" + std::to_string(i) + "/force")->values);
   const std::vector<double> psi{0, 2 * kPi / 3, 4 * kPi / 3};
-  const auto expect = housing_acceleration_history(c.sensor, psi, th->values, f, r.time_step_s);
+  const auto expect = housing_acceleration_history(c.sensor, psi, ring_pressure_angle(r), th->values, f, r.time_step_s);
   for (std::size_t k = 0; k < n; k += 101) ASSERT_EQ(h->values[k], expect[k]);
   // Envelope: RMS per mesh period against G * W(theta_c) * RMS of the force fluctuation.
   const auto& F0 = f[0];
