@@ -71,8 +71,10 @@ CLI::App* add_calibrate_command(CLI::App& app, CalibrateCommandOptions& o) {
             "-o calibration.toml\n         planetwear diagnose -c gearset.toml --calibration calibration.toml "
             "-r suspect.csv -o report/\n\n"
             "The calibrated model's mesh follows the gears' roll unless every healthy recording fits better with it "
-            "locked to nominal time (the k(t) of many simulators): then the file says mesh_phase = \"nominal_time\" "
-            "and diagnose --calibration uses that form (docs/diagnose.md section 6a item 10).");
+            "locked to nominal time (the k(t) of many simulators): then the file says mesh_phase = \"nominal_time\". "
+            "Its housing accelerometer sees the planets pass through a window unless every healthy recording fits "
+            "better with it on the ring's rigid-body translation: then housing_path = \"ring_translation\". "
+            "diagnose --calibration uses the form the file says (docs/diagnose.md section 6a items 10 and 11).");
   return c;
 }
 
@@ -108,7 +110,7 @@ void print_table(const diagnose::Calibration& cal) {
     std::printf("\n");
   }
   std::printf("calibrated model:");
-  for (const std::string& s : diagnose::model_form_settings(cal.mesh_phase)) std::printf(" --set %s", s.c_str());
+  for (const std::string& s : diagnose::model_form_settings(cal.form)) std::printf(" --set %s", s.c_str());
   for (const std::string& s : cal.overrides) std::printf(" --set %s", s.c_str());
   std::printf("\n");
   for (const std::string& s : cal.at_bound)
@@ -291,52 +293,90 @@ void share_rig_structure(const CalibrateCommandOptions& o, const std::vector<std
   }
 }
 
-/// docs/diagnose.md §6a item 10: the calibrated model's mesh form. A simulator that excites the
-/// mesh with k(t) at the nominal speed makes recordings whose mesh lines are locked to time; the
-/// roll-locked model cannot reproduce them and its discrepancy budget would carry that form error
-/// into every diagnosis of the rig. Where every recording's roll-locked nuisance model failed the
-/// noise test and its time-locked probe fits better (diagnose::time_locked_probes_pass), every
-/// recording is refitted in that form from its own values; the form is taken only if each refit
-/// leaves less held-out chi2 (diagnose::time_locked_refits_improve). Then `fits` are the refits
-/// and `o` holds the form for every later fit. Costs one simulation per recording that failed
-/// the noise test, and one nuisance fit per recording where the probes pass.
-bool choose_mesh_form(CalibrateCommandOptions& o, const std::vector<std::string>& rig, diagnose::HealthyFit weighting,
-                      std::vector<RecordingFit>& fits) {
-  std::vector<diagnose::MeshFormFits> form;
+/// One discrete part of the calibrated model's form (docs/diagnose.md §6a items 10 and 11): what the
+/// log calls the configuration's form and the other, where a nuisance-only diagnosis keeps its
+/// probe of the other, and the form with this part changed.
+struct FormChoice {
+  const char* part;  ///< "mesh stiffness", ...
+  const char* own;   ///< the configuration's form
+  const char* other;
+  std::optional<double> diagnose::Diagnosis::*probe;
+  diagnose::ModelForm (*changed)(diagnose::ModelForm);
+};
+
+/// §6a item 10: a simulator that excites the mesh with k(t) at the nominal speed makes recordings
+/// whose mesh lines are locked to time.
+constexpr FormChoice kMeshPhaseChoice{
+    "mesh stiffness", "locked to the gears' roll", "locked to nominal time (k(t))",
+    &diagnose::Diagnosis::time_locked_probe_chi2, [](diagnose::ModelForm f) {
+      f.mesh_phase = model::MeshPhase::NominalTime;
+      return f;
+    }};
+
+/// §6a item 11: a stiff ring that translates as one body on its housing (the lumped models in the
+/// manner of Lin & Parker) shows its accelerometer every planet's whole force, not each planet
+/// through a window as it passes.
+constexpr FormChoice kHousingPathChoice{
+    "housing accelerometer", "through the planet-pass window", "on the ring's translation",
+    &diagnose::Diagnosis::ring_translation_probe_chi2, [](diagnose::ModelForm f) {
+      f.housing_path = model::HousingPath::RingTranslation;
+      return f;
+    }};
+
+/// The calibrated model's form, one part at a time. A model whose form differs from the rig's
+/// cannot reproduce its recordings, and its discrepancy budget would carry that form error into
+/// every diagnosis of the rig. Where every recording's nuisance model failed the noise test and
+/// its probe of the other form fits better (diagnose::form_probes_pass), every recording is
+/// refitted in that form from its own values; the form is taken only if each refit leaves less
+/// held-out chi2 (diagnose::form_refits_improve). Then `fits` are the refits and `o` holds the
+/// form for every later fit. Costs one simulation per recording that failed the noise test, and
+/// one nuisance fit per recording where the probes pass.
+bool choose_model_form(CalibrateCommandOptions& o, const std::vector<std::string>& rig, diagnose::HealthyFit weighting,
+                       std::vector<RecordingFit>& fits, const FormChoice& choice) {
+  std::vector<diagnose::ModelFormFits> form;
   for (const RecordingFit& f : fits) {
     const diagnose::Diagnosis& d = f.noise_test();
-    form.push_back({.fit_chi2 = d.nuisance.fit.chi2, .probe_fit_chi2 = d.time_locked_probe_chi2,
+    form.push_back({.fit_chi2 = d.nuisance.fit.chi2, .probe_fit_chi2 = d.*choice.probe,
                     .fit_features = d.nuisance.fit.features, .held_out_chi2 = d.nuisance.held_out.chi2,
                     .refit_held_out_chi2 = std::nullopt, .held_out_features = d.nuisance.held_out.features});
   }
-  if (!diagnose::time_locked_probes_pass(form, o.alpha)) return false;
-  CalibrateCommandOptions locked = o;
-  for (const std::string& line : diagnose::model_form_settings(model::MeshPhase::NominalTime))
-    locked.common.assignments.insert(locked.common.assignments.begin(), line);  // the user's --set after it
+  if (!diagnose::form_probes_pass(form, o.alpha)) return false;
+  CalibrateCommandOptions other = o;
+  for (const std::string& line : diagnose::model_form_settings(choice.changed(diagnose::ModelForm{})))
+    other.common.assignments.insert(other.common.assignments.begin(), line);  // the user's --set after it
   if (!o.common.quiet)
-    std::fprintf(stderr, "[calibrate] every recording fits better with the mesh stiffness locked to nominal time "
-                         "(k(t)): each refitted in that form\n");
-  std::vector<RecordingFit> refits = fit_recordings(locked, rig, weighting, fits);
+    std::fprintf(stderr, "[calibrate] every recording fits better with the %s %s: each refitted in that form\n",
+                 choice.part, choice.other);
+  std::vector<RecordingFit> refits = fit_recordings(other, rig, weighting, fits);
   for (std::size_t i = 0; i < fits.size(); ++i) form[i].refit_held_out_chi2 = refits[i].noise_test().nuisance.held_out.chi2;
-  const bool taken = diagnose::time_locked_refits_improve(form, o.alpha);
+  const bool taken = diagnose::form_refits_improve(form, o.alpha);
   if (!o.common.quiet) {
     for (std::size_t i = 0; i < fits.size(); ++i)
-      std::fprintf(stderr, "[calibrate]   recording %zu: held-out chi2 %.4g locked to nominal time, %.4g to the gears' roll\n",
-                   i + 1, *form[i].refit_held_out_chi2, form[i].held_out_chi2);
-    std::fprintf(stderr, "[calibrate] the calibrated model's mesh follows %s\n",
-                 taken ? "nominal time (stiffness.mesh_phase = nominal_time)"
-                       : "the gears' roll: not every recording's held-out half fits better locked to time");
+      std::fprintf(stderr, "[calibrate]   recording %zu: held-out chi2 %.4g %s, %.4g %s\n", i + 1,
+                   *form[i].refit_held_out_chi2, choice.other, form[i].held_out_chi2, choice.own);
+    std::fprintf(stderr, "[calibrate] the calibrated model's %s: %s%s\n", choice.part, taken ? choice.other : choice.own,
+                 taken ? "" : " (not every recording's held-out half fits the other form better than chance)");
   }
   if (!taken) return false;
   fits = std::move(refits);
-  o = std::move(locked);
+  o = std::move(other);
   return true;
+}
+
+/// Both parts of the form in turn (the mesh first: the housing path's probes then come from the
+/// refits in the chosen mesh form). Returns the calibrated model's form.
+diagnose::ModelForm choose_model_form(CalibrateCommandOptions& o, const std::vector<std::string>& rig,
+                                      diagnose::HealthyFit weighting, std::vector<RecordingFit>& fits) {
+  diagnose::ModelForm form;
+  for (const FormChoice* c : {&kMeshPhaseChoice, &kHousingPathChoice})
+    if (choose_model_form(o, rig, weighting, fits, *c)) form = c->changed(form);
+  return form;
 }
 
 } // namespace
 
 int run_calibrate(const CalibrateCommandOptions& o_in) {
-  CalibrateCommandOptions o = o_in;  // the calibrated mesh form joins its assignments (choose_mesh_form)
+  CalibrateCommandOptions o = o_in;  // the calibrated model's form joins its assignments (choose_model_form)
   require(o.metas.empty() || o.metas.size() == o.recordings.size(), "--meta", "give one sidecar per --recording (",
           o.recordings.size(), " recordings, ", o.metas.size(), " sidecars) or none");
   std::vector<std::string> rig = o.rig_elements;
@@ -359,13 +399,12 @@ int run_calibrate(const CalibrateCommandOptions& o_in) {
   for (const std::string& r : rig)
     if (!diagnose::find_candidate(r)->calibration_only()) plain.push_back(r);
   std::vector<RecordingFit> fits;
-  bool time_locked = false;
   if (plain.size() == rig.size()) {
     fits = fit_recordings(o, rig, cal.healthy_fit);
-    time_locked = choose_mesh_form(o, rig, cal.healthy_fit, fits);
+    cal.form = choose_model_form(o, rig, cal.healthy_fit, fits);
   } else {
     std::vector<RecordingFit> without = fit_recordings(o, plain, cal.healthy_fit);
-    time_locked = choose_mesh_form(o, plain, cal.healthy_fit, without);
+    cal.form = choose_model_form(o, plain, cal.healthy_fit, without);
     fits = fit_recordings(o, rig, cal.healthy_fit, without);
     for (std::size_t i = 0; i < fits.size(); ++i) {
       const diagnose::NestedFits nested{.chi2_without = without[i].noise_test().nuisance.held_out.chi2,
@@ -392,7 +431,6 @@ int run_calibrate(const CalibrateCommandOptions& o_in) {
                           fits);
   }
   cal.rig_elements = rig;
-  cal.mesh_phase = time_locked ? model::MeshPhase::NominalTime : model::MeshPhase::Rotation;
   std::vector<std::vector<diagnose::CalibrationCell>> cells;
   std::vector<std::vector<diagnose::FittedParameter>> params;
   const model::SimulationConfig& base_config = fits.front().config;  // the gear set's, for the rig elements' settings

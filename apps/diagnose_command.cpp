@@ -173,7 +173,7 @@ DiagnoseInputs read_diagnose_inputs(const DiagnoseCommandOptions& o) {
   std::optional<diagnose::Calibration> calibration;
   if (!o.calibration.empty()) {
     calibration = io::read_calibration(o.calibration);
-    common.assignments = diagnose::model_form_settings(calibration->mesh_phase);
+    common.assignments = diagnose::model_form_settings(calibration->form);
     common.assignments.insert(common.assignments.end(), calibration->overrides.begin(), calibration->overrides.end());
     common.assignments.insert(common.assignments.end(), o.common.assignments.begin(), o.common.assignments.end());
   }
@@ -391,7 +391,7 @@ void diagnose_and_report(const DiagnoseCommandOptions& o_in, const std::string& 
     // The calibrated model's mesh form first (calibration.hpp model_form_settings): the reference
     // is fitted in the form the calibration chose, as the recording is.
     const std::vector<std::string> form =
-        calibration ? diagnose::model_form_settings(calibration->mesh_phase) : std::vector<std::string>{};
+        calibration ? diagnose::model_form_settings(calibration->form) : std::vector<std::string>{};
     std::vector<std::string> structure;
     if (calibration) {
       const model::SimulationConfig gear_set = read_gear_set_config(o.common);

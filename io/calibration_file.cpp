@@ -69,7 +69,8 @@ void write_calibration(const diagnose::Calibration& c, const std::filesystem::pa
   cal.insert("verdicts", to_array(c.verdicts));
   cal.insert("rig_elements", to_array(c.rig_elements));
   cal.insert("healthy_fit", std::string(diagnose::to_string(c.healthy_fit)));
-  cal.insert("mesh_phase", std::string(model::mesh_phase_name(c.mesh_phase)));
+  cal.insert("mesh_phase", std::string(model::mesh_phase_name(c.form.mesh_phase)));
+  cal.insert("housing_path", std::string(model::housing_path_name(c.form.housing_path)));
   cal.insert("at_bound", to_array(c.at_bound));
   cal.insert("overrides", to_array(c.overrides));
   toml::array disc;
@@ -139,7 +140,15 @@ diagnose::Calibration read_calibration(const std::filesystem::path& path) {
     const char* time = model::mesh_phase_name(MeshPhase::NominalTime);
     require(*m == rotation || *m == time, where(path, "calibration.mesh_phase"), "must be \"", rotation, "\" or \"",
             time, "\", got '", *m, "'");
-    c.mesh_phase = *m == time ? MeshPhase::NominalTime : MeshPhase::Rotation;
+    c.form.mesh_phase = *m == time ? MeshPhase::NominalTime : MeshPhase::Rotation;
+  }
+  if (const auto h = cal["housing_path"].value<std::string>()) {  // optional: written since session 67
+    using model::HousingPath;
+    const char* window = model::housing_path_name(HousingPath::PlanetPass);
+    const char* ring = model::housing_path_name(HousingPath::RingTranslation);
+    require(*h == window || *h == ring, where(path, "calibration.housing_path"), "must be \"", window, "\" or \"",
+            ring, "\", got '", *h, "'");
+    c.form.housing_path = *h == ring ? HousingPath::RingTranslation : HousingPath::PlanetPass;
   }
   if (cal["at_bound"])  // optional: files written before it existed have none
     c.at_bound = read_array<std::string>(cal["at_bound"].as_array(), path, "calibration.at_bound");

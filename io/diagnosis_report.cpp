@@ -585,6 +585,7 @@ void write_diagnosis_report(const std::filesystem::path& dir, const dg::Diagnosi
   j["nuisance_refitted_from"] = d.nuisance_refitted_from.empty() ? json(nullptr) : json(d.nuisance_refitted_from);
   // What the nuisance model's mesh stiffness follows (docs/diagnose.md §5 step 4b).
   j["nuisance_mesh_phase"] = model::mesh_phase_name(d.nuisance_mesh_phase);
+  j["nuisance_housing_path"] = model::housing_path_name(d.nuisance_housing_path);
   j["decision_rule"] = d.rule;
   if (d.lead.candidate == 0) {
     const dg::CandidateResult& l = d.candidates.front();

@@ -239,20 +239,33 @@ std::vector<std::string> reference_design_settings(const Calibration& calibratio
   return out;
 }
 
-std::vector<std::string> model_form_settings(model::MeshPhase mesh_phase) {
-  if (mesh_phase == model::MeshPhase::Rotation) return {};  // the configuration's default
-  return {std::string("stiffness.mesh_phase=") + model::mesh_phase_name(mesh_phase)};
+std::vector<std::string> model_form_settings(const ModelForm& form) {
+  std::vector<std::string> out;  // the configuration's defaults need no line
+  if (form.mesh_phase != model::MeshPhase::Rotation)
+    out.push_back(std::string("stiffness.mesh_phase=") + model::mesh_phase_name(form.mesh_phase));
+  if (form.housing_path != model::HousingPath::PlanetPass)
+    out.push_back(std::string("sensor.housing_path=") + model::housing_path_name(form.housing_path));
+  return out;
 }
 
-bool time_locked_probes_pass(const std::vector<MeshFormFits>& fits, double alpha) {
-  return !fits.empty() && std::all_of(fits.begin(), fits.end(), [&](const MeshFormFits& f) {
+void apply_model_form(model::SimulationConfig& config, const ModelForm& form) {
+  config.stiffness.mesh_phase = form.mesh_phase;
+  config.sensor.housing_path = form.housing_path;
+}
+
+ModelForm model_form_of(const model::SimulationConfig& config) {
+  return {.mesh_phase = config.stiffness.mesh_phase, .housing_path = config.sensor.housing_path};
+}
+
+bool form_probes_pass(const std::vector<ModelFormFits>& fits, double alpha) {
+  return !fits.empty() && std::all_of(fits.begin(), fits.end(), [&](const ModelFormFits& f) {
     return f.probe_fit_chi2 && rig_elements_improve({.chi2_without = f.fit_chi2, .chi2_with = *f.probe_fit_chi2,
                                                       .features = f.fit_features, .extra_parameters = 1}, alpha);
   });
 }
 
-bool time_locked_refits_improve(const std::vector<MeshFormFits>& fits, double alpha) {
-  return !fits.empty() && std::all_of(fits.begin(), fits.end(), [&](const MeshFormFits& f) {
+bool form_refits_improve(const std::vector<ModelFormFits>& fits, double alpha) {
+  return !fits.empty() && std::all_of(fits.begin(), fits.end(), [&](const ModelFormFits& f) {
     return f.refit_held_out_chi2 &&
            rig_elements_improve({.chi2_without = f.held_out_chi2, .chi2_with = *f.refit_held_out_chi2,
                                  .features = f.held_out_features, .extra_parameters = 1}, alpha);

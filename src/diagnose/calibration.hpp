@@ -175,6 +175,20 @@ const char* to_string(HealthyFit f);
 HealthyFit healthy_fit_from_string(const std::string& s, const std::string& parameter);
 
 /// A calibration as written by `planetwear calibrate` and read by `diagnose --calibration`.
+/// What a model's form is beyond its parameters: the two discrete choices a calibration makes
+/// from its healthy recordings (docs/diagnose.md §6a items 10 and 11).
+struct ModelForm {
+  model::MeshPhase mesh_phase = model::MeshPhase::Rotation;            ///< stiffness.mesh_phase
+  model::HousingPath housing_path = model::HousingPath::PlanetPass;   ///< sensor.housing_path
+  bool operator==(const ModelForm&) const = default;
+};
+
+/// `config` with `form` applied (the two keys model_form_settings writes).
+void apply_model_form(model::SimulationConfig& config, const ModelForm& form);
+
+/// The form `config` has.
+ModelForm model_form_of(const model::SimulationConfig& config);
+
 struct Calibration {
   std::vector<std::string> recordings;   ///< file names (absolute since session 25): the record, and the
                                          ///< reference at a calibrated operating point (docs/diagnose.md §6a item 6)
@@ -189,10 +203,11 @@ struct Calibration {
   /// How each recording's nuisance values were fitted; a calibrated reference is fitted the same
   /// way (files written before session 43: Noise).
   HealthyFit healthy_fit = HealthyFit::Noise;
-  /// What the calibrated model's mesh stiffness follows (docs/diagnose.md §6a item 10): the gears'
-  /// roll (a real gear's), or nominal time where every healthy recording chose that form
-  /// (time_locked_probes_pass, time_locked_refits_improve). Files written before session 66: Rotation.
-  model::MeshPhase mesh_phase = model::MeshPhase::Rotation;
+  /// The calibrated model's form (docs/diagnose.md §6a items 10 and 11): what its mesh stiffness
+  /// follows and what its housing accelerometer reads, each changed from the configuration's only
+  /// where every healthy recording chose the other form (form_probes_pass, form_refits_improve).
+  /// Files written before session 66 are roll-locked, before session 67 planet-pass.
+  ModelForm form;
   std::vector<DiscrepancyEstimate> discrepancy;
   /// The budgets at z_{1-alpha}, for CompareOptions::discrepancy. A family without a relative
   /// estimate (relative_cells == 0) inherits the largest relative budget measured on its kind
@@ -200,35 +215,38 @@ struct Calibration {
   std::vector<DiscrepancyEntry> budgets() const;
 };
 
-/// The "key=value" lines of a calibrated model's mesh form (Calibration::mesh_phase): none for the
-/// roll-locked mesh (the configuration's default), stiffness.mesh_phase=nominal_time otherwise.
-/// Applied before the calibrated values wherever the calibrated model is simulated.
-std::vector<std::string> model_form_settings(model::MeshPhase mesh_phase);
+/// The "key=value" lines of a calibrated model's form (Calibration::form): one per part that
+/// differs from the configuration's default (stiffness.mesh_phase=nominal_time,
+/// sensor.housing_path=ring_translation), none for a real gear's roll-locked mesh seen through the
+/// planet-pass window. Applied before the calibrated values wherever the calibrated model is simulated.
+std::vector<std::string> model_form_settings(const ModelForm& form);
 
-/// One healthy recording's two fits in the calibration's choice of the mesh form.
-struct MeshFormFits {
-  double fit_chi2 = 0;                   ///< fit half, the roll-locked nuisance model
-  std::optional<double> probe_fit_chi2;  ///< fit half, its values with the time-locked mesh (Diagnosis::time_locked_probe_chi2)
+/// One healthy recording's two fits in the calibration's choice of one part of the model's form
+/// (the mesh's phase, §6a item 10; the housing path, item 11).
+struct ModelFormFits {
+  double fit_chi2 = 0;                   ///< fit half, the configuration's form
+  /// fit half, its values in the other form (Diagnosis::time_locked_probe_chi2, ring_translation_probe_chi2)
+  std::optional<double> probe_fit_chi2;
   int fit_features = 0;
-  double held_out_chi2 = 0;              ///< held-out half, the roll-locked nuisance model
-  std::optional<double> refit_held_out_chi2;  ///< held-out half, refitted with the time-locked mesh
+  double held_out_chi2 = 0;              ///< held-out half, the configuration's form
+  std::optional<double> refit_held_out_chi2;  ///< held-out half, refitted in the other form
   int held_out_features = 0;
 };
 
-/// Whether the time-locked form is worth refitting every recording in (docs/diagnose.md §6a item 10):
-/// every recording was probed (its roll-locked nuisance model failed the noise test) and its probe
-/// fits the fit half better than one parameter buys by chance (rig_elements_improve's F test with
-/// p = 1: a discrete choice between two models with the same parameters counted as one, the
-/// improvement measured against the better model's chi2 per feature, so that on another
-/// simulator's recordings, whose chi2 is many times the noise's, an improvement of the noise's
-/// size does not count).
-bool time_locked_probes_pass(const std::vector<MeshFormFits>& fits, double alpha);
+/// Whether the other form is worth refitting every recording in (docs/diagnose.md §6a items 10, 11):
+/// every recording was probed (its nuisance model failed the noise test) and its probe fits the fit
+/// half better than one parameter buys by chance (rig_elements_improve's F test with p = 1: a
+/// discrete choice between two models with the same parameters counted as one, the improvement
+/// measured against the better model's chi2 per feature, so that on another simulator's
+/// recordings, whose chi2 is many times the noise's, an improvement of the noise's size does not
+/// count).
+bool form_probes_pass(const std::vector<ModelFormFits>& fits, double alpha);
 
-/// Whether the time-locked refits are the calibrated model's form: on every recording the refit's
-/// held-out chi2 is below the roll-locked fit's by the same F test. One form for every operating
-/// point, as for the rig's structure: a rig whose operating points disagree keeps the roll-locked
-/// form (a real gear's), and its recordings' discrepancy carries the rest.
-bool time_locked_refits_improve(const std::vector<MeshFormFits>& fits, double alpha);
+/// Whether the refits in the other form are the calibrated model's: on every recording the
+/// refit's held-out chi2 is below the first form's by the same F test. One form for every
+/// operating point, as for the rig's structure: a rig whose operating points disagree keeps the
+/// configuration's form, and its recordings' discrepancy carries the rest.
+bool form_refits_improve(const std::vector<ModelFormFits>& fits, double alpha);
 
 /// The calibration's settings of the calibration-only rig elements it kept (a shaft behind a
 /// machine: Candidate::calibration_only), as "key=value": every line their apply() writes at the

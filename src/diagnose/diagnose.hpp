@@ -363,6 +363,13 @@ struct Diagnosis {
   /// fit-half chi2 of that model at its fitted values with the mesh stiffness locked to nominal
   /// time (diagnose.md §5 step 4b's probe; the calibration chooses the form, §6a). Empty otherwise.
   std::optional<double> time_locked_probe_chi2;
+  /// What the nuisance model's housing accelerometer reads (sensor.housing_path): the
+  /// configuration's path (a calibration's choice, §6a item 11).
+  model::HousingPath nuisance_housing_path = model::HousingPath::PlanetPass;
+  /// A calibration's recording with a housing channel whose nuisance model failed the noise test:
+  /// the fit-half chi2 of that model at its fitted values with the ring's translation as the
+  /// housing path (diagnose.md §5 step 4c's probe; the calibration chooses the path, §6a). Empty otherwise.
+  std::optional<double> ring_translation_probe_chi2;
   bool located = false;
   Location location;
   std::vector<ScreenResult> screening;    ///< every candidate, largest S first

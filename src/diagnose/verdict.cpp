@@ -441,6 +441,9 @@ std::string nuisance_text(const Diagnosis& d) {
     s += std::string(s.empty() ? "" : "; ") +
          "the mesh stiffness locked to nominal time, stiffness.mesh_phase = nominal_time: the recording's mesh lines "
          "follow time, as a simulator's k(t) does, not the gears' roll";
+  if (d.nuisance_housing_path == model::HousingPath::RingTranslation)
+    s += std::string(s.empty() ? "" : "; ") +
+         "the housing accelerometer reads the ring's rigid-body translation, sensor.housing_path = ring_translation";
   return s;
 }
 

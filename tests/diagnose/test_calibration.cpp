@@ -397,34 +397,45 @@ TEST(Calibration, EachRecordingsFitKeepsItsNuisanceValuesAndTheirBoundsWithoutTh
   EXPECT_EQ(f.noise_bound_held_out, 3400.0);
 }
 
-TEST(Calibration, TheTimeLockedMeshFormIsTakenOnlyWhereEveryRecordingFitsBetterThanOneParameterBuysByChance) {
+TEST(Calibration, AnotherModelFormIsTakenOnlyWhereEveryRecordingFitsBetterThanOneParameterBuysByChance) {
   // m = 2000 features, alpha = 0.01: F_{0.99}(1, 2000) = 6.65; the improvement must exceed it times
   // the time-locked fit's chi2 per feature.
   const double f = pw::f_quantile(1, 2000, 0.01);
   const auto fits = [](double roll, std::optional<double> locked) {
-    return MeshFormFits{.fit_chi2 = roll, .probe_fit_chi2 = locked, .fit_features = 2000, .held_out_chi2 = roll,
+    return ModelFormFits{.fit_chi2 = roll, .probe_fit_chi2 = locked, .fit_features = 2000, .held_out_chi2 = roll,
                         .refit_held_out_chi2 = locked, .held_out_features = 2000};
   };
   // A model at the noise (chi2 per feature 1): just above and just below the threshold.
-  EXPECT_TRUE(time_locked_probes_pass({fits(2000 + f * 1.01, 2000)}, 0.01));
-  EXPECT_TRUE(time_locked_refits_improve({fits(2000 + f * 1.01, 2000)}, 0.01));
-  EXPECT_FALSE(time_locked_probes_pass({fits(2000 + f * 0.99, 2000)}, 0.01));
-  EXPECT_FALSE(time_locked_refits_improve({fits(2000 + f * 0.99, 2000)}, 0.01));
+  EXPECT_TRUE(form_probes_pass({fits(2000 + f * 1.01, 2000)}, 0.01));
+  EXPECT_TRUE(form_refits_improve({fits(2000 + f * 1.01, 2000)}, 0.01));
+  EXPECT_FALSE(form_probes_pass({fits(2000 + f * 0.99, 2000)}, 0.01));
+  EXPECT_FALSE(form_refits_improve({fits(2000 + f * 0.99, 2000)}, 0.01));
   // Another simulator's rig, 1000 times the noise per feature: an improvement of 100 is chance there.
-  EXPECT_FALSE(time_locked_probes_pass({fits(2e6 + 100, 2e6)}, 0.01));
-  EXPECT_TRUE(time_locked_probes_pass({fits(2e6 + 2e4, 2e6)}, 0.01));
+  EXPECT_FALSE(form_probes_pass({fits(2e6 + 100, 2e6)}, 0.01));
+  EXPECT_TRUE(form_probes_pass({fits(2e6 + 2e4, 2e6)}, 0.01));
   // Every recording must agree; a recording that was not probed (its roll-locked model passed the
   // noise test) keeps the roll-locked form for all; no recording, no choice.
-  EXPECT_FALSE(time_locked_probes_pass({fits(9e4, 5e3), fits(4e3, 5e3)}, 0.01));
-  EXPECT_FALSE(time_locked_probes_pass({fits(9e4, 5e3), fits(4e3, std::nullopt)}, 0.01));
-  EXPECT_TRUE(time_locked_probes_pass({fits(9e4, 5e3), fits(4e4, 4e3)}, 0.01));
-  EXPECT_FALSE(time_locked_refits_improve({fits(9e4, 5e3), fits(4e4, std::nullopt)}, 0.01));
-  EXPECT_FALSE(time_locked_probes_pass({}, 0.01));
-  EXPECT_FALSE(time_locked_refits_improve({}, 0.01));
+  EXPECT_FALSE(form_probes_pass({fits(9e4, 5e3), fits(4e3, 5e3)}, 0.01));
+  EXPECT_FALSE(form_probes_pass({fits(9e4, 5e3), fits(4e3, std::nullopt)}, 0.01));
+  EXPECT_TRUE(form_probes_pass({fits(9e4, 5e3), fits(4e4, 4e3)}, 0.01));
+  EXPECT_FALSE(form_refits_improve({fits(9e4, 5e3), fits(4e4, std::nullopt)}, 0.01));
+  EXPECT_FALSE(form_probes_pass({}, 0.01));
+  EXPECT_FALSE(form_refits_improve({}, 0.01));
 }
 
-TEST(Calibration, ACalibratedModelsMeshFormIsOneSetLineOnlyWhenTimeLocked) {
-  EXPECT_TRUE(model_form_settings(pw::model::MeshPhase::Rotation).empty());
-  EXPECT_EQ(model_form_settings(pw::model::MeshPhase::NominalTime),
+TEST(Calibration, ACalibratedModelsFormIsOneSetLinePerPartThatDiffersFromTheDefault) {
+  using pw::model::HousingPath;
+  using pw::model::MeshPhase;
+  EXPECT_TRUE(model_form_settings(ModelForm{}).empty());
+  EXPECT_EQ(model_form_settings({.mesh_phase = MeshPhase::NominalTime}),
             std::vector<std::string>{"stiffness.mesh_phase=nominal_time"});
+  EXPECT_EQ(model_form_settings({.housing_path = HousingPath::RingTranslation}),
+            std::vector<std::string>{"sensor.housing_path=ring_translation"});
+  const ModelForm both{.mesh_phase = MeshPhase::NominalTime, .housing_path = HousingPath::RingTranslation};
+  EXPECT_EQ(model_form_settings(both).size(), 2u);
+  // apply_model_form and model_form_of are inverse, and the default configuration has the default form.
+  pw::model::SimulationConfig c;
+  EXPECT_EQ(model_form_of(c), ModelForm{});
+  apply_model_form(c, both);
+  EXPECT_EQ(model_form_of(c), both);
 }

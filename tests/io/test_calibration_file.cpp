@@ -34,7 +34,8 @@ TEST(CalibrationFile, WrittenCalibrationReadsBackExactly) {
   c.speeds_rpm = {1000.0 / 3, 1500.0};
   c.verdicts = {"unexplained_residual", "no_missing_physics"};
   c.rig_elements = {"encoder_bandwidth"};
-  c.mesh_phase = model::MeshPhase::NominalTime;
+  c.form.mesh_phase = model::MeshPhase::NominalTime;
+  c.form.housing_path = model::HousingPath::RingTranslation;
   c.overrides = {"stiffness.scale=1.2345", "sensor.encoder_bandwidth_Hz=987.5"};
   c.at_bound = {"contact.mesh_damping_ratio at its upper bound 0.25 on 2 of 3 recordings"};
   diagnose::DiscrepancyEstimate d;
@@ -62,7 +63,7 @@ TEST(CalibrationFile, WrittenCalibrationReadsBackExactly) {
   EXPECT_EQ(r.speeds_rpm, c.speeds_rpm);
   EXPECT_EQ(r.verdicts, c.verdicts);
   EXPECT_EQ(r.rig_elements, c.rig_elements);
-  EXPECT_EQ(r.mesh_phase, c.mesh_phase);
+  EXPECT_EQ(r.form, c.form);
   EXPECT_EQ(r.overrides, c.overrides);
   EXPECT_EQ(r.at_bound, c.at_bound);
   ASSERT_EQ(r.discrepancy.size(), 1u);
@@ -110,14 +111,20 @@ TEST(CalibrationFile, AFileWithoutSidecarsReadsAndOneWithTheWrongCountIsAnInputE
   EXPECT_TRUE(test::contains(e->what(), "calibration.sidecars"));
 }
 
-TEST(CalibrationFile, AFileWithoutAMeshFormIsRollLockedAndAnUnknownFormIsAnInputError) {
-  // Files written before session 66 have no mesh_phase: their models were roll-locked.
+TEST(CalibrationFile, AFileWithoutAFormIsRollLockedAndPlanetPassAndAnUnknownFormIsAnInputError) {
+  // Files written before session 66 have no mesh_phase (their models were roll-locked), before
+  // session 67 no housing_path (planet-pass).
   test::TempDir dir;
   write_minimal_calibration(dir / "old.toml", "", false);
-  EXPECT_EQ(io::read_calibration(dir / "old.toml").mesh_phase, model::MeshPhase::Rotation);
+  EXPECT_EQ(io::read_calibration(dir / "old.toml").form, diagnose::ModelForm{});
   write_minimal_calibration(dir / "bad.toml", "mesh_phase = \"time\"\n", false);
   const auto e = test::thrown<InputError>([&] { io::read_calibration(dir / "bad.toml"); });
   ASSERT_TRUE(e);
   EXPECT_TRUE(test::contains(e->what(), "calibration.mesh_phase"));
   EXPECT_TRUE(test::contains(e->what(), "nominal_time"));
+  write_minimal_calibration(dir / "bad_path.toml", "housing_path = \"ring\"\n", false);
+  const auto p = test::thrown<InputError>([&] { io::read_calibration(dir / "bad_path.toml"); });
+  ASSERT_TRUE(p);
+  EXPECT_TRUE(test::contains(p->what(), "calibration.housing_path"));
+  EXPECT_TRUE(test::contains(p->what(), "ring_translation"));
 }
