@@ -122,6 +122,35 @@ void visit_contact(V& v, Contact& c) {
           interval(0, model::ContactSettings::kMaxEngagementRamp, Ends::Closed, "-"));
 }
 
+/// The [sensor] section's keys (visit_config).
+template <class V, class Sensor>
+void visit_sensor(V& v, Sensor& c) {
+  v.section("sensor");
+  v.field("angle_rad", c.angle_rad, "housing accelerometer angle phi_s, CCW from planet 0 at t = 0 [rad]", any_finite("rad"));
+  v.field("gain_m_s2_per_N", c.gain_m_s2_per_N, "transfer gain mesh force -> housing acceleration [m/s^2/N]",
+          rule("m/s^2 per N; > 0, and at most 1000 through the mount (sensor.housing_mount_frequency_Hz) at the mesh frequency"));
+  v.field("window_width_rad", c.window_width_rad, "transfer-path window width sigma [rad]", interval(0, kMaxSensorWindowWidth_rad, Ends::OpenLow, "rad"));
+  v.field("window", c.window, "window shape: \"gaussian\" or \"hann\"");
+  v.field("housing_path", c.housing_path,
+          "mesh forces -> sensor: \"planet_pass\" (window) or \"ring_translation\" (rigid ring, G = 1/ring mass)");
+  v.field("encoder_bandwidth_Hz", c.encoder_bandwidth_Hz,
+          "-3 dB bandwidth of the speed encoders' Butterworth low-pass (sun/speed, carrier/speed) [Hz]; 0 = ideal", at_least(0, "Hz; 0 = ideal encoder"));
+  v.field("encoder_filter_order", c.encoder_filter_order, "order of the encoder low-pass, 1 or 2 [-]", integers(1, 2));
+  v.field("sun_encoder_lines", c.sun_encoder_lines,
+          "lines per revolution of the sun shaft's speed encoder, read by the period method (sun/speed) [-]; 0 = ideal",
+          integers(0, kMaxEncoderLines));
+  v.field("sun_encoder_phase_rad", c.sun_encoder_phase_rad,
+          "angle of a line of the sun shaft's encoder from the shaft's zero [rad] (the phase of its images)", any_finite("rad"));
+  v.field("carrier_encoder_lines", c.carrier_encoder_lines,
+          "lines per revolution of the carrier's speed encoder, read by the period method (carrier/speed) [-]; 0 = ideal",
+          integers(0, kMaxEncoderLines));
+  v.field("carrier_encoder_phase_rad", c.carrier_encoder_phase_rad,
+          "angle of a line of the carrier's encoder from the carrier's zero [rad] (the phase of its images)", any_finite("rad"));
+  v.field("housing_mount_frequency_Hz", c.housing_mount_frequency_Hz,
+          "resonance of the housing on its mount: housing/acceleration passes a second-order high-pass there [Hz]; 0 = none (flat gain)",
+          rule("Hz; 0 = none, else > 0 and below the Nyquist frequency of the stored samples"));
+}
+
 /// Every key of a SimulationConfig (const or not), in file order.
 template <class V, class Config>
 void visit_config(V& v, Config& c) {
@@ -224,30 +253,7 @@ void visit_config(V& v, Config& c) {
   v.field("snapshot_record_mesh_cycles", c.wear.snapshot_record_mesh_cycles,
           "mesh cycles each dynamic snapshot records [-]", integers(1, 100000));
 
-  v.section("sensor");
-  v.field("angle_rad", c.sensor.angle_rad, "housing accelerometer angle phi_s, CCW from planet 0 at t = 0 [rad]", any_finite("rad"));
-  v.field("gain_m_s2_per_N", c.sensor.gain_m_s2_per_N, "transfer gain mesh force -> housing acceleration [m/s^2/N]",
-          rule("m/s^2 per N; > 0, and at most 1000 through the mount (sensor.housing_mount_frequency_Hz) at the mesh frequency"));
-  v.field("window_width_rad", c.sensor.window_width_rad, "transfer-path window width sigma [rad]", interval(0, kMaxSensorWindowWidth_rad, Ends::OpenLow, "rad"));
-  v.field("window", c.sensor.window, "window shape: \"gaussian\" or \"hann\"");
-  v.field("housing_path", c.sensor.housing_path,
-          "mesh forces -> sensor: \"planet_pass\" (window) or \"ring_translation\" (rigid ring, G = 1/ring mass)");
-  v.field("encoder_bandwidth_Hz", c.sensor.encoder_bandwidth_Hz,
-          "-3 dB bandwidth of the speed encoders' Butterworth low-pass (sun/speed, carrier/speed) [Hz]; 0 = ideal", at_least(0, "Hz; 0 = ideal encoder"));
-  v.field("encoder_filter_order", c.sensor.encoder_filter_order, "order of the encoder low-pass, 1 or 2 [-]", integers(1, 2));
-  v.field("sun_encoder_lines", c.sensor.sun_encoder_lines,
-          "lines per revolution of the sun shaft's speed encoder, read by the period method (sun/speed) [-]; 0 = ideal",
-          integers(0, kMaxEncoderLines));
-  v.field("sun_encoder_phase_rad", c.sensor.sun_encoder_phase_rad,
-          "angle of a line of the sun shaft's encoder from the shaft's zero [rad] (the phase of its images)", any_finite("rad"));
-  v.field("carrier_encoder_lines", c.sensor.carrier_encoder_lines,
-          "lines per revolution of the carrier's speed encoder, read by the period method (carrier/speed) [-]; 0 = ideal",
-          integers(0, kMaxEncoderLines));
-  v.field("carrier_encoder_phase_rad", c.sensor.carrier_encoder_phase_rad,
-          "angle of a line of the carrier's encoder from the carrier's zero [rad] (the phase of its images)", any_finite("rad"));
-  v.field("housing_mount_frequency_Hz", c.sensor.housing_mount_frequency_Hz,
-          "resonance of the housing on its mount: housing/acceleration passes a second-order high-pass there [Hz]; 0 = none (flat gain)",
-          rule("Hz; 0 = none, else > 0 and below the Nyquist frequency of the stored samples"));
+  visit_sensor(v, c.sensor);
 
   v.section("rig");
   v.field("input_control", c.rig.input_control,

@@ -236,7 +236,7 @@ TEST(Compare, BuiltinCacheKeyChangesWhenAnyOneKeyOfTheSchemaChanges) {
   const std::string base_toml = io::to_toml(base);
   const std::vector<std::string> enum_names{"torsional", "lateral_torsional", "gaussian", "hann", "power",
                                             "torque",    "speed",             "sun",      "planet", "ring",
-                                            "nominal_time"};
+                                            "nominal_time", "ring_translation"};
   int changed = 0;
   for (const auto& key : io::config_keys()) {
     std::string path = key.path;
