@@ -54,10 +54,43 @@ constexpr const char* kTimeLockedVariant =
 /// The --set line of a model whose mesh stiffness is locked to nominal time.
 const std::string kTimeLockedOverride = model_form_settings({.mesh_phase = model::MeshPhase::NominalTime}).front();
 
-/// A fit made with the time-locked mesh: its variant and its --set line say so.
-void mark_time_locked(CandidateResult& r) {
-  r.variant = (r.variant.empty() ? std::string() : r.variant + "; ") + kTimeLockedVariant;
-  r.overrides.push_back(kTimeLockedOverride);
+/// A model form a lead may be fitted in again (§5 step 9c), as the log and the rule name it.
+struct LeadForm {
+  const char* with;     ///< "with its mesh stiffness locked to nominal time"
+  const char* other;    ///< the other form, short: "locked to nominal time"
+  const char* own;      ///< the base's form, short: "locked to the gears' roll"
+  const char* variant;  ///< CandidateResult::variant's text
+  const char* why;      ///< the rule's sentence on what the form means
+  ModelForm (*changed)(ModelForm);
+};
+
+/// The mesh stiffness locked to nominal time (stiffness.mesh_phase = nominal_time).
+constexpr LeadForm kTimeLockedLead{
+    "with its mesh stiffness locked to nominal time", "locked to nominal time", "locked to the gears' roll",
+    kTimeLockedVariant,
+    "A real gear's mesh follows its roll; mesh lines locked to time come from a simulator that excites the mesh with k(t).",
+    [](ModelForm f) {
+      f.mesh_phase = model::MeshPhase::NominalTime;
+      return f;
+    }};
+
+/// The housing accelerometer on the ring's rigid-body translation (sensor.housing_path = ring_translation).
+constexpr LeadForm kRingTranslationLead{
+    "with the housing accelerometer on the ring's translation", "on the ring's translation",
+    "through the planet-pass window",
+    "housing accelerometer on the ring's rigid-body translation, not the planet-pass window (sensor.housing_path = "
+    "ring_translation)",
+    "A stiff ring that translates as one body shows its accelerometer every planet's whole force, the static loads "
+    "of unequal planets included; a flexible ring shows each planet as it passes.",
+    [](ModelForm f) {
+      f.housing_path = model::HousingPath::RingTranslation;
+      return f;
+    }};
+
+/// A fit made in another form: its variant and its --set line say so.
+void mark_form(CandidateResult& r, const LeadForm& form) {
+  r.variant = (r.variant.empty() ? std::string() : r.variant + "; ") + form.variant;
+  r.overrides.push_back(model_form_settings(form.changed(ModelForm{})).front());
 }
 
 /// A trial of another model form (calibration.hpp ModelForm: the time-locked mesh, the ring's
@@ -82,12 +115,6 @@ private:
   bool keep_ = false;
 };
 
-/// The base's form with its mesh locked to nominal time.
-ModelForm time_locked(const model::SimulationConfig& base) {
-  ModelForm f = model_form_of(base);
-  f.mesh_phase = model::MeshPhase::NominalTime;
-  return f;
-}
 
 /// Whether a candidate's evidence lies in a family the layout compares. The mesh harmonics
 /// alone do not single out a candidate that also names another family (the nuisance level
@@ -146,7 +173,7 @@ public:
       screen_candidates();
       fit_candidates();
       refit_nuisance_from_leader();
-      try_nominal_mesh_phase();
+      try_other_forms();
       explain_ranking();
       if (d_.winner == 0) refine_winner();
       if (d_.winner == 0) hold_nuisance_at_bound();
@@ -511,98 +538,119 @@ private:
     rank();
   }
 
-  /// The lead under the other model form of the mesh excitation (stiffness.mesh_phase =
-  /// nominal_time): the stiffness variation locked to time at the nominal speed, as in
-  /// lumped-parameter simulators that excite the mesh with k(t), instead of to the gears' roll.
-  /// The two differ only where the lead moves the shafts' speed (a torque ripple of a few
-  /// percent phase-modulates the h-th mesh harmonic by h Z_s dtheta_s); a recording whose mesh
-  /// lines stay locked to time leaves that modulation as a residual no size of the lead removes
-  /// (docs/diagnose-log.md, session 31: four4p rec_20, its rig given, 81516 -> 1465 held out).
-  /// One simulation decides whether to try: the lead's fitted values under nominal_time must
+  /// 9c. The lead in the other model forms a simulator may have, each where the base has the
+  /// default: the mesh locked to nominal time, then the housing accelerometer on the ring's
+  /// translation (where the recording has a housing channel).
+  void try_other_forms() {
+    if (ctx().base.stiffness.mesh_phase == model::MeshPhase::Rotation) try_lead_form(kTimeLockedLead);
+    const bool housing = std::any_of(recording_.channels.begin(), recording_.channels.end(),
+                                     [](const auto& c) { return c.quantity == Quantity::HousingAcceleration; });
+    if (housing && ctx().base.sensor.housing_path == model::HousingPath::PlanetPass) try_lead_form(kRingTranslationLead);
+  }
+
+  /// The lead under another model form (LeadForm).
+  ///  * The mesh stiffness locked to nominal time (stiffness.mesh_phase = nominal_time), as in
+  ///    lumped-parameter simulators that excite the mesh with k(t), instead of to the gears' roll.
+  ///    The two differ only where the lead moves the shafts' speed (a torque ripple of a few
+  ///    percent phase-modulates the h-th mesh harmonic by h Z_s dtheta_s); a recording whose mesh
+  ///    lines stay locked to time leaves that modulation as a residual no size of the lead removes
+  ///    (docs/diagnose-log.md, session 31: four4p rec_20, its rig given, 81516 -> 1465 held out).
+  ///  * The housing accelerometer on the ring's rigid-body translation (sensor.housing_path =
+  ///    ring_translation, model/sensor.hpp Eq. S2). With equal planets in phase both paths leave a
+  ///    healthy housing channel at the noise, so the calibration cannot choose (§6a item 11); a
+  ///    fault that loads the planets unequally (a pin error, a runout) moves a translating ring at
+  ///    carrier orders the window, which subtracts each planet's mean force, never shows
+  ///    (session 66: indepsim4's setC3, 99-100 % of its faults' excess in the housing channel).
+  /// One simulation decides whether to try: the lead's fitted values in the other form must
   /// improve its fit-half chi2 by more than chi2_{1-alpha}(1) (a discrete model-form choice is
   /// a comparison of two models with the same parameters; the margin keeps round-off and
   /// discretization from flipping it). The refit replaces the lead when it fits the fit half
   /// better; the verdict then judges it as any lead, and its variant says which form it used.
-  void try_nominal_mesh_phase() {
-    if (d_.candidates.empty() || ctx().base.stiffness.mesh_phase != model::MeshPhase::Rotation) return;
+  void try_lead_form(const LeadForm& form) {
+    if (d_.candidates.empty()) return;
     CandidateResult& w = d_.candidates.front();
     const Candidate* cand = find_candidate(w.name);
     if (!w.failed.empty() || !w.significant || cand == nullptr || cand->sensor_only()) return;
     const SplitParameters s = split_parameters(w, ctx().nuisance_x);
-    // The base stays locked to nominal time once the lead is refitted so (the phase variants and
-    // the lower limit that follow build on it); otherwise it is restored however this ends.
-    ModelFormTrial trial{ctx().base, time_locked(ctx().base)};
+    // The base keeps the other form once the lead is refitted in it (the phase variants and the
+    // lower limit that follow build on it); otherwise it is restored however this ends.
+    ModelFormTrial trial{ctx().base, form.changed(model_form_of(ctx().base))};
     const double probe = ctx().fit_chi2(cand, w.chosen, s.own, s.nuisance);
     const double margin = chi2_quantile(1.0, o_.alpha);
-    say(w.name + " with its mesh stiffness locked to nominal time: fit-half chi2 " + fmt("%.6g", probe) + " against " +
-        fmt("%.6g", w.fit.chi2) + " locked to the gears' roll");
+    say(w.name + " " + form.with + ": fit-half chi2 " + fmt("%.6g", probe) + " against " + fmt("%.6g", w.fit.chi2) +
+        " " + form.own);
     if (!(probe < w.fit.chi2 - margin)) return;
     const auto tc = Clock::now();
-    // Two starts: the lead's fitted values, and (one-parameter candidates) the best of the
-    // screening's grid over its box with the nuisance-fitted values. A phase modulation's lines
-    // go as Bessel functions of its index, so chi2 has several minima in the size. Each start gets
-    // twice the fits' Jacobian cap: the nuisance values were fitted to the other form. A synthetic
-    // 3 % ripple recorded with nominal_time (stiffness.scale 2.0 and mesh_damping_ratio 0.25 in
-    // the nuisance fit, 1.00 and 0.062 after the refit): with the cap alone 0.045 from the lead's
-    // values, 0.054 from the candidate's initial value, 0.044 from the grid's best; with twice
-    // the cap 0.034 and 0.0298 (docs/diagnose.md §5, step 9c).
-    int grid_simulations = 0;
+    int refit_simulations = 0;
+    std::optional<CandidateResult> r = refit_lead_in_form(w, *cand, s, form, refit_simulations);
+    if (!r || !(r->fit.chi2 < w.fit.chi2)) return;
+    r->simulations = w.simulations + 1 + refit_simulations;  // its first fit, the probe, the refit
+    r->evidence_z = w.evidence_z;
+    r->predicted_improvement = w.predicted_improvement;
+    r->seconds = w.seconds + seconds_since(tc);
+    mark_form(*r, form);
+    const double before = w.fit.chi2, before_held_out = w.held_out.chi2;
+    assess(*r);
+    w = std::move(*r);
+    trial.keep();
+    refit_rivals_in_form(form);
+    say(w.name + " " + form.other + ": chi2 " + fmt("%.6g", before) + " -> " + fmt("%.6g", w.fit.chi2) +
+        " on the fit half, " + fmt("%.6g", before_held_out) + " -> " + fmt("%.6g", w.held_out.chi2) + " held out");
+    d_.rule += " The lead " + w.name + " was fitted again " + form.with + " (" +
+               model_form_settings(form.changed(ModelForm{})).front() + "): with its fitted values that form fitted "
+               "the fit half better by more than chi2_{1-alpha}(1) = " + fmt("%.2f", margin) +
+               ", and the refit improved it (chi2 " + fmt("%.6g", before) + " -> " + fmt("%.6g", w.fit.chi2) + "). " +
+               form.why;
+    rank();
+  }
+
+  /// try_lead_form's refit of the lead `w` in the base's (trial) form. Two starts: the lead's
+  /// fitted values, and (one-parameter candidates) the best of the screening's grid over its box
+  /// with the nuisance-fitted values. A phase modulation's lines go as Bessel functions of its
+  /// index, so chi2 has several minima in the size. Each start gets twice the fits' Jacobian cap:
+  /// the nuisance values were fitted to the other form. A synthetic 3 % ripple recorded with
+  /// nominal_time (stiffness.scale 2.0 and mesh_damping_ratio 0.25 in the nuisance fit, 1.00 and
+  /// 0.062 after the refit): with the cap alone 0.045 from the lead's values, 0.054 from the
+  /// candidate's initial value, 0.044 from the grid's best; with twice the cap 0.034 and 0.0298
+  /// (docs/diagnose.md §5, step 9c). Adds the simulations it ran to `simulations`.
+  std::optional<CandidateResult> refit_lead_in_form(const CandidateResult& w, const Candidate& cand,
+                                                    const SplitParameters& s, const LeadForm& form, int& simulations) {
     std::vector<std::vector<double>> starts(2);
     starts[0] = s.own;
     starts[0].insert(starts[0].end(), s.nuisance.begin(), s.nuisance.end());
-    const std::vector<ParameterSpec> spec = cand->parameters(ctx().base);
+    const std::vector<ParameterSpec> spec = cand.parameters(ctx().base);
     for (const ParameterSpec& p : spec) starts[1].push_back(p.initial);
     if (spec.size() == 1) {
       const std::vector<double> grid = Screening::grid_values(spec.front());
-      say("fitting " + w.name + " again with the mesh stiffness locked to nominal time: a grid of " +
-          std::to_string(grid.size()) + " starts, then from the best and from its fitted values");
+      say("fitting " + w.name + " again " + form.with + ": a grid of " + std::to_string(grid.size()) +
+          " starts, then from the best and from its fitted values");
       std::vector<double> chi(grid.size());
       parallel_for(static_cast<int>(grid.size()), threads_, [&](int i) {
         const double x[1] = {grid[static_cast<std::size_t>(i)]};
-        chi[static_cast<std::size_t>(i)] = ctx().fit_chi2(cand, w.chosen, x, ctx().nuisance_x);
+        chi[static_cast<std::size_t>(i)] = ctx().fit_chi2(&cand, w.chosen, x, ctx().nuisance_x);
       });
       starts[1].front() = grid[static_cast<std::size_t>(std::min_element(chi.begin(), chi.end()) - chi.begin())];
-      grid_simulations = static_cast<int>(grid.size());
+      simulations += static_cast<int>(grid.size());
     } else {
-      say("fitting " + w.name + " again with the mesh stiffness locked to nominal time, from its fitted values and "
-          "from its own start");
+      say("fitting " + w.name + " again " + form.with + ", from its fitted values and from its own start");
     }
     starts[1].insert(starts[1].end(), ctx().nuisance_x.begin(), ctx().nuisance_x.end());
     std::vector<std::optional<CandidateResult>> fits(starts.size());
     parallel_for(static_cast<int>(starts.size()), threads_, [&](int i) {
       const auto k = static_cast<std::size_t>(i);
-      fits[k] = try_fit_model(ctx(), cand, w.chosen, true, 1, 2 * o_.max_iterations, starts[k]);
+      fits[k] = try_fit_model(ctx(), &cand, w.chosen, true, 1, 2 * o_.max_iterations, starts[k]);
     });
     std::optional<CandidateResult> r;
-    int refit_simulations = grid_simulations;
     for (std::size_t k = 0; k < fits.size(); ++k) {
       std::optional<CandidateResult>& f = fits[k];
       if (!f) continue;
       const std::string from = k == 0 ? "its fitted values" : spec.size() == 1 ? "the grid's best" : "its own start";
       say("  from " + from + ": fit-half chi2 " + fmt("%.6g", f->fit.chi2) + ", " + f->parameters.front().name + " = " +
           fmt("%.4g", f->parameters.front().value));
-      refit_simulations += f->simulations;
+      simulations += f->simulations;
       if (!r || f->fit.chi2 < r->fit.chi2) r = std::move(f);
     }
-    if (!r || !(r->fit.chi2 < w.fit.chi2)) return;
-    r->simulations = w.simulations + 1 + refit_simulations;  // its first fit, the probe, the refit
-    r->evidence_z = w.evidence_z;
-    r->predicted_improvement = w.predicted_improvement;
-    r->seconds = w.seconds + seconds_since(tc);
-    mark_time_locked(*r);
-    const double before = w.fit.chi2, before_held_out = w.held_out.chi2;
-    assess(*r);
-    w = std::move(*r);
-    trial.keep();
-    refit_rivals_locked_to_time();
-    say(w.name + " locked to nominal time: chi2 " + fmt("%.6g", before) + " -> " + fmt("%.6g", w.fit.chi2) +
-        " on the fit half, " + fmt("%.6g", before_held_out) + " -> " + fmt("%.6g", w.held_out.chi2) + " held out");
-    d_.rule += " The lead " + w.name + " was fitted again with its mesh stiffness locked to nominal time "
-               "(stiffness.mesh_phase = nominal_time): with its fitted values that form fitted the fit half better by more "
-               "than chi2_{1-alpha}(1) = " + fmt("%.2f", margin) + ", and the refit improved it (chi2 " +
-               fmt("%.6g", before) + " -> " + fmt("%.6g", w.fit.chi2) + "). A real gear's mesh follows its roll; "
-               "mesh lines locked to time come from a simulator that excites the mesh with k(t).";
-    rank();
+    return r;
   }
 
   /// 4. Noise test against the Monte-Carlo null of the nuisance-fitted model.
@@ -611,7 +659,7 @@ private:
     test_against_noise();
   }
 
-  /// After the lead took the time-locked form (step 9c): every other counting candidate (those the
+  /// After the lead took another form (step 9c): every other counting candidate (those the
   /// ranking and the rivalry weigh) fitted again under that form from its own fitted values, and
   /// the better of its two fits kept, so that the lead is compared with its rivals in the same
   /// model form and not by the form alone. Measured (session 65): a 20 um carrier runout
@@ -619,7 +667,7 @@ private:
   /// carrier_runout left in the roll-locked form, BIC 6 609 against 5 529), a confident wrong
   /// member of the right class. Sensor-only candidates are not refitted (they scale the sensors
   /// of the nuisance model, not its mesh).
-  void refit_rivals_locked_to_time() {
+  void refit_rivals_in_form(const LeadForm& form) {
     std::vector<std::size_t> rivals;
     for (std::size_t i = 1; i < d_.candidates.size(); ++i) {
       const CandidateResult& c = d_.candidates[i];
@@ -627,8 +675,8 @@ private:
       if (c.failed.empty() && c.counts() && cand != nullptr && !cand->sensor_only()) rivals.push_back(i);
     }
     if (rivals.empty()) return;
-    say("fitting the " + std::to_string(rivals.size()) + " other counting candidate(s) again with the mesh "
-        "stiffness locked to nominal time, as the lead now is");
+    say("fitting the " + std::to_string(rivals.size()) + " other counting candidate(s) again " + form.with +
+        ", as the lead now is");
     std::vector<std::optional<CandidateResult>> fits(rivals.size());
     parallel_for(static_cast<int>(rivals.size()), threads_, [&](int k) {
       const CandidateResult& c = d_.candidates[rivals[static_cast<std::size_t>(k)]];
@@ -642,8 +690,8 @@ private:
       CandidateResult& c = d_.candidates[rivals[k]];
       std::optional<CandidateResult>& f = fits[k];
       if (!f) continue;
-      say("  " + c.name + ": fit-half chi2 " + fmt("%.6g", c.fit.chi2) + " by roll, " + fmt("%.6g", f->fit.chi2) +
-          " locked to nominal time");
+      say("  " + c.name + ": fit-half chi2 " + fmt("%.6g", c.fit.chi2) + " " + form.own + ", " +
+          fmt("%.6g", f->fit.chi2) + " " + form.other);
       if (!(f->fit.chi2 < c.fit.chi2)) {
         c.simulations += f->simulations;
         continue;
@@ -652,14 +700,14 @@ private:
       f->evidence_z = c.evidence_z;
       f->predicted_improvement = c.predicted_improvement;
       f->seconds += c.seconds;
-      mark_time_locked(*f);
+      mark_form(*f, form);
       assess(*f);
       c = std::move(*f);
     }
   }
 
   /// 4b. The nuisance model under the other model form of the mesh excitation (stiffness.mesh_phase
-  /// = nominal_time, as in try_nominal_mesh_phase for a lead): the lumped-parameter simulators of
+  /// = nominal_time, as in try_lead_form for a lead): the lumped-parameter simulators of
   /// the literature excite the mesh with k(t), locked to time, where a real gear's mesh follows
   /// its roll. The two differ where the shafts' speed fluctuates at the mesh frequency (a light
   /// stage under a high torque at a low speed): a healthy recording from such a simulator then
@@ -684,7 +732,7 @@ private:
     if (consistent_ || !co_.baseline.empty() || ctx().nuisance.empty() ||
         ctx().base.stiffness.mesh_phase != model::MeshPhase::Rotation)
       return;
-    ModelFormTrial trial{ctx().base, time_locked(ctx().base)};
+    ModelFormTrial trial{ctx().base, kTimeLockedLead.changed(model_form_of(ctx().base))};
     const double margin = chi2_quantile(1.0, o_.alpha);
     double probe = std::numeric_limits<double>::infinity();
     try {
