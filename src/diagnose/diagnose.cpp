@@ -51,9 +51,6 @@ constexpr std::size_t kRefinedCandidates = 2;
 constexpr const char* kTimeLockedVariant =
     "mesh stiffness locked to nominal time, not to the gears' roll (stiffness.mesh_phase = nominal_time)";
 
-/// The --set line of a model whose mesh stiffness is locked to nominal time.
-const std::string kTimeLockedOverride = model_form_settings({.mesh_phase = model::MeshPhase::NominalTime}).front();
-
 /// A model form a lead may be fitted in again (§5 step 9c), as the log and the rule name it.
 struct LeadForm {
   const char* with;     ///< "with its mesh stiffness locked to nominal time"
@@ -62,6 +59,7 @@ struct LeadForm {
   const char* variant;  ///< CandidateResult::variant's text
   const char* why;      ///< the rule's sentence on what the form means
   ModelForm (*changed)(ModelForm);
+  std::optional<double> Diagnosis::*probe;  ///< where a calibration's nuisance-only probe of it is kept
 };
 
 /// The mesh stiffness locked to nominal time (stiffness.mesh_phase = nominal_time).
@@ -72,7 +70,8 @@ constexpr LeadForm kTimeLockedLead{
     [](ModelForm f) {
       f.mesh_phase = model::MeshPhase::NominalTime;
       return f;
-    }};
+    },
+    &Diagnosis::time_locked_probe_chi2};
 
 /// The housing accelerometer on the ring's rigid-body translation (sensor.housing_path = ring_translation).
 constexpr LeadForm kRingTranslationLead{
@@ -85,7 +84,8 @@ constexpr LeadForm kRingTranslationLead{
     [](ModelForm f) {
       f.housing_path = model::HousingPath::RingTranslation;
       return f;
-    }};
+    },
+    &Diagnosis::ring_translation_probe_chi2};
 
 /// A fit made in another form: its variant and its --set line say so.
 void mark_form(CandidateResult& r, const LeadForm& form) {
@@ -164,8 +164,7 @@ public:
     simulate_baseline();
     fit_nuisance();
     noise_test();
-    try_time_locked_nuisance();
-    probe_ring_translation();
+    try_other_nuisance_forms();
     if (o_.nuisance_only) return finish_calibration();
     information_criteria();
     if (!consistent_ || o_.always_fit_candidates) {
@@ -543,9 +542,8 @@ private:
   /// translation (where the recording has a housing channel).
   void try_other_forms() {
     if (ctx().base.stiffness.mesh_phase == model::MeshPhase::Rotation) try_lead_form(kTimeLockedLead);
-    const bool housing = std::any_of(recording_.channels.begin(), recording_.channels.end(),
-                                     [](const auto& c) { return c.quantity == Quantity::HousingAcceleration; });
-    if (housing && ctx().base.sensor.housing_path == model::HousingPath::PlanetPass) try_lead_form(kRingTranslationLead);
+    if (has_housing_channel() && ctx().base.sensor.housing_path == model::HousingPath::PlanetPass)
+      try_lead_form(kRingTranslationLead);
   }
 
   /// The lead under another model form (LeadForm).
@@ -728,24 +726,34 @@ private:
   /// and is kept (Diagnosis::time_locked_probe_chi2): its pooled model has one form for every
   /// operating point, which `calibrate` chooses from all its recordings (§6a). Not in a
   /// differential diagnosis (the baseline's model sets the form the change is measured against).
-  void try_time_locked_nuisance() {
-    if (consistent_ || !co_.baseline.empty() || ctx().nuisance.empty() ||
-        ctx().base.stiffness.mesh_phase != model::MeshPhase::Rotation)
-      return;
-    ModelFormTrial trial{ctx().base, kTimeLockedLead.changed(model_form_of(ctx().base))};
+  ///
+  /// 4c. The same for the housing path (sensor.housing_path = ring_translation, model/sensor.hpp
+  /// Eq. S2), where the recording has a housing channel: a housing accelerometer on a stiff ring
+  /// that translates as one body reads every planet's whole ring force projected on its direction,
+  /// not each planet's force fluctuation through a window as it passes (Eq. S1). The
+  /// lumped-parameter simulators in the manner of Lin & Parker give the ring two translations and
+  /// record those; on such a recording the planet-pass model leaves a housing-channel excess no
+  /// candidate explains (session 66: 99-100 % of the excess of indepsim4's setC3 faults). Measured
+  /// (session 67): a four-planet 27/21/69 stage recorded on the ring's translation left the window
+  /// model 412 520 on the fit half against a bound of 5 620; on the translation, 5 317.
+  void try_other_nuisance_forms() {
+    if (consistent_ || !co_.baseline.empty() || ctx().nuisance.empty()) return;
+    if (ctx().base.stiffness.mesh_phase == model::MeshPhase::Rotation) try_nuisance_form(kTimeLockedLead);
+    if (!consistent_ && has_housing_channel() && ctx().base.sensor.housing_path == model::HousingPath::PlanetPass)
+      try_nuisance_form(kRingTranslationLead);
+  }
+
+  /// Steps 4b and 4c for one form: the probe, and outside a calibration the refit and its adoption.
+  void try_nuisance_form(const LeadForm& form) {
+    ModelFormTrial trial{ctx().base, form.changed(model_form_of(ctx().base))};
     const double margin = chi2_quantile(1.0, o_.alpha);
-    double probe = std::numeric_limits<double>::infinity();
-    try {
-      probe = ctx().fit_chi2(nullptr, Variant{}, {}, ctx().nuisance_x);
-    } catch (const SolverError&) {
-      return;  // the other form cannot be simulated here: the roll-locked model stands
-    }
-    say("nuisance model with the mesh stiffness locked to nominal time: fit-half chi2 " + fmt("%.6g", probe) +
-        " against " + fmt("%.6g", d_.nuisance.fit.chi2) + " locked to the gears' roll");
+    const std::optional<double> tried = probe_nuisance(form);
+    if (!tried) return;  // the other form cannot be simulated here: the base's form stands
+    const double probe = *tried;
     if (o_.nuisance_only) {
       // A calibration's pooled model has one form for every operating point: the calibration
       // decides from all its recordings' probes (calibrate, docs/diagnose.md §6a).
-      d_.time_locked_probe_chi2 = probe;
+      d_.*form.probe = probe;
       return;
     }
     if (!(probe < d_.nuisance.fit.chi2 - margin)) return;
@@ -757,7 +765,8 @@ private:
     if (!(r->fit.chi2 < d_.nuisance.fit.chi2 && r->held_out.chi2 <= d_.bound_held_out)) return;
     const double before = d_.nuisance.fit.chi2, before_held_out = d_.nuisance.held_out.chi2;
     r->simulations += d_.nuisance.simulations + 1;
-    r->overrides.push_back(kTimeLockedOverride);  // the nuisance model has no variant to mark
+    const std::string line = model_form_settings(form.changed(ModelForm{})).front();
+    r->overrides.push_back(line);  // the nuisance model has no variant to mark
     d_.nuisance = std::move(*r);
     trial.keep();
     adopt_nuisance_values();
@@ -765,52 +774,36 @@ private:
     cmp().set_reference(*ctx().nuisance_sim, ctx().nuisance_gains);
     score_nuisance_model();
     test_against_noise();
-    d_.nuisance_mesh_phase = model::MeshPhase::NominalTime;
-    const std::string note =
-        " The nuisance model was fitted again with its mesh stiffness locked to nominal time (stiffness.mesh_phase = "
-        "nominal_time): with the roll-locked fit's values that form fitted the fit half better by more than "
-        "chi2_{1-alpha}(1) = " + fmt("%.2f", margin) + ", and its refit explains the held-out half (chi2 " +
-        fmt("%.6g", before) + " -> " + fmt("%.6g", d_.nuisance.fit.chi2) + " on the fit half, " +
-        fmt("%.6g", before_held_out) + " -> " + fmt("%.6g", d_.nuisance.held_out.chi2) +
-        " held out). A real gear's mesh follows its roll; mesh lines locked to time come from a simulator that "
-        "excites the mesh with k(t). Every later model uses that form.";
+    d_.nuisance_mesh_phase = ctx().base.stiffness.mesh_phase;
+    d_.nuisance_housing_path = ctx().base.sensor.housing_path;
+    const std::string note = " The nuisance model was fitted again " + std::string(form.with) + " (" + line +
+                             "): with the first fit's values that form fitted the fit half better by more than "
+                             "chi2_{1-alpha}(1) = " + fmt("%.2f", margin) + ", and its refit explains the held-out "
+                             "half (chi2 " + fmt("%.6g", before) + " -> " + fmt("%.6g", d_.nuisance.fit.chi2) +
+                             " on the fit half, " + fmt("%.6g", before_held_out) + " -> " +
+                             fmt("%.6g", d_.nuisance.held_out.chi2) + " held out). " + form.why +
+                             " Every later model uses that form.";
     say(note.substr(1));
     d_.rule += note;
   }
 
-  /// 4c. A calibration's probe of the other housing path (sensor.housing_path = ring_translation,
-  /// model/sensor.hpp Eq. S2): a housing accelerometer on a stiff ring that translates as one body
-  /// reads every planet's whole ring force projected on its direction, not each planet's force
-  /// fluctuation through a window as it passes (Eq. S1). Lumped-parameter simulators in the manner of
-  /// Lin & Parker give the ring two translations and record those; on such a recording the
-  /// planet-pass model leaves a housing-channel excess that no candidate explains (measured,
-  /// session 66: 99-100 % of the excess of indepsim4's setC3 faults in the housing channel, no lead
-  /// above 10 %). Only in a calibration (nuisance_only), only when the nuisance model failed the
-  /// noise test and the recording has a housing channel: one simulation of the fitted nuisance
-  /// values with the ring's translation (the housing gains profiled as always), whose fit-half
-  /// chi2 `calibrate` compares on every recording before it refits them in that form (§6a item 11).
-  /// An uncalibrated diagnosis keeps the configuration's path: which path a rig has is a property
-  /// of the rig that one recording's fit should not decide.
-  void probe_ring_translation() {
-    if (consistent_ || !o_.nuisance_only || !co_.baseline.empty() || ctx().nuisance.empty() ||
-        ctx().base.sensor.housing_path != model::HousingPath::PlanetPass)
-      return;
-    const bool housing = std::any_of(recording_.channels.begin(), recording_.channels.end(), [](const auto& c) {
-      return c.quantity == Quantity::HousingAcceleration;
-    });
-    if (!housing) return;
-    ModelForm ring = model_form_of(ctx().base);
-    ring.housing_path = model::HousingPath::RingTranslation;
-    const ModelFormTrial trial{ctx().base, ring};
-    double probe = std::numeric_limits<double>::infinity();
+  /// The fit-half chi2 of the nuisance model at its fitted values in the base's form, which the
+  /// caller has set to `form` (one simulation); empty where that form cannot be simulated.
+  std::optional<double> probe_nuisance(const LeadForm& form) {
+    double probe = 0;
     try {
       probe = ctx().fit_chi2(nullptr, Variant{}, {}, ctx().nuisance_x);
     } catch (const SolverError&) {
-      return;  // the other path cannot be simulated here: the planet-pass model stands
+      return std::nullopt;
     }
-    say("nuisance model with the housing accelerometer on the ring's translation: fit-half chi2 " + fmt("%.6g", probe) +
-        " against " + fmt("%.6g", d_.nuisance.fit.chi2) + " through the planet-pass window");
-    d_.ring_translation_probe_chi2 = probe;
+    say(std::string("nuisance model ") + form.with + ": fit-half chi2 " + fmt("%.6g", probe) + " against " +
+        fmt("%.6g", d_.nuisance.fit.chi2) + " " + form.own);
+    return probe;
+  }
+
+  bool has_housing_channel() const {
+    return std::any_of(recording_.channels.begin(), recording_.channels.end(),
+                       [](const auto& c) { return c.quantity == Quantity::HousingAcceleration; });
   }
 
   /// The null bounds of the nuisance-fitted model, whether it is consistent, and the rule's text.
