@@ -293,36 +293,6 @@ void share_rig_structure(const CalibrateCommandOptions& o, const std::vector<std
   }
 }
 
-/// One discrete part of the calibrated model's form (docs/diagnose.md §6a items 10 and 11): what the
-/// log calls the configuration's form and the other, where a nuisance-only diagnosis keeps its
-/// probe of the other, and the form with this part changed.
-struct FormChoice {
-  const char* part;  ///< "mesh stiffness", ...
-  const char* own;   ///< the configuration's form
-  const char* other;
-  std::optional<double> diagnose::Diagnosis::*probe;
-  diagnose::ModelForm (*changed)(diagnose::ModelForm);
-};
-
-/// §6a item 10: a simulator that excites the mesh with k(t) at the nominal speed makes recordings
-/// whose mesh lines are locked to time.
-constexpr FormChoice kMeshPhaseChoice{
-    "mesh stiffness", "locked to the gears' roll", "locked to nominal time (k(t))",
-    &diagnose::Diagnosis::time_locked_probe_chi2, [](diagnose::ModelForm f) {
-      f.mesh_phase = model::MeshPhase::NominalTime;
-      return f;
-    }};
-
-/// §6a item 11: a stiff ring that translates as one body on its housing (the lumped models in the
-/// manner of Lin & Parker) shows its accelerometer every planet's whole force, not each planet
-/// through a window as it passes.
-constexpr FormChoice kHousingPathChoice{
-    "housing accelerometer", "through the planet-pass window", "on the ring's translation",
-    &diagnose::Diagnosis::ring_translation_probe_chi2, [](diagnose::ModelForm f) {
-      f.housing_path = model::HousingPath::RingTranslation;
-      return f;
-    }};
-
 /// The calibrated model's form, one part at a time. A model whose form differs from the rig's
 /// cannot reproduce its recordings, and its discrepancy budget would carry that form error into
 /// every diagnosis of the rig. Where every recording's nuisance model failed the noise test and
@@ -332,7 +302,7 @@ constexpr FormChoice kHousingPathChoice{
 /// form for every later fit. Costs one simulation per recording that failed the noise test, and
 /// one nuisance fit per recording where the probes pass.
 bool choose_model_form(CalibrateCommandOptions& o, const std::vector<std::string>& rig, diagnose::HealthyFit weighting,
-                       std::vector<RecordingFit>& fits, const FormChoice& choice) {
+                       std::vector<RecordingFit>& fits, const diagnose::ModelFormPart& choice) {
   std::vector<diagnose::ModelFormFits> form;
   for (const RecordingFit& f : fits) {
     const diagnose::Diagnosis& d = f.noise_test();
@@ -368,7 +338,7 @@ bool choose_model_form(CalibrateCommandOptions& o, const std::vector<std::string
 /// A part already changed is not probed again (the diagnoses probe only a part at its default).
 void choose_model_form(CalibrateCommandOptions& o, const std::vector<std::string>& rig, diagnose::HealthyFit weighting,
                        std::vector<RecordingFit>& fits, diagnose::ModelForm& form) {
-  for (const FormChoice* c : {&kMeshPhaseChoice, &kHousingPathChoice})
+  for (const diagnose::ModelFormPart* c : {&diagnose::kTimeLockedMesh, &diagnose::kRingTranslationHousing})
     if (choose_model_form(o, rig, weighting, fits, *c)) form = c->changed(form);
 }
 

@@ -183,6 +183,47 @@ struct ModelForm {
   bool operator==(const ModelForm&) const = default;
 };
 
+/// One part of a model's form, as the diagnosis tries it (docs/diagnose.md §5 steps 4b, 4c, 9c)
+/// and the calibration chooses it (§6a items 10, 11), and as the log and the rule name it.
+struct ModelFormPart {
+  const char* part;     ///< "mesh stiffness", "housing accelerometer"
+  const char* with;     ///< "with its mesh stiffness locked to nominal time"
+  const char* other;    ///< the other form, short: "locked to nominal time"
+  const char* own;      ///< the default form, short: "locked to the gears' roll"
+  const char* variant;  ///< CandidateResult::variant's text of a fit in the other form
+  const char* why;      ///< the rule's sentence on what the other form means
+  ModelForm (*changed)(ModelForm);          ///< the form with this part in the other form
+  std::optional<double> Diagnosis::*probe;  ///< where a calibration's nuisance-only probe of it is kept
+};
+
+/// The mesh stiffness locked to nominal time (stiffness.mesh_phase = nominal_time): the k(t) of the
+/// lumped-parameter simulators of the literature, where a real gear's mesh follows its roll.
+inline constexpr ModelFormPart kTimeLockedMesh{
+    "mesh stiffness", "with its mesh stiffness locked to nominal time", "locked to nominal time",
+    "locked to the gears' roll",
+    "mesh stiffness locked to nominal time, not to the gears' roll (stiffness.mesh_phase = nominal_time)",
+    "A real gear's mesh follows its roll; mesh lines locked to time come from a simulator that excites the mesh with k(t).",
+    [](ModelForm f) {
+      f.mesh_phase = model::MeshPhase::NominalTime;
+      return f;
+    },
+    &Diagnosis::time_locked_probe_chi2};
+
+/// The housing accelerometer on the ring's rigid-body translation (sensor.housing_path =
+/// ring_translation, model/sensor.hpp Eq. S2): the lumped models in the manner of Lin & Parker.
+inline constexpr ModelFormPart kRingTranslationHousing{
+    "housing accelerometer", "with the housing accelerometer on the ring's translation", "on the ring's translation",
+    "through the planet-pass window",
+    "housing accelerometer on the ring's rigid-body translation, not the planet-pass window (sensor.housing_path = "
+    "ring_translation)",
+    "A stiff ring that translates as one body shows its accelerometer every planet's whole force, the static loads "
+    "of unequal planets included; a flexible ring shows each planet as it passes.",
+    [](ModelForm f) {
+      f.housing_path = model::HousingPath::RingTranslation;
+      return f;
+    },
+    &Diagnosis::ring_translation_probe_chi2};
+
 /// `config` with `form` applied (the two keys model_form_settings writes).
 void apply_model_form(model::SimulationConfig& config, const ModelForm& form);
 

@@ -47,48 +47,8 @@ namespace {
 /// Candidates fitted further after the first ranking.
 constexpr std::size_t kRefinedCandidates = 2;
 
-/// The variant text of a fit whose mesh stiffness is locked to nominal time (§5 steps 4b, 9c).
-constexpr const char* kTimeLockedVariant =
-    "mesh stiffness locked to nominal time, not to the gears' roll (stiffness.mesh_phase = nominal_time)";
-
-/// A model form a lead may be fitted in again (§5 step 9c), as the log and the rule name it.
-struct LeadForm {
-  const char* with;     ///< "with its mesh stiffness locked to nominal time"
-  const char* other;    ///< the other form, short: "locked to nominal time"
-  const char* own;      ///< the base's form, short: "locked to the gears' roll"
-  const char* variant;  ///< CandidateResult::variant's text
-  const char* why;      ///< the rule's sentence on what the form means
-  ModelForm (*changed)(ModelForm);
-  std::optional<double> Diagnosis::*probe;  ///< where a calibration's nuisance-only probe of it is kept
-};
-
-/// The mesh stiffness locked to nominal time (stiffness.mesh_phase = nominal_time).
-constexpr LeadForm kTimeLockedLead{
-    "with its mesh stiffness locked to nominal time", "locked to nominal time", "locked to the gears' roll",
-    kTimeLockedVariant,
-    "A real gear's mesh follows its roll; mesh lines locked to time come from a simulator that excites the mesh with k(t).",
-    [](ModelForm f) {
-      f.mesh_phase = model::MeshPhase::NominalTime;
-      return f;
-    },
-    &Diagnosis::time_locked_probe_chi2};
-
-/// The housing accelerometer on the ring's rigid-body translation (sensor.housing_path = ring_translation).
-constexpr LeadForm kRingTranslationLead{
-    "with the housing accelerometer on the ring's translation", "on the ring's translation",
-    "through the planet-pass window",
-    "housing accelerometer on the ring's rigid-body translation, not the planet-pass window (sensor.housing_path = "
-    "ring_translation)",
-    "A stiff ring that translates as one body shows its accelerometer every planet's whole force, the static loads "
-    "of unequal planets included; a flexible ring shows each planet as it passes.",
-    [](ModelForm f) {
-      f.housing_path = model::HousingPath::RingTranslation;
-      return f;
-    },
-    &Diagnosis::ring_translation_probe_chi2};
-
 /// A fit made in another form: its variant and its --set line say so.
-void mark_form(CandidateResult& r, const LeadForm& form) {
+void mark_form(CandidateResult& r, const ModelFormPart& form) {
   r.variant = (r.variant.empty() ? std::string() : r.variant + "; ") + form.variant;
   r.overrides.push_back(model_form_settings(form.changed(ModelForm{})).front());
 }
@@ -541,12 +501,12 @@ private:
   /// default: the mesh locked to nominal time, then the housing accelerometer on the ring's
   /// translation (where the recording has a housing channel).
   void try_other_forms() {
-    if (ctx().base.stiffness.mesh_phase == model::MeshPhase::Rotation) try_lead_form(kTimeLockedLead);
+    if (ctx().base.stiffness.mesh_phase == model::MeshPhase::Rotation) try_lead_form(kTimeLockedMesh);
     if (has_housing_channel() && ctx().base.sensor.housing_path == model::HousingPath::PlanetPass)
-      try_lead_form(kRingTranslationLead);
+      try_lead_form(kRingTranslationHousing);
   }
 
-  /// The lead under another model form (LeadForm).
+  /// The lead under another model form (ModelFormPart).
   ///  * The mesh stiffness locked to nominal time (stiffness.mesh_phase = nominal_time), as in
   ///    lumped-parameter simulators that excite the mesh with k(t), instead of to the gears' roll.
   ///    The two differ only where the lead moves the shafts' speed (a torque ripple of a few
@@ -564,7 +524,7 @@ private:
   /// a comparison of two models with the same parameters; the margin keeps round-off and
   /// discretization from flipping it). The refit replaces the lead when it fits the fit half
   /// better; the verdict then judges it as any lead, and its variant says which form it used.
-  void try_lead_form(const LeadForm& form) {
+  void try_lead_form(const ModelFormPart& form) {
     if (d_.candidates.empty()) return;
     CandidateResult& w = d_.candidates.front();
     const Candidate* cand = find_candidate(w.name);
@@ -612,7 +572,7 @@ private:
   /// candidate's initial value, 0.044 from the grid's best; with twice the cap 0.034 and 0.0298
   /// (docs/diagnose.md §5, step 9c). Adds the simulations it ran to `simulations`.
   std::optional<CandidateResult> refit_lead_in_form(const CandidateResult& w, const Candidate& cand,
-                                                    const SplitParameters& s, const LeadForm& form, int& simulations) {
+                                                    const SplitParameters& s, const ModelFormPart& form, int& simulations) {
     std::vector<std::vector<double>> starts(2);
     starts[0] = s.own;
     starts[0].insert(starts[0].end(), s.nuisance.begin(), s.nuisance.end());
@@ -665,7 +625,7 @@ private:
   /// carrier_runout left in the roll-locked form, BIC 6 609 against 5 529), a confident wrong
   /// member of the right class. Sensor-only candidates are not refitted (they scale the sensors
   /// of the nuisance model, not its mesh).
-  void refit_rivals_in_form(const LeadForm& form) {
+  void refit_rivals_in_form(const ModelFormPart& form) {
     std::vector<std::size_t> rivals;
     for (std::size_t i = 1; i < d_.candidates.size(); ++i) {
       const CandidateResult& c = d_.candidates[i];
@@ -738,13 +698,13 @@ private:
   /// model 412 520 on the fit half against a bound of 5 620; on the translation, 5 317.
   void try_other_nuisance_forms() {
     if (consistent_ || !co_.baseline.empty() || ctx().nuisance.empty()) return;
-    if (ctx().base.stiffness.mesh_phase == model::MeshPhase::Rotation) try_nuisance_form(kTimeLockedLead);
+    if (ctx().base.stiffness.mesh_phase == model::MeshPhase::Rotation) try_nuisance_form(kTimeLockedMesh);
     if (!consistent_ && has_housing_channel() && ctx().base.sensor.housing_path == model::HousingPath::PlanetPass)
-      try_nuisance_form(kRingTranslationLead);
+      try_nuisance_form(kRingTranslationHousing);
   }
 
   /// Steps 4b and 4c for one form: the probe, and outside a calibration the refit and its adoption.
-  void try_nuisance_form(const LeadForm& form) {
+  void try_nuisance_form(const ModelFormPart& form) {
     ModelFormTrial trial{ctx().base, form.changed(model_form_of(ctx().base))};
     const double margin = chi2_quantile(1.0, o_.alpha);
     const std::optional<double> tried = probe_nuisance(form);
@@ -789,7 +749,7 @@ private:
 
   /// The fit-half chi2 of the nuisance model at its fitted values in the base's form, which the
   /// caller has set to `form` (one simulation); empty where that form cannot be simulated.
-  std::optional<double> probe_nuisance(const LeadForm& form) {
+  std::optional<double> probe_nuisance(const ModelFormPart& form) {
     double probe = 0;
     try {
       probe = ctx().fit_chi2(nullptr, Variant{}, {}, ctx().nuisance_x);
