@@ -52,6 +52,19 @@ std::vector<T> read_array(const toml::array* a, const std::filesystem::path& p, 
   return out;
 }
 
+/// An optional key of the calibration naming one of a form part's two values by `name` (the
+/// configuration's names: model::mesh_phase_name, model::housing_path_name); `absent` when the file
+/// predates it. Any other name is an input error naming the key and both names.
+template <class View, class E>
+E read_form_part(const View& cal, const char* key, const std::filesystem::path& p,
+                 E absent, E other, const char* (*name)(E)) {
+  const auto v = cal[key].template value<std::string>();
+  if (!v) return absent;
+  require(*v == name(absent) || *v == name(other), where(p, std::string("calibration.") + key), "must be \"",
+          name(absent), "\" or \"", name(other), "\", got '", *v, "'");
+  return *v == name(other) ? other : absent;
+}
+
 double read_number(const toml::table& t, const char* key, const std::filesystem::path& p, const std::string& ctx) {
   const auto v = t[key].value<double>();
   if (!v) throw InputError(where(p, ctx + "." + key), "missing or not a number");
@@ -134,22 +147,11 @@ diagnose::Calibration read_calibration(const std::filesystem::path& path) {
   c.overrides = read_array<std::string>(cal["overrides"].as_array(), path, "calibration.overrides");
   if (const auto h = cal["healthy_fit"].value<std::string>())  // optional: written since session 43
     c.healthy_fit = diagnose::healthy_fit_from_string(*h, where(path, "calibration.healthy_fit"));
-  if (const auto m = cal["mesh_phase"].value<std::string>()) {  // optional: written since session 66
-    using model::MeshPhase;
-    const char* rotation = model::mesh_phase_name(MeshPhase::Rotation);
-    const char* time = model::mesh_phase_name(MeshPhase::NominalTime);
-    require(*m == rotation || *m == time, where(path, "calibration.mesh_phase"), "must be \"", rotation, "\" or \"",
-            time, "\", got '", *m, "'");
-    c.form.mesh_phase = *m == time ? MeshPhase::NominalTime : MeshPhase::Rotation;
-  }
-  if (const auto h = cal["housing_path"].value<std::string>()) {  // optional: written since session 67
-    using model::HousingPath;
-    const char* window = model::housing_path_name(HousingPath::PlanetPass);
-    const char* ring = model::housing_path_name(HousingPath::RingTranslation);
-    require(*h == window || *h == ring, where(path, "calibration.housing_path"), "must be \"", window, "\" or \"",
-            ring, "\", got '", *h, "'");
-    c.form.housing_path = *h == ring ? HousingPath::RingTranslation : HousingPath::PlanetPass;
-  }
+  // Optional: mesh_phase written since session 66, housing_path since session 67.
+  c.form.mesh_phase = read_form_part(cal, "mesh_phase", path, model::MeshPhase::Rotation,
+                                     model::MeshPhase::NominalTime, &model::mesh_phase_name);
+  c.form.housing_path = read_form_part(cal, "housing_path", path, model::HousingPath::PlanetPass,
+                                       model::HousingPath::RingTranslation, &model::housing_path_name);
   if (cal["at_bound"])  // optional: files written before it existed have none
     c.at_bound = read_array<std::string>(cal["at_bound"].as_array(), path, "calibration.at_bound");
   const toml::array* disc = root["discrepancy"].as_array();
