@@ -329,10 +329,13 @@ void add_screening_and_candidates(Doc& doc, const dg::Diagnosis& d) {
     doc.h2("Screening");
     doc.p("Every candidate moved from its no-effect value to a moderate one from the nuisance-fitted model; S = "
           "r'J(J'J)^-1 J'r is the chi2 improvement its linearized step predicts (score statistic, ~chi2(k) if "
-          "the physics is absent). The largest are fitted.");
+          "the physics is absent). The largest are fitted. A candidate with transfer parameters (how its size "
+          "reaches the sensors) is screened with them at 'absent' and at their screening values, and keeps the "
+          "larger S (marked *).");
     std::vector<std::vector<std::string>> t{{"candidate", "best variant", "S", "fitted"}};
     for (const auto& sr : d.screening)
-      t.push_back({sr.name, sr.variant, sr.failed ? "simulation failed" : g(sr.predicted_improvement, 5),
+      t.push_back({sr.name, sr.variant,
+                   sr.failed ? "simulation failed" : g(sr.predicted_improvement, 5) + (sr.at_transfer_values ? " *" : ""),
                    sr.fitted ? "yes" : "no"});
     doc.table(t);
   }
@@ -593,7 +596,7 @@ void write_diagnosis_report(const std::filesystem::path& dir, const dg::Diagnosi
                  {"held_out_chi2", num(d.lead.held_out_chi2)}, {"bound_held_out", num(d.lead.bound_held_out)},
                  {"bound_held_out_folded", num(d.lead.bound_folded)},
                  {"replicate_chi2", num(d.lead.replicate_chi2)}, {"within_bound", d.lead.within_bound}, {"explained_fraction", num(d.lead.explained_fraction)},
-                 {"at_bound", d.lead.at_bound}, {"posterior", num(d.lead.posterior)},
+                 {"at_bound", d.lead.at_bound}, {"silent_channels", d.lead.silent_channels}, {"posterior", num(d.lead.posterior)},
                  {"class_posterior", num(d.lead.class_posterior)}, {"rival", d.lead.rival},
                  {"failed", d.lead.failed}};
   } else {
@@ -681,7 +684,7 @@ void write_diagnosis_report(const std::filesystem::path& dir, const dg::Diagnosi
   json scr = json::array();
   for (const auto& sr : d.screening)
     scr.push_back({{"name", sr.name}, {"variant", sr.variant}, {"predicted_improvement", num(sr.predicted_improvement)},
-                   {"failed", sr.failed}, {"fitted", sr.fitted}});
+                   {"failed", sr.failed}, {"fitted", sr.fitted}, {"at_transfer_values", sr.at_transfer_values}});
   j["screening"] = scr;
   const auto& tm = d.timing;
   j["timing"] = {{"total_s", tm.total_s}, {"analysis_s", tm.analysis_s}, {"baseline_s", tm.baseline_s},

@@ -911,6 +911,7 @@ private:
       sr.variant = s.v.label;
       sr.predicted_improvement = s.S;
       sr.failed = s.failed;
+      sr.at_transfer_values = s.screened_at_transfer_values;
       sr.fitted = std::find(shortlist_.begin(), shortlist_.end(), i) != shortlist_.end();
       d_.screening.push_back(sr);
     }

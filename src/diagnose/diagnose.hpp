@@ -176,9 +176,15 @@ struct CandidateResult {
   /// chi2 gain with a parameter indistinguishable from "absent" is the nuisance fit
   /// converging further, not evidence for this physics.
   bool non_null = false;
-  /// Candidates with a saturating parameter: fit-half chi2 with its own parameters at their
-  /// 'absent' values and the nuisance parameters as fitted (likelihood-ratio test of
-  /// 'absent' in place of Wald); NaN otherwise.
+  /// Candidates with a saturating or a transfer parameter: fit-half chi2 with its own parameters
+  /// at their 'absent' values (transfer ones as fitted) and the nuisance parameters as fitted
+  /// (likelihood-ratio test of 'absent' in place of Wald); NaN otherwise. Why for transfer
+  /// parameters: the size acts through its product with the transfer (a ripple fraction over the
+  /// motor's impedance |P / W^2 + i w J_in|), a ridge along which the size's standard error is as
+  /// large as the size itself however far the fit is from 'absent'; the Wald test, not invariant
+  /// to that parametrization, then fails where the likelihood ratio is 10^5 (indepsim4 setC3
+  /// rec_15: a ripple fitted 0.062 +- 0.15 that lowered chi2 by 2.9e5 on both halves,
+  /// docs/diagnose-log.md session 68).
   double null_chi2_fit = std::numeric_limits<double>::quiet_NaN();
   bool counts() const { return significant && holds && non_null; }
   /// Simulations its own fit ran (cache hits not counted; a configuration another fit had
@@ -214,6 +220,9 @@ struct ScreenResult {
   double predicted_improvement = 0;  ///< S = r'J(J'J)^-1 J'r at the nuisance-fitted model
   bool failed = false;               ///< its screening simulation failed
   bool fitted = false;               ///< shortlisted
+  /// S is the screening's at the transfer parameters' screening values (Screen::
+  /// screened_at_transfer_values), not at their 'absent'.
+  bool at_transfer_values = false;
 };
 
 /// The best candidate and why it is, or is not, named (verdict.hpp).
@@ -234,6 +243,9 @@ struct LeadAssessment {
   double replicate_chi2 = std::numeric_limits<double>::quiet_NaN();
   bool within_bound = false;          ///< condition (a): chi2_lead,h <= max(B_lead, replicate_chi2)
   std::vector<std::string> at_bound;  ///< condition (b) failures: "stiffness.scale at its bound 2"
+  /// Housing gains at the low end of their profile search (condition (b)'s exception): channels
+  /// that hear none of the lead's model lines above the noise, so the finding rests on the others.
+  std::vector<std::string> silent_channels;
   /// Condition (d): BIC posterior probability of the lead among the counting candidates of other
   /// names (1 without rivals), and the strongest rival's name (empty: none).
   double posterior = 1.0;

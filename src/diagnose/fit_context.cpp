@@ -28,6 +28,18 @@ bool any_saturates(const std::vector<ParameterSpec>& specs) {
   return std::any_of(specs.begin(), specs.end(), [](const ParameterSpec& p) { return p.saturates; });
 }
 
+bool any_transfer(const std::vector<ParameterSpec>& specs) {
+  return std::any_of(specs.begin(), specs.end(), [](const ParameterSpec& p) { return p.transfer; });
+}
+
+std::vector<double> absent_with_transfer_as_fitted(const std::vector<ParameterSpec>& specs,
+                                                   const std::vector<double>& fitted) {
+  std::vector<double> x;
+  for (std::size_t i = 0; i < specs.size(); ++i)
+    x.push_back(specs[i].transfer && i < fitted.size() ? fitted[i] : specs[i].null_value);
+  return x;
+}
+
 std::vector<ParameterSpec> FitContext::nuisance_specs() const {
   std::vector<ParameterSpec> out;
   for (const Candidate* n : nuisance)
@@ -310,10 +322,9 @@ CandidateResult fit_model(FitContext& ctx, const Candidate* cand, const Variant&
   append_gains(ctx, fit, res);
   res.fit = summarize(fit);
   res.held_out = summarize(held);
-  if (any_saturates(cspec)) {
+  if (any_saturates(cspec) || any_transfer(cspec)) {
     // The likelihood-ratio test of 'absent' (CandidateResult::null_chi2_fit).
-    std::vector<double> null_x;
-    for (const auto& p : cspec) null_x.push_back(p.null_value);
+    const std::vector<double> null_x = absent_with_transfer_as_fitted(cspec, cx);
     const auto c0 = ctx.make(cand, v, null_x, nx, nullptr);
     res.null_chi2_fit = ctx.cmp.score(ctx.amplitudes(c0, sensor_path_only, &sims), Half::Fit, ctx.nuisance_gains, HousingGains::Profile).chi2;
   }

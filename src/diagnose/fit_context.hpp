@@ -55,6 +55,14 @@ ScoreSummary summarize(const WindowScore& w);
 bool is_sensor_gain(const FittedParameter& p);
 
 bool any_saturates(const std::vector<ParameterSpec>& specs);
+/// Whether some parameter is a transfer one (ParameterSpec::transfer).
+bool any_transfer(const std::vector<ParameterSpec>& specs);
+/// The parameter vector of the likelihood-ratio test of 'absent' (CandidateResult::null_chi2_fit):
+/// every own parameter at its 'absent' value except the transfer ones, which keep their `fitted`
+/// values -- how the excitation would reach the sensors, had there been one, is not what is
+/// tested.
+std::vector<double> absent_with_transfer_as_fitted(const std::vector<ParameterSpec>& specs,
+                                                   const std::vector<double>& fitted);
 
 /// Everything the fits of one diagnosis share.
 struct FitContext {

@@ -66,6 +66,12 @@ std::string ranking_reason(const CandidateResult& r, bool winner, double best_bi
   else if (!r.holds)
     std::snprintf(buf, sizeof buf, "fits the first half (-%.1f) but does not hold on the held-out half (%+.1f; threshold %.1f)",
                   r.delta_chi2_fit, -r.delta_chi2_held_out, r.lr_threshold);
+  else if (!r.non_null && std::isfinite(r.null_chi2_fit))
+    std::snprintf(buf, sizeof buf,
+                  "improves both halves (-%.1f, -%.1f) but with its own parameters at 'absent' (transfer ones as "
+                  "fitted) the fit half's chi2 rises by only %.1f (likelihood-ratio threshold %.1f): the gain is "
+                  "the other parameters moving, not this physics",
+                  r.delta_chi2_fit, r.delta_chi2_held_out, r.null_chi2_fit - r.fit.chi2, r.lr_threshold);
   else if (!r.non_null)
     std::snprintf(buf, sizeof buf,
                   "improves both halves (-%.1f, -%.1f) but its parameters do not differ from 'absent' beyond "

@@ -61,6 +61,12 @@ void Screening::add_variants(const std::function<bool(const Candidate&)>& wanted
       sc.spec = c->parameters(ctx_.base);
       sc.cols.resize(sc.spec.size());
       for (std::size_t i = 0; i < sc.spec.size(); ++i) tasks_.push_back({screens_.size(), i});
+      if (any_transfer(sc.spec) && !any_saturates(sc.spec) && !c->sensor_only()) {
+        sc.transfer_moved.resize(sc.spec.size());
+        tasks_.push_back({screens_.size(), Task::kBase, true});
+        for (std::size_t i = 0; i < sc.spec.size(); ++i)
+          if (!sc.spec[i].transfer) tasks_.push_back({screens_.size(), i, true});
+      }
       screens_.push_back(std::move(sc));
     }
   }
@@ -87,6 +93,15 @@ void Screening::simulate_secants() {
     Screen& sc = screens_[tk.screen];
     std::vector<double> x;
     for (const auto& ps : sc.spec) x.push_back(ps.null_value);
+    if (tk.at_transfer_values) {
+      // A failed simulation leaves its residual empty: the second screening is then skipped.
+      for (std::size_t i = 0; i < sc.spec.size(); ++i)
+        if (sc.spec[i].transfer) x[i] = sc.spec[i].screen_value;
+      if (tk.param != Task::kBase) x[tk.param] = sc.spec[tk.param].screen_value;
+      auto r = ctx_.fit_residual(sc.c, sc.v, x, ctx_.nuisance_x, sc.c->sensor_only());
+      (tk.param == Task::kBase ? sc.transfer_base : sc.transfer_moved[tk.param]) = std::move(r);
+      return;
+    }
     const ParameterSpec& ps = sc.spec[tk.param];
     x[tk.param] = ps.screen_value;
     const auto r = ctx_.fit_residual(sc.c, sc.v, x, ctx_.nuisance_x, sc.c->sensor_only());
@@ -155,6 +170,7 @@ void Screening::linearize() {
     // (S = 0): measured, a pin error whose linear step left its +-0.02 m box was never fitted
     // and its near-alias, a carrier eccentricity, was named (docs/diagnose-log.md, session 15).
     if (!saturating) joint_step(sc, nuse, r_res, S_nuis);
+    if (!saturating && !sc.transfer_base.empty()) transfer_screen_step(sc, nuse, r_res, S_nuis);
     // A start on the no-effect value would give LM nothing to difference: keep it inside.
     for (std::size_t i = 0; i < p; ++i) {
       const auto& ps = sc.spec[i];
@@ -183,6 +199,48 @@ void Screening::joint_step(Screen& sc, const std::vector<std::size_t>& nuse, con
   const BoxedLeastSquares step = boxed_least_squares(A, lower, upper, B, r_res);
   sc.S = std::max(0.0, r_res.squaredNorm() - step.cost - S_nuis);
   for (std::size_t i = 0; i < p; ++i) sc.start[i] = sc.spec[i].null_value + step.a(static_cast<Eigen::Index>(i));
+  for (std::size_t a = 0; a < nuse.size(); ++a) {
+    const auto& ps = nspec_[nuse[a]];
+    sc.nuisance_start[nuse[a]] =
+        std::clamp(ctx_.nuisance_x[nuse[a]] + step.b(static_cast<Eigen::Index>(a)), ps.lower, ps.upper);
+  }
+}
+
+void Screening::transfer_screen_step(Screen& sc, const std::vector<std::size_t>& nuse,
+                                     const Eigen::Ref<const Eigen::VectorXd>& r_res, double S_nuis) const {
+  const Eigen::Index m = r_res.size();
+  if (static_cast<Eigen::Index>(sc.transfer_base.size()) != m) return;
+  std::vector<std::size_t> own;  // the non-transfer parameters, stepped; the transfer ones held
+  for (std::size_t i = 0; i < sc.spec.size(); ++i) {
+    if (sc.spec[i].transfer) continue;
+    if (static_cast<Eigen::Index>(sc.transfer_moved[i].size()) != m) return;
+    own.push_back(i);
+  }
+  const Eigen::Map<const Eigen::VectorXd> base(sc.transfer_base.data(), m);
+  Eigen::MatrixXd A(m, static_cast<Eigen::Index>(own.size())), B(m, static_cast<Eigen::Index>(nuse.size()));
+  Eigen::VectorXd lower(A.cols()), upper(A.cols());
+  for (std::size_t a = 0; a < own.size(); ++a) {
+    const ParameterSpec& ps = sc.spec[own[a]];
+    const auto ai = static_cast<Eigen::Index>(a);
+    A.col(ai) = (Eigen::Map<const Eigen::VectorXd>(sc.transfer_moved[own[a]].data(), m) - base) /
+                (ps.screen_value - ps.null_value);
+    lower(ai) = ps.lower - ps.null_value;
+    upper(ai) = ps.upper - ps.null_value;
+  }
+  // The nuisance secants are those taken at the nuisance-fitted model (a first-order stand-in
+  // for the same directions at the transfer values).
+  for (std::size_t a = 0; a < nuse.size(); ++a)
+    B.col(static_cast<Eigen::Index>(a)) = Eigen::Map<const Eigen::VectorXd>(ncols_[nuse[a]].data(), m);
+  const BoxedLeastSquares step = boxed_least_squares(A, lower, upper, B, base);
+  // Against the same reference as joint_step's S: what the nuisance-only model reaches linearly.
+  const double S = r_res.squaredNorm() - step.cost - S_nuis;
+  if (!(S > sc.S)) return;
+  sc.S = S;
+  sc.screened_at_transfer_values = true;
+  for (std::size_t i = 0; i < sc.spec.size(); ++i)
+    if (sc.spec[i].transfer) sc.start[i] = sc.spec[i].screen_value;
+  for (std::size_t a = 0; a < own.size(); ++a)
+    sc.start[own[a]] = sc.spec[own[a]].null_value + step.a(static_cast<Eigen::Index>(a));
   for (std::size_t a = 0; a < nuse.size(); ++a) {
     const auto& ps = nspec_[nuse[a]];
     sc.nuisance_start[nuse[a]] =

@@ -333,6 +333,16 @@ LeadAssessment assess_lead(Diagnosis& d, const VerdictInputs& in) {
     // well", as for a saturating one, and the finding's size is not this parameter.
     if (!p.nuisance && p.transfer) continue;
     if (p.nuisance && !p.moved) continue;      // not what the finding rests on
+    // A housing gain at the low end of its profile search: every model line it scales lies below
+    // its cell's noise, so that channel reads as noise and the finding rests on the others. Not a
+    // limit the fit pushed against: the features are amplitudes, chi2(g) = chi2(-g), so g -> 0 is
+    // a stationary point of the fit over every real gain, the optimum the box did not cut off.
+    // What that channel holds beyond noise is still scored by (a). (The upper end, a gain above
+    // the configuration's largest, is a limit and blocks.)
+    if (is_gain(p) && p.value < p.upper) {
+      a.silent_channels.push_back(p.name);
+      continue;
+    }
     a.at_bound.push_back(at_bound_text(p));
   }
   // Why it is not named; `other` marks a reason that is not a member of the lead's own class
@@ -447,6 +457,17 @@ std::string nuisance_text(const Diagnosis& d) {
   return s;
 }
 
+/// " The housing channel ... reads as noise ..." for the housing gains at the low end of their
+/// profile search (condition (b)'s exception); empty when there are none.
+std::string silent_text(const std::vector<std::string>& gains) {
+  if (gains.empty()) return {};
+  std::string names;
+  for (std::size_t i = 0; i < gains.size(); ++i) names += (i ? ", " : "") + gains[i];
+  return " Its fitted " + names + (gains.size() > 1 ? " are" : " is") +
+         " at the low end of the profile search: none of the model's lines there stands above the noise, so "
+         "that channel reads as noise and the finding rests on the others.";
+}
+
 std::string named_summary(const Diagnosis& d, bool calibrated, bool differential) {
   const CandidateResult& w = d.candidates.front();
   std::string ps;
@@ -493,7 +514,7 @@ std::string named_summary(const Diagnosis& d, bool calibrated, bool differential
          (calibrated ? (differential ? " with the fidelity directions and the baseline's discrepancy at its own change"
                                      : " with the fidelity directions and the calibrated discrepancy at its own model")
                      : " with the fidelity directions at its own model") +
-         ")." + where;
+         ")." + silent_text(d.lead.silent_channels) + where;
 }
 
 std::string unexplained_summary(const Diagnosis& d) {
@@ -536,7 +557,8 @@ std::string verdict_rule(const Diagnosis& d) {
   }
   r += "; (b) none of its own parameters (saturating ones excepted: only their lower limit is claimed; and transfer "
        "ones, how the physics reaches the sensors, whose box ends are limits) and none "
-       "of its recalibrated nuisance parameters sits at a bound — ";
+       "of its recalibrated nuisance parameters sits at a bound (a housing gain at the low end of its profile "
+       "search excepted: that channel then reads as noise, and (a) scores it so) — ";
   r += d.lead.at_bound.empty() ? std::string("none") : d.lead.at_bound.front();
   for (std::size_t i = 1; i < d.lead.at_bound.size(); ++i) r += ", " + d.lead.at_bound[i];
   r += "; (c) the excess replicated: the nuisance-only model exceeds its bound on the held-out half too (" +

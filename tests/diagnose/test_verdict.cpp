@@ -267,6 +267,34 @@ TEST(Verdict, WinnerWithAMovedNuisanceParameterAtABoundIsUnexplained) {
   EXPECT_EQ(d.lead.at_bound.front(), "stiffness.scale at its bound 2");
 }
 
+TEST(Verdict, AHousingGainAtTheLowEndOfItsSearchDoesNotBlockTheFindingButItsUpperEndDoes) {
+  // The lead's housing gain fitted to where every model line lies below the noise (indepsim4 setC3
+  // rec_15: a torque ripple whose evidence is in the speed channels, gain 1.1e-8): that channel
+  // reads as noise, and chi2 is even in the gain, so g -> 0 is no box stopping the fit. The name
+  // stands, and the summary says the finding rests on the other channels. A gain at the top end
+  // (above the configuration's largest) is a limit and blocks as before.
+  Diagnosis d = counting_friction();
+  FittedParameter g = parameter("sensor.gain_m_s2_per_N", 1e-8, 1e-9, 0.0, 9.0, 1.0, true);
+  g.sensor_gain = true;
+  g.at_bound = true;
+  d.candidates.front().parameters.push_back(g);
+  decide_verdict(d, inputs(1110));
+  EXPECT_EQ(d.verdict, Verdict::MissingPhysicsFound) << d.summary;
+  EXPECT_TRUE(d.lead.at_bound.empty());
+  EXPECT_EQ(d.lead.silent_channels, std::vector<std::string>{"sensor.gain_m_s2_per_N"});
+  EXPECT_NE(d.summary.find("Its fitted sensor.gain_m_s2_per_N is at the low end of the profile search"),
+            std::string::npos)
+      << d.summary;
+  Diagnosis high = counting_friction();
+  g.value = 9.0;
+  high.candidates.front().parameters.push_back(g);
+  decide_verdict(high, inputs(1110));
+  EXPECT_EQ(high.verdict, Verdict::Unexplained) << high.summary;
+  ASSERT_EQ(high.lead.at_bound.size(), 1u);
+  EXPECT_EQ(high.lead.at_bound.front(), "sensor.gain_m_s2_per_N at the edge of its profile search (9)");
+  EXPECT_TRUE(high.lead.silent_channels.empty());
+}
+
 TEST(Verdict, ATransferParameterAtAnEndOfItsBoxDoesNotBlockTheFindingAndIsSaidToBeNoSize) {
   // A torque ripple recorded without a load machine: the load inertia it fits beside the fraction
   // (how the ripple reaches the sensors) stops at the bottom of its box, "no machine"; the ends of

@@ -62,8 +62,9 @@ struct ParameterSpec {
   /// How the candidate's excitation reaches the sensors rather than the excitation itself: a rig
   /// property the healthy recordings cannot calibrate because only this physics excites it (the
   /// load machine's inertia, which splits an input torque ripple between the speeds and the mesh
-  /// forces). Fitted with the candidate; never what makes it differ from 'absent' (the Wald test of
-  /// CandidateResult::non_null skips it) and never its size.
+  /// forces). Fitted with the candidate; never what makes it differ from 'absent' (a candidate
+  /// with one is tested against 'absent' by likelihood ratio, with this parameter held at its fitted
+  /// value: CandidateResult::null_chi2_fit) and never its size.
   bool transfer = false;
   /// Non-empty: the fitted value is the size only for a rig element the configuration leaves at
   /// the model's idealization, and a real value of that element rescales it (how a ripple reads
