@@ -176,15 +176,15 @@ struct CandidateResult {
   /// chi2 gain with a parameter indistinguishable from "absent" is the nuisance fit
   /// converging further, not evidence for this physics.
   bool non_null = false;
-  /// Candidates with a saturating or a transfer parameter: fit-half chi2 with its own parameters
-  /// at their 'absent' values (transfer ones as fitted) and the nuisance parameters as fitted
-  /// (likelihood-ratio test of 'absent' in place of Wald); NaN otherwise. Why for transfer
-  /// parameters: the size acts through its product with the transfer (a ripple fraction over the
-  /// motor's impedance |P / W^2 + i w J_in|), a ridge along which the size's standard error is as
-  /// large as the size itself however far the fit is from 'absent'; the Wald test, not invariant
-  /// to that parametrization, then fails where the likelihood ratio is 10^5 (indepsim4 setC3
-  /// rec_15: a ripple fitted 0.062 +- 0.15 that lowered chi2 by 2.9e5 on both halves,
-  /// docs/diagnose-log.md session 68).
+  /// Fit-half chi2 with the candidate's own parameters at their 'absent' values (transfer ones as
+  /// fitted) and the nuisance parameters as fitted: the likelihood-ratio test of 'absent' (NaN
+  /// where it was not simulated: then the Wald test decides). Why not the standard errors: the
+  /// Wald test is not invariant to how the parameters are written, and fails where the likelihood
+  /// ratio is 10^4-10^5 -- a ripple fraction on a ridge with the motor's inertia (indepsim4 setC3
+  /// rec_15: 0.062 +- 0.15, chi2 lowered by 2.9e5 on both halves), a carrier runout's Cartesian pair
+  /// whose phase the amplitudes barely fix (setD4 rec_10: y = 7e-8 +- 3.5e-5 m, chi2 lowered by
+  /// 2.1e4); a saturating parameter has no meaningful standard error at all
+  /// (docs/diagnose-log.md, session 68).
   double null_chi2_fit = std::numeric_limits<double>::quiet_NaN();
   bool counts() const { return significant && holds && non_null; }
   /// Simulations its own fit ran (cache hits not counted; a configuration another fit had

@@ -322,8 +322,14 @@ CandidateResult fit_model(FitContext& ctx, const Candidate* cand, const Variant&
   append_gains(ctx, fit, res);
   res.fit = summarize(fit);
   res.held_out = summarize(held);
-  if (any_saturates(cspec) || any_transfer(cspec)) {
-    // The likelihood-ratio test of 'absent' (CandidateResult::null_chi2_fit).
+  // The likelihood-ratio test of 'absent' (CandidateResult::null_chi2_fit): one simulation, run
+  // only where it can decide -- a fit that does not improve on the nuisance-only model by
+  // chi2_{1-alpha}(k) does not count whatever the ratio says (ranking.hpp).
+  const double nuisance_fit_chi2 =
+      ctx.nuisance_sim ? ctx.cmp.score(ctx.nuisance_sim->amplitude, Half::Fit, ctx.nuisance_gains, HousingGains::Profile).chi2
+                       : std::numeric_limits<double>::infinity();
+  if (!cspec.empty() &&
+      nuisance_fit_chi2 - res.fit.chi2 > chi2_quantile(std::max<int>(1, static_cast<int>(nc)), ctx.alpha)) {
     const std::vector<double> null_x = absent_with_transfer_as_fitted(cspec, cx);
     const auto c0 = ctx.make(cand, v, null_x, nx, nullptr);
     res.null_chi2_fit = ctx.cmp.score(ctx.amplitudes(c0, sensor_path_only, &sims), Half::Fit, ctx.nuisance_gains, HousingGains::Profile).chi2;

@@ -18,7 +18,7 @@
 namespace pw::diagnose {
 
 using Progress = std::function<void(const std::string&)>;
-/// Recomputes a result's significance, Wald test and BIC against the nuisance-only model.
+/// Recomputes a result's significance, test of 'absent' and BIC against the nuisance-only model.
 using Assessment = std::function<void(CandidateResult&)>;
 
 /// Replaces `winner` by the best of its phase variants where that fits better and still counts.

@@ -20,7 +20,18 @@ void assess_candidate(CandidateResult& r, const RankingBasis& b, const std::vect
     // A saturating parameter has no meaningful standard error: 'absent' is tested by the
     // likelihood ratio against the same model with its own parameters at 'absent'.
     if (std::isfinite(r.null_chi2_fit)) {
-      r.non_null = r.null_chi2_fit - r.fit.chi2 > r.lr_threshold;
+      // The likelihood ratio of 'absent' (transfer parameters and nuisance as fitted), and a level
+      // (a non-zero 'absent') moved beyond kRecalibration of itself, as below: the ratio is
+      // invariant to how the parameters are written, where a standard error is not (a runout's
+      // Cartesian pair whose phase the amplitudes barely fix; a size on a ridge with a transfer).
+      bool moved = false;
+      for (std::size_t i = 0; i < own_spec->size() && i < r.parameters.size(); ++i) {
+        const ParameterSpec& ps = (*own_spec)[i];
+        if (ps.transfer) continue;
+        moved = moved || ps.saturates ||
+                std::fabs(r.parameters[i].value - ps.null_value) > kRecalibration * std::fabs(ps.null_value);
+      }
+      r.non_null = moved && r.null_chi2_fit - r.fit.chi2 > r.lr_threshold;
     } else {
       // Beyond z standard errors (Wald) and, for a level (a non-zero 'absent'), beyond
       // kRecalibration of it: at high signal-to-noise a level moves by a few % with a tiny
@@ -68,10 +79,12 @@ std::string ranking_reason(const CandidateResult& r, bool winner, double best_bi
                   r.delta_chi2_fit, -r.delta_chi2_held_out, r.lr_threshold);
   else if (!r.non_null && std::isfinite(r.null_chi2_fit))
     std::snprintf(buf, sizeof buf,
-                  "improves both halves (-%.1f, -%.1f) but with its own parameters at 'absent' (transfer ones as "
-                  "fitted) the fit half's chi2 rises by only %.1f (likelihood-ratio threshold %.1f): the gain is "
-                  "the other parameters moving, not this physics",
-                  r.delta_chi2_fit, r.delta_chi2_held_out, r.null_chi2_fit - r.fit.chi2, r.lr_threshold);
+                  "improves both halves (-%.1f, -%.1f) but with its own parameters at 'absent' (transfer ones and "
+                  "the nuisance as fitted) the fit half's chi2 rises by %.1f (likelihood-ratio threshold %.1f), or a "
+                  "level moved by no more than %.0f %% of itself: the gain is the other parameters moving, or a "
+                  "level soaking up model-form error, not this physics",
+                  r.delta_chi2_fit, r.delta_chi2_held_out, r.null_chi2_fit - r.fit.chi2, r.lr_threshold,
+                  100 * kRecalibration);
   else if (!r.non_null)
     std::snprintf(buf, sizeof buf,
                   "improves both halves (-%.1f, -%.1f) but its parameters do not differ from 'absent' beyond "

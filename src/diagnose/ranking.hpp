@@ -1,11 +1,12 @@
 // The ranking of fitted candidates (docs/diagnose.md §5, steps 8-10), as pure functions over
 // their results so that each rule can be tested on hand-built fits:
 //   * assess: a candidate "counts" when it improves chi2 over the nuisance-only model by more
-//     than chi2_{1-alpha}(k) on the fit half and on the held-out half, and some own parameter
-//     differs from its 'absent' value beyond z_{1-alpha/2k} standard errors (Wald) and, when
-//     'absent' is a non-zero level, by more than kRecalibration of it -- or, for a
-//     saturating parameter, whose standard error means nothing, by the likelihood ratio against
-//     'absent'; its AIC and BIC count the nuisance parameters and its own;
+//     than chi2_{1-alpha}(k) on the fit half and on the held-out half, and 'absent' is rejected:
+//     by the likelihood ratio (its own parameters at 'absent', transfer ones and the nuisance as
+//     fitted) beyond chi2_{1-alpha}(k), or, where that was not simulated, some own parameter
+//     beyond z_{1-alpha/2k} standard errors (Wald); and, when 'absent' is a non-zero level, a
+//     move by more than kRecalibration of it; its AIC and BIC count the nuisance parameters and
+//     its own;
 //   * rank: counting candidates first, then by BIC summed over both halves (stable);
 //   * ranking_reason: why each won or lost, with its numbers.
 // Internal to src/diagnose.

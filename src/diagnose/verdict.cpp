@@ -120,7 +120,7 @@ std::string screened_family_text(const Diagnosis& d) {
 /// exp(-(B_j - B_lead)/2) with B = BIC summed over both halves (Schwarz 1978; equal prior
 /// odds), and the strongest rival. Variants of the lead's own name (tooth places, orders) are
 /// not rivals: they name the same physics. A rival need not count: one whose parameters stay
-/// within their errors of 'absent' (Wald) is the nuisance model converging further, and if
+/// indistinguishable from 'absent' (step 10's likelihood ratio) is the nuisance model converging further, and if
 /// that reaches a lower BIC than the lead, the lead's own improvement is not shown to be its
 /// physics either. Measured: seed3p rec_41 of the independent corpus with a rig's sensors (a
 /// planet tooth) was named ring_tooth_damage (improvements 24 / 18 on the two halves) beside a

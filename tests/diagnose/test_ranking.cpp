@@ -134,6 +134,36 @@ TEST(Ranking, ASaturatingParameterIsTestedByTheLikelihoodRatioNotItsStandardErro
   EXPECT_FALSE(flat.non_null);
 }
 
+TEST(Ranking, TheLikelihoodRatioDecidesWhereItWasSimulatedAndALevelMustStillMoveByFivePercent) {
+  // A carrier runout's Cartesian pair whose phase the amplitudes barely fix (indepsim4 setD4
+  // rec_10): each coordinate within its standard error of 0, chi2 2e4 above the fit at 'absent'.
+  const std::vector<ParameterSpec> pair{own_spec(0.0), own_spec(0.0)};
+  CandidateResult runout = fitted(900, 900, -1.5e-6, 2.6e-6);
+  runout.own_parameters = 2;
+  FittedParameter y = runout.parameters[0];
+  y.value = 7e-8;
+  y.std_error = 3.5e-5;
+  runout.parameters.insert(runout.parameters.begin() + 1, y);
+  assess_candidate(runout, basis(), &pair);
+  EXPECT_FALSE(runout.non_null) << "Wald: both within 2.807 standard errors";
+  runout.null_chi2_fit = 900 + 2.1e4;
+  assess_candidate(runout, basis(), &pair);
+  EXPECT_TRUE(runout.non_null);
+  runout.null_chi2_fit = 900 + 9.0;  // below chi2_{0.99}(2) = 9.21
+  assess_candidate(runout, basis(), &pair);
+  EXPECT_FALSE(runout.non_null);
+  // A level 4.4 % off its documented value: no finding however large the ratio (session 22).
+  const std::vector<ParameterSpec> level{own_spec(0.06)};
+  CandidateResult friction = fitted(900, 900, 0.0574, 0.00013);
+  friction.null_chi2_fit = 900 + 400.0;
+  assess_candidate(friction, basis(), &level);
+  EXPECT_FALSE(friction.non_null);
+  friction.parameters[0].value = 0.0566;  // 5.7 %
+  assess_candidate(friction, basis(), &level);
+  EXPECT_TRUE(friction.non_null);
+  EXPECT_NE(ranking_reason(runout, false, 0).find("likelihood-ratio threshold"), std::string::npos);
+}
+
 TEST(Ranking, AFailedOrUnknownCandidateNeverRejectsAbsent) {
   const std::vector<ParameterSpec> spec{own_spec()};
   CandidateResult failed = fitted(900, 900, 0.9, 0.001);
