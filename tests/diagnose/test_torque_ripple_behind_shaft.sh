@@ -34,6 +34,11 @@ rep = json.load(open("diag/report.json"))
 if "stage.input_inertia_kgm2" not in rep.get("calibration_reference", ""):
     sys.exit(f"the reference does not hold the stand-in motor: {rep.get('calibration_reference', '')}")
 name = rep.get("missing_physics") or (rep.get("lead") or {}).get("name")
+# At the stand-in the fraction's secant is ~0: the screening's larger S must be the one taken with the
+# machines at their screening values (docs/diagnose.md section 5 step 7, session 68).
+scr = [s for s in rep["screening"] if s["name"] == "torque_ripple"]
+if not scr or not scr[0]["at_transfer_values"]:
+    sys.exit(f"the ripple was not screened at its transfer parameters' screening values: {scr}")
 ripple = [c for c in rep["candidates"] if c["name"] == "torque_ripple"]
 if not ripple:
     sys.exit(f"torque_ripple was not fitted: {rep['summary']}")
