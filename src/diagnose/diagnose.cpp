@@ -549,6 +549,21 @@ private:
     mark_form(*r, form);
     const double before = w.fit.chi2, before_held_out = w.held_out.chi2;
     assess(*r);
+    // A form that takes the lead's own physics away is not the lead's form but the nuisance
+    // model's, which step 4c judges by its own rule and a calibration fixes: kept only where the
+    // refitted lead still counts. Measured: indepsim3 setB5 rec_10 (a 3.27 um sun runout, the
+    // calibration on the window), refitted on the ring's translation, fitted the fit half better
+    // (5709 -> 3164) with the runout at the bottom of its box, and the named runout was lost
+    // (docs/diagnose-log.md, session 68).
+    if (w.counts() && !r->counts()) {
+      const std::string why = "the lead " + w.name + " was fitted again " + form.with + ": the refit fits the fit half "
+                              "better (chi2 " + fmt("%.6g", w.fit.chi2) + " -> " + fmt("%.6g", r->fit.chi2) +
+                              ") but no longer counts (" + ranking_reason(*r, false, 0) +
+                              "), so that form took the excess, not the lead: the lead keeps its form.";
+      say(why);
+      d_.rule += " In step 9c " + why;
+      return;
+    }
     w = std::move(*r);
     trial.keep();
     refit_rivals_in_form(form);
