@@ -541,7 +541,7 @@ private:
     const auto tc = Clock::now();
     int refit_simulations = 0;
     std::optional<CandidateResult> r = refit_lead_in_form(w, *cand, s, form, refit_simulations);
-    if (!r || !(r->fit.chi2 < w.fit.chi2)) return;
+    if (!r) return;
     r->simulations = w.simulations + 1 + refit_simulations;  // its first fit, the probe, the refit
     r->evidence_z = w.evidence_z;
     r->predicted_improvement = w.predicted_improvement;
@@ -549,13 +549,9 @@ private:
     mark_form(*r, form);
     const double before = w.fit.chi2, before_held_out = w.held_out.chi2;
     assess(*r);
-    // A form that takes the lead's own physics away is not the lead's form but the nuisance
-    // model's, which step 4c judges by its own rule and a calibration fixes: kept only where the
-    // refitted lead still counts. Measured: indepsim3 setB5 rec_10 (a 3.27 um sun runout, the
-    // calibration on the window), refitted on the ring's translation, fitted the fit half better
-    // (5709 -> 3164) with the runout at the bottom of its box, and the named runout was lost
-    // (docs/diagnose-log.md, session 68).
-    if (w.counts() && !r->counts()) {
+    if (!(r->fit.chi2 < w.fit.chi2)) return;
+    // A form that takes the lead's own physics away is the nuisance model's (refit_replaces_lead).
+    if (!refit_replaces_lead(w, *r)) {
       const std::string why = "the lead " + w.name + " was fitted again " + form.with + ": the refit fits the fit half "
                               "better (chi2 " + fmt("%.6g", w.fit.chi2) + " -> " + fmt("%.6g", r->fit.chi2) +
                               ") but no longer counts (" + ranking_reason(*r, false, 0) +

@@ -96,4 +96,9 @@ std::string ranking_reason(const CandidateResult& r, bool winner, double best_bi
   return buf;
 }
 
+bool refit_replaces_lead(const CandidateResult& lead, const CandidateResult& refit) {
+  if (!(refit.fit.chi2 < lead.fit.chi2)) return false;
+  return !(lead.counts() && !refit.counts());
+}
+
 } // namespace pw::diagnose

@@ -8,7 +8,8 @@
 //     move by more than kRecalibration of it; its AIC and BIC count the nuisance parameters and
 //     its own;
 //   * rank: counting candidates first, then by BIC summed over both halves (stable);
-//   * ranking_reason: why each won or lost, with its numbers.
+//   * ranking_reason: why each won or lost, with its numbers;
+//   * refit_replaces_lead: whether the lead refitted in another model form (step 9c) replaces it.
 // Internal to src/diagnose.
 #pragma once
 
@@ -48,5 +49,15 @@ void rank_candidates(std::vector<CandidateResult>& candidates);
 /// Why a fitted candidate won or lost, with its numbers (`best_bic`: the winner's BIC summed
 /// over both halves).
 std::string ranking_reason(const CandidateResult& r, bool winner, double best_bic);
+
+/// Step 9c: whether `refit`, the lead `lead` fitted again in another model form (both assessed
+/// against the same nuisance-only basis), replaces it. It must fit the fit half better; and a
+/// lead that counted must still count: a form that leaves the lead's own physics not counting
+/// took the excess itself, so the form is a change of the nuisance model's, which step 4c and a
+/// calibration own, not the lead's. Measured: indepsim3 setB5 rec_10 (a 3.27 um sun runout, the
+/// calibration on the window), refitted on the ring's translation, fitted the fit half better
+/// (5709 -> 3164) with the runout at the bottom of its box, and the named runout was lost
+/// (docs/diagnose-log.md, session 68).
+bool refit_replaces_lead(const CandidateResult& lead, const CandidateResult& refit);
 
 } // namespace pw::diagnose

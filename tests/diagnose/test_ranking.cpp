@@ -164,6 +164,37 @@ TEST(Ranking, TheLikelihoodRatioDecidesWhereItWasSimulatedAndALevelMustStillMove
   EXPECT_NE(ranking_reason(runout, false, 0).find("likelihood-ratio threshold"), std::string::npos);
 }
 
+TEST(Ranking, ALeadRefittedInAnotherFormReplacesItOnlyIfItFitsBetterAndStillCountsWhereItCounted) {
+  // indepsim3 setB5 rec_10 (session 68): a sun runout that counted, refitted with the housing on
+  // the ring's translation, fitted the fit half better (5709 -> 3164) with the runout at the
+  // bottom of its box -- the form took the excess, and the refit no longer counted.
+  const std::vector<ParameterSpec> spec{own_spec()};
+  const RankingBasis b{8000.0, 8000.0, 2, kAlpha, 5.0};
+  CandidateResult lead = fitted(5709, 5900, 0.5, 0.01);
+  assess_candidate(lead, b, &spec);
+  ASSERT_TRUE(lead.counts());
+  CandidateResult took_the_excess = fitted(3164, 3300, 1e-4, 0.01);  // within its error of 'absent'
+  assess_candidate(took_the_excess, b, &spec);
+  ASSERT_FALSE(took_the_excess.counts());
+  EXPECT_FALSE(refit_replaces_lead(lead, took_the_excess));
+  // The same refit still counting (its size off 'absent'): the better fit replaces the lead.
+  CandidateResult still_counts = fitted(3164, 3300, 0.4, 0.01);
+  assess_candidate(still_counts, b, &spec);
+  ASSERT_TRUE(still_counts.counts());
+  EXPECT_TRUE(refit_replaces_lead(lead, still_counts));
+  // A refit that fits the fit half no better never replaces it, counting or not.
+  CandidateResult worse = fitted(5710, 3300, 0.4, 0.01);
+  assess_candidate(worse, b, &spec);
+  EXPECT_FALSE(refit_replaces_lead(lead, worse));
+  // A lead that did not count (only a lead) may take the form where the refit fits better,
+  // whether or not the refit counts: nothing that counted is lost.
+  CandidateResult weak = fitted(5709, 7999, 0.5, 0.01);  // the held-out half does not improve
+  assess_candidate(weak, b, &spec);
+  ASSERT_FALSE(weak.counts());
+  EXPECT_TRUE(refit_replaces_lead(weak, took_the_excess));
+  EXPECT_TRUE(refit_replaces_lead(weak, still_counts));
+}
+
 TEST(Ranking, AFailedOrUnknownCandidateNeverRejectsAbsent) {
   const std::vector<ParameterSpec> spec{own_spec()};
   CandidateResult failed = fitted(900, 900, 0.9, 0.001);
