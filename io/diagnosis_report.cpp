@@ -613,6 +613,7 @@ void write_diagnosis_report(const std::filesystem::path& dir, const dg::Diagnosi
                        {"chi2_fit", {{"unchanged", num(c.chi2_fit_unchanged)}, {"fitted", num(c.chi2_fit)}}},
                        {"chi2_held_out", {{"unchanged", num(c.chi2_held_unchanged)}, {"fitted", num(c.chi2_held)}}},
                        {"own_model_held_out_chi2", num(c.own_held_out_chi2)}, {"own_model_bound", num(c.own_bound)},
+                       {"own_model_replicate_chi2", num(c.own_replicate_chi2)},
                        {"at_edge", c.at_edge}, {"explains", c.explains}, {"passes", c.passes},
                        {"posterior", num(c.posterior)}});
   j["changes_since_baseline"] = changes;

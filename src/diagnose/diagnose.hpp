@@ -315,6 +315,9 @@ struct BaselineChange {
   /// it runs only for one that explains, moved and is off its range's edge).
   double own_held_out_chi2 = std::numeric_limits<double>::quiet_NaN();
   double own_bound = std::numeric_limits<double>::quiet_NaN();
+  /// A level's own test is condition (a)'s budget, max(own_bound, this): the recording's fit half
+  /// as the prediction of its held-out half (NaN for a sensor's gain, or where not run).
+  double own_replicate_chi2 = std::numeric_limits<double>::quiet_NaN();
   bool at_edge = false;    ///< rho at the edge of its range: a bound, not a size
   bool explains = false;   ///< improves both halves by more than chi2_{1-alpha}(1): a rival
   bool passes = false;     ///< every test of its own

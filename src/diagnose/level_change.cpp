@@ -94,6 +94,10 @@ LevelMoveTest level_move_test(double ln_rho_std, double spread_ln, int recording
   return t;
 }
 
+double healthy_level_scatter_ln(const std::string& level_candidate, double calibration_spread_ln) {
+  return level_candidate == "stiffness_level" ? 0.0 : calibration_spread_ln;
+}
+
 std::string one_sided_ratio_note(const std::string& parameter, double baseline_value, double rho, int end) {
   if (end == 0) return {};
   char buf[400];

@@ -79,6 +79,30 @@ struct LevelMoveTest {
 };
 LevelMoveTest level_move_test(double ln_rho_std, double spread_ln, int recordings, double alpha);
 
+/// The healthy scatter a level's change since a reference at the recording's operating point is
+/// judged against: `calibration_spread_ln` (the calibration's spread of ln(level) over its
+/// recordings, 0 without one) for the damping level, none for the stiffness level.
+///
+/// Why the two differ. The calibration's recordings lie at different operating points, so their
+/// spread holds mostly the level's dependence on the operating point (the model-form error the
+/// level absorbs there), which cancels against a reference at the recording's operating point
+/// (speed within the mesh damping ratio: the same dynamic amplification; power within 5 %);
+/// from two recordings it is also one degree of freedom, whose t quantile (63.7 at alpha = 0.01)
+/// makes any change "within the scatter": indepsim4 setD4's stiffness x0.75 read x0.771 +- 0.0006
+/// of its healthy reference at the same speed, against a threshold of |ln rho| > 34
+/// (docs/diagnose-log.md, session 69). What is left between two healthy runs at one operating
+/// point is the run-to-run change of the physics:
+///   * the mesh stiffness is the steel teeth's: Young's modulus moves by -0.03 %/K (1.5 % over a
+///     50 K change of the gear body's temperature), the tooth's bending, shear, compression and
+///     foundation compliances are linear in the load, and the Hertzian approach of a line contact
+///     nearly so (under 1 % over the reference's 5 % of load): all within kRecalibration (5 %),
+///     which a change must exceed anyway;
+///   * the mesh damping is the lubricant film's, whose viscosity halves with every 15-20 K of oil
+///     temperature (Walther's law, ASTM D341, for mineral gear oils): no such bound, so the
+///     calibration's spread, an upper bound of that scatter, stays.
+/// `level_candidate`: "stiffness_level" or "damping_level".
+double healthy_level_scatter_ln(const std::string& level_candidate, double calibration_spread_ln);
+
 /// What a level's ratio rho means when the baseline's value is an edge of its box, not a fit
 /// (`end`: +1 the upper edge, -1 the lower; 0: a fit, empty text). The baseline's own fit asked
 /// for a level beyond the edge, so against that level the recording's (fitted inside its box)

@@ -62,5 +62,26 @@ TEST(LevelMoveTest, ALevelFourNoiseErrorsFromItsBaselineIsNoChangeOnARigThatScat
   EXPECT_LT(ln_rho, level_move_test(0.013, 0.05, 3, 0.01).threshold_ln);
 }
 
+TEST(LevelMoveTest, AStiffnessLevelAtTheReferencesOperatingPointIsJudgedWithoutTheSpreadBetweenOperatingPoints) {
+  // indepsim4 setD4 rec_12 (every mesh stiffness x0.75, 1200 rpm; session 68's run): x0.7706 +-
+  // 0.00058 of the calibration's healthy 1200 rpm recording. The calibration's two recordings (600
+  // and 1200 rpm) put stiffness.scale 0.537 and 0.918 apart, s = 0.379 in ln: with one degree of
+  // freedom the threshold is t_{0.995}(1) x sqrt(2) x 0.379 = 34 in ln, no change could pass it.
+  const double ln_rho = std::log(0.7706), ln_std = 0.00058 / 0.7706, spread = 0.379;
+  const LevelMoveTest across = level_move_test(ln_std, spread, 2, 0.01);
+  EXPECT_GT(across.threshold_ln, 30.0);
+  EXPECT_LT(std::fabs(ln_rho), across.threshold_ln);
+  // The stiffness of steel teeth at one operating point carries none of that spread: the noise
+  // error alone (kRecalibration, 5 %, is required beside it).
+  const LevelMoveTest stiff = level_move_test(ln_std, healthy_level_scatter_ln("stiffness_level", spread), 2, 0.01);
+  EXPECT_EQ(stiff.scatter_ln, 0.0);
+  EXPECT_DOUBLE_EQ(stiff.threshold_ln, normal_quantile(0.005) * ln_std);
+  EXPECT_GT(std::fabs(ln_rho), stiff.threshold_ln);
+  // The damping keeps it: a lubricant's viscosity has no such bound between two runs.
+  EXPECT_DOUBLE_EQ(healthy_level_scatter_ln("damping_level", spread), spread);
+  const LevelMoveTest damp = level_move_test(ln_std, healthy_level_scatter_ln("damping_level", spread), 2, 0.01);
+  EXPECT_DOUBLE_EQ(damp.threshold_ln, across.threshold_ln);
+}
+
 } // namespace
 } // namespace pw::diagnose
