@@ -10,10 +10,13 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <bit>
 #include <complex>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 #include <numbers>
+#include <random>
 #include <vector>
 
 using namespace pw::model;
@@ -125,6 +128,48 @@ TEST(SensorWindow, GaussianSkipsOnlyImagesThatCannotChangeTheDouble) {
     }
   }
   EXPECT_EQ(differing, 0) << "of " << checked;
+}
+
+TEST(SensorWindow, WrapAngleIsTheLibraryRemainderBitForBit) {
+  // wrap_angle reduces by an exactly split 2 pi instead of std::remainder; it must return the
+  // same double (sign of zero included) everywhere: random angles over many binades and, where a
+  // rounding would show, every near neighbour of the half and whole turns, k pi.
+  const auto by_remainder = [](double a) {
+    double r = std::remainder(a, 2 * kPi);
+    if (r <= -kPi) r += 2 * kPi;
+    return r;
+  };
+  const auto bits = [](double x) { return std::bit_cast<std::uint64_t>(x); };
+  std::vector<double> angles;
+  std::mt19937_64 rng(69);
+  std::uniform_real_distribution<double> unit(-1.0, 1.0);
+  constexpr int kRandomAngles = 400000;
+  for (int i = 0; i < kRandomAngles; ++i)
+    angles.push_back(std::ldexp(unit(rng), static_cast<int>(rng() % 80) - 55));  // 2^-55 .. 2^24 rad
+  constexpr int kNeighbours = 6;  // ulps on each side of a turn boundary
+  const auto around = [&](double c) {
+    double up = c, down = c;
+    for (int u = 0; u < kNeighbours; ++u) {
+      angles.push_back(up);
+      angles.push_back(-up);
+      angles.push_back(down);
+      angles.push_back(-down);
+      up = std::nextafter(up, std::numeric_limits<double>::infinity());
+      down = std::nextafter(down, -std::numeric_limits<double>::infinity());
+    }
+  };
+  for (long k = 0; k <= 20000; ++k)
+    for (double f : {0.0, 0.5}) around((static_cast<double>(k) + f) * (2 * kPi));
+  for (long k = 0; k <= 20000; ++k) around(static_cast<double>(k) * kPi);
+  for (double big : {1e3, 1e5, 1e7, 0x1p24 - 1, 0x1p24}) around(big);
+  for (double special : {0.0, -0.0, 1e300, -1e300, std::numeric_limits<double>::denorm_min(),
+                         std::numeric_limits<double>::infinity()})
+    angles.push_back(special);
+  long differing = 0;
+  for (double a : angles)
+    if (bits(wrap_angle(a)) != bits(by_remainder(a))) ++differing;
+  EXPECT_EQ(differing, 0) << "of " << angles.size();
+  EXPECT_TRUE(std::isnan(wrap_angle(std::numeric_limits<double>::quiet_NaN())));
 }
 
 TEST(SensorWindow, GaussianAndHannHaveTheSameArea) {
