@@ -1609,7 +1609,7 @@ private:
                   (best.passes ? "the data do not tell which (posterior probability of " + what(best) + " " +
                                      fmt("%.3f", posterior) + " < " + fmt("%.3f", 1 - o_.alpha / 2) + ")"
                                : "the best of them, " + what(best) + ", does not pass its own tests" +
-                                     within_healthy_scatter(best)) +
+                                     within_healthy_scatter(best) + own_model_shortfall(best)) +
                   ": not named.";
   }
 
@@ -1625,6 +1625,15 @@ private:
            std::to_string(o_.nuisance_level_spread_recordings) + " healthy recordings scatter " + h.level->parameter +
            " by (sqrt(2) s = " + fmt("%.3g", h.level_test.scatter_ln) + " in ln, " + fmt("%.2g", h.level_test.dof) +
            " effective degrees of freedom): a change needs |ln rho| > " + fmt("%.3g", h.level_test.threshold_ln) + ")";
+  }
+
+  /// Why a level that moved is no change, when its own model's held-out test is the reason
+  /// (condition (a)'s budget, with its numbers); empty otherwise.
+  std::string own_model_shortfall(const ChangeHypothesis& h) const {
+    if (!h.level || std::isnan(h.own.held_out_chi2) || h.own.within()) return {};
+    return " (its own model leaves " + fmt("%.0f", h.own.held_out_chi2) + " held out, above its budget max(" +
+           fmt("%.0f", h.own.bound_held_out) + ", " + fmt("%.0f", h.own.replicate_chi2) +
+           " of the recording's own fit half): the level alone does not explain the recording)";
   }
 
   /// The verdict for check_changes_since_baseline: sensor_transfer_path, its parameter the ratio.
