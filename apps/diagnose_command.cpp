@@ -194,6 +194,8 @@ struct Reference {
   diagnose::OrderAnalysisOptions analysis{};
   /// The calibration's recording it is (its index in Calibration::recordings); none for --baseline.
   std::optional<std::size_t> calibration_recording;
+  /// At the recording's operating point (operating_point_distance); a calibration's reference always is.
+  bool at_operating_point = true;
 };
 
 std::string resolve_calibration_path(const std::string& p, const std::string& calibration_file) {
@@ -228,16 +230,42 @@ RecordingInputs read_self(const DiagnoseCommandOptions& o) {
   return read_recording_inputs(o.common, o.recording, o.meta, o.columns, o.speed_rpm, o.power_W);
 }
 
-/// --baseline: its windows shared with the recording's, or an input error before any fit.
-Reference given_baseline(const DiagnoseCommandOptions& o) {
+diagnose::OperatingPointDistance operating_point_distance(const RecordingInputs& self, const RecordingInputs& ref) {
+  return diagnose::operating_point_distance(self.recording.operating.input_speed_rpm,
+                                            self.recording.operating.input_power_W,
+                                            ref.recording.operating.input_speed_rpm,
+                                            ref.recording.operating.input_power_W,
+                                            self.config.contact.mesh_damping_ratio);
+}
+
+/// --baseline: its windows shared with the recording's, or an input error before any fit; its
+/// operating point against the recording's, said in `note`. A baseline at another operating point
+/// is still compared (the user's choice), but its model-form error need not cancel, and a level's
+/// change since it is not tested (DiagnoseOptions::baseline_at_operating_point).
+Reference given_baseline(const DiagnoseCommandOptions& o, std::string& note) {
   Reference r;
   r.recording = o.baseline;
   r.meta = o.baseline_meta.empty() ? io::sidecar_path(o.baseline).string() : o.baseline_meta;
   const RecordingInputs self = read_self(o);
-  const auto w = common_windows(self, analyse(self), read_recording_inputs(o.common, r.recording, r.meta, {}, {}, {}));
+  const RecordingInputs ref = read_recording_inputs(o.common, r.recording, r.meta, {}, {}, {});
+  const auto w = common_windows(self, analyse(self), ref);
   require(w.has_value(), "--baseline", "'", o.baseline, "' and the recording cannot be analysed in the same windows "
           "(the same channels and sample rate): a cell-by-cell comparison needs them (docs/diagnose.md section 6b)");
   r.analysis = *w;
+  const diagnose::OperatingPointDistance d = operating_point_distance(self, ref);
+  r.at_operating_point = d.same;
+  char buf[600];
+  std::snprintf(buf, sizeof buf,
+                "the baseline is at %.6g rpm and %.6g W, the recording at %.6g rpm and %.6g W (speed %.3g %% apart, "
+                "the same within the mesh damping ratio %.3g; power %.3g %% apart, the same within %.3g %%)%s",
+                ref.recording.operating.input_speed_rpm, ref.recording.operating.input_power_W,
+                self.recording.operating.input_speed_rpm, self.recording.operating.input_power_W, 100 * d.speed,
+                self.config.contact.mesh_damping_ratio, 100 * d.power, 100 * diagnose::kRecalibration,
+                d.same ? ": the same operating point"
+                       : ": another operating point, where the model's form error need not cancel in the difference; "
+                         "the mesh stiffness and damping levels move with the operating point, so their change since "
+                         "the baseline is not tested (docs/diagnose.md section 6b)");
+  note = buf;
   return r;
 }
 
@@ -245,15 +273,9 @@ Reference given_baseline(const DiagnoseCommandOptions& o) {
 /// the model's discrepancy there is no longer a budget but a measurement: the calibration's
 /// residual on that recording (in Kennedy and O'Hagan's terms, the discrepancy's posterior mean at
 /// a calibration input, known to within the recording's noise). The recording is then compared
-/// with it differentially (§6b). "The same operating point":
-///  * speed: within the mesh damping ratio zeta of the gear set's configuration, relative. Every
-///    line then keeps its place relative to every mesh resonance to within that resonance's
-///    half-power half-width (zeta f_n), so the dynamic amplification the residual was measured
-///    through is the one the recording sees;
-///  * power: within kRecalibration (5 %), relative. The lines and their model-form error scale
-///    with the load (parametric excitation), and a level change below kRecalibration is what the
-///    diagnosis already treats as within the model's own fidelity.
-/// The recording itself (or a copy) is never its own reference: a held-out check stays held out.
+/// with it differentially (§6b), the nearest in speed at the same operating point
+/// (operating_point_distance). The recording itself (or a copy) is never its own reference: a
+/// held-out check stays held out.
 std::optional<Reference> calibrated_reference(const DiagnoseCommandOptions& o, const diagnose::Calibration& cal,
                                               std::string& note) {
   if (o.calibration_reference == "none") {
@@ -278,9 +300,9 @@ std::optional<Reference> calibrated_reference(const DiagnoseCommandOptions& o, c
     }
     if (same_file(r.recording, o.recording)) continue;
     const RecordingInputs c = read_recording_inputs(o.common, r.recording, r.meta, {}, {}, {});
-    const double dn = std::fabs(c.recording.operating.input_speed_rpm - n) / n;
-    const double dP = std::fabs(c.recording.operating.input_power_W - P) / P;
-    if (!(dn <= zeta && dP <= diagnose::kRecalibration) || (best && dn >= best_dn)) continue;
+    const diagnose::OperatingPointDistance d = operating_point_distance(self, c);
+    const double dn = d.speed;
+    if (!d.same || (best && dn >= best_dn)) continue;
     if (!self_analysis) self_analysis = analyse(self);
     const auto w = common_windows(self, *self_analysis, c);
     if (!w) {
@@ -314,7 +336,7 @@ std::optional<Reference> calibrated_reference(const DiagnoseCommandOptions& o, c
 /// --baseline, else (with --calibration) the calibration's recording at the operating point, if any.
 std::optional<Reference> choose_reference(const DiagnoseCommandOptions& o,
                                           const std::optional<diagnose::Calibration>& calibration, std::string& note) {
-  if (!o.baseline.empty()) return given_baseline(o);
+  if (!o.baseline.empty()) return given_baseline(o, note);
   if (calibration) return calibrated_reference(o, *calibration, note);
   return std::nullopt;
 }
@@ -369,7 +391,8 @@ void diagnose_and_report(const DiagnoseCommandOptions& o_in, const std::string& 
   if (!o.common.quiet) opt.progress = [](const std::string& s) { std::fprintf(stderr, "[diagnose] %s\n", s.c_str()); };
   std::string reference_note;
   const std::optional<Reference> reference = choose_reference(o, calibration, reference_note);
-  if (calibration && !o.common.quiet) std::fprintf(stderr, "[diagnose] %s\n", reference_note.c_str());
+  if ((calibration || reference) && !o.common.quiet) std::fprintf(stderr, "[diagnose] %s\n", reference_note.c_str());
+  if (reference) opt.baseline_at_operating_point = reference->at_operating_point;
   if (calibration && !reference)  // refitted from their calibrated values, except those a diagnosis holds
     for (const std::string& e : calibration->rig_elements)
       if (const diagnose::Candidate* c = diagnose::find_candidate(e); c && !c->held_after_calibration())
@@ -440,7 +463,8 @@ void diagnose_and_report(const DiagnoseCommandOptions& o_in, const std::string& 
   ctx.recording_path = o.recording;
   ctx.config_path = o.common.config;
   ctx.calibration_path = o_in.calibration;
-  ctx.calibration_reference = reference_note;
+  if (calibration) ctx.calibration_reference = reference_note;
+  else if (reference) ctx.baseline_operating_point = reference_note;
   if (calibration && !baseline) ctx.calibration_at_bound = calibration->at_bound;
   if (reference) ctx.baseline_path = reference->recording;
   if (baseline) ctx.baseline_summary = baseline->summary;

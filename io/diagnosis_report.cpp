@@ -175,7 +175,8 @@ void add_header(Doc& doc, const dg::Diagnosis& d, const ReportContext& ctx) {
   if (!ctx.baseline_path.empty())
     doc.p("Differential diagnosis: the recording is compared with the model fitted to the baseline plus what that "
           "model missed on the baseline, cell by cell (" + ctx.baseline_summary +
-          "). Findings are changes from the baseline; a fault already present in the baseline cannot be seen.");
+          "). Findings are changes from the baseline; a fault already present in the baseline cannot be seen." +
+          (ctx.baseline_operating_point.empty() ? std::string() : " Operating point: " + ctx.baseline_operating_point + "."));
   if (!ctx.baseline_at_bound.empty()) {
     std::string list;
     for (const auto& s : ctx.baseline_at_bound) list += (list.empty() ? "" : "; ") + s;
@@ -570,6 +571,7 @@ void write_diagnosis_report(const std::filesystem::path& dir, const dg::Diagnosi
   j["baseline"] = ctx.baseline_path;
   j["baseline_at_bound"] = ctx.baseline_at_bound;
   j["calibration_reference"] = ctx.calibration_reference;
+  j["baseline_operating_point"] = ctx.baseline_operating_point;
   j["command_line"] = ctx.command_line;
   j["verdict"] = dg::to_string(d.verdict);
   j["summary"] = d.summary;

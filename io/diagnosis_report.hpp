@@ -31,6 +31,8 @@ struct ReportContext {
   /// With a calibration: which reference it was judged against (its own recording at this
   /// operating point, or its budget alone) and why.
   std::string calibration_reference;
+  /// With --baseline: its operating point against the recording's, and what follows from it.
+  std::string baseline_operating_point;
   bool plots_available = true;  ///< false: say in the reports that no PNGs were drawn
   std::string plots_note;       ///< why not, if not
   int ranks = 1;                ///< MPI ranks that simulated (rank 0's threads + one per other rank)

@@ -2,6 +2,7 @@
 
 #include "diagnose/calibration.hpp"
 #include "diagnose/order_analysis.hpp"
+#include "diagnose/ranking.hpp"
 
 #include "core/format.hpp"
 #include "core/statistics.hpp"
@@ -107,6 +108,15 @@ BaselineReference fit_baseline(const Recording& baseline, const model::Simulatio
                 fits.model_form_weighted ? " (its values refitted with that residual's own discrepancy as weights)" : "");
   ref.summary = buf;
   return ref;
+}
+
+OperatingPointDistance operating_point_distance(double speed_rpm, double power_W, double reference_speed_rpm,
+                                                double reference_power_W, double zeta) {
+  OperatingPointDistance d;
+  d.speed = std::fabs(reference_speed_rpm - speed_rpm) / speed_rpm;
+  d.power = std::fabs(reference_power_W - power_W) / power_W;
+  d.same = d.speed <= zeta && d.power <= kRecalibration;
+  return d;
 }
 
 } // namespace pw::diagnose

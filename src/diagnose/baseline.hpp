@@ -56,6 +56,24 @@ struct BaselineReference {
   BaselineAlienLines alien_lines;
 };
 
+/// How far a healthy reference's operating point lies from the recording's, relative, and whether
+/// it is "the same operating point" (docs/diagnose.md §6a item 6, §6b):
+///  * speed within the mesh damping ratio zeta, relative: every line then keeps its place
+///    relative to every mesh resonance to within that resonance's half-power half-width
+///    (zeta f_n), so the dynamic amplification the reference was measured through is the one the
+///    recording sees;
+///  * power within kRecalibration (5 %), relative: the lines and their model-form error scale
+///    with the load (parametric excitation), and a level change below kRecalibration is what the
+///    diagnosis already treats as within the model's own fidelity.
+struct OperatingPointDistance {
+  double speed = 0;  ///< |n_ref - n| / n [-]
+  double power = 0;  ///< |P_ref - P| / P [-]
+  bool same = false;
+};
+/// Speeds in rpm, powers in W (both > 0 for the recording), zeta the mesh damping ratio [-].
+OperatingPointDistance operating_point_distance(double speed_rpm, double power_W, double reference_speed_rpm,
+                                                double reference_power_W, double zeta);
+
 /// "<name> at its upper|lower bound <value>" for each parameter at a bound (the nearer end;
 /// sensor gains have no box and are skipped).
 std::vector<std::string> bound_texts(const std::vector<FittedParameter>& parameters);

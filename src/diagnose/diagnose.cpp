@@ -1682,6 +1682,11 @@ private:
   /// gain by 5-23 %, session 26); one level on the baseline's own terms is the baseline
   /// recording's lines at rho = 1.
   void level_hypotheses(std::vector<ChangeHypothesis>& out) {
+    if (!o_.baseline_at_operating_point) {
+      say("the baseline is at another operating point: a mesh stiffness or damping level moves with the speed and "
+          "the load, by an amount no recording here measures, so the levels are not tested as changes");
+      return;
+    }
     const std::vector<double> gains = baseline_gain_vector();
     const std::size_t first = out.size();
     for (std::size_t i = 0; i < ctx().nuisance.size(); ++i) {

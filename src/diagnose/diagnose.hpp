@@ -73,6 +73,12 @@ struct DiagnoseOptions {
   /// configuration key (+1 the upper edge, -1 the lower; BaselineReference::limits). A level
   /// changed since the baseline is then a ratio to a limit, not to a fit: one-sided.
   std::map<std::string, int> baseline_limits;
+  /// Differential diagnosis: whether the baseline is at the recording's operating point (speed
+  /// within the mesh damping ratio, power within kRecalibration; diagnose_command.cpp
+  /// same_operating_point). A level's change since a baseline at another operating point holds
+  /// the level's dependence on the operating point, which no recording here measures: the levels
+  /// are then not tested as changes (docs/diagnose.md section 6b item 7).
+  bool baseline_at_operating_point = true;
   /// Candidates fitted with the nuisance parameters instead of screened as findings (calibration
   /// fits the rig elements the documentation is silent on, e.g. "encoder_bandwidth").
   std::vector<std::string> extra_nuisance;

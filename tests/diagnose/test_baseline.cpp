@@ -489,5 +489,29 @@ TEST(BoundEnds, ListsTheBaselinesParametersAtAnEdgeByKeyWithTheEndAndSkipsGainsA
   EXPECT_EQ(bound_texts({k, z, inside, gain}).size(), 2u);
 }
 
+// "The same operating point" for a healthy reference: speed within the mesh damping ratio,
+// power within kRecalibration (5 %), both relative to the recording's; a baseline at another
+// operating point is still compared, but its level changes are not tested
+// (DiagnoseOptions::baseline_at_operating_point). The boundaries are inclusive.
+TEST(OperatingPoint, AReferenceIsTheSameOperatingPointOnlyWithinTheDampingRatioInSpeedAndFivePercentInPower) {
+  const double zeta = 0.05;
+  const OperatingPointDistance same = operating_point_distance(1200, 20000, 1200, 20000, zeta);
+  EXPECT_TRUE(same.same);
+  EXPECT_EQ(same.speed, 0.0);
+  EXPECT_EQ(same.power, 0.0);
+  // 4 % slower, 4 % less power: inside both.
+  EXPECT_TRUE(operating_point_distance(1200, 20000, 1152, 19200, zeta).same);
+  // Half the speed (a calibration's other operating point, indepsim4's 600 vs 1200 rpm): not the same.
+  const OperatingPointDistance half = operating_point_distance(1200, 50000, 600, 40000, zeta);
+  EXPECT_FALSE(half.same);
+  EXPECT_DOUBLE_EQ(half.speed, 0.5);
+  EXPECT_DOUBLE_EQ(half.power, 0.2);
+  // The speed alone, or the power alone, outside: not the same.
+  EXPECT_FALSE(operating_point_distance(1200, 20000, 1300, 20000, zeta).same);   // 8.3 % in speed
+  EXPECT_FALSE(operating_point_distance(1200, 20000, 1200, 22000, zeta).same);   // 10 % in power
+  // The speed bound is the damping ratio: 8.3 % is the same for a 10 % damped mesh.
+  EXPECT_TRUE(operating_point_distance(1200, 20000, 1300, 20000, 0.10).same);
+}
+
 } // namespace
 } // namespace pw::diagnose
