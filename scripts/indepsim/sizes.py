@@ -20,6 +20,10 @@ offset is a rotation of the carrier); severity error = (|fitted| - |true|) / |tr
 Euclidean norm over the planets (a convention-free size: the two simulators need not number the
 planets or measure the runout's phase alike).
 
+A class named through one fitted member (the level check's tooth_contact_change, "fitted as
+stiffness_level", docs/diagnose.md section 6b item 7) is scored by that member's size when the member
+is the true effect; its row's effect reads "<effect> (class)".
+
 A size is "covered" when |z (total)| <= z_{1-alpha/2} with the diagnosis's alpha = 0.01 (2.576)
 (linear), and "in range" when the truth lies in the report's model_form_range (the lopsided range
 a relative error of the model's change allows, docs/diagnose.md section 5; computed here by the same
@@ -116,6 +120,16 @@ def class_size_row(key, t, rep):
                 in_range=None if rng is None else bool(rng[0] <= nt <= rng[1]))
 
 
+def fitted_lead(rep):
+    """The candidate a report's finding was fitted as: its "lead" (a class finding's fitted member),
+    else its first candidate."""
+    lead = (rep.get("lead") or {}).get("name")
+    if lead:
+        return lead
+    cands = rep.get("candidates") or []
+    return cands[0].get("name") if cands else None
+
+
 def documented_friction(gearset_dir):
     import tomllib
     with open(gearset_dir / "gearset.toml", "rb") as f:
@@ -142,12 +156,19 @@ def main():
         if (effect not in MAIN and effect not in CLASS_EFFECTS) or not rep_path.exists():
             continue
         rep = json.loads(rep_path.read_text())
+        as_class = False
         if effect in (rep.get("finding_class") or {}).get("members", []):
             row = class_size_row(key, t, rep)
             if row:
                 rows.append(row)
-            continue
-        if rep.get("missing_physics") != effect:
+                continue
+            # A class named through one fitted member (the level check's tooth_contact_change,
+            # docs/diagnose.md section 6b item 7: "fitted as stiffness_level"): when that member is
+            # the true effect, the class's size is that member's fitted size.
+            if effect not in MAIN or fitted_lead(rep) != effect:
+                continue
+            as_class = True
+        elif rep.get("missing_physics") != effect:
             continue
         pname, tkey, absent = MAIN[effect]
         if absent is None:
@@ -174,7 +195,8 @@ def main():
         dev = fit - true
         if not rng or rng[0] is None:
             rng = size_range(fit, absent, se, mf, lower, upper)
-        rows.append(dict(recording=key, effect=effect, parameter=pname, true=true, fitted=fit, std_error=se,
+        rows.append(dict(recording=key, effect=effect + (" (class)" if as_class else ""), parameter=pname, true=true,
+                         fitted=fit, std_error=se,
                          model_form_std=mf, severity_error=dev / (true - absent) if true != absent else None,
                          z_noise=dev / se if se > 0 else None, z_total=dev / total if total > 0 else None,
                          covered=bool(total > 0 and abs(dev) <= Z_COVER * total), range=list(rng),
