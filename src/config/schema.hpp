@@ -149,6 +149,9 @@ void visit_sensor(V& v, Sensor& c) {
   v.field("housing_mount_frequency_Hz", c.housing_mount_frequency_Hz,
           "resonance of the housing on its mount: housing/acceleration passes a second-order high-pass there [Hz]; 0 = none (flat gain)",
           rule("Hz; 0 = none, else > 0 and below the Nyquist frequency of the stored samples"));
+  v.field("housing_mount_damping_ratio", c.housing_mount_damping_ratio,
+          "modal damping ratio of that mount resonance [-]; its gain at the resonance is 1/(2 zeta); 1/sqrt2 = Butterworth, no peak",
+          interval(model::SensorSettings::kMinHousingMountDampingRatio, model::SensorSettings::kMaxHousingMountDampingRatio, Ends::Closed, "-"));
 }
 
 /// Every key of a SimulationConfig (const or not), in file order.

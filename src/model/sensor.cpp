@@ -193,10 +193,15 @@ double LineEncoder::step(double t_s, double angle_rad, double speed_rad_s) {
   return held_;
 }
 
-double housing_transfer_gain(double gain_m_s2_per_N, double mount_Hz, double f_Hz) {
+double housing_transfer_gain(double gain_m_s2_per_N, double mount_Hz, double f_Hz, double damping_ratio) {
   if (!(mount_Hz > 0)) return gain_m_s2_per_N;
   const double r2 = (f_Hz / mount_Hz) * (f_Hz / mount_Hz);
-  return gain_m_s2_per_N * r2 / std::sqrt(1.0 + r2 * r2);
+  // |s^2 / (s^2 + 2 zeta w0 s + w0^2)| at s = i w: r^2 / sqrt((1 - r^2)^2 + (2 zeta r)^2), which
+  // is r^2 / sqrt(1 + r^4) at the Butterworth ratio, kept in that form (the same doubles as before
+  // the damping ratio was a parameter).
+  if (damping_ratio == SensorSettings::kButterworthDampingRatio) return gain_m_s2_per_N * r2 / std::sqrt(1.0 + r2 * r2);
+  const double two_zeta_r2 = 4 * damping_ratio * damping_ratio * r2;
+  return gain_m_s2_per_N * r2 / std::sqrt((1.0 - r2) * (1.0 - r2) + two_zeta_r2);
 }
 
 namespace {
@@ -254,16 +259,20 @@ std::vector<double> housing_acceleration_history(const SensorSettings& s, std::s
       throw SolverError("sensor.housing_mount_frequency_Hz " + std::to_string(s.housing_mount_frequency_Hz) +
                         " Hz is at or above the Nyquist frequency " + std::to_string(0.5 / sample_interval_s) +
                         " Hz of the record");
-    ButterworthFilter mount(s.housing_mount_frequency_Hz, 2, sample_interval_s, FilterPass::High);
+    ButterworthFilter mount(s.housing_mount_frequency_Hz, 2, sample_interval_s, FilterPass::High,
+                            s.housing_mount_damping_ratio);
     mount.set_periodic_state(out);
     for (double& a : out) a = mount.step(a);
   }
   return out;
 }
 
-ButterworthFilter::ButterworthFilter(double bandwidth_Hz, int order, double dt_s, FilterPass pass) {
+ButterworthFilter::ButterworthFilter(double bandwidth_Hz, int order, double dt_s, FilterPass pass,
+                                     double damping_ratio) {
   if (order != 1 && order != 2) throw std::invalid_argument("Butterworth filter order must be 1 or 2");
   if (!(bandwidth_Hz >= 0) || !(dt_s > 0)) throw std::invalid_argument("Butterworth filter: cutoff >= 0, dt > 0");
+  if (!(damping_ratio > 0) || !std::isfinite(damping_ratio))
+    throw std::invalid_argument("second-order filter: damping ratio " + std::to_string(damping_ratio) + " must be > 0");
   if (pass == FilterPass::High && bandwidth_Hz * dt_s >= 0.5)
     throw std::invalid_argument("high-pass cutoff " + std::to_string(bandwidth_Hz) + " Hz at or above the Nyquist frequency " +
                                 std::to_string(0.5 / dt_s) + " Hz of the record");
@@ -278,13 +287,20 @@ ButterworthFilter::ButterworthFilter(double bandwidth_Hz, int order, double dt_s
     a1_ = (K - 1.0) * n;
     sigma_1_s_ = kTwoPi * bandwidth_Hz;
   } else {
-    const double r2 = std::numbers::sqrt2;
+    // s^2 + 2 zeta w0 s + w0^2 with s -> (1 - z^-1) / (K (1 + z^-1)) [w0 = 1]: the coefficient
+    // 2 zeta is sqrt2 exactly at the Butterworth ratio (doubling sqrt2 / 2 is exact).
+    const double r2 = 2 * damping_ratio;
     const double n = 1.0 / (1.0 + r2 * K + K * K);
     b0_ = b2_ = pass == FilterPass::Low ? K * K * n : n;
     b1_ = pass == FilterPass::Low ? 2 * b0_ : -2 * b0_;
     a1_ = 2.0 * (K * K - 1.0) * n;
     a2_ = (1.0 - r2 * K + K * K) * n;
-    sigma_1_s_ = kTwoPi * bandwidth_Hz / r2;
+    // The slowest pole's decay rate: zeta w0 (underdamped; the Butterworth's w0 / sqrt2 in the
+    // form it always had), w0 (zeta - sqrt(zeta^2 - 1)) overdamped.
+    const double w0 = kTwoPi * bandwidth_Hz;
+    sigma_1_s_ = damping_ratio == SensorSettings::kButterworthDampingRatio ? w0 / std::numbers::sqrt2
+                 : damping_ratio < 1 ? damping_ratio * w0
+                                     : w0 * (damping_ratio - std::sqrt(damping_ratio * damping_ratio - 1));
   }
 }
 

@@ -106,13 +106,16 @@ std::vector<double> housing_acceleration_history(const SensorSettings& sensor,
                                                  double sample_interval_s);
 
 /// The housing path's gain at frequency `f_Hz` [m/s^2 per N]: `gain` G times the mount's
-/// high-pass magnitude, G (f/f0)^2 / sqrt(1 + (f/f0)^4), the analog second-order Butterworth
-/// whose bilinear image housing_acceleration_history applies (the two agree to (pi f dt)^2
+/// high-pass magnitude, G r^2 / sqrt((1 - r^2)^2 + (2 zeta r)^2) with r = f/f0 and zeta the
+/// mount's damping ratio (G (f/f0)^2 / sqrt(1 + (f/f0)^4) at the default zeta = 1/sqrt2, the
+/// analog second-order Butterworth), the analog prototype whose bilinear image
+/// housing_acceleration_history applies (the two agree to (pi f dt)^2
 /// relative: 3e-4 at 2 kHz for a 2.8 us step); G itself without a mount (`mount_Hz` = 0).
 /// What a recording measures is this product at its lines, not G: with f0 above every line
 /// the lines see G (f/f0)^2, and G alone grows as f0^2 (a stiff mount, the housing following
 /// its quasi-static deflection), so a bound on G is a bound on the transfer only through it.
-double housing_transfer_gain(double gain_m_s2_per_N, double mount_Hz, double f_Hz);
+double housing_transfer_gain(double gain_m_s2_per_N, double mount_Hz, double f_Hz,
+                             double damping_ratio = SensorSettings::kButterworthDampingRatio);
 
 /// A line-counting speed encoder read by the period method (SensorSettings::sun_encoder_lines,
 /// carrier_encoder_lines). Its N lines give an edge each time the shaft angle passes a multiple
@@ -182,7 +185,11 @@ class ButterworthFilter {
 public:
   /// bandwidth_Hz = 0: identity. Throws std::invalid_argument for order outside {1, 2},
   /// a negative bandwidth, a non-positive dt, or a high-pass cutoff at or above 1/(2 dt).
-  ButterworthFilter(double bandwidth_Hz, int order, double dt_s, FilterPass pass = FilterPass::Low);
+  /// damping_ratio (order 2 only): zeta of the denominator s^2 + 2 zeta w_c s + w_c^2; 1/sqrt2 is
+  /// the Butterworth filter, a smaller one a resonance of gain 1/(2 zeta) at f_c (a housing's
+  /// mount, SensorSettings::housing_mount_damping_ratio). Throws std::invalid_argument for <= 0.
+  ButterworthFilter(double bandwidth_Hz, int order, double dt_s, FilterPass pass = FilterPass::Low,
+                    double damping_ratio = SensorSettings::kButterworthDampingRatio);
   /// True when the filter passes its input unchanged.
   bool passes() const { return identity_; }
   /// Sets the state to the steady state of a constant input x (the output is x low-pass, 0 high-pass).

@@ -309,7 +309,8 @@ void validate_wear(const WearSettings& w) {
 double largest_housing_gain_m_s2_per_N(const SimulationConfig& c) {
   return config::kMaxSensorGain_m_s2_per_N /
          housing_transfer_gain(1.0, c.sensor.housing_mount_frequency_Hz,
-                               mesh_frequency_Hz(c.stage, c.operating.input_speed_rpm));
+                               mesh_frequency_Hz(c.stage, c.operating.input_speed_rpm),
+                               c.sensor.housing_mount_damping_ratio);
 }
 
 void validate(const SimulationConfig& c) {

@@ -127,6 +127,7 @@ inline void expect_config_eq(const model::SimulationConfig& a, const model::Simu
   EXPECT_EQ(a.sensor.sun_encoder_phase_rad, b.sensor.sun_encoder_phase_rad);
   EXPECT_EQ(a.sensor.carrier_encoder_phase_rad, b.sensor.carrier_encoder_phase_rad);
   EXPECT_EQ(a.sensor.housing_mount_frequency_Hz, b.sensor.housing_mount_frequency_Hz);
+  EXPECT_EQ(a.sensor.housing_mount_damping_ratio, b.sensor.housing_mount_damping_ratio);
 
   EXPECT_EQ(a.rig.input_control, b.rig.input_control);
   EXPECT_EQ(a.rig.input_shaft_stiffness_N_m_rad, b.rig.input_shaft_stiffness_N_m_rad);
@@ -231,6 +232,7 @@ inline model::SimulationConfig nondefault_config() {
   c.sensor.encoder_bandwidth_Hz = 1000.0 / 3;
   c.sensor.encoder_filter_order = 1;
   c.sensor.housing_mount_frequency_Hz = 1500;
+  c.sensor.housing_mount_damping_ratio = 0.03 / 7;
 
   c.rig.input_control = model::InputControl::Torque;
   c.rig.input_shaft_stiffness_N_m_rad = 2e5 / 3;

@@ -284,6 +284,50 @@ TEST(Sensor, AHousingMountScalesEveryLineByItsHighPassGainAndZeroIsTheFlatTransf
   EXPECT_THROW(s.housing(beyond), pw::SolverError);
 }
 
+TEST(Sensor, AResonantMountScalesEveryLineByItsSecondOrderGainWhichPeaksAtOneOverTwoZeta) {
+  // A mount of damping ratio zeta (SensorSettings::housing_mount_damping_ratio): the bilinear
+  // image of s^2 / (s^2 + 2 zeta w0 s + w0^2), prewarped at f_0, scales each line at f by
+  // W^2 / sqrt((1 - W^2)^2 + (2 zeta W)^2), W = tan(pi f dt) / tan(pi f_0 dt): exact to round-off
+  // in the record's periodic steady state (1e-9, as for the Butterworth above). A mount placed on
+  // the mesh frequency raises that line by exactly 1/(2 zeta) (W = 1). The Butterworth ratio
+  // stated explicitly is the default, bit for bit.
+  Synthetic s({1.0, 0.7, 0.4});
+  SensorSettings flat;
+  const auto a0 = s.housing(flat);
+  const double fm = s.mesh_per_rev * s.f_c;
+  for (const double zeta : {0.02, 0.2, 1.5}) {
+    for (const double f0 : {fm, 0.8 * fm}) {
+      SensorSettings mount = flat;
+      mount.housing_mount_frequency_Hz = f0;
+      mount.housing_mount_damping_ratio = zeta;
+      const auto a = s.housing(mount);
+      for (const int off : {-3, 0, 3}) {
+        const double f = fm + off * s.f_c;
+        const double w = std::tan(kPi * f * s.dt) / std::tan(kPi * f0 * s.dt);
+        const double gain = w * w / std::sqrt((1 - w * w) * (1 - w * w) + 4 * zeta * zeta * w * w);
+        const double ref = bin_amplitude(a0, s.bin(f));
+        if (ref < 1e-6 * bin_amplitude(a0, s.bin(fm))) continue;  // a line the planets cancel
+        EXPECT_NEAR(bin_amplitude(a, s.bin(f)), gain * ref, 1e-9 * gain * ref)
+            << "zeta " << zeta << ", f_0 " << f0 << ", line at " << f << " Hz";
+        if (f0 == fm && off == 0) {
+          EXPECT_NEAR(bin_amplitude(a, s.bin(f)), ref / (2 * zeta), 1e-9 * ref / zeta);
+        }
+      }
+    }
+  }
+  SensorSettings butterworth = flat, stated = flat;
+  butterworth.housing_mount_frequency_Hz = stated.housing_mount_frequency_Hz = 0.5 * fm;
+  stated.housing_mount_damping_ratio = std::sqrt(0.5);
+  EXPECT_EQ(stated.housing_mount_damping_ratio, SensorSettings::kButterworthDampingRatio);
+  EXPECT_EQ(s.housing(stated), s.housing(butterworth));
+  // The analog gain: 1/(2 zeta) at f_0, the Butterworth form at the default ratio.
+  EXPECT_NEAR(housing_transfer_gain(3.0, 500.0, 500.0, 0.02), 3.0 / 0.04, 1e-12);
+  EXPECT_EQ(housing_transfer_gain(3.0, 500.0, 700.0, SensorSettings::kButterworthDampingRatio),
+            housing_transfer_gain(3.0, 500.0, 700.0));
+  // r = 1.4, zeta = 0.3: 3 r^2 / sqrt((1 - r^2)^2 + (2 zeta r)^2) = 5.88 / sqrt(0.9216 + 0.7056).
+  EXPECT_NEAR(housing_transfer_gain(3.0, 500.0, 700.0, 0.3), 5.88 / std::sqrt(1.6272), 1e-12);
+}
+
 TEST(Sensor, TheHousingTransferGainIsTheGainThroughTheMountsAnalogHighPass) {
   // housing_transfer_gain: G (f/f0)^2 / sqrt(1 + (f/f0)^4), the analog prototype of the record's
   // bilinear filter. Closed forms: G without a mount, G / sqrt2 at f0, G (f/f0)^2 to (f/f0)^4
