@@ -104,6 +104,32 @@ std::vector<DiscrepancyEstimate> estimate_discrepancy(const std::vector<std::vec
   return out;
 }
 
+bool housing_lines_heard(const std::vector<std::vector<CalibrationCell>>& recordings, double alpha) {
+  std::size_t m = 0;
+  for (const auto& cells : recordings)
+    for (const CalibrationCell& c : cells) m += c.quantity == Quantity::HousingAcceleration ? 1 : 0;
+  if (m == 0) return false;
+  const double t = std::log(static_cast<double>(m) / alpha);
+  for (const auto& cells : recordings)
+    for (const CalibrationCell& c : cells) {
+      if (c.quantity != Quantity::HousingAcceleration || !(c.noise_variance > 0)) continue;
+      const double level = t * c.noise_variance;
+      if (c.recording[0] * c.recording[0] > level && c.recording[1] * c.recording[1] > level) return true;
+    }
+  return false;
+}
+
+void hold_at_null(std::vector<std::vector<FittedParameter>>& per_recording,
+                  const std::vector<std::pair<std::string, double>>& null_values) {
+  for (auto& params : per_recording)
+    for (FittedParameter& p : params)
+      for (const auto& [name, value] : null_values)
+        if (p.name == name) {
+          p.value = value;
+          p.at_bound = false;
+        }
+}
+
 CalibrationFit calibration_fit(const std::vector<FittedParameter>& nuisance, double chi2_held_out,
                                double bound_held_out) {
   CalibrationFit f;

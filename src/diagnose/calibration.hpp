@@ -146,6 +146,21 @@ std::optional<std::vector<FittedParameter>> pooled_structure(const std::vector<s
 /// more than that parameter's range, and the discrepancy budget carries the rest.
 std::vector<std::string> parameters_at_bound(const std::vector<std::vector<FittedParameter>>& per_recording);
 
+/// Whether any recording's housing channel holds a line the noise cannot explain: a housing cell
+/// whose amplitude exceeds, in both halves, what the noise alone reaches with probability
+/// alpha / m (m the housing cells over all recordings, Bonferroni). A bin of complex white noise
+/// of variance s^2 has |n|^2 exponentially distributed with mean s^2, P(|n|^2 > t s^2) = e^-t, so
+/// the level is A^2 > s^2 ln(m / alpha). False when there is no housing cell. Without such a
+/// line nothing in the recordings depends on the housing's transfer beyond its gain, and a
+/// fitted mount (sensor.housing_mount_*) is wherever the fit wandered: calibrate then holds it
+/// at its 'absent' values (hold_at_null).
+bool housing_lines_heard(const std::vector<std::vector<CalibrationCell>>& recordings, double alpha);
+
+/// Every recording's parameters named in `null_values` set to that value and no longer at a bound
+/// (a rig element the recordings cannot measure, held at 'absent').
+void hold_at_null(std::vector<std::vector<FittedParameter>>& per_recording,
+                  const std::vector<std::pair<std::string, double>>& null_values);
+
 /// One healthy recording's nuisance fit within a calibration: what the median was taken over.
 /// Their spread across the recordings shows how well the operating points agree on each value
 /// (a parameter that scatters by a factor of two is not identified by these recordings).

@@ -439,3 +439,60 @@ TEST(Calibration, ACalibratedModelsFormIsOneSetLinePerPartThatDiffersFromTheDefa
   apply_model_form(c, both);
   EXPECT_EQ(model_form_of(c), both);
 }
+
+// A housing channel of pure noise (A^2 exponential with mean s^2 per bin) holds no line: over
+// 200 recordings of 500 cells each, none is called heard at alpha = 0.01 (the test's own false
+// alarm rate, alpha per recording set, makes a failure here a 1 % event per set: the seed is
+// fixed, so the outcome is deterministic). One line of 3 s in amplitude (A^2 = 9 s^2 against
+// ln(500 / 0.01) = 10.8 s^2) in both halves is not enough; one of 5 s (25 s^2) is. Speed
+// channels do not count; no housing cell at all is "not heard".
+TEST(Calibration, AHousingChannelIsHeardOnlyWhereALineExceedsTheNoiseInBothHalvesBeyondTheBonferroniLevel) {
+  std::mt19937_64 rng(71);
+  std::exponential_distribution<double> power(1.0);
+  const double s2 = 4e-6;
+  auto noise_cells = [&](Quantity q, int n) {
+    std::vector<CalibrationCell> cells(static_cast<std::size_t>(n));
+    for (CalibrationCell& c : cells) {
+      c.quantity = q;
+      c.noise_variance = s2;
+      for (double& a : c.recording) a = std::sqrt(s2 * power(rng));
+    }
+    return cells;
+  };
+  int heard = 0;
+  for (int set = 0; set < 200; ++set) heard += housing_lines_heard({noise_cells(Quantity::HousingAcceleration, 500)}, 0.01);
+  EXPECT_EQ(heard, 0);
+  auto with_line = [&](double amplitude_in_s, bool both_halves) {
+    auto cells = noise_cells(Quantity::HousingAcceleration, 500);
+    cells[17].recording[0] = amplitude_in_s * std::sqrt(s2);
+    cells[17].recording[1] = both_halves ? amplitude_in_s * std::sqrt(s2) : 0.0;
+    return std::vector<std::vector<CalibrationCell>>{cells};
+  };
+  EXPECT_FALSE(housing_lines_heard(with_line(3.0, true), 0.01));
+  EXPECT_TRUE(housing_lines_heard(with_line(5.0, true), 0.01));
+  EXPECT_FALSE(housing_lines_heard(with_line(50.0, false), 0.01));
+  auto speed = noise_cells(Quantity::SunSpeed, 50);
+  speed[3].recording[0] = speed[3].recording[1] = 100 * std::sqrt(s2);
+  EXPECT_FALSE(housing_lines_heard({speed}, 0.01));
+  EXPECT_FALSE(housing_lines_heard({}, 0.01));
+}
+
+TEST(Calibration, AParameterHeldAtNullTakesItsNullValueInEveryRecordingAndIsNoLongerAtABound) {
+  FittedParameter f, z, k;
+  f.name = "sensor.housing_mount_frequency_Hz";
+  f.value = 2.2;
+  z.name = "sensor.housing_mount_damping_ratio";
+  z.value = 0.01;
+  z.at_bound = true;
+  k.name = "stiffness.scale";
+  k.value = 0.95;
+  std::vector<std::vector<FittedParameter>> per_recording{{f, z, k}, {f, z, k}};
+  hold_at_null(per_recording, {{f.name, 1.0}, {z.name, std::sqrt(0.5)}});
+  for (const auto& params : per_recording) {
+    EXPECT_EQ(params[0].value, 1.0);
+    EXPECT_EQ(params[1].value, std::sqrt(0.5));
+    EXPECT_FALSE(params[1].at_bound);
+    EXPECT_EQ(params[2].value, 0.95);
+  }
+  EXPECT_TRUE(parameters_at_bound(per_recording).empty());
+}
