@@ -342,8 +342,6 @@ void choose_model_form(CalibrateCommandOptions& o, const std::vector<std::string
     if (choose_model_form(o, rig, weighting, fits, *c)) form = c->changed(form);
 }
 
-} // namespace
-
 /// A housing mount among the kept rig elements that no recording can measure -- no housing line
 /// above the noise in any of them (diagnose::housing_lines_heard) -- is held at its 'absent'
 /// values in `params`: its fit only wandered over a flat chi2 (on indepsim4's setC3, three planets
@@ -368,6 +366,8 @@ void hold_unmeasured_mount(const std::vector<std::string>& rig, const model::Sim
                  "cannot be measured and is held at 'absent' (%s)\n",
                  text.c_str() + 1);
 }
+
+} // namespace
 
 int run_calibrate(const CalibrateCommandOptions& o_in) {
   CalibrateCommandOptions o = o_in;  // the calibrated model's form joins its assignments (choose_model_form)

@@ -200,8 +200,8 @@ double housing_transfer_gain(double gain_m_s2_per_N, double mount_Hz, double f_H
   // is r^2 / sqrt(1 + r^4) at the Butterworth ratio, kept in that form (the same doubles as before
   // the damping ratio was a parameter).
   if (damping_ratio == SensorSettings::kButterworthDampingRatio) return gain_m_s2_per_N * r2 / std::sqrt(1.0 + r2 * r2);
-  const double two_zeta_r2 = 4 * damping_ratio * damping_ratio * r2;
-  return gain_m_s2_per_N * r2 / std::sqrt((1.0 - r2) * (1.0 - r2) + two_zeta_r2);
+  const double damping_term = 4 * damping_ratio * damping_ratio * r2;  // (2 zeta r)^2
+  return gain_m_s2_per_N * r2 / std::sqrt((1.0 - r2) * (1.0 - r2) + damping_term);
 }
 
 namespace {

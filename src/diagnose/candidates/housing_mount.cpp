@@ -33,6 +33,7 @@
 #include "diagnose/candidates/factories.hpp"
 
 #include <algorithm>
+#include <numbers>
 
 namespace pw::diagnose::candidates {
 namespace {
@@ -42,7 +43,7 @@ constexpr double kUpper_Hz = 2e4;
 constexpr double kScreen_Hz = 1e3;
 constexpr double kScanStepRatio = 2.0;
 constexpr double kLowestDampingRatio = 0.01;
-constexpr double kDampingScanStepRatio = 1.41421356237309515;  // sqrt2
+constexpr double kDampingScanStepRatio = std::numbers::sqrt2;
 
 class HousingMount final : public Candidate {
 public:
