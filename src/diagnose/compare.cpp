@@ -80,6 +80,10 @@ constexpr int kGainBracketDoublings = 8;
 /// A wider bracket that lowers chi2 by less than this found nothing: a chi2 change of 0.01 is a
 /// tenth of a standard error of the gain (chi2 rises by (delta / se)^2 from its minimum).
 constexpr double kGainChi2Resolution = 0.01;
+/// Relative margin below the configuration's largest housing gain at which a profile search that
+/// runs into it stops: far below any fit's precision, far above the round-off between two
+/// evaluations of the bound (a few units in the last place).
+constexpr double kGainBoundMargin = 1e-6;
 } // namespace
 
 ModelComparison::ModelComparison(const Recording& recording, const model::SimulationConfig& config,
@@ -665,11 +669,22 @@ WindowScore ModelComparison::score(const std::vector<std::vector<double>>& m, Ha
       // The configuration's largest gain bounds the transfer through the mount at the mesh
       // frequency, so that the gain of a mount held far above the lines (a stiff mount: G grows
       // as f0^2) is not an edge while what the lines hear is in range.
-      if (strongest > 0 &&
-          (best.x < -std::log(strongest) || best.x > std::log(model::largest_housing_gain_m_s2_per_N(base_))))
+      // Above that gain the search stops at it: a model whose housing lines are all but zero (an
+      // in-phase stage on the ring's translation, its lines at round-off) otherwise fits the
+      // recording's lines with a gain of 10^5..10^9 m/s^2 per N, which the configuration then
+      // refuses as a unit mistake and the diagnosis ended in an error (session 72: indepsim4's
+      // setC3 rec_10 on the ring's translation).
+      // A millionth below the bound, not exp(log(bound)): the configuration's check recomputes it
+      // at the simulated speed, and either can round a unit above the other.
+      const double largest = model::largest_housing_gain_m_s2_per_N(base_) * (1.0 - kGainBoundMargin);
+      const bool above = best.x > std::log(largest);
+      if (above) {
+        best.x = std::log(largest);
         best.at_edge = true;
+      }
+      if (strongest > 0 && best.x < -std::log(strongest)) best.at_edge = true;
       const double lg = best.x;
-      gains[static_cast<std::size_t>(c)] = std::exp(lg);
+      gains[static_cast<std::size_t>(c)] = above ? largest : std::exp(lg);
       // Within the final bracket of an initial edge: the optimum may lie beyond it.
       gain_edge[static_cast<std::size_t>(c)] = best.at_edge;
       // Standard error from the curvature of chi2 in ln g (step 1e-3 in ln g).

@@ -13,6 +13,7 @@
 #include "diagnose/fitted_parameter.hpp"
 #include "diagnose/kinematics.hpp"
 #include "diagnose/stage_1200rpm.hpp"
+#include "model/validate.hpp"
 
 #include "core/error.hpp"
 
@@ -193,6 +194,34 @@ TEST(Baseline, AHousingGainIsSearchedFromAPositiveStartWhenTheOffsetsExceedTheRe
   EXPECT_GT(s.gains[1], 0.0);
   EXPECT_LT(s.gains[1], 1.0);         // the search goes down from the given gain: the offsets are too large already
   EXPECT_TRUE(s.gain_at_edge[1]);     // and the optimum lies beyond its bracket: reported, not hidden
+}
+
+TEST(Baseline, AHousingGainStopsAtTheConfigurationsLargestWhenTheModelsHousingLinesAreAllButZero) {
+  // An in-phase stage on the ring's translation: the model's healthy housing lines cancel to
+  // round-off while the recording's are real (session 72). The gain that would match them is
+  // ~10^12 times any physical one; the search stops at the configuration's largest gain and says
+  // so, instead of handing the configuration a gain it refuses as a unit mistake.
+  auto as_housing = [](Recording r) {
+    r.channels[1].quantity = Quantity::HousingAcceleration;
+    return r;
+  };
+  auto model = perfect_model();
+  for (double& a : model[1]) a *= 1e-12;
+  const Recording rec = as_housing(synthetic(0.0, 11));
+  ModelComparison cmp(rec, test::stage_1200rpm());
+  ASSERT_TRUE(cmp.is_housing(1));
+  cmp.set_reference(model, {1.0, 1.0});
+  const WindowScore s = cmp.score(model, Half::Fit, {1.0, 1.0}, HousingGains::Profile);
+  const double largest = model::largest_housing_gain_m_s2_per_N(test::stage_1200rpm());
+  EXPECT_TRUE(std::isfinite(s.chi2));
+  ASSERT_EQ(s.gains.size(), 2u);
+  EXPECT_NEAR(s.gains[1], largest, 1e-5 * largest);  // at the bound
+  EXPECT_LE(s.gains[1], largest);
+  EXPECT_TRUE(s.gain_at_edge[1]);
+  // The bound is what stopped the search, not where it would have ended anyway: the gain that
+  // undoes the 1e-12 fits far better.
+  const WindowScore matched = cmp.score(model, Half::Fit, {1.0, 1e12}, HousingGains::Given);
+  EXPECT_LT(matched.chi2, 0.01 * s.chi2);
 }
 
 TEST(Baseline, TheDiscretizationErrorTheBaselinesModelSharesCancelsInTheNull) {
