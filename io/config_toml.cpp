@@ -74,9 +74,10 @@ struct EnumNames<SensorWindow> {
 
 template <>
 struct EnumNames<model::HousingPath> {
-  static constexpr std::array<std::pair<model::HousingPath, std::string_view>, 2> values{
+  static constexpr std::array<std::pair<model::HousingPath, std::string_view>, 3> values{
       {{model::HousingPath::PlanetPass, model::housing_path_name(model::HousingPath::PlanetPass)},
-       {model::HousingPath::RingTranslation, model::housing_path_name(model::HousingPath::RingTranslation)}}};
+       {model::HousingPath::RingTranslation, model::housing_path_name(model::HousingPath::RingTranslation)},
+       {model::HousingPath::RingBody, model::housing_path_name(model::HousingPath::RingBody)}}};
 };
 
 template <>

@@ -132,7 +132,8 @@ void visit_sensor(V& v, Sensor& c) {
   v.field("window_width_rad", c.window_width_rad, "transfer-path window width sigma [rad]", interval(0, kMaxSensorWindowWidth_rad, Ends::OpenLow, "rad"));
   v.field("window", c.window, "window shape: \"gaussian\" or \"hann\"");
   v.field("housing_path", c.housing_path,
-          "mesh forces -> sensor: \"planet_pass\" (window) or \"ring_translation\" (rigid ring, G = 1/ring mass)");
+          "mesh forces -> sensor: \"planet_pass\" (window), \"ring_translation\" (rigid ring, G = 1/ring mass) or "
+          "\"ring_body\" (the lateral-torsional model's ring: G m_r times its acceleration)");
   v.field("encoder_bandwidth_Hz", c.encoder_bandwidth_Hz,
           "-3 dB bandwidth of the speed encoders' Butterworth low-pass (sun/speed, carrier/speed) [Hz]; 0 = ideal", at_least(0, "Hz; 0 = ideal encoder"));
   v.field("encoder_filter_order", c.encoder_filter_order, "order of the encoder low-pass, 1 or 2 [-]", integers(1, 2));

@@ -328,12 +328,17 @@ enum class HousingPath {
   /// ring-mesh force projected on it, a = G sum_i F_pr,i sin(psi_i + theta_c - phi_s + alpha'_pr),
   /// Eq. (S2) (a stiff ring on a compliant housing, the lumped models of Lin & Parker 1999).
   RingTranslation,
+  /// The ring body's own translational acceleration in the lateral-torsional model (solver.level =
+  /// "lateral_torsional" only): a = G m_r (a_x cos phi_s + a_y sin phi_s), (a_x, a_y) the ring's
+  /// acceleration in the fixed frame and m_r its mass, Eq. (S3): (S2)'s net force after the ring's
+  /// dynamics on its support (bearings.ring_N_m), through the stage's translational modes.
+  RingBody,
 };
 
 /// The configuration's name of a housing path (sensor.housing_path), also the calibration
 /// file's and report.json's.
 constexpr const char* housing_path_name(HousingPath p) {
-  return p == HousingPath::RingTranslation ? "ring_translation" : "planet_pass";
+  return p == HousingPath::RingTranslation ? "ring_translation" : p == HousingPath::RingBody ? "ring_body" : "planet_pass";
 }
 
 /// Accelerometer fixed on the ring/housing (McFadden & Smith 1985; Inalpolat
@@ -354,8 +359,9 @@ struct SensorSettings {
   double window_width_rad = 0.5;
   SensorWindow window = SensorWindow::Gaussian;
   /// The path from the ring-mesh forces to the sensor (HousingPath): the planet-pass window
-  /// (today's, the default) or the ring's rigid-body translation, where G is 1 / (ring mass) and
-  /// the window (window, window_width_rad) plays no part.
+  /// (today's, the default), the ring's rigid-body translation, where G is 1 / (ring mass) and
+  /// the window (window, window_width_rad) plays no part, or the lateral-torsional model's ring
+  /// body (its acceleration times its mass, the same G; solver.level = "lateral_torsional" only).
   HousingPath housing_path = HousingPath::PlanetPass;
   /// Speed encoders (channels sun/speed and carrier/speed): -3 dB bandwidth of a Butterworth
   /// low-pass [Hz] that the measured speed has passed through (a finite encoder line count,

@@ -233,12 +233,21 @@ void ring_translation_history(const SensorSettings& s, std::span<const double> p
     out[k] = s.gain_m_s2_per_N * a;
   }
 }
+
+/// Eq. (S3) at every sample: the ring body's fixed-frame acceleration times its mass, projected on
+/// the sensor's radial direction e_r(phi_s) = (cos phi_s, sin phi_s), the direction (S2) projects
+/// the net force on (n_i . e_r(phi_s) = sin(psi_i + theta_c - phi_s + alpha'_pr)).
+void ring_body_history(const SensorSettings& s, const RingBodyAcceleration& ring, std::vector<double>& out) {
+  const double cx = std::cos(s.angle_rad), sy = std::sin(s.angle_rad);
+  const double scale = s.gain_m_s2_per_N * ring.mass_kg;
+  for (std::size_t k = 0; k < out.size(); ++k) out[k] = scale * (ring.x_m_s2[k] * cx + ring.y_m_s2[k] * sy);
+}
 } // namespace
 
 std::vector<double> housing_acceleration_history(const SensorSettings& s, std::span<const double> psi,
                                                  double ring_pressure_angle_rad, std::span<const double> theta_c,
                                                  const std::vector<std::span<const double>>& force,
-                                                 double sample_interval_s) {
+                                                 double sample_interval_s, const RingBodyAcceleration& ring) {
   if (force.size() != psi.size())
     throw std::invalid_argument("housing_acceleration_history: " + std::to_string(force.size()) +
                                 " force histories for " + std::to_string(psi.size()) + " planets");
@@ -247,8 +256,16 @@ std::vector<double> housing_acceleration_history(const SensorSettings& s, std::s
     if (force[i].size() != n)
       throw std::invalid_argument("housing_acceleration_history: planet " + std::to_string(i) + " force has " +
                                   std::to_string(force[i].size()) + " samples, carrier angle " + std::to_string(n));
+  if (s.housing_path == HousingPath::RingBody &&
+      (ring.x_m_s2.size() != n || ring.y_m_s2.size() != n || !(ring.mass_kg > 0)))
+    throw std::invalid_argument("housing_acceleration_history: the ring body's accelerations have " +
+                                std::to_string(ring.x_m_s2.size()) + " and " + std::to_string(ring.y_m_s2.size()) +
+                                " samples for " + std::to_string(n) + " carrier angles, its mass " +
+                                std::to_string(ring.mass_kg) + " kg (needs > 0)");
   std::vector<double> out(n);
-  if (s.housing_path == HousingPath::RingTranslation)
+  if (s.housing_path == HousingPath::RingBody)
+    ring_body_history(s, ring, out);
+  else if (s.housing_path == HousingPath::RingTranslation)
     ring_translation_history(s, psi, ring_pressure_angle_rad, theta_c, force, out);
   else
     planet_pass_history(s, psi, theta_c, force, out);

@@ -43,7 +43,20 @@
 // No window: every planet moves the ring wherever it is. With N equal planets in
 // phase the mesh lines cancel too, and only what differs between the planets moves
 // the ring. The housing mount (its high-pass) applies to either path: the ring on
-// its support is the mass on the mount's stiffness. Pure functions, no state.
+// its support is the mass on the mount's stiffness.
+//
+// The third path (housing_path = ring_body, solver.level = lateral_torsional only): the
+// lateral-torsional model's ring body itself, (S2)'s net force after the ring's dynamics on its
+// support (bearings.ring_N_m) and through the stage's translational modes:
+//
+//   a_s(t) = G m_r (a_x(t) cos phi_s + a_y(t) sin phi_s)                                  (S3)
+//
+//  * (a_x, a_y) the ring's translational acceleration in the fixed (housing) frame [m/s^2]
+//               (RingBodyAcceleration; the simulation's channels ring/acceleration_x, _y)
+//  * m_r        the ring's mass as the model uses it [kg]: G = 1 / m_r reads the ring's own
+//               acceleration, and G keeps (S2)'s scale: with the ring's support far below a
+//               line, m_r a = sum_i F_pr,i n_i - k_r x_r - c_r v_r ~ sum_i F_pr,i n_i there, (S2).
+// Pure functions, no state.
 #pragma once
 
 #include "config/stage.hpp"
@@ -90,10 +103,18 @@ double sensor_window(double distance_rad, SensorWindow window, double width_rad)
 double housing_acceleration(const SensorSettings& sensor, std::span<const double> planet_angles_rad,
                             double carrier_angle_rad, std::span<const double> force_deviation_N);
 
-/// Eq. (S1) or (S2) (SensorSettings::housing_path) over a record: `carrier_angle_rad[k]` and
+/// The ring body's translational acceleration over a record in the fixed (housing) frame, what
+/// Eq. (S3) reads: `x_m_s2[k]`, `y_m_s2[k]` at sample k [m/s^2], and the ring's mass [kg].
+struct RingBodyAcceleration {
+  double mass_kg = 0;
+  std::span<const double> x_m_s2, y_m_s2;
+};
+
+/// Eq. (S1), (S2) or (S3) (SensorSettings::housing_path) over a record: `carrier_angle_rad[k]` and
 /// `ring_force_N[i][k]` (planet i's ring-mesh force at sample k, all as long as the angles),
 /// samples `sample_interval_s` apart; `ring_pressure_angle_rad` alpha'_pr enters (S2) only.
-/// (S1) subtracts the mean of each planet's force over the record; (S2) takes the whole force.
+/// (S1) subtracts the mean of each planet's force over the record; (S2) takes the whole force;
+/// (S3) reads `ring` only (the forces are still checked), which must be as long as the angles.
 /// With a housing mount (SensorSettings::housing_mount_frequency_Hz > 0) the result passes
 /// the mount's second-order high-pass, started in the periodic steady state of the record
 /// (ButterworthFilter::set_periodic_state). Throws std::invalid_argument for mismatched sizes,
@@ -103,7 +124,7 @@ std::vector<double> housing_acceleration_history(const SensorSettings& sensor,
                                                  double ring_pressure_angle_rad,
                                                  std::span<const double> carrier_angle_rad,
                                                  const std::vector<std::span<const double>>& ring_force_N,
-                                                 double sample_interval_s);
+                                                 double sample_interval_s, const RingBodyAcceleration& ring = {});
 
 /// The housing path's gain at frequency `f_Hz` [m/s^2 per N]: `gain` G times the mount's
 /// high-pass magnitude, G r^2 / sqrt((1 - r^2)^2 + (2 zeta r)^2) with r = f/f0 and zeta the

@@ -422,6 +422,24 @@ void Integration::throw_reversed(double sun_speed_rad_s) const {
       " rpm (operating.input_power_W, operating.input_speed_rpm)"));
 }
 
+RingBodyReader::RingBodyReader(const dynamics::LumpedStructure& S)
+    : x_(S.bodies[static_cast<std::size_t>(S.ring_body)].map.row(0)),
+      y_(S.bodies[static_cast<std::size_t>(S.ring_body)].map.row(1)),
+      mass_kg_(S.bodies[static_cast<std::size_t>(S.ring_body)].mass_kg) {}
+
+Eigen::Vector2d RingBodyReader::fixed_frame(const Eigen::VectorXd& a, double carrier_angle_rad) const {
+  // The lateral-torsional model's translations are Lin & Parker's (1999): carrier-fixed axes turning
+  // with the carrier (dynamics/lumped_model.cpp). The fixed-frame acceleration of a point at u in
+  // that frame is R(theta_c) (u'' + 2 Omega z x u' + Omega' z x u - Omega^2 u); the model itself
+  // neglects the Coriolis and centripetal terms (dynamics/lumped_model.hpp), so only R(theta_c) u''
+  // is kept here too. Relative to u'' at a line of angular frequency w they are 2 Omega_c / w and
+  // (Omega_c / w)^2: a 600 rpm sun on 21/81 teeth turns the carrier at 12.9 rad/s, 0.4 % and 4e-6
+  // of a 1 kHz line (the translational modes the ring_body path is for).
+  const double ax = x_.dot(a), ay = y_.dot(a);
+  const double c = std::cos(carrier_angle_rad), s = std::sin(carrier_angle_rad);
+  return {c * ax - s * ay, s * ax + c * ay};
+}
+
 namespace {
 
 
@@ -707,6 +725,10 @@ constexpr std::size_t kMeshQuantities = 6;
 /// out as numbers (record_channels() checks it builds the same count).
 struct ChannelLayout {
   std::size_t meshes = 0, planets = 0;
+  /// The ring body's accelerations are recorded (sensor.housing_path = ring_body, which needs the
+  /// lateral-torsional model): two channels before the housing's. Other runs keep the channels
+  /// and order they always had.
+  bool ring_body = false;
 
   std::size_t mesh(dynamics::MeshId id, MeshQuantity q) const {
     return kMeshQuantities * static_cast<std::size_t>(id.index()) + static_cast<std::size_t>(q);
@@ -719,13 +741,15 @@ struct ChannelLayout {
   std::size_t load_sharing(int planet) const { return sun_speed() + 4 + static_cast<std::size_t>(planet); }
   std::size_t sun_angle() const { return sun_speed() + 4 + planets; }
   std::size_t carrier_angle() const { return sun_angle() + 1; }
-  std::size_t housing() const { return sun_angle() + 2; }
+  std::size_t ring_acceleration_x() const { return sun_angle() + 2; }
+  std::size_t ring_acceleration_y() const { return sun_angle() + 3; }
+  std::size_t housing() const { return sun_angle() + (ring_body ? 4 : 2); }
   std::size_t count() const { return housing() + 1; }
 };
 
 /// The channels of the recording in their documented order (docs/output-format.md),
 /// the order ChannelLayout indexes.
-std::vector<RecordChannel> record_channels(const dynamics::LumpedStructure& S, int planets) {
+std::vector<RecordChannel> record_channels(const dynamics::LumpedStructure& S, int planets, bool ring_body) {
   std::vector<RecordChannel> ch;
   auto add = [&](std::string name, std::string unit, std::string desc) {
     ch.push_back({std::move(name), std::move(unit), std::move(desc), nullptr});
@@ -751,10 +775,17 @@ std::vector<RecordChannel> record_channels(const dynamics::LumpedStructure& S, i
   add("sun/angle", "rad", "absolute sun angle Omega_s t + perturbation (t = simulation time, 0 at the start)");
   add("carrier/angle", "rad",
       "absolute carrier angle Omega_c t + perturbation; planet i is at psi_i + carrier/angle in the housing frame");
+  if (ring_body) {
+    add("ring/acceleration_x", "m/s^2",
+        "the ring body's translational acceleration along the fixed frame's x axis (the direction of planet 0 at "
+        "carrier angle 0), lateral-torsional model; recorded for sensor.housing_path = ring_body");
+    add("ring/acceleration_y", "m/s^2", "the same along the fixed frame's y axis (x turned 90 degrees counter-clockwise)");
+  }
   add("housing/acceleration", "m/s^2",
       "housing accelerometer at sensor.angle_rad: planet-ring mesh force fluctuations through the transfer-path "
-      "window, or the ring's translation (sensor.housing_path; model/sensor.hpp)");
-  const ChannelLayout layout{S.meshes.size(), static_cast<std::size_t>(planets)};
+      "window, the ring's translation, or the ring body's acceleration times its mass (sensor.housing_path; "
+      "model/sensor.hpp)");
+  const ChannelLayout layout{S.meshes.size(), static_cast<std::size_t>(planets), ring_body};
   if (ch.size() != layout.count())  // a programming error: the two orders disagree
     throw std::logic_error(detail::concat("record_channels built ", ch.size(), " channels, ChannelLayout has ",
                                           layout.count()));
@@ -838,6 +869,22 @@ void settle_encoders(Integration& r, ButterworthFilter& sun_encoder, Butterworth
   }
 }
 
+/// The housing accelerometer's channel of a record (model/sensor.hpp) from its stored inputs: each
+/// planet's ring-mesh force (planet_pass subtracts its mean over the record), the carrier angle,
+/// and for ring_body the ring's accelerations and mass.
+std::vector<double> housing_channel(Integration& r, const SimulationResult& out, const ChannelLayout& at,
+                                    const std::vector<std::size_t>& stored_index, double ring_mass_kg) {
+  const auto stored = [&](std::size_t k) -> const std::vector<double>& { return out.channels[stored_index[k]].values; };
+  std::vector<std::span<const double>> ring_force;
+  for (int i = 0; i < r.c.stage.planet_count; ++i)
+    ring_force.emplace_back(stored(at.mesh(dynamics::MeshId{i, dynamics::MeshKind::PlanetRing}, MeshQuantity::Force)));
+  RingBodyAcceleration ring;
+  if (at.ring_body) ring = {ring_mass_kg, stored(at.ring_acceleration_x()), stored(at.ring_acceleration_y())};
+  return housing_acceleration_history(r.c.sensor, r.p.geometry.planet_angles_rad,
+                                      r.p.geometry.planet_ring.working_pressure_angle_rad, stored(at.carrier_angle()),
+                                      ring_force, out.time_step_s, ring);
+}
+
 /// Recording of `cycles` mesh periods into the selected channels of `out`.
 RecordStats record(Integration& r, int cycles, SimulationResult& out, const OutputSelection& sel, const ProgressFn& report,
                    double f0, double f1) {
@@ -857,19 +904,22 @@ RecordStats record(Integration& r, int cycles, SimulationResult& out, const Outp
           " Hz of the stored samples (time step x output.time_history_decimation)");
   resize_prefaulted(out.time_s, static_cast<std::size_t>(nstore));
 
-  std::vector<RecordChannel> ch = record_channels(S, N);
-  const ChannelLayout at{S.meshes.size(), static_cast<std::size_t>(N)};
+  const bool ring_body = r.c.sensor.housing_path == HousingPath::RingBody;
+  std::vector<RecordChannel> ch = record_channels(S, N, ring_body);
+  const ChannelLayout at{S.meshes.size(), static_cast<std::size_t>(N), ring_body};
   const std::size_t g_housing = at.housing();
   auto ring_force_channel = [&](int i) {
     return at.mesh(dynamics::MeshId{i, dynamics::MeshKind::PlanetRing}, MeshQuantity::Force);
   };
   // The housing sensor is computed from the ring-mesh forces and the carrier
-  // angle after the run: store those too while it is wanted, drop them after.
+  // angle (and for ring_body the ring's accelerations) after the run: store
+  // those too while it is wanted, drop them after.
   std::vector<bool> wanted(ch.size()), needed(ch.size());
   for (std::size_t k = 0; k < ch.size(); ++k) wanted[k] = needed[k] = sel.selects(ch[k].name);
   if (wanted[g_housing]) {
     needed[at.carrier_angle()] = true;
     for (int i = 0; i < N; ++i) needed[ring_force_channel(i)] = true;
+    if (ring_body) needed[at.ring_acceleration_x()] = needed[at.ring_acceleration_y()] = true;
   }
   std::vector<std::size_t> stored_index(ch.size(), 0);
   for (std::size_t k = 0; k < ch.size(); ++k) {
@@ -905,6 +955,7 @@ RecordStats record(Integration& r, int cycles, SimulationResult& out, const Outp
   carrier_lines.start(r);
   settle_encoders(r, sun_encoder, carrier_encoder, sun_lines, carrier_lines);
   const double t0 = r.st.t;
+  const RingBodyReader ring(S);
   MeshLoadRecorder loads(p.geometry, r.c.stage, sys.nominal_input_torque_Nm());
   // The body the speed reference holds (the motor's end or the load's), for the mean torque of
   // its spring; only the speed-controlled rigs need it.
@@ -947,17 +998,16 @@ RecordStats record(Integration& r, int cycles, SimulationResult& out, const Outp
       put(at.load_sharing(i), j, fsum != 0 ? N * F_sp / fsum : 0.0);
     }
     put(at.sun_angle(), j, p.sun_speed_rad_s * r.st.t + sys.sun_rotation(r.st.q));
-    put(at.carrier_angle(), j, p.carrier_speed_rad_s * r.st.t + sys.carrier_rotation(r.st.q));
+    const double carrier_angle = p.carrier_speed_rad_s * r.st.t + sys.carrier_rotation(r.st.q);
+    put(at.carrier_angle(), j, carrier_angle);
+    if (ring_body) {
+      const Eigen::Vector2d a_ring = ring.fixed_frame(r.st.a, carrier_angle);
+      put(at.ring_acceleration_x(), j, a_ring.x());
+      put(at.ring_acceleration_y(), j, a_ring.y());
+    }
   }
   if (wanted[g_housing]) {
-    // Housing accelerometer (needs each planet's mean ring-mesh force over the record).
-    std::vector<std::span<const double>> ring_force;
-    for (int i = 0; i < N; ++i)
-      ring_force.emplace_back(out.channels[stored_index[ring_force_channel(i)]].values);
-    std::vector<double> h = housing_acceleration_history(r.c.sensor, p.geometry.planet_angles_rad,
-                                                         p.geometry.planet_ring.working_pressure_angle_rad,
-                                                         out.channels[stored_index[at.carrier_angle()]].values,
-                                                         ring_force, out.time_step_s);
+    std::vector<double> h = housing_channel(r, out, at, stored_index, ring.mass_kg());
     // Last, as in the documented order (record_channels).
     out.channels.push_back({ch[g_housing].name, ch[g_housing].unit, ch[g_housing].description, std::move(h)});
   }
@@ -966,6 +1016,12 @@ RecordStats record(Integration& r, int cycles, SimulationResult& out, const Outp
                          "simulation time at which the recording starts: time_history/time + record_start_time is "
                          "the time of the absolute angles (sun/angle, carrier/angle)",
                          t0});
+  // The diagnosis computes the ring_body housing channel again at other sensor angles from the
+  // ring's accelerations and needs the mass (model/sensor.hpp, Eq. S3); only then, so that the
+  // other paths' outputs stay as they were.
+  if (ring_body)
+    out.scalars.push_back({"ring/mass", "kg", "the ring body's mass in the lateral-torsional model (Eq. S3's m_r)",
+                           ring.mass_kg()});
   if (sel.mesh_load_summary) {
     stats.mesh_loads = loads.scalars();
     for (int i = 0; i < N; ++i)
@@ -1017,9 +1073,11 @@ SimulationResult simulate(const SimulationConfig& c, const ProgressFn& progress,
   const auto& S = sys.structure();
   const int nm = static_cast<int>(S.meshes.size());
   const int N = c.stage.planet_count;
-  check_selection(output, record_channels(S, N));
+  const bool ring_body = c.sensor.housing_path == HousingPath::RingBody;
+  check_selection(output, record_channels(S, N, ring_body));
   // Refuse what cannot be stored before the (possibly long) warm-up.
-  check_run_memory(c, p.steps_per_mesh, output.decimation, selected_channels(output, record_channels(S, N)));
+  check_run_memory(c, p.steps_per_mesh, output.decimation,
+                   selected_channels(output, record_channels(S, N, ring_body)));
   const bool wear_on = c.wear.mesh_cycles > 0;
   const double f_warm = wear_on ? 0.05 : 0.3, f_wear = wear_on ? 0.9 : f_warm;
 

@@ -125,6 +125,24 @@ private:
   [[noreturn]] void throw_reversed(double sun_speed_rad_s) const;
 };
 
+/// The lateral-torsional ring body's translational acceleration in the fixed (housing) frame, what
+/// the housing path ring_body reads (model/sensor.hpp, Eq. S3). Built once before a record loop
+/// (it copies the ring's coordinate rows): reading allocates nothing. The torsional model's ring
+/// has no translation (mass_kg() is then still the ring's, the accelerations 0).
+class RingBodyReader {
+public:
+  explicit RingBodyReader(const dynamics::LumpedStructure& S);
+  /// The ring's mass as the model's mass matrix holds it [kg] (stage.ring_mass_kg or derived).
+  double mass_kg() const { return mass_kg_; }
+  /// (a_x, a_y) [m/s^2] in the fixed frame from the coordinate accelerations `a` at the absolute
+  /// carrier angle `carrier_angle_rad` (Omega_c t + perturbation, as the channel carrier/angle).
+  Eigen::Vector2d fixed_frame(const Eigen::VectorXd& a, double carrier_angle_rad) const;
+
+private:
+  Eigen::RowVectorXd x_, y_;  ///< the ring centre's translation rows in the carrier frame
+  double mass_kg_ = 0;
+};
+
 /// The wear loop between the warm-up and the recording: advances `run` and
 /// fills `result.wear`, reporting progress in [f0, f1] (wear/simulation.hpp).
 using WearPhase = std::function<void(Integration& run, SimulationResult& result, const ProgressFn& progress,

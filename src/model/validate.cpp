@@ -188,11 +188,16 @@ void validate_imperfections(const Imperfections& im, const StageSpec& stage) {
   }
 }
 
-void validate_sensor(const SensorSettings& s, double largest_gain_m_s2_per_N) {
+void validate_sensor(const SensorSettings& s, double largest_gain_m_s2_per_N, ModelLevel level) {
   require(s.window == SensorWindow::Gaussian || s.window == SensorWindow::Hann, "sensor.window",
           "must be \"gaussian\" or \"hann\"");
-  require(s.housing_path == HousingPath::PlanetPass || s.housing_path == HousingPath::RingTranslation,
-          "sensor.housing_path", "must be \"planet_pass\" or \"ring_translation\"");
+  require(s.housing_path == HousingPath::PlanetPass || s.housing_path == HousingPath::RingTranslation ||
+              s.housing_path == HousingPath::RingBody,
+          "sensor.housing_path", "must be \"planet_pass\", \"ring_translation\" or \"ring_body\"");
+  // The torsional model's ring is fixed: it has no translation to read.
+  require(s.housing_path != HousingPath::RingBody || level == ModelLevel::LateralTorsional, "sensor.housing_path",
+          "\"ring_body\" reads the ring's translation, which only solver.level = \"lateral_torsional\" has; with "
+          "solver.level = \"torsional\" use \"planet_pass\" or \"ring_translation\"");
   require(s.housing_mount_frequency_Hz >= 0 && std::isfinite(s.housing_mount_frequency_Hz),
           "sensor.housing_mount_frequency_Hz", "must be >= 0 Hz (0 = no mount resonance), got ",
           s.housing_mount_frequency_Hz);
@@ -324,7 +329,7 @@ void validate(const SimulationConfig& c) {
   validate_imperfections(c.imperfections, c.stage);
   validate_solver(c.solver, c);
   validate_wear(c.wear);
-  validate_sensor(c.sensor, largest_housing_gain_m_s2_per_N(c));
+  validate_sensor(c.sensor, largest_housing_gain_m_s2_per_N(c), c.solver.level);
   validate_rig(c.rig, c.stage);
 }
 

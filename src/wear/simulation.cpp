@@ -51,6 +51,10 @@ WearSnapshot record_snapshot(model::Integration& r, double mesh_cycles, wear::Fl
   const int planets = r.c.stage.planet_count;
   std::vector<double> carrier_angle(static_cast<std::size_t>(n));
   std::vector<std::vector<double>> ring_force(static_cast<std::size_t>(planets), std::vector<double>(static_cast<std::size_t>(n)));
+  // The ring body's fixed-frame accelerations for sensor.housing_path = ring_body (Eq. S3), else none.
+  const bool ring_body = r.c.sensor.housing_path == model::HousingPath::RingBody;
+  const model::RingBodyReader ring(r.sys().structure());
+  std::vector<double> ring_x(ring_body ? static_cast<std::size_t>(n) : 0), ring_y(ring_x.size());
   WearSnapshot s;
   s.mesh_cycles = mesh_cycles;
   s.time_s.resize(n);
@@ -75,6 +79,11 @@ WearSnapshot record_snapshot(model::Integration& r, double mesh_cycles, wear::Fl
     s.channels[2].values[k] = ms[1].deflection_m;
     s.channels[3].values[k] = S.meshes[1].g.dot(r.st.a);
     carrier_angle[k] = r.p.carrier_speed_rad_s * r.st.t + r.sys().carrier_rotation(r.st.q);
+    if (ring_body) {
+      const Eigen::Vector2d a_ring = ring.fixed_frame(r.st.a, carrier_angle[k]);
+      ring_x[k] = a_ring.x();
+      ring_y[k] = a_ring.y();
+    }
     for (int i = 0; i < planets; ++i) ring_force[i][k] = ms[2 * static_cast<std::size_t>(i) + 1].force_N;
   }
   for (const Channel& ch : s.channels) {
@@ -86,10 +95,10 @@ WearSnapshot record_snapshot(model::Integration& r, double mesh_cycles, wear::Fl
   Channel housing{"housing/acceleration", "m/s^2",
                   "housing accelerometer at sensor.angle_rad through sensor.housing_path (model/sensor.hpp): "
                   "planet-ring force fluctuations about their means over the snapshot (planet_pass) or the "
-                  "ring's translation (ring_translation)",
+                  "ring's translation (ring_translation) or the ring body's acceleration times its mass (ring_body)",
                   model::housing_acceleration_history(r.c.sensor, r.p.geometry.planet_angles_rad,
                                                       r.p.geometry.planet_ring.working_pressure_angle_rad, carrier_angle, forces,
-                                                      r.p.time_step_s)};
+                                                      r.p.time_step_s, {ring.mass_kg(), ring_x, ring_y})};
   const signal::Spectrum hs = signal::amplitude_spectrum(housing.values, r.p.time_step_s, signal::Window::Hann);
   s.spectra.push_back({housing.name, "frequency", "Hz", "amplitude", housing.unit,
                        "amplitude spectrum, Hann window, " + hs.scaling, hs.frequency_Hz, hs.amplitude});

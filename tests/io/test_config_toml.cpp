@@ -361,6 +361,25 @@ TEST(ConfigToml, ToTomlOfTheDefaultsRoundTrips) {
   test::expect_config_eq(parse_config(to_toml(defaults)), defaults);
 }
 
+TEST(ConfigToml, RingBodyHousingPathParsesWritesAndReadsBack) {
+  // The third housing path (model/sensor.hpp Eq. S3) is a string like the other two, written back
+  // under its own name; it is valid with the lateral-torsional model only (model/validate.cpp).
+  const auto c = parse_config("[solver]\nlevel = \"lateral_torsional\"\n[sensor]\nhousing_path = \"ring_body\"\n");
+  EXPECT_EQ(c.sensor.housing_path, model::HousingPath::RingBody);
+  EXPECT_EQ(std::string(model::housing_path_name(c.sensor.housing_path)), "ring_body");
+  const std::string text = to_toml(c);
+  EXPECT_TRUE(contains(text, "housing_path = 'ring_body'") || contains(text, "housing_path = \"ring_body\""));
+  test::expect_config_eq(parse_config(text, "ring_body.toml"), c);
+  model::SimulationConfig o;
+  o.solver.level = model::ModelLevel::LateralTorsional;
+  apply_overrides(o, {"sensor.housing_path=ring_body"});
+  EXPECT_EQ(o.sensor.housing_path, model::HousingPath::RingBody);
+  const auto e = parse_error("[sensor]\nhousing_path = \"ring_bdy\"\n");
+  ASSERT_TRUE(e);
+  EXPECT_EQ(e->parameter(), "sensor.housing_path");
+  EXPECT_TRUE(contains(e->what(), "did you mean \"ring_body\""));
+}
+
 TEST(ConfigToml, ToTomlWritesEveryKey) {
   const std::string text = to_toml(model::SimulationConfig{});
   for (const auto& key : config_keys()) {

@@ -47,6 +47,20 @@ std::optional<InputError> error_after(const std::function<void(SimulationConfig&
 
 TEST(Validate, DefaultConfigurationIsValid) { EXPECT_NO_THROW(validate(SimulationConfig{})); }
 
+TEST(Validate, RingBodyHousingPathNeedsTheLateralTorsionalModel) {
+  // The torsional model holds the ring fixed: there is no ring translation for ring_body to read.
+  const auto e = error_after([](SimulationConfig& c) { c.sensor.housing_path = HousingPath::RingBody; });
+  ASSERT_TRUE(e);
+  EXPECT_EQ(e->parameter(), "sensor.housing_path");
+  EXPECT_TRUE(contains(e->what(), "ring_body"));
+  EXPECT_TRUE(contains(e->what(), "solver.level"));
+  EXPECT_TRUE(contains(e->what(), "lateral_torsional"));
+  SimulationConfig lt;
+  lt.solver.level = ModelLevel::LateralTorsional;
+  lt.sensor.housing_path = HousingPath::RingBody;
+  EXPECT_NO_THROW(validate(lt));
+}
+
 TEST(Validate, NonPositiveSpeedIsRejectedWithKeyValueAndRange) {
   const auto e = error_after([](auto& c) { c.operating.input_speed_rpm = -5; });
   ASSERT_TRUE(e);
