@@ -224,6 +224,10 @@ std::vector<char> encode_spectra(const diagnose::ModelSpectra& s) {
   w.f64s(s.planet_angles_rad);
   w.f64s(s.angle_theta);
   write_matrix(w, s.leak_variance);
+  w.f64(s.ring_pressure_angle_rad);
+  w.f64s(s.ring_acceleration_x);
+  w.f64s(s.ring_acceleration_y);
+  w.f64(s.ring_mass_kg);
   return w.take();
 }
 
@@ -240,6 +244,10 @@ diagnose::ModelSpectra decode_spectra(std::span<const char> bytes) {
   s.planet_angles_rad = r.f64s();
   s.angle_theta = r.f64s();
   s.leak_variance = read_matrix(r);
+  s.ring_pressure_angle_rad = r.f64();
+  s.ring_acceleration_x = r.f64s();
+  s.ring_acceleration_y = r.f64s();
+  s.ring_mass_kg = r.f64();
   return s;
 }
 

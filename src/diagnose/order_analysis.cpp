@@ -1042,6 +1042,9 @@ model::OutputSelection model_channels(const Recording& rec, const RecordingSpect
   sel.mesh_load_summary = false;  // the comparison reads time histories only
   sel.channels = {"carrier/angle", "sun/speed", "carrier/speed"};
   for (int i = 0; i < config.stage.planet_count; ++i) sel.channels.push_back("planet_ring/" + std::to_string(i) + "/force");
+  // The ring_body housing path reads the ring's accelerations (model/sensor.hpp Eq. S3); the
+  // simulation records them only for that path, so they are asked for only then.
+  if (config.sensor.housing_path == model::HousingPath::RingBody) sel.channels.push_back("ring/");
   for (int ch : s.channels) {
     const std::string name = model_channel_name(rec.channels[static_cast<std::size_t>(ch)]);
     if (!name.empty()) sel.channels.push_back(name);
@@ -1063,6 +1066,7 @@ ModelSpectra model_spectra(const model::SimulationResult& r, const Recording& re
     if (sc.name == "steps_per_mesh_period") m.steps_per_mesh = static_cast<int>(sc.value);
     if (sc.name == "warmup_mesh_cycles") m.warmup_mesh_cycles = static_cast<int>(sc.value);
     if (sc.name == "planet_ring/working_pressure_angle") m.ring_pressure_angle_rad = sc.value;
+    if (sc.name == "ring/mass") m.ring_mass_kg = sc.value;
   }
   if (const model::Channel* sp = r.find("sun/speed")) {
     double sum = 0;
@@ -1073,6 +1077,8 @@ ModelSpectra model_spectra(const model::SimulationResult& r, const Recording& re
   if (psi.empty())
     for (int i = 0; i < config.stage.planet_count; ++i) psi.push_back(2 * kPi * i / config.stage.planet_count);
   std::vector<std::span<const double>> forces;
+  model::RingBodyAcceleration ring;
+  const bool ring_body = config.sensor.housing_path == model::HousingPath::RingBody;
   auto need_forces = [&]() {
     if (!forces.empty()) return;
     for (int i = 0; i < config.stage.planet_count; ++i) {
@@ -1080,6 +1086,12 @@ ModelSpectra model_spectra(const model::SimulationResult& r, const Recording& re
       if (!f) throw SolverError("diagnose: the simulation has no ring-mesh force of planet " + std::to_string(i));
       forces.emplace_back(f->values.data(), N);
     }
+    if (!ring_body) return;
+    const model::Channel* ax = r.find("ring/acceleration_x");
+    const model::Channel* ay = r.find("ring/acceleration_y");
+    if (!ax || !ay || !(m.ring_mass_kg > 0))
+      throw SolverError("diagnose: the simulation has no ring/acceleration_x, _y or ring/mass for the ring body");
+    ring = {m.ring_mass_kg, std::span<const double>(ax->values.data(), N), std::span<const double>(ay->values.data(), N)};
   };
   for (int ch : s.channels) {
     const auto& rc = rec.channels[static_cast<std::size_t>(ch)];
@@ -1092,7 +1104,7 @@ ModelSpectra model_spectra(const model::SimulationResult& r, const Recording& re
       sensor.angle_rad = rc.sensor_angle_rad;
       const auto h = model::housing_acceleration_history(sensor, psi, m.ring_pressure_angle_rad,
                                                           std::span<const double>(ca->values.data(), N), forces,
-                                                          r.time_step_s);
+                                                          r.time_step_s, ring);
       m.amplitude.push_back(spectrum(h));
       continue;
     }
@@ -1105,6 +1117,8 @@ ModelSpectra model_spectra(const model::SimulationResult& r, const Recording& re
   if (keep) {
     need_forces();
     for (const auto& f : forces) m.ring_force.emplace_back(f.begin(), f.end());
+    m.ring_acceleration_x.assign(ring.x_m_s2.begin(), ring.x_m_s2.end());
+    m.ring_acceleration_y.assign(ring.y_m_s2.begin(), ring.y_m_s2.end());
     m.carrier_angle.assign(ca->values.begin(), ca->values.begin() + static_cast<long>(N));
     m.planet_angles_rad = psi;
     m.angle_theta = ang.theta;
@@ -1121,7 +1135,8 @@ std::vector<double> housing_spectrum(const ModelSpectra& m, const model::SensorS
   std::vector<std::span<const double>> f;
   for (const auto& v : m.ring_force) f.emplace_back(v);
   const auto y = model::housing_acceleration_history(s, m.planet_angles_rad, m.ring_pressure_angle_rad, m.carrier_angle,
-                                                     f, m.time_step_s);
+                                                     f, m.time_step_s,
+                                                     {m.ring_mass_kg, m.ring_acceleration_x, m.ring_acceleration_y});
   return AngleSpectrum(ModelAngle{m.angle_theta}, revolutions, max_bin)(y);
 }
 

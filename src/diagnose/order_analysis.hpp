@@ -330,6 +330,11 @@ struct ModelSpectra {
   std::vector<double> planet_angles_rad;
   /// alpha'_pr of the simulated stage (model/sensor.hpp Eq. S2); NaN where the simulation did not say
   double ring_pressure_angle_rad = std::numeric_limits<double>::quiet_NaN();
+  /// The ring body's fixed-frame accelerations over the compared samples [m/s^2] and its mass [kg]
+  /// (sensor.housing_path = ring_body, model/sensor.hpp Eq. S3), kept with the ring forces; empty
+  /// and 0 for the other paths.
+  std::vector<double> ring_acceleration_x, ring_acceleration_y;
+  double ring_mass_kg = 0;
   std::vector<double> angle_theta;  ///< the angle reference at each kept sample [rad] (see model_spectra)
   /// Halves of Q mesh cycles only: per channel and bin, the mean square change of the amplitude
   /// over kLeakWindows - 1 other window starts ([unit^2]; empty otherwise; model_spectra).

@@ -454,6 +454,10 @@ std::string nuisance_text(const Diagnosis& d) {
   if (d.nuisance_housing_path == model::HousingPath::RingTranslation)
     s += std::string(s.empty() ? "" : "; ") +
          "the housing accelerometer reads the ring's rigid-body translation, sensor.housing_path = ring_translation";
+  if (d.nuisance_housing_path == model::HousingPath::RingBody)
+    s += std::string(s.empty() ? "" : "; ") +
+         "the housing accelerometer reads the lateral-torsional ring body's acceleration, sensor.housing_path = "
+         "ring_body";
   return s;
 }
 

@@ -22,6 +22,10 @@ diagnose::ModelSpectra sample_spectra() {
   s.planet_angles_rad = {0.0, 2.0943951023931953, 4.1887902047863905};
   s.angle_theta = {0.0, 1e-9};
   s.leak_variance = {{0.25, 1e-310}, {}, {3.0}};
+  s.ring_pressure_angle_rad = 0.3937;
+  s.ring_acceleration_x = {0.5, -1e-200};
+  s.ring_acceleration_y = {std::nextafter(2.0, 3.0), 0.0};
+  s.ring_mass_kg = 1.0 / 3.0;
   return s;
 }
 
@@ -40,6 +44,11 @@ TEST(SimulationPool, SpectraSurviveTheRoundTripBitForBit) {
   EXPECT_EQ(a.planet_angles_rad, b.planet_angles_rad);
   EXPECT_EQ(a.angle_theta, b.angle_theta);
   EXPECT_EQ(a.leak_variance, b.leak_variance);
+  // The housing paths' inputs: ring_translation's pressure angle, ring_body's accelerations and mass.
+  EXPECT_EQ(a.ring_pressure_angle_rad, b.ring_pressure_angle_rad);
+  EXPECT_EQ(a.ring_acceleration_x, b.ring_acceleration_x);
+  EXPECT_EQ(a.ring_acceleration_y, b.ring_acceleration_y);
+  EXPECT_EQ(a.ring_mass_kg, b.ring_mass_kg);
 }
 
 TEST(SimulationPool, TruncatedBytesAreRejectedNotMisread) {

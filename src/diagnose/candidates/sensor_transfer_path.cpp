@@ -20,6 +20,11 @@ public:
         .log_scale = true, .initial = b.sensor.window_width_rad, .null_value = b.sensor.window_width_rad,
         .screen_value = 1.3 * b.sensor.window_width_rad}};
   }
+  /// The ring body's reading (sensor.housing_path = ring_body, model/sensor.hpp Eq. S3) has no
+  /// window: its width changes nothing there, and a fit of it would be flat.
+  bool acts_on(const model::SimulationConfig& b) const override {
+    return b.sensor.housing_path != model::HousingPath::RingBody;
+  }
   void apply(model::SimulationConfig& c, const Variant&, std::span<const double> x,
              std::vector<std::string>* o) const override {
     set_parameter(c, "sensor.window_width_rad", x[0], o);
