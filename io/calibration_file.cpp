@@ -8,6 +8,7 @@
 
 #include <cmath>
 #include <fstream>
+#include <initializer_list>
 #include <limits>
 #include <sstream>
 
@@ -52,17 +53,21 @@ std::vector<T> read_array(const toml::array* a, const std::filesystem::path& p, 
   return out;
 }
 
-/// An optional key of the calibration naming one of a form part's two values by `name` (the
+/// An optional key of the calibration naming one of a form part's values by `name` (the
 /// configuration's names: model::mesh_phase_name, model::housing_path_name); `absent` when the file
-/// predates it. Any other name is an input error naming the key and both names.
+/// predates it. Any other name is an input error naming the key and every name.
 template <class View, class E>
 E read_form_part(const View& cal, const char* key, const std::filesystem::path& p,
-                 E absent, E other, const char* (*name)(E)) {
+                 E absent, std::initializer_list<E> others, const char* (*name)(E)) {
   const auto v = cal[key].template value<std::string>();
-  if (!v) return absent;
-  require(*v == name(absent) || *v == name(other), where(p, std::string("calibration.") + key), "must be \"",
-          name(absent), "\" or \"", name(other), "\", got '", *v, "'");
-  return *v == name(other) ? other : absent;
+  if (!v || *v == name(absent)) return absent;
+  std::string names = std::string("\"") + name(absent) + "\"";
+  std::size_t i = 0;
+  for (const E e : others) {
+    if (*v == name(e)) return e;
+    names += std::string(++i == others.size() ? " or \"" : ", \"") + name(e) + "\"";
+  }
+  throw InputError(where(p, std::string("calibration.") + key), "must be " + names + ", got '" + *v + "'");
 }
 
 double read_number(const toml::table& t, const char* key, const std::filesystem::path& p, const std::string& ctx) {
@@ -149,9 +154,10 @@ diagnose::Calibration read_calibration(const std::filesystem::path& path) {
     c.healthy_fit = diagnose::healthy_fit_from_string(*h, where(path, "calibration.healthy_fit"));
   // Optional: mesh_phase written since session 66, housing_path since session 67.
   c.form.mesh_phase = read_form_part(cal, "mesh_phase", path, model::MeshPhase::Rotation,
-                                     model::MeshPhase::NominalTime, &model::mesh_phase_name);
-  c.form.housing_path = read_form_part(cal, "housing_path", path, model::HousingPath::PlanetPass,
-                                       model::HousingPath::RingTranslation, &model::housing_path_name);
+                                     {model::MeshPhase::NominalTime}, &model::mesh_phase_name);
+  c.form.housing_path =
+      read_form_part(cal, "housing_path", path, model::HousingPath::PlanetPass,
+                     {model::HousingPath::RingTranslation, model::HousingPath::RingBody}, &model::housing_path_name);
   if (cal["at_bound"])  // optional: files written before it existed have none
     c.at_bound = read_array<std::string>(cal["at_bound"].as_array(), path, "calibration.at_bound");
   const toml::array* disc = root["discrepancy"].as_array();

@@ -127,4 +127,13 @@ TEST(CalibrationFile, AFileWithoutAFormIsRollLockedAndPlanetPassAndAnUnknownForm
   ASSERT_TRUE(p);
   EXPECT_TRUE(test::contains(p->what(), "calibration.housing_path"));
   EXPECT_TRUE(test::contains(p->what(), "ring_translation"));
+  EXPECT_TRUE(test::contains(p->what(), "ring_body"));
+}
+
+TEST(CalibrationFile, ARingBodyFormReadsBack) {
+  // A calibration of a lateral-torsional model read through the ring body (sensor.housing_path =
+  // ring_body) names that path, and reads back as it.
+  test::TempDir dir;
+  write_minimal_calibration(dir / "ring_body.toml", "housing_path = \"ring_body\"\n", false);
+  EXPECT_EQ(io::read_calibration(dir / "ring_body.toml").form.housing_path, model::HousingPath::RingBody);
 }
