@@ -364,6 +364,43 @@ TEST(OrderAnalysis, ModelSpectrumIsExactForIntegerOrdersUnderA10PercentSpeedRipp
   EXPECT_LT(a[566] + a[568] + a[1233] + a[1235] + a[900], 2e-3);
 }
 
+TEST(OrderAnalysis, RingBodyHousingChannelsComeAgainFromTheKeptRingAccelerations) {
+  // sensor.housing_path = ring_body (model/sensor.hpp Eq. S3): the comparison asks the simulation
+  // for the ring's accelerations, computes the housing channel at the recording's sensor angle
+  // from them, and keeps them, so that the channel at another sensor setting needs no new
+  // simulation (housing_spectrum). The kept inputs give the compared spectrum again bit for bit,
+  // and the ring_translation path of the same kept forces is another spectrum.
+  model::SimulationConfig cfg;
+  cfg.solver.level = model::ModelLevel::LateralTorsional;
+  cfg.sensor.housing_path = model::HousingPath::RingBody;
+  cfg.operating.input_speed_rpm = 1200;
+  cfg.imperfections.pin_error_m = {20e-6, 0, 0};  // unequal planets: the ring moves
+  cfg.solver.record_mesh_cycles = 2 * cfg.stage.ring.teeth;
+  Recording rec;
+  const double angle = 0.9;
+  rec.channels = {SignalChannel{"h", Quantity::HousingAcceleration, "m/s^2", 0, angle, {}}};
+  RecordingSpectra s;
+  s.layout.revolutions = 1;
+  s.layout.max_bin = 400;
+  s.channels = {0};
+  const model::SimulationResult r = model::simulate(cfg, {}, model_channels(rec, s, cfg));
+  ASSERT_TRUE(r.find("ring/acceleration_x") && r.find("ring/acceleration_y"));
+  const ModelSpectra m = model_spectra(r, rec, s, cfg, true);
+  EXPECT_GT(m.ring_mass_kg, 0.0);
+  ASSERT_EQ(m.amplitude.size(), 1u);
+  EXPECT_EQ(housing_spectrum(m, cfg.sensor, angle, s.layout.window_revolutions, s.layout.max_bin), m.amplitude[0]);
+  model::SensorSettings translation = cfg.sensor;
+  translation.housing_path = model::HousingPath::RingTranslation;
+  const auto other = housing_spectrum(m, translation, angle, s.layout.window_revolutions, s.layout.max_bin);
+  double peak = 0, diff = 0;
+  for (std::size_t k = 0; k < other.size(); ++k) {
+    peak = std::max(peak, m.amplitude[0][k]);
+    diff = std::max(diff, std::fabs(other[k] - m.amplitude[0][k]));
+  }
+  EXPECT_GT(peak, 0.0);
+  EXPECT_GT(diff, 0.01 * peak);
+}
+
 TEST(OrderAnalysis, ShortRecordingsGetHalvesOfWholeSunPeriodsAndResolveOnlyThoseFamilies) {
   // Seed gears (Zs 21, Zp 30, Zr 81): 2 s hold 55.6 / 111.2 / 222.4 mesh cycles at
   // 100 / 200 / 400 rpm; halves of the largest multiple of Zs that fits twice.
