@@ -7,6 +7,7 @@
 #include "diagnose/order_analysis.hpp"
 
 #include <algorithm>
+#include <charconv>
 #include <cmath>
 #include <limits>
 #include <map>
@@ -166,10 +167,21 @@ std::vector<std::string> median_overrides(const std::vector<std::vector<FittedPa
 namespace {
 std::string key_of(const std::string& line) { return line.substr(0, line.find('=')); }
 
-/// "key=value" lines as a map key -> value.
+/// "key=value" lines with a numeric value as a map key -> value. A setting that is not a number
+/// (solver.level=lateral_torsional, a housing path: a model form the calibration's file may carry
+/// among its settings) is no rig element's parameter and is left out; std::stod threw on it and
+/// the diagnosis ended in an internal error (session 72).
 std::map<std::string, double> override_values(const std::vector<std::string>& overrides) {
   std::map<std::string, double> value;
-  for (const std::string& line : overrides) value[key_of(line)] = std::stod(line.substr(line.find('=') + 1));
+  for (const std::string& line : overrides) {
+    const std::size_t eq = line.find('=');
+    if (eq == std::string::npos) continue;
+    const char* first = line.data() + eq + 1;
+    const char* last = line.data() + line.size();
+    double v = 0;
+    const auto [end, ec] = std::from_chars(first, last, v);
+    if (ec == std::errc() && end == last) value[key_of(line)] = v;
+  }
   return value;
 }
 

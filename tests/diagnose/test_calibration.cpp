@@ -208,6 +208,20 @@ TEST(Calibration, ARigElementsDerivedSettingsFollowItsCalibratedValuesAndOnlyFor
   EXPECT_TRUE(rig_element_settings({"output_shaft"}, base, medians).empty());
 }
 
+TEST(Calibration, ASettingThatIsNotANumberAmongTheCalibrationsSettingsIsNoRigElementsValue) {
+  // A calibration file may carry a model form among its settings (solver.level=lateral_torsional
+  // for a ring_body housing path); reading the rig elements' values from those lines threw
+  // std::invalid_argument from std::stod and a diagnosis ended in an internal error (session 72).
+  pw::model::SimulationConfig base;
+  const std::vector<std::string> medians = {"solver.level=lateral_torsional", "stiffness.scale=1.2",
+                                            "rig.output_shaft_stiffness_N_m_rad=1000000",
+                                            "rig.output_shaft_damping_N_m_s_rad=60", "sensor.housing_path=ring_body"};
+  std::vector<std::string> lines;
+  ASSERT_NO_THROW(lines = rig_element_settings({"output_shaft"}, base, medians));
+  ASSERT_EQ(lines.size(), 1u);  // the shaft's values were read past the two words
+  EXPECT_EQ(lines[0].substr(0, lines[0].find('=')), "stage.output_inertia_kgm2");
+}
+
 TEST(Calibration, TheStructureAReferenceHoldsIsTheKeptShaftsWithTheirMachineAndNothingElse) {
   pw::model::SimulationConfig base{};
   Calibration cal;
