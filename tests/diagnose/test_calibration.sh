@@ -27,21 +27,21 @@ LT="--speed-rpm 1200 --power-w 20000 --seconds 0.78 --noise 0.05 --dc-offset 0.2
 "$PW" synth -q $LT --seed 4 -o healthy4.csv
 # shellcheck disable=SC2086
 "$PW" synth -q $LT --seed 5 --set 'imperfections.teeth=[{body="sun",tooth=5,stiffness_factor=0.6}]' -o sun5.csv
-OMP_NUM_THREADS=2 "$PW" calibrate -q -r healthy3.csv -o calibration.toml --threads 2 > calibration.txt
+OMP_NUM_THREADS=1 "$PW" calibrate -q -r healthy3.csv -o calibration.toml --threads 1 > calibration.txt
 for r in healthy4 sun5; do
-  OMP_NUM_THREADS=2 "$PW" diagnose -q -r $r.csv --calibration calibration.toml --calibration-reference none -o $r \
-      --threads 2 --no-plots
-  OMP_NUM_THREADS=2 "$PW" diagnose -q -r $r.csv --calibration calibration.toml -o ${r}_ref --threads 2 --no-plots
+  OMP_NUM_THREADS=1 "$PW" diagnose -q -r $r.csv --calibration calibration.toml --calibration-reference none -o $r \
+      --threads 1 --no-plots
+  OMP_NUM_THREADS=1 "$PW" diagnose -q -r $r.csv --calibration calibration.toml -o ${r}_ref --threads 1 --no-plots
 done
-OMP_NUM_THREADS=2 "$PW" diagnose -q -r healthy3.csv --calibration calibration.toml -o healthy3_ref --threads 2 --no-plots
+OMP_NUM_THREADS=1 "$PW" diagnose -q -r healthy3.csv --calibration calibration.toml -o healthy3_ref --threads 1 --no-plots
 # The model-form weighted healthy fit (--healthy-fit model_form, item 7): the file says so, and the
 # held-out healthy recording stays clean against that calibration's budget: the refit's discrepancy
 # is still measured against the noise (ModelComparison::noise_diagonal_variance), not against the
 # weights it was fitted with, so the budget does not shrink to what is left beyond itself.
-OMP_NUM_THREADS=2 "$PW" calibrate -q -r healthy3.csv -o calibration_mf.toml --healthy-fit model_form --threads 2 \
+OMP_NUM_THREADS=1 "$PW" calibrate -q -r healthy3.csv -o calibration_mf.toml --healthy-fit model_form --threads 1 \
     > calibration_mf.txt
-OMP_NUM_THREADS=2 "$PW" diagnose -q -r healthy4.csv --calibration calibration_mf.toml --calibration-reference none \
-    -o healthy4_mf --threads 2 --no-plots
+OMP_NUM_THREADS=1 "$PW" diagnose -q -r healthy4.csv --calibration calibration_mf.toml --calibration-reference none \
+    -o healthy4_mf --threads 1 --no-plots
 /usr/bin/python3 - <<'PY'
 import json, sys
 h = json.load(open("healthy4/report.json"))

@@ -21,7 +21,7 @@ S="--speed-rpm 400 --power-w 1000 --seconds 1.0 --noise 0.05 --decimate 32"
 # shellcheck disable=SC2086
 "$PW" synth -q $S --seed 4 -o plain.csv
 for r in ramped plain; do
-  OMP_NUM_THREADS=2 "$PW" calibrate -q -r $r.csv --rig-elements engagement_ramp -o cal_$r.toml --threads 2 \
+  OMP_NUM_THREADS=1 "$PW" calibrate -q -r $r.csv --rig-elements engagement_ramp -o cal_$r.toml --threads 1 \
       > cal_$r.txt 2> cal_$r.err
 done
 /usr/bin/python3 - <<'PY'
@@ -45,7 +45,7 @@ PY
 # applied as calibrated, so it stays "no missing physics".
 # shellcheck disable=SC2086
 "$PW" synth -q $S --seed 7 --set contact.engagement_ramp=0.2 -o healthy.csv
-OMP_NUM_THREADS=2 "$PW" diagnose -q -r healthy.csv --calibration cal_ramped.toml -o diag --threads 2 --no-plots \
+OMP_NUM_THREADS=1 "$PW" diagnose -q -r healthy.csv --calibration cal_ramped.toml -o diag --threads 1 --no-plots \
     > diag.txt 2> diag.err
 /usr/bin/python3 - <<'PY'
 import json, sys

@@ -23,10 +23,10 @@ S="--power-w 1000 --seconds 1.0 --noise 0.05 --decimate 32"
 "$PW" synth -q $S --speed-rpm 800 --seed 4 --set contact.mesh_damping_ratio=0.025 -o h800.csv
 # shellcheck disable=SC2086
 "$PW" synth -q $S --speed-rpm 400 --seed 5 --set contact.mesh_damping_ratio=0.0375 -o d400.csv
-OMP_NUM_THREADS=2 "$PW" calibrate -q -r h400.csv -r h800.csv -o cal_two.toml --threads 2 > cal_two.txt
-OMP_NUM_THREADS=2 "$PW" calibrate -q -r h400.csv -o cal_one.toml --threads 2 > cal_one.txt
+OMP_NUM_THREADS=1 "$PW" calibrate -q -r h400.csv -r h800.csv -o cal_two.toml --threads 1 > cal_two.txt
+OMP_NUM_THREADS=1 "$PW" calibrate -q -r h400.csv -o cal_one.toml --threads 1 > cal_one.txt
 for c in two one; do
-  OMP_NUM_THREADS=2 "$PW" diagnose -q -r d400.csv --calibration cal_$c.toml -o diag_$c --threads 2 --no-plots > /dev/null
+  OMP_NUM_THREADS=1 "$PW" diagnose -q -r d400.csv --calibration cal_$c.toml -o diag_$c --threads 1 --no-plots > /dev/null
 done
 /usr/bin/python3 - <<'PY'
 import json, math, sys, tomllib

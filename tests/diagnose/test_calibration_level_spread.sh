@@ -24,10 +24,10 @@ synth() {  # RPM SEED KEY=VALUE OUT: one recording of the stage with one setting
 synth 400 3 stiffness.scale=1.2 h400.csv
 synth 800 4 stiffness.scale=0.85 h800.csv
 synth 600 5 imperfections.sun_eccentricity_m=6e-6 runout.csv
-OMP_NUM_THREADS=2 "$PW" calibrate -q -r h400.csv -r h800.csv -o cal_two.toml --threads 2 > cal_two.txt
-OMP_NUM_THREADS=2 "$PW" calibrate -q -r h400.csv -o cal_one.toml --threads 2 > cal_one.txt
+OMP_NUM_THREADS=1 "$PW" calibrate -q -r h400.csv -r h800.csv -o cal_two.toml --threads 1 > cal_two.txt
+OMP_NUM_THREADS=1 "$PW" calibrate -q -r h400.csv -o cal_one.toml --threads 1 > cal_one.txt
 for c in two one; do
-  OMP_NUM_THREADS=2 "$PW" diagnose -q -r runout.csv --calibration cal_$c.toml -o diag_$c --threads 2 --no-plots \
+  OMP_NUM_THREADS=1 "$PW" diagnose -q -r runout.csv --calibration cal_$c.toml -o diag_$c --threads 1 --no-plots \
       --candidates stiffness_level,damping_level,sun_runout --always-fit > /dev/null
 done
 /usr/bin/python3 - <<'PY'

@@ -19,9 +19,9 @@ S="--speed-rpm 400 --power-w 1000 --seconds 1.0 --noise 0.05 --decimate 32 --set
 "$PW" synth -q $S --seed 11 -o cal.csv
 # shellcheck disable=SC2086
 "$PW" synth -q $S --seed 12 -o healthy.csv
-OMP_NUM_THREADS=2 "$PW" calibrate -q -r cal.csv --rig-elements encoder_bandwidth -o cal.toml --threads 2 \
+OMP_NUM_THREADS=1 "$PW" calibrate -q -r cal.csv --rig-elements encoder_bandwidth -o cal.toml --threads 1 \
     > cal.txt 2> cal.err
-OMP_NUM_THREADS=2 "$PW" diagnose -q -r healthy.csv --calibration cal.toml -o diag --threads 2 --no-plots \
+OMP_NUM_THREADS=1 "$PW" diagnose -q -r healthy.csv --calibration cal.toml -o diag --threads 1 --no-plots \
     > diag.txt 2> diag.err
 /usr/bin/python3 - <<'PY'
 import json, re, sys, tomllib

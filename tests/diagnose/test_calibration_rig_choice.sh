@@ -24,8 +24,8 @@ S="--speed-rpm 400 --power-w 1000 --seconds 1.0 --noise 0.05 --decimate 32"
 # shellcheck disable=SC2086
 "$PW" synth -q $S --seed 4 -o plain.csv
 for r in shaft plain; do
-  OMP_NUM_THREADS=2 "$PW" calibrate -q -r $r.csv --rig-elements encoder_bandwidth,output_shaft -o cal_$r.toml \
-      --threads 2 > cal_$r.txt 2> cal_$r.err
+  OMP_NUM_THREADS=1 "$PW" calibrate -q -r $r.csv --rig-elements encoder_bandwidth,output_shaft -o cal_$r.toml \
+      --threads 1 > cal_$r.txt 2> cal_$r.err
 done
 /usr/bin/python3 - <<'PY'
 import sys, tomllib
@@ -56,7 +56,7 @@ for r in shaft plain; do
   if [ $r = shaft ]; then R="--set rig.output_shaft_stiffness_N_m_rad=1e6 --set stage.output_inertia_kgm2=0.8 --set rig.output_shaft_damping_N_m_s_rad=20"; else R=""; fi
   # shellcheck disable=SC2086
   "$PW" synth -q $S --seed 7 $R -o healthy_$r.csv
-  OMP_NUM_THREADS=2 "$PW" diagnose -q -r healthy_$r.csv --calibration cal_$r.toml -o diag_$r --threads 2 --no-plots \
+  OMP_NUM_THREADS=1 "$PW" diagnose -q -r healthy_$r.csv --calibration cal_$r.toml -o diag_$r --threads 1 --no-plots \
       > diag_$r.txt 2> diag_$r.err
 done
 /usr/bin/python3 - <<'PY'

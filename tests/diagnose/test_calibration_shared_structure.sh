@@ -24,10 +24,10 @@ S="--power-w 1000 --seconds 1.0 --noise 0.05 --decimate 32 --set rig.load_contro
 "$PW" synth -q $S --speed-rpm 800 --seed 4 --set rig.output_shaft_stiffness_N_m_rad=1e6 -o a800.csv
 # shellcheck disable=SC2086
 "$PW" synth -q $S --speed-rpm 800 --seed 5 --set rig.output_shaft_stiffness_N_m_rad=4e6 -o b800.csv
-OMP_NUM_THREADS=2 "$PW" calibrate -r a400.csv -r a800.csv --rig-elements encoder_bandwidth,output_shaft \
-    -o cal_one.toml --threads 2 > cal_one.txt 2> cal_one.err
-OMP_NUM_THREADS=2 "$PW" calibrate -r a400.csv -r b800.csv --rig-elements encoder_bandwidth,output_shaft \
-    -o cal_two.toml --threads 2 > cal_two.txt 2> cal_two.err
+OMP_NUM_THREADS=1 "$PW" calibrate -r a400.csv -r a800.csv --rig-elements encoder_bandwidth,output_shaft \
+    -o cal_one.toml --threads 1 > cal_one.txt 2> cal_one.err
+OMP_NUM_THREADS=1 "$PW" calibrate -r a400.csv -r b800.csv --rig-elements encoder_bandwidth,output_shaft \
+    -o cal_two.toml --threads 1 > cal_two.txt 2> cal_two.err
 /usr/bin/python3 - <<'PY'
 import sys, tomllib
 KEY = "rig.output_shaft_stiffness_N_m_rad"

@@ -55,11 +55,11 @@ fi
 "$PW" synth -q $RIG --seed 9 --seconds 0.78 --decimate 40 --set contact.mesh_damping_ratio=0.02 -o damp9.csv
 # shellcheck disable=SC2086
 "$PW" synth -q $RIG --seed 10 --seconds 0.78 --decimate 40 --set stiffness.scale=0.8 -o stiff10.csv
-OMP_NUM_THREADS=2 "$PW" diagnose -q -r damp9.csv --baseline healthy3.csv -o damp9 --threads 2 --no-plots
-OMP_NUM_THREADS=2 "$PW" diagnose -q -r stiff10.csv --baseline healthy3.csv -o stiff10 --threads 2 --no-plots
-OMP_NUM_THREADS=2 "$PW" diagnose -q -r healthy4.csv --baseline healthy3.csv -o healthy4 --threads 2 --no-plots
-OMP_NUM_THREADS=2 "$PW" diagnose -q -r gain8.csv --baseline healthy3.csv -o gain8 --threads 2 --no-plots
-OMP_NUM_THREADS=2 "$PW" diagnose -q -r sun5.csv --baseline healthy3.csv -o sun5 --threads 2 --no-plots
+OMP_NUM_THREADS=1 "$PW" diagnose -q -r damp9.csv --baseline healthy3.csv -o damp9 --threads 1 --no-plots
+OMP_NUM_THREADS=1 "$PW" diagnose -q -r stiff10.csv --baseline healthy3.csv -o stiff10 --threads 1 --no-plots
+OMP_NUM_THREADS=1 "$PW" diagnose -q -r healthy4.csv --baseline healthy3.csv -o healthy4 --threads 1 --no-plots
+OMP_NUM_THREADS=1 "$PW" diagnose -q -r gain8.csv --baseline healthy3.csv -o gain8 --threads 1 --no-plots
+OMP_NUM_THREADS=1 "$PW" diagnose -q -r sun5.csv --baseline healthy3.csv -o sun5 --threads 1 --no-plots
 /usr/bin/python3 - <<'PY'
 import json, re, sys
 h = json.load(open("healthy4/report.json"))

@@ -14,5 +14,5 @@ set -u
 PW=$1; W=$2; S=$3
 rm -rf "$W"; mkdir -p "$W"
 /usr/bin/python3 "$S/make_corpus.py" --quick -o "$W/corpus" --planetwear "$PW" --jobs 2 || exit 1
-exec /usr/bin/python3 "$S/run_corpus.py" "$W/corpus" --planetwear "$PW" --jobs 1 --threads 2 \
+exec /usr/bin/python3 "$S/run_corpus.py" "$W/corpus" --planetwear "$PW" --jobs 1 --threads 1 \
   --min-accuracy 0.75 --max-wrong-names 0 --require-controls --max-parameter-error 0.2

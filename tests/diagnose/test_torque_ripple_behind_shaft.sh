@@ -23,8 +23,8 @@ R="--set rig.input_shaft_stiffness_N_m_rad=2e4 --set rig.input_shaft_damping_N_m
 # shellcheck disable=SC2086
 "$PW" synth -q $S --seed 4 $R --set imperfections.torque_ripple_fraction=0.05 --set imperfections.torque_ripple_order=2 \
     -o ripple.csv
-OMP_NUM_THREADS=2 "$PW" calibrate -q -r healthy.csv --rig-elements input_shaft -o cal.toml --threads 2 > cal.txt 2> cal.err
-OMP_NUM_THREADS=2 "$PW" diagnose -q -r ripple.csv --calibration cal.toml -o diag --threads 2 --no-plots > diag.txt 2> diag.err
+OMP_NUM_THREADS=1 "$PW" calibrate -q -r healthy.csv --rig-elements input_shaft -o cal.toml --threads 1 > cal.txt 2> cal.err
+OMP_NUM_THREADS=1 "$PW" diagnose -q -r ripple.csv --calibration cal.toml -o diag --threads 1 --no-plots > diag.txt 2> diag.err
 /usr/bin/python3 - <<'PY'
 import json, sys, tomllib
 cal = tomllib.load(open("cal.toml", "rb"))["calibration"]
