@@ -73,8 +73,10 @@ CLI::App* add_calibrate_command(CLI::App& app, CalibrateCommandOptions& o) {
             "The calibrated model's mesh follows the gears' roll unless every healthy recording fits better with it "
             "locked to nominal time (the k(t) of many simulators): then the file says mesh_phase = \"nominal_time\". "
             "Its housing accelerometer sees the planets pass through a window unless every healthy recording fits "
-            "better with it on the ring's rigid-body translation: then housing_path = \"ring_translation\". "
-            "diagnose --calibration uses the form the file says (docs/diagnose.md section 6a items 10 and 11).");
+            "better with it on the ring's rigid-body translation: then housing_path = \"ring_translation\"; or, "
+            "failing that, on the lateral-torsional model's ring body with damped supports: then housing_path = "
+            "\"ring_body\" (the model becomes lateral_torsional, 3-5 times slower per simulation). "
+            "diagnose --calibration uses the form the file says (docs/diagnose.md section 6a items 10 to 12).");
   return c;
 }
 
@@ -301,23 +303,35 @@ void share_rig_structure(const CalibrateCommandOptions& o, const std::vector<std
 /// held-out chi2 (diagnose::form_refits_improve). Then `fits` are the refits and `o` holds the
 /// form for every later fit. Costs one simulation per recording that failed the noise test, and
 /// one nuisance fit per recording where the probes pass.
-bool choose_model_form(CalibrateCommandOptions& o, const std::vector<std::string>& rig, diagnose::HealthyFit weighting,
-                       std::vector<RecordingFit>& fits, const diagnose::ModelFormPart& choice) {
+bool choose_model_form(CalibrateCommandOptions& o, std::vector<std::string>& rig, diagnose::HealthyFit weighting,
+                       std::vector<RecordingFit>& fits, const diagnose::ModelFormPart& choice,
+                       const diagnose::ModelForm& chosen) {
+  // A rig element the form brings (the ring body's support damping) is fitted in its refits and
+  // joins the calibration's rig elements if the form is taken.
+  std::vector<std::string> form_rig = rig;
+  int extra = 1;
+  if (choice.rig_element && std::find(rig.begin(), rig.end(), choice.rig_element) == rig.end()) {
+    form_rig.emplace_back(choice.rig_element);
+    diagnose::ModelForm changed = choice.changed(diagnose::ModelForm{});
+    model::SimulationConfig in_form = fits.front().config;
+    diagnose::apply_model_form(in_form, changed);
+    extra += static_cast<int>(diagnose::find_candidate(choice.rig_element)->parameters(in_form).size());
+  }
   std::vector<diagnose::ModelFormFits> form;
   for (const RecordingFit& f : fits) {
     const diagnose::Diagnosis& d = f.noise_test();
     form.push_back({.fit_chi2 = d.nuisance.fit.chi2, .probe_fit_chi2 = d.*choice.probe,
                     .fit_features = d.nuisance.fit.features, .held_out_chi2 = d.nuisance.held_out.chi2,
-                    .refit_held_out_chi2 = std::nullopt, .held_out_features = d.nuisance.held_out.features});
+                    .refit_held_out_chi2 = std::nullopt, .held_out_features = d.nuisance.held_out.features,
+                    .extra_parameters = extra});
   }
   if (!diagnose::form_probes_pass(form, o.alpha)) return false;
   CalibrateCommandOptions other = o;
-  for (const std::string& line : diagnose::model_form_settings(choice.changed(diagnose::ModelForm{})))
-    other.common.assignments.insert(other.common.assignments.begin(), line);  // the user's --set after it
+  other.common.assignments = diagnose::assignments_in_form(o.common.assignments, chosen, choice);
   if (!o.common.quiet)
     std::fprintf(stderr, "[calibrate] every recording fits better with the %s %s: each refitted in that form\n",
                  choice.part, choice.other);
-  std::vector<RecordingFit> refits = fit_recordings(other, rig, weighting, fits);
+  std::vector<RecordingFit> refits = fit_recordings(other, form_rig, weighting, fits);
   for (std::size_t i = 0; i < fits.size(); ++i) form[i].refit_held_out_chi2 = refits[i].noise_test().nuisance.held_out.chi2;
   const bool taken = diagnose::form_refits_improve(form, o.alpha);
   if (!o.common.quiet) {
@@ -330,16 +344,20 @@ bool choose_model_form(CalibrateCommandOptions& o, const std::vector<std::string
   if (!taken) return false;
   fits = std::move(refits);
   o = std::move(other);
+  rig = std::move(form_rig);
   return true;
 }
 
 /// Both parts of the form in turn (the mesh first: the housing path's probes then come from the
 /// refits in the chosen mesh form), each part changed in `form` where the recordings chose it.
 /// A part already changed is not probed again (the diagnoses probe only a part at its default).
-void choose_model_form(CalibrateCommandOptions& o, const std::vector<std::string>& rig, diagnose::HealthyFit weighting,
+void choose_model_form(CalibrateCommandOptions& o, std::vector<std::string>& rig, diagnose::HealthyFit weighting,
                        std::vector<RecordingFit>& fits, diagnose::ModelForm& form) {
-  for (const diagnose::ModelFormPart* c : {&diagnose::kTimeLockedMesh, &diagnose::kRingTranslationHousing})
-    if (choose_model_form(o, rig, weighting, fits, *c)) form = c->changed(form);
+  // The ring body last, and only where the ring's translation was not taken (its probe runs only
+  // on the planet-pass window); it also brings the lateral-torsional model.
+  for (const diagnose::ModelFormPart* c :
+       {&diagnose::kTimeLockedMesh, &diagnose::kRingTranslationHousing, &diagnose::kRingBodyHousing})
+    if (choose_model_form(o, rig, weighting, fits, *c, form)) form = c->changed(form);
 }
 
 /// A housing mount among the kept rig elements that no recording can measure -- no housing line
@@ -399,6 +417,8 @@ int run_calibrate(const CalibrateCommandOptions& o_in) {
   } else {
     std::vector<RecordingFit> without = fit_recordings(o, plain, cal.healthy_fit);
     choose_model_form(o, plain, cal.healthy_fit, without, cal.form);
+    for (const std::string& r : plain)  // an element the form brought (choose_model_form)
+      if (std::find(rig.begin(), rig.end(), r) == rig.end()) rig.push_back(r);
     fits = fit_recordings(o, rig, cal.healthy_fit, without);
     for (std::size_t i = 0; i < fits.size(); ++i) {
       const diagnose::NestedFits nested{.chi2_without = without[i].noise_test().nuisance.held_out.chi2,

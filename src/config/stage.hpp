@@ -192,6 +192,10 @@ struct Imperfections {
 };
 
 enum class ModelLevel { Torsional, LateralTorsional };
+/// The name solver.level takes in the configuration.
+constexpr const char* model_level_name(ModelLevel l) {
+  return l == ModelLevel::LateralTorsional ? "lateral_torsional" : "torsional";
+}
 
 /// Bearing supports of the lateral-torsional model (Lin & Parker 1999).
 struct BearingSettings {

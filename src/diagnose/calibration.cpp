@@ -281,6 +281,9 @@ std::vector<std::string> model_form_settings(const ModelForm& form) {
   std::vector<std::string> out;  // the configuration's defaults need no line
   if (form.mesh_phase != model::MeshPhase::Rotation)
     out.push_back(std::string("stiffness.mesh_phase=") + model::mesh_phase_name(form.mesh_phase));
+  // The level first: the ring body's path is valid only in the lateral-torsional model.
+  if (form.housing_path == model::HousingPath::RingBody)
+    out.push_back(std::string("solver.level=") + model::model_level_name(model::ModelLevel::LateralTorsional));
   if (form.housing_path != model::HousingPath::PlanetPass)
     out.push_back(std::string("sensor.housing_path=") + model::housing_path_name(form.housing_path));
   return out;
@@ -289,6 +292,22 @@ std::vector<std::string> model_form_settings(const ModelForm& form) {
 void apply_model_form(model::SimulationConfig& config, const ModelForm& form) {
   config.stiffness.mesh_phase = form.mesh_phase;
   config.sensor.housing_path = form.housing_path;
+  if (form.housing_path == model::HousingPath::RingBody) config.solver.level = model::ModelLevel::LateralTorsional;
+}
+
+std::vector<std::string> assignments_in_form(const std::vector<std::string>& assignments, const ModelForm& chosen,
+                                             const ModelFormPart& part) {
+  const std::vector<std::string> lines = model_form_settings(part.changed(ModelForm{}));
+  const auto key = [](const std::string& line) { return line.substr(0, line.find('=')); };
+  std::vector<std::string> rest = assignments;
+  for (const std::string& earlier : model_form_settings(chosen)) {
+    const bool set_again =
+        std::any_of(lines.begin(), lines.end(), [&](const std::string& l) { return key(l) == key(earlier); });
+    if (const auto it = std::find(rest.begin(), rest.end(), earlier); set_again && it != rest.end()) rest.erase(it);
+  }
+  std::vector<std::string> out = lines;
+  out.insert(out.end(), rest.begin(), rest.end());
+  return out;
 }
 
 ModelForm model_form_of(const model::SimulationConfig& config) {
@@ -298,7 +317,7 @@ ModelForm model_form_of(const model::SimulationConfig& config) {
 bool form_probes_pass(const std::vector<ModelFormFits>& fits, double alpha) {
   return !fits.empty() && std::all_of(fits.begin(), fits.end(), [&](const ModelFormFits& f) {
     return f.probe_fit_chi2 && rig_elements_improve({.chi2_without = f.fit_chi2, .chi2_with = *f.probe_fit_chi2,
-                                                      .features = f.fit_features, .extra_parameters = 1}, alpha);
+                                                      .features = f.fit_features, .extra_parameters = f.extra_parameters}, alpha);
   });
 }
 
@@ -306,7 +325,7 @@ bool form_refits_improve(const std::vector<ModelFormFits>& fits, double alpha) {
   return !fits.empty() && std::all_of(fits.begin(), fits.end(), [&](const ModelFormFits& f) {
     return f.refit_held_out_chi2 &&
            rig_elements_improve({.chi2_without = f.held_out_chi2, .chi2_with = *f.refit_held_out_chi2,
-                                 .features = f.held_out_features, .extra_parameters = 1}, alpha);
+                                 .features = f.held_out_features, .extra_parameters = f.extra_parameters}, alpha);
   });
 }
 

@@ -209,6 +209,9 @@ struct ModelFormPart {
   const char* why;      ///< the rule's sentence on what the other form means
   ModelForm (*changed)(ModelForm);          ///< the form with this part in the other form
   std::optional<double> Diagnosis::*probe;  ///< where a calibration's nuisance-only probe of it is kept
+  /// A rig element the other form brings (fitted with the nuisance parameters once the form is
+  /// taken; the probe holds it at its start), or nullptr.
+  const char* rig_element = nullptr;
 };
 
 /// The mesh stiffness locked to nominal time (stiffness.mesh_phase = nominal_time): the k(t) of the
@@ -239,11 +242,42 @@ inline constexpr ModelFormPart kRingTranslationHousing{
     },
     &Diagnosis::ring_translation_probe_chi2};
 
-/// `config` with `form` applied (the two keys model_form_settings writes).
+/// The housing accelerometer on the lateral-torsional model's ring body (sensor.housing_path =
+/// ring_body, model/sensor.hpp Eq. S3; solver.level = lateral_torsional): the ring on its supports
+/// through the stage's translational modes, as the lumped models in the manner of Lin & Parker
+/// record it. Measured (docs/diagnose-log.md, session 72): indepsim4's setC3 pin error, whose
+/// housing lines pass through two translational mode pairs, explained 3-4 % through the window,
+/// 0 % on the quasi-static ring translation, 96-97 % on the ring body. Its supports' damping
+/// (bearing_damping) comes with it: Lin & Parker's undamped supports are no rig's. Chosen only by a
+/// calibration (a torsional gear set's diagnosis does not probe it: every later simulation would
+/// cost the lateral-torsional model's 3-5 times more).
+inline constexpr ModelFormPart kRingBodyHousing{
+    "housing accelerometer", "with the housing accelerometer on the lateral-torsional model's ring body",
+    "on the ring body of the lateral-torsional model", "through the window or on the ring's quasi-static translation",
+    "housing accelerometer on the lateral-torsional model's ring body, not the planet-pass window or the ring's "
+    "quasi-static translation (solver.level = lateral_torsional, sensor.housing_path = ring_body)",
+    "A ring on compliant supports shows its accelerometer the planets' ring forces through the stage's translational "
+    "modes; a flexible ring shows each planet as it passes.",
+    [](ModelForm f) {
+      f.housing_path = model::HousingPath::RingBody;
+      return f;
+    },
+    &Diagnosis::ring_body_probe_chi2, "bearing_damping"};
+
+/// `config` with `form` applied (the keys model_form_settings writes; the ring body's housing path
+/// brings the lateral-torsional model, which it needs).
 void apply_model_form(model::SimulationConfig& config, const ModelForm& form);
 
 /// The form `config` has.
 ModelForm model_form_of(const model::SimulationConfig& config);
+
+/// A calibration's --set lines once `part` is taken on top of the form `chosen` that the earlier
+/// choices wrote into `assignments`: the part's lines first, in their order (the level before the
+/// ring body's path), the other lines after them (the user's --set wins over a form); a line an
+/// earlier choice wrote for a key the part sets again goes, or, coming later, it would win (the
+/// ring body replacing the ring's translation).
+std::vector<std::string> assignments_in_form(const std::vector<std::string>& assignments, const ModelForm& chosen,
+                                             const ModelFormPart& part);
 
 struct Calibration {
   std::vector<std::string> recordings;   ///< file names (absolute since session 25): the record, and the
@@ -287,6 +321,9 @@ struct ModelFormFits {
   double held_out_chi2 = 0;              ///< held-out half, the configuration's form
   std::optional<double> refit_held_out_chi2;  ///< held-out half, refitted in the other form
   int held_out_features = 0;
+  /// The parameters the other form adds for the F tests: the discrete choice counts as one, each
+  /// parameter of a rig element it brings (ModelFormPart::rig_element) as one more.
+  int extra_parameters = 1;
 };
 
 /// Whether the other form is worth refitting every recording in (docs/diagnose.md §6a items 10, 11):

@@ -58,13 +58,16 @@ void mark_form(CandidateResult& r, const ModelFormPart& form) {
 /// base's own form put back when it ends unless kept.
 class ModelFormTrial {
 public:
-  ModelFormTrial(model::SimulationConfig& base, const ModelForm& form) : base_(base), own_(model_form_of(base)) {
+  ModelFormTrial(model::SimulationConfig& base, const ModelForm& form)
+      : base_(base), own_(model_form_of(base)), own_level_(base.solver.level) {
     apply_model_form(base_, form);
   }
   ModelFormTrial(const ModelFormTrial&) = delete;
   ModelFormTrial& operator=(const ModelFormTrial&) = delete;
   ~ModelFormTrial() {
-    if (!keep_) apply_model_form(base_, own_);
+    if (keep_) return;
+    apply_model_form(base_, own_);
+    base_.solver.level = own_level_;  // a form that brought the lateral-torsional model takes it away again
   }
   /// The base keeps the trial's form after the scope.
   void keep() { keep_ = true; }
@@ -72,6 +75,7 @@ public:
 private:
   model::SimulationConfig& base_;
   ModelForm own_;
+  model::ModelLevel own_level_;
   bool keep_ = false;
 };
 
@@ -712,6 +716,14 @@ private:
     if (ctx().base.stiffness.mesh_phase == model::MeshPhase::Rotation) try_nuisance_form(kTimeLockedMesh);
     if (!consistent_ && has_housing_channel() && ctx().base.sensor.housing_path == model::HousingPath::PlanetPass)
       try_nuisance_form(kRingTranslationHousing);
+    // The ring body only in a calibration, which keeps the probe and refits nothing here: adopted
+    // in a diagnosis, it would make every later simulation the lateral-torsional model's. Also
+    // from the ring's translation (a calibration that took it probes again from its refits): the
+    // translation is the ring body's quasi-static limit, blind to the translational modes.
+    if (o_.nuisance_only && !consistent_ && has_housing_channel() &&
+        ctx().base.sensor.housing_path != model::HousingPath::RingBody &&
+        ctx().base.solver.level == model::ModelLevel::Torsional)
+      try_nuisance_form(kRingBodyHousing);
   }
 
   /// Steps 4b and 4c for one form: the probe, and outside a calibration the refit and its adoption.
@@ -763,10 +775,19 @@ private:
   std::optional<double> probe_nuisance(const ModelFormPart& form) {
     double probe = 0;
     try {
-      probe = ctx().fit_chi2(nullptr, Variant{}, {}, ctx().nuisance_x);
+      // A rig element the form brings stands at its start (the ring body's supports at a rolling
+      // bearing's damping where the gear set states none), unless the nuisance model fits it already.
+      const Candidate* element = form.rig_element ? find_candidate(form.rig_element) : nullptr;
+      if (element && std::find(ctx().nuisance.begin(), ctx().nuisance.end(), element) != ctx().nuisance.end())
+        element = nullptr;
+      std::vector<double> start;
+      if (element)
+        for (const ParameterSpec& p : element->parameters(ctx().base)) start.push_back(p.initial);
+      probe = ctx().fit_chi2(element, Variant{}, start, ctx().nuisance_x);
     } catch (const SolverError&) {
       return std::nullopt;
     }
+    if (!std::isfinite(probe)) return std::nullopt;
     say(std::string("nuisance model ") + form.with + ": fit-half chi2 " + fmt("%.6g", probe) + " against " +
         fmt("%.6g", d_.nuisance.fit.chi2) + " " + form.own);
     return probe;

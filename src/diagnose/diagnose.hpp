@@ -391,6 +391,10 @@ struct Diagnosis {
   /// the fit-half chi2 of that model at its fitted values with the ring's translation as the
   /// housing path (diagnose.md §5 step 4c's probe; the calibration chooses the path, §6a). Empty otherwise.
   std::optional<double> ring_translation_probe_chi2;
+  /// The same with the lateral-torsional model's ring body as the housing path (sensor.housing_path
+  /// = ring_body, solver.level = lateral_torsional; its supports damped at bearing_damping's start
+  /// where the gear set states no damping). Only in a calibration of a torsional gear set; empty otherwise.
+  std::optional<double> ring_body_probe_chi2;
   bool located = false;
   Location location;
   std::vector<ScreenResult> screening;    ///< every candidate, largest S first

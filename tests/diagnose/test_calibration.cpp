@@ -8,6 +8,7 @@
 #include "diagnose/fitted_parameter.hpp"
 #include "diagnose/order_analysis.hpp"
 #include "model/simulation.hpp"
+#include "model/validate.hpp"
 
 #include <gtest/gtest.h>
 
@@ -452,6 +453,67 @@ TEST(Calibration, ACalibratedModelsFormIsOneSetLinePerPartThatDiffersFromTheDefa
   EXPECT_EQ(model_form_of(c), ModelForm{});
   apply_model_form(c, both);
   EXPECT_EQ(model_form_of(c), both);
+}
+
+// The ring body's housing path is valid only in the lateral-torsional model (model/validate.cpp):
+// its form writes the level before the path, so that a calibration file's form lines, applied in
+// their order, never name the path on the torsional model; applied to a default (torsional)
+// configuration it gives a valid one, and model_form_of reads the form back.
+TEST(Calibration, TheRingBodysFormBringsTheLateralTorsionalModelBeforeItsPath) {
+  using pw::model::HousingPath;
+  using pw::model::ModelLevel;
+  EXPECT_EQ(model_form_settings(kRingBodyHousing.changed(ModelForm{})),
+            (std::vector<std::string>{"solver.level=lateral_torsional", "sensor.housing_path=ring_body"}));
+  pw::model::SimulationConfig c;
+  ASSERT_EQ(c.solver.level, ModelLevel::Torsional);
+  c.sensor.housing_path = HousingPath::RingBody;
+  EXPECT_THROW(pw::model::validate(c), pw::Error);  // the path alone is refused on the torsional model
+  c = pw::model::SimulationConfig{};
+  apply_model_form(c, kRingBodyHousing.changed(ModelForm{}));
+  EXPECT_EQ(c.solver.level, ModelLevel::LateralTorsional);
+  EXPECT_EQ(model_form_of(c).housing_path, HousingPath::RingBody);
+  EXPECT_NO_THROW(pw::model::validate(c));
+  // It brings the supports' damping as a rig element; the other two parts bring none.
+  ASSERT_NE(kRingBodyHousing.rig_element, nullptr);
+  EXPECT_EQ(std::string(kRingBodyHousing.rig_element), "bearing_damping");
+  EXPECT_EQ(kRingTranslationHousing.rig_element, nullptr);
+  EXPECT_EQ(kTimeLockedMesh.rig_element, nullptr);
+}
+
+// A calibration that took the ring's translation and then the ring body: the body's lines come
+// first (the level before the path) and the translation's line goes -- coming after, it would win,
+// and the "ring body" refits would run the ring's translation in the lateral-torsional model (as
+// they did before this was fixed, session 73). The user's lines stay, after the form's.
+TEST(Calibration, ALaterHousingPathReplacesTheEarlierOnesLineAndKeepsTheUsersAfterIt) {
+  using pw::model::HousingPath;
+  using pw::model::MeshPhase;
+  const ModelForm chosen{.mesh_phase = MeshPhase::NominalTime, .housing_path = HousingPath::RingTranslation};
+  const std::vector<std::string> before = {"sensor.housing_path=ring_translation", "stiffness.mesh_phase=nominal_time",
+                                           "contact.friction_coefficient=0.08"};
+  EXPECT_EQ(assignments_in_form(before, chosen, kRingBodyHousing),
+            (std::vector<std::string>{"solver.level=lateral_torsional", "sensor.housing_path=ring_body",
+                                      "stiffness.mesh_phase=nominal_time", "contact.friction_coefficient=0.08"}));
+  // From the default form nothing goes; the part's line leads.
+  EXPECT_EQ(assignments_in_form({"contact.friction_coefficient=0.08"}, ModelForm{}, kRingTranslationHousing),
+            (std::vector<std::string>{"sensor.housing_path=ring_translation", "contact.friction_coefficient=0.08"}));
+}
+
+// A form that brings a rig element is judged by the F test with one more parameter per parameter
+// of that element: an improvement just above the one-parameter threshold (F_{0.99}(1, 2000) = 6.65
+// per feature of chi2) is not enough for two (F_{0.99}(2, 2000) = 4.62 each, 9.24 in all).
+TEST(Calibration, AFormThatBringsARigElementPaysForItsParametersInTheFTests) {
+  const double f1 = pw::f_quantile(1, 2000, 0.01), f2 = pw::f_quantile(2, 2000, 0.01);
+  ASSERT_GT(2 * f2, 1.2 * f1);
+  const auto fits = [](double own, double other, int extra) {
+    return ModelFormFits{.fit_chi2 = own, .probe_fit_chi2 = other, .fit_features = 2000, .held_out_chi2 = own,
+                         .refit_held_out_chi2 = other, .held_out_features = 2000, .extra_parameters = extra};
+  };
+  const double just_one = 2000 + f1 * 1.01;
+  EXPECT_TRUE(form_probes_pass({fits(just_one, 2000, 1)}, 0.01));
+  EXPECT_FALSE(form_probes_pass({fits(just_one, 2000, 2)}, 0.01));
+  EXPECT_FALSE(form_refits_improve({fits(just_one, 2000, 2)}, 0.01));
+  EXPECT_TRUE(form_probes_pass({fits(2000 + 2 * f2 * 1.01, 2000, 2)}, 0.01));
+  EXPECT_TRUE(form_refits_improve({fits(2000 + 2 * f2 * 1.01, 2000, 2)}, 0.01));
 }
 
 // A housing channel of pure noise (A^2 exponential with mean s^2 per bin) holds no line: over
