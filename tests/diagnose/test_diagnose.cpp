@@ -135,8 +135,10 @@ model::SimulationConfig four_planet_stage() {
 // model's ring body (supports damped at 5 %): the window's nuisance model fails the noise test, and
 // the calibration's probe of the ring body (docs/diagnose.md §6a item 12) fits the fit half better
 // than its two parameters (the form and the supports' damping) buy by chance -- the F test the
-// calibration takes it by -- while the diagnosis's own model stays torsional (the probe's trial is
-// undone). A diagnosis that is not a calibration does not probe it.
+// calibration takes it by -- and better than the ring's quasi-static translation, while the fitted
+// nuisance model it reports stays the torsional window's (the calibration, not the probe, changes
+// the form). Nothing after the probe simulates in a calibration, so the trial's undoing of the
+// level (ModelFormTrial) has no outcome here to check.
 TEST(Diagnose, ACalibrationProbesTheRingBodyOfALateralTorsionalRecordingAndKeepsItsModelTorsional) {
   model::SimulationConfig truth = four_planet_stage();
   truth.solver.level = model::ModelLevel::LateralTorsional;
