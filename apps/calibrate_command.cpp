@@ -53,6 +53,11 @@ CLI::App* add_calibrate_command(CLI::App& app, CalibrateCommandOptions& o) {
                 "lines the model's form misses by far more than the noise do not decide the fitted values "
                 "(docs/diagnose.md section 6a item 7)")
       ->check(CLI::IsMember({"noise", "model_form"}));
+  c->add_flag("--ring-body", o.ring_body,
+              "also try the lateral-torsional model's ring body (supports damped, bearing_damping fitted) as the "
+              "housing accelerometer's path where neither the planet-pass window nor the ring's translation explains "
+              "the healthy housing channels; each simulation then costs 3-5 times more (docs/diagnose.md section 6a "
+              "item 12)");
   c->add_option("--rig-structure", o.rig_structure,
                 "the calibration-only rig elements (shafts, the housing's mount, the engagement ramp): 'shared' "
                 "(default) refits every recording with every other's fitted structure and with their pooled one, and "
@@ -73,8 +78,8 @@ CLI::App* add_calibrate_command(CLI::App& app, CalibrateCommandOptions& o) {
             "The calibrated model's mesh follows the gears' roll unless every healthy recording fits better with it "
             "locked to nominal time (the k(t) of many simulators): then the file says mesh_phase = \"nominal_time\". "
             "Its housing accelerometer sees the planets pass through a window unless every healthy recording fits "
-            "better with it on the ring's rigid-body translation: then housing_path = \"ring_translation\"; or, "
-            "failing that, on the lateral-torsional model's ring body with damped supports: then housing_path = "
+            "better with it on the ring's rigid-body translation: then housing_path = \"ring_translation\"; with "
+            "--ring-body, also on the lateral-torsional model's ring body with damped supports: then housing_path = "
             "\"ring_body\" (the model becomes lateral_torsional, 3-5 times slower per simulation). "
             "diagnose --calibration uses the form the file says (docs/diagnose.md section 6a items 10 to 12).");
   return c;
@@ -163,6 +168,7 @@ RecordingFit fit_recording(const CalibrateCommandOptions& o, std::size_t i, cons
   opt.alpha = o.alpha;
   opt.threads = o.threads;
   opt.nuisance_only = true;
+  opt.probe_ring_body = o.ring_body;
   opt.extra_nuisance = visible_rig_elements(rig, in.recording);
   opt.compare.alpha = o.alpha;
   if (earlier)
@@ -357,7 +363,8 @@ void choose_model_form(CalibrateCommandOptions& o, std::vector<std::string>& rig
   // on the planet-pass window); it also brings the lateral-torsional model.
   for (const diagnose::ModelFormPart* c :
        {&diagnose::kTimeLockedMesh, &diagnose::kRingTranslationHousing, &diagnose::kRingBodyHousing})
-    if (choose_model_form(o, rig, weighting, fits, *c, form)) form = c->changed(form);
+    if ((c != &diagnose::kRingBodyHousing || o.ring_body) && choose_model_form(o, rig, weighting, fits, *c, form))
+      form = c->changed(form);
 }
 
 /// A housing mount among the kept rig elements that no recording can measure -- no housing line

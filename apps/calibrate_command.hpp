@@ -35,6 +35,11 @@ struct CalibrateCommandOptions {
   /// --rig-structure: "shared" (one structure of the calibration-only rig elements for every
   /// recording) or "per_recording" (docs/diagnose.md section 6a item 8).
   std::string rig_structure = "shared";
+  /// --ring-body: also try the lateral-torsional model's ring body as the housing path
+  /// (docs/diagnose.md section 6a item 12); off by default: its fits cost 3-5 times more per
+  /// simulation, and on indepsim4's setD4 it fitted the healthy recordings far better without
+  /// naming more faults (docs/diagnose-log.md, session 73).
+  bool ring_body = false;
 };
 
 CLI::App* add_calibrate_command(CLI::App& app, CalibrateCommandOptions& options);

@@ -720,7 +720,7 @@ private:
     // in a diagnosis, it would make every later simulation the lateral-torsional model's. Also
     // from the ring's translation (a calibration that took it probes again from its refits): the
     // translation is the ring body's quasi-static limit, blind to the translational modes.
-    if (o_.nuisance_only && !consistent_ && has_housing_channel() &&
+    if (o_.nuisance_only && o_.probe_ring_body && !consistent_ && has_housing_channel() &&
         ctx().base.sensor.housing_path != model::HousingPath::RingBody &&
         ctx().base.solver.level == model::ModelLevel::Torsional)
       try_nuisance_form(kRingBodyHousing);

@@ -85,6 +85,9 @@ struct DiagnoseOptions {
   /// Stop after the nuisance fit and its noise test (calibration): no location, no candidates;
   /// Diagnosis::calibration_cells holds the per-cell data the discrepancy is estimated from.
   bool nuisance_only = false;
+  /// With nuisance_only: also probe the lateral-torsional ring body as the housing path
+  /// (Diagnosis::ring_body_probe_chi2; `calibrate --ring-body`, docs/diagnose.md §6a item 12).
+  bool probe_ring_body = false;
   /// The model at which the calibrated discrepancy's relative term of V is taken during the
   /// nuisance fit, with its housing gains per analysed channel: an earlier fit of the same
   /// recording (fit_healthy, calibration.hpp). Unset: the nominal model, as always.

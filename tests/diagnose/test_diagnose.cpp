@@ -147,6 +147,7 @@ TEST(Diagnose, ACalibrationProbesTheRingBodyOfALateralTorsionalRecordingAndKeeps
   const Recording rec = synthesize(truth, 0.05, 7);
   DiagnoseOptions opt;
   opt.nuisance_only = true;
+  opt.probe_ring_body = true;  // calibrate --ring-body
   const Diagnosis d = diagnose(rec, four_planet_stage(), opt);
   ASSERT_GT(d.nuisance.fit.chi2, d.bound_fit) << "the window's model explained the ring body: nothing to probe";
   ASSERT_TRUE(d.ring_body_probe_chi2.has_value()) << d.summary;
@@ -163,6 +164,9 @@ TEST(Diagnose, ACalibrationProbesTheRingBodyOfALateralTorsionalRecordingAndKeeps
   EXPECT_EQ(d.nuisance.config.sensor.housing_path, model::HousingPath::PlanetPass);
   EXPECT_FALSE(d.ring_translation_probe_chi2 && *d.ring_translation_probe_chi2 <= *d.ring_body_probe_chi2)
       << "the quasi-static translation fits as well: the recording does not need the ring body";
+  // Off unless asked for (calibrate's default): no lateral-torsional simulation is spent on it.
+  opt.probe_ring_body = false;
+  EXPECT_FALSE(diagnose(rec, four_planet_stage(), opt).ring_body_probe_chi2.has_value());
 }
 
 /// 19 500 rpm, 2 kW: the mesh frequency (5.42 kHz) sits on the primary mesh mode, the dynamic
