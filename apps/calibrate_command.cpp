@@ -354,13 +354,13 @@ bool choose_model_form(CalibrateCommandOptions& o, std::vector<std::string>& rig
   return true;
 }
 
-/// Both parts of the form in turn (the mesh first: the housing path's probes then come from the
+/// The parts of the form in turn (the mesh first: the housing path's probes then come from the
 /// refits in the chosen mesh form), each part changed in `form` where the recordings chose it.
 /// A part already changed is not probed again (the diagnoses probe only a part at its default).
 void choose_model_form(CalibrateCommandOptions& o, std::vector<std::string>& rig, diagnose::HealthyFit weighting,
                        std::vector<RecordingFit>& fits, diagnose::ModelForm& form) {
-  // The ring body last, and only where the ring's translation was not taken (its probe runs only
-  // on the planet-pass window); it also brings the lateral-torsional model.
+  // The ring body last and only with --ring-body, probed from the window's fits or, where the ring's
+  // translation was taken, from those refits; it also brings the lateral-torsional model.
   for (const diagnose::ModelFormPart* c :
        {&diagnose::kTimeLockedMesh, &diagnose::kRingTranslationHousing, &diagnose::kRingBodyHousing})
     if ((c != &diagnose::kRingBodyHousing || o.ring_body) && choose_model_form(o, rig, weighting, fits, *c, form))

@@ -249,8 +249,8 @@ inline constexpr ModelFormPart kRingTranslationHousing{
 /// housing lines pass through two translational mode pairs, explained 3-4 % through the window,
 /// 0 % on the quasi-static ring translation, 96-97 % on the ring body. Its supports' damping
 /// (bearing_damping) comes with it: Lin & Parker's undamped supports are no rig's. Chosen only by a
-/// calibration (a torsional gear set's diagnosis does not probe it: every later simulation would
-/// cost the lateral-torsional model's 3-5 times more).
+/// calibration asked for it (`calibrate --ring-body`; a torsional gear set's diagnosis does not
+/// probe it: every later simulation would cost the lateral-torsional model's 3-5 times more).
 inline constexpr ModelFormPart kRingBodyHousing{
     "housing accelerometer", "with the housing accelerometer on the lateral-torsional model's ring body",
     "on the ring body of the lateral-torsional model", "through the window or on the ring's quasi-static translation",
