@@ -101,6 +101,12 @@ void print_table(const diagnose::Calibration& cal) {
   if (std::any_of(budgets.begin(), budgets.end(), [](const diagnose::DiscrepancyEntry& b) { return b.relative_inherited; }))
     std::printf("relative budget inherited: the healthy model had no line of that family above the noise; a model "
               "that adds lines there gets the largest relative budget measured on the same kind of channel\n");
+  // Where the discrepancy was measured: a fault's lines outside these spans reach the sensors
+  // through a transfer no healthy line tested (line_coverage.hpp).
+  for (const diagnose::LineCoverage& l : cal.coverage)
+    std::printf("lines tested on %s: %.4g Hz (at %.6g rpm) to %.4g Hz (at %.6g rpm), %d cells\n",
+                diagnose::to_string(l.quantity), l.lowest_Hz, l.lowest_speed_rpm, l.highest_Hz, l.highest_speed_rpm,
+                l.lines);
   // Each recording's fit: the spread is what the median hides.
   if (cal.healthy_fit == diagnose::HealthyFit::ModelForm)
     std::printf("values from each recording's model-form weighted refit; chi2 and bound from its noise-weighted fit\n");
@@ -480,6 +486,7 @@ int run_calibrate(const CalibrateCommandOptions& o_in) {
   }
   // 2. The calibration.
   cal.discrepancy = diagnose::estimate_discrepancy(cells);
+  cal.coverage = diagnose::line_coverage(cells, cal.speeds_rpm);
   cal.overrides = diagnose::median_overrides(params);
   for (std::string& line : diagnose::rig_element_settings(rig, base_config, cal.overrides))
     cal.overrides.push_back(std::move(line));

@@ -455,6 +455,10 @@ void diagnose_and_report(const DiagnoseCommandOptions& o_in, const std::string& 
     opt.baseline_gains = baseline->gains;
     opt.baseline_limits = baseline->limits;
   }
+  // Where healthy lines tested the model (line_coverage.hpp): the calibration's recordings, else
+  // the baseline's own lines.
+  if (calibration && !calibration->coverage.empty()) opt.line_coverage = calibration->coverage;
+  else if (baseline) opt.line_coverage = baseline->coverage;
   const Inputs in = read_inputs(o);
   const diagnose::Diagnosis d = diagnose::diagnose(in.recording, in.config, opt);
 

@@ -76,6 +76,30 @@ double read_number(const toml::table& t, const char* key, const std::filesystem:
   return *v;
 }
 
+Quantity read_quantity(const toml::table& t, const std::filesystem::path& p, const std::string& ctx) {
+  const std::string q = t["quantity"].value_or(std::string());
+  for (Quantity x : kQuantities)
+    if (q == diagnose::to_string(x)) return x;
+  throw InputError(where(p, ctx + ".quantity"), "unknown quantity '" + q + "'");
+}
+
+/// One [[coverage]] entry: a span lowest_Hz <= highest_Hz > 0 with positive speeds.
+diagnose::LineCoverage read_coverage(const toml::table* t, const std::filesystem::path& p, const std::string& ctx) {
+  if (!t) throw InputError(where(p, ctx), "must be a table");
+  diagnose::LineCoverage l;
+  l.quantity = read_quantity(*t, p, ctx);
+  l.lowest_Hz = read_number(*t, "lowest_Hz", p, ctx);
+  l.lowest_speed_rpm = read_number(*t, "lowest_speed_rpm", p, ctx);
+  l.highest_Hz = read_number(*t, "highest_Hz", p, ctx);
+  l.highest_speed_rpm = read_number(*t, "highest_speed_rpm", p, ctx);
+  l.lines = static_cast<int>((*t)["lines"].value_or(0));
+  require(l.lowest_Hz > 0 && l.lowest_Hz <= l.highest_Hz && std::isfinite(l.highest_Hz), where(p, ctx),
+          "needs 0 < lowest_Hz <= highest_Hz, got ", l.lowest_Hz, " and ", l.highest_Hz, " Hz");
+  require(l.lowest_speed_rpm > 0 && l.highest_speed_rpm > 0, where(p, ctx), "speeds must be > 0 rpm");
+  require(l.lines > 0, where(p, ctx + ".lines"), "must be > 0, got ", l.lines);
+  return l;
+}
+
 } // namespace
 
 void write_calibration(const diagnose::Calibration& c, const std::filesystem::path& path) {
@@ -105,6 +129,17 @@ void write_calibration(const diagnose::Calibration& c, const std::filesystem::pa
     t.insert("relative_variance_per_recording", to_array(d.relative_variance_per_recording));
     disc.push_back(std::move(t));
   }
+  toml::array coverage;
+  for (const diagnose::LineCoverage& l : c.coverage) {
+    toml::table t;
+    t.insert("quantity", std::string(diagnose::to_string(l.quantity)));
+    t.insert("lowest_Hz", l.lowest_Hz);
+    t.insert("lowest_speed_rpm", l.lowest_speed_rpm);
+    t.insert("highest_Hz", l.highest_Hz);
+    t.insert("highest_speed_rpm", l.highest_speed_rpm);
+    t.insert("lines", l.lines);
+    coverage.push_back(std::move(t));
+  }
   toml::array fits;
   for (const diagnose::CalibrationFit& f : c.fits) {
     toml::table t;
@@ -117,6 +152,7 @@ void write_calibration(const diagnose::Calibration& c, const std::filesystem::pa
   toml::table root;
   root.insert("calibration", std::move(cal));
   root.insert("discrepancy", std::move(disc));
+  if (!coverage.empty()) root.insert("coverage", std::move(coverage));
   if (!fits.empty()) root.insert("fit", std::move(fits));
   std::ostringstream text;
   text << "# planetwear calibration (docs/diagnose.md section 6a): the calibrated model and its discrepancy budget\n"
@@ -167,14 +203,11 @@ diagnose::Calibration read_calibration(const std::filesystem::path& path) {
     const toml::table* t = (*disc)[i].as_table();
     if (!t) throw InputError(where(path, ctx), "must be a table");
     diagnose::DiscrepancyEstimate d;
-    const std::string q = (*t)["quantity"].value_or(std::string());
+    d.quantity = read_quantity(*t, path, ctx);
     const std::string f = (*t)["family"].value_or(std::string());
-    bool qok = false, fok = false;
-    for (Quantity x : kQuantities)
-      if (q == diagnose::to_string(x)) d.quantity = x, qok = true;
+    bool fok = false;
     for (Component x : diagnose::kAllComponents)
       if (f == diagnose::to_string(x)) d.family = x, fok = true;
-    if (!qok) throw InputError(where(path, ctx + ".quantity"), "unknown quantity '" + q + "'");
     if (!fok) throw InputError(where(path, ctx + ".family"), "unknown family '" + f + "'");
     d.relative_variance = read_number(*t, "relative_variance", path, ctx);
     d.relative_variance_se = read_number(*t, "relative_variance_se", path, ctx);
@@ -189,6 +222,9 @@ diagnose::Calibration read_calibration(const std::filesystem::path& path) {
           read_array<double>((*t)["relative_variance_per_recording"].as_array(), path, ctx + ".relative_variance_per_recording");
     c.discrepancy.push_back(std::move(d));
   }
+  if (const toml::array* cov = root["coverage"].as_array())  // optional: written since session 74
+    for (std::size_t i = 0; i < cov->size(); ++i)
+      c.coverage.push_back(read_coverage((*cov)[i].as_table(), path, "coverage[" + std::to_string(i) + "]"));
   if (const toml::array* fits = root["fit"].as_array()) {  // optional: written since session 18
     for (std::size_t i = 0; i < fits->size(); ++i) {
       const std::string ctx = "fit[" + std::to_string(i) + "]";

@@ -541,6 +541,29 @@ json finding_class_json(const dg::Diagnosis& d) {
 
 /// report.json's "noise": per channel the noise per bin, whether coloured, the halves' dispersion
 /// and the lines found at no gear order (reported; V does not carry them, docs/diagnose.md §2).
+/// Diagnosis::excess_by_channel: each channel's share of the nuisance fit's held-out excess.
+json excess_by_channel_json(const dg::Diagnosis& d) {
+  json exc = json::array();
+  for (const auto& e : d.excess_by_channel)
+    exc.push_back({{"channel", e.channel}, {"excess", num(e.excess)}, {"share", num(e.share)}});
+  return exc;
+}
+
+/// Diagnosis::coverage_gap (line_coverage.hpp): null when no calibration or baseline tested any
+/// line, else the uncovered share of the located lines' excess, those lines and the spans tested.
+json coverage_gap_json(const dg::CoverageGap& gap) {
+  if (!gap.known) return nullptr;
+  json lines = json::array(), spans = json::array();
+  for (const dg::UncoveredLine& l : gap.lines)
+    lines.push_back({{"channel", l.channel}, {"frequency_Hz", l.frequency_Hz}, {"carrier_order", l.order},
+                     {"excess", num(l.excess)}, {"covering_speed_rpm", num(l.covering_speed_rpm)}});
+  for (const dg::LineCoverage& c : gap.coverage)
+    spans.push_back({{"quantity", dg::to_string(c.quantity)}, {"lowest_Hz", c.lowest_Hz},
+                     {"lowest_speed_rpm", c.lowest_speed_rpm}, {"highest_Hz", c.highest_Hz},
+                     {"highest_speed_rpm", c.highest_speed_rpm}, {"lines", c.lines}});
+  return {{"share", num(gap.share)}, {"lines", lines}, {"tested", spans}};
+}
+
 json noise_json(const dg::Diagnosis& d) {
   json noise = json::object();
   for (std::size_t c = 0; c < d.channels.size(); ++c) {
@@ -621,10 +644,8 @@ void write_diagnosis_report(const std::filesystem::path& dir, const dg::Diagnosi
   j["changes_since_baseline"] = changes;
   j["explained_fraction"] = num(d.lead.explained_fraction);
   j["at_bound"] = d.lead.at_bound;
-  json exc = json::array();
-  for (const auto& e : d.excess_by_channel)
-    exc.push_back({{"channel", e.channel}, {"excess", num(e.excess)}, {"share", num(e.share)}});
-  j["excess_by_channel"] = exc;
+  j["excess_by_channel"] = excess_by_channel_json(d);
+  j["coverage_gap"] = coverage_gap_json(d.coverage_gap);
   j["speed"] = {{"input_rpm", d.speed.input_rpm}, {"relative_std", d.speed.relative_std}, {"source", d.speed.source},
                 {"model_input_rpm", d.model_speed_rpm}};
   j["angle_source"] = d.angle_source;

@@ -90,6 +90,7 @@ BaselineReference fit_baseline(const Recording& baseline, const model::Simulatio
   cal.alpha = options.alpha;
   cal.discrepancy = estimate_discrepancy({d.calibration_cells});
   ref.budgets = cal.budgets();
+  ref.coverage = line_coverage({d.calibration_cells}, {d.speed.input_rpm});
   for (std::size_t c = 0; c < d.channels.size() && c < d.nuisance.gains.size(); ++c)
     ref.gains[d.channels[c]] = d.nuisance.gains[c];
   ref.speed_rpm = d.speed.input_rpm;

@@ -38,6 +38,9 @@ struct BaselineReference {
   /// The baseline's own discrepancy budgets (Calibration::budgets of a calibration on it alone):
   /// CompareOptions::discrepancy, applied to the model's change from the baseline's model.
   std::vector<DiscrepancyEntry> budgets;
+  /// Where the baseline's lines tested the model (line_coverage, calibration.hpp):
+  /// DiagnoseOptions::line_coverage when no calibration gives one.
+  std::vector<LineCoverage> coverage;
   /// The baseline's fitted gain per compared channel name (1 for channels without one; housing
   /// sensors in m/s^2 per N): DiagnoseOptions::baseline_gains.
   std::map<std::string, double> gains;

@@ -35,6 +35,12 @@ double cell_excess(const CalibrationCell& c) {
   return e;
 }
 
+/// A cell where the model has a line at or above the noise: it measures the relative discrepancy.
+bool measures_relative(const CalibrationCell& c) {
+  const double a2 = c.model * c.model;
+  return a2 >= c.noise_variance && a2 > 0;
+}
+
 double mean_of(const std::vector<double>& v) {
   double s = 0;
   for (double x : v) s += x;
@@ -62,7 +68,7 @@ std::vector<DiscrepancyEstimate> estimate_discrepancy(const std::vector<std::vec
       for (Component f : c.families) {
         Moments& m = by_key[{static_cast<int>(c.quantity), static_cast<int>(f)}];
         m.per_recording.resize(nr);
-        if (a2 >= c.noise_variance && a2 > 0) {
+        if (measures_relative(c)) {
           m.e_line.emplace_back(e, a2);
           m.per_recording[r].emplace_back(e, a2);
         } else {
@@ -101,6 +107,26 @@ std::vector<DiscrepancyEstimate> estimate_discrepancy(const std::vector<std::vec
     if (!m.e_line.empty()) d.relative_variance = relative(m.e_line, &d.relative_variance_se);
     for (const auto& cells : m.per_recording) d.relative_variance_per_recording.push_back(relative(cells, nullptr));
     out.push_back(std::move(d));
+  }
+  return out;
+}
+
+std::vector<LineCoverage> line_coverage(const std::vector<std::vector<CalibrationCell>>& recordings,
+                                        const std::vector<double>& speeds_rpm) {
+  std::vector<LineCoverage> out;
+  for (std::size_t r = 0; r < recordings.size(); ++r) {
+    const double speed = r < speeds_rpm.size() ? speeds_rpm[r] : 0.0;
+    for (const CalibrationCell& c : recordings[r]) {
+      if (!measures_relative(c) || !(c.frequency_Hz > 0)) continue;
+      auto it = std::find_if(out.begin(), out.end(), [&](const LineCoverage& x) { return x.quantity == c.quantity; });
+      if (it == out.end()) {
+        out.push_back({c.quantity, c.frequency_Hz, speed, c.frequency_Hz, speed, 0});
+        it = out.end() - 1;
+      }
+      if (c.frequency_Hz < it->lowest_Hz) it->lowest_Hz = c.frequency_Hz, it->lowest_speed_rpm = speed;
+      if (c.frequency_Hz > it->highest_Hz) it->highest_Hz = c.frequency_Hz, it->highest_speed_rpm = speed;
+      ++it->lines;
+    }
   }
   return out;
 }
@@ -468,6 +494,7 @@ std::vector<CalibrationCell> calibration_cells(const ModelComparison& cmp,
       CalibrationCell x;
       x.channel = sp.channel_names[static_cast<std::size_t>(c)];
       x.order = cell.order;
+      x.frequency_Hz = cell.order * cmp.kinematics().carrier_Hz;
       x.quantity = cmp.recording().channels[static_cast<std::size_t>(sp.channels[static_cast<std::size_t>(c)])].quantity;
       for (int l : cell.lines) {
         const Component fam = sp.layout.lines[static_cast<std::size_t>(l)].family;

@@ -65,6 +65,13 @@ std::vector<CalibrationCell> calibration_cells(const ModelComparison& cmp,
 
 std::vector<DiscrepancyEstimate> estimate_discrepancy(const std::vector<std::vector<CalibrationCell>>& recordings);
 
+/// Per kind of channel, the frequency span of the cells that measure the relative discrepancy
+/// (the model's line at or above the noise, as estimate_discrepancy selects them) over all
+/// `recordings`, with the input speed `speeds_rpm[r]` of the recording each end came from
+/// (line_coverage.hpp). Kinds without such a cell are left out.
+std::vector<LineCoverage> line_coverage(const std::vector<std::vector<CalibrationCell>>& recordings,
+                                        const std::vector<double>& speeds_rpm);
+
 /// Median over the recordings of each nuisance parameter except the sensor gains, as
 /// "key=value" overrides (key = the parameter's configuration key).
 std::vector<std::string> median_overrides(const std::vector<std::vector<FittedParameter>>& per_recording);
@@ -299,6 +306,9 @@ struct Calibration {
   /// Files written before session 66 are roll-locked, before session 67 planet-pass.
   ModelForm form;
   std::vector<DiscrepancyEstimate> discrepancy;
+  /// Where its healthy lines tested the model (line_coverage()); empty in files written before
+  /// session 74.
+  std::vector<LineCoverage> coverage;
   /// The budgets at z_{1-alpha}, for CompareOptions::discrepancy. A family without a relative
   /// estimate (relative_cells == 0) inherits the largest relative budget measured on its kind
   /// of channel (relative_inherited).

@@ -1428,6 +1428,7 @@ private:
     vin.alpha = o_.alpha;
     vin.discrepancy = co_.discrepancy;
     vin.differential = !co_.baseline.empty();
+    vin.line_coverage = o_.line_coverage;
     if (!d_.candidates.empty() && d_.candidates.front().failed.empty() &&
         std::isfinite(d_.candidates.front().held_out.chi2)) {
       say("scoring the best candidate against its own null on the held-out half");

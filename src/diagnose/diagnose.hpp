@@ -43,6 +43,7 @@
 #include "diagnose/compare.hpp"
 #include "diagnose/fit.hpp"
 #include "diagnose/kinematics.hpp"
+#include "diagnose/line_coverage.hpp"
 #include "diagnose/locate.hpp"
 #include "diagnose/recording.hpp"
 
@@ -108,6 +109,10 @@ struct DiagnoseOptions {
   /// The number of healthy recordings that spread is taken over (its degrees of freedom + 1); a
   /// level changed since the baseline is judged against it (level_move_test, level_change.hpp).
   int nuisance_level_spread_recordings = 0;
+  /// Where a calibration's (or a baseline's) healthy lines tested the model, per kind of channel
+  /// (line_coverage.hpp): the report says which part of a located excess lies outside. Empty:
+  /// nothing tested, nothing said.
+  std::vector<LineCoverage> line_coverage;
   int threads = 0;              ///< OpenMP threads (0: default)
   /// Simulation slots served elsewhere (compare.remote, e.g. other MPI ranks): that many more
   /// simulations run side by side, their threads mostly waiting.
@@ -293,6 +298,7 @@ struct ChannelExcess {
 struct CalibrationCell {
   std::string channel;
   double order = 0;                 ///< carrier order of the cell
+  double frequency_Hz = 0;          ///< the cell's frequency at the recording's speed [Hz]
   Quantity quantity = Quantity::SunSpeed;
   std::vector<Component> families;  ///< of the lines the cell carries
   double model = 0;                 ///< nuisance-fitted model amplitude, gain applied
@@ -405,6 +411,9 @@ struct Diagnosis {
   int winner = -1;                       ///< index into candidates, -1 if none
   LeadAssessment lead;                   ///< the best candidate, named or not (verdict.hpp)
   std::vector<ChannelExcess> excess_by_channel;  ///< largest share first
+  /// The located lines outside the frequencies the calibration (or the baseline) tested
+  /// (DiagnoseOptions::line_coverage); not known without either.
+  CoverageGap coverage_gap;
   std::vector<BaselineChange> baseline_changes;  ///< the change check's hypotheses (empty: not run)
   std::vector<std::string> final_overrides;
   std::vector<PlotSeries> plots;

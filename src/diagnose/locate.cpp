@@ -74,6 +74,7 @@ Location locate(const ModelComparison& cmp, const WindowScore& fit, const Window
     l.order = cell.order;
     l.frequency_Hz = cell.order * kin.carrier_Hz;
     l.channel = sp.channel_names[static_cast<std::size_t>(c)];
+    l.quantity = cmp.recording().channels[static_cast<std::size_t>(sp.channels[static_cast<std::size_t>(c)])].quantity;
     l.chi2 = 0.5 * (ex[k] + 2.0);
     l.recording_amplitude = 0.5 * (cmp.recording_amplitude(0, static_cast<int>(k)) + cmp.recording_amplitude(1, static_cast<int>(k)));
     l.model_amplitude = fit.gains[static_cast<std::size_t>(c)] *

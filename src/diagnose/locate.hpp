@@ -31,6 +31,7 @@ struct LocatedLine {
   double order = 0;                 ///< carrier orders
   double frequency_Hz = 0;
   std::string channel;
+  Quantity quantity = Quantity::SunSpeed;  ///< the channel's
   double chi2 = 0;                  ///< rho^2, mean of both halves
   double recording_amplitude = 0;   ///< mean of both halves
   double model_amplitude = 0;       ///< model (with gain)

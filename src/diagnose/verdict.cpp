@@ -538,7 +538,7 @@ std::string unexplained_summary(const Diagnosis& d) {
     s += "chi2 " + fmt("%.0f", d.nuisance.fit.chi2) + " (fit half, bound " + fmt("%.0f", d.bound_fit) + ") and " +
          fmt("%.0f", d.nuisance.held_out.chi2) + " (held out, bound " + fmt("%.0f", d.bound_held_out) +
          ") after the nuisance fit";
-  s += "; located: " + located_text(d) + screened_family_text(d);
+  s += "; located: " + located_text(d) + screened_family_text(d) + coverage_gap_text(d.coverage_gap);
   if (!lead) return s + "; no candidate in the library could be fitted.";
   const CandidateResult& w = d.candidates.front();
   s += "; closest lead: " + w.name + (w.variant.empty() ? "" : " (" + w.variant + ")");
@@ -726,6 +726,7 @@ NearAlias blocking_near_alias(const std::vector<CandidateResult>& ranked, const 
 
 void decide_verdict(Diagnosis& d, const VerdictInputs& in) {
   d.excess_by_channel = channel_excess(d);
+  if (d.located) d.coverage_gap = coverage_gap(d.location.lines, in.line_coverage);
   d.lead = assess_lead(d, in);
   const bool class_named = d.lead.candidate == 0 && !d.lead.named_class.empty();
   const bool named = d.lead.candidate == 0 && (d.lead.failed.empty() || class_named);

@@ -85,6 +85,8 @@ std::vector<std::string> moved_nuisance_at_bound(const CandidateResult& r, doubl
 
 /// What the verdict needs beyond the Diagnosis itself.
 struct VerdictInputs {
+  /// DiagnoseOptions::line_coverage: for Diagnosis::coverage_gap and the unexplained summary.
+  std::vector<LineCoverage> line_coverage;
   /// Nuisance-fitted held-out chi2 within bound_held_out (the fit half is not required: its
   /// excess alone did not replicate).
   bool noise_consistent = false;

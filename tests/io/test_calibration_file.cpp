@@ -49,6 +49,8 @@ TEST(CalibrationFile, WrittenCalibrationReadsBackExactly) {
   d.absolute_cells = 106;
   d.relative_variance_per_recording = {0.03, 0.1 / 3};
   c.discrepancy = {d};
+  c.coverage = {{diagnose::Quantity::SunSpeed, 776.25 / 3, 600.0 / 7, 1552.5, 1200.0, 3},
+                {diagnose::Quantity::HousingAcceleration, 12.5, 600.0, 2400.125, 1200.0 / 9, 41}};
   diagnose::CalibrationFit f;
   f.nuisance_chi2_held_out = 12345.6789 / 7;
   f.noise_bound_held_out = 3401.25;
@@ -77,6 +79,15 @@ TEST(CalibrationFile, WrittenCalibrationReadsBackExactly) {
   EXPECT_EQ(e.absolute_variance_se, d.absolute_variance_se);
   EXPECT_EQ(e.absolute_cells, d.absolute_cells);
   EXPECT_EQ(e.relative_variance_per_recording, d.relative_variance_per_recording);
+  ASSERT_EQ(r.coverage.size(), 2u);
+  for (std::size_t k = 0; k < 2; ++k) {
+    EXPECT_EQ(r.coverage[k].quantity, c.coverage[k].quantity);
+    EXPECT_EQ(r.coverage[k].lowest_Hz, c.coverage[k].lowest_Hz);
+    EXPECT_EQ(r.coverage[k].lowest_speed_rpm, c.coverage[k].lowest_speed_rpm);
+    EXPECT_EQ(r.coverage[k].highest_Hz, c.coverage[k].highest_Hz);
+    EXPECT_EQ(r.coverage[k].highest_speed_rpm, c.coverage[k].highest_speed_rpm);
+    EXPECT_EQ(r.coverage[k].lines, c.coverage[k].lines);
+  }
   ASSERT_EQ(r.fits.size(), 2u);
   EXPECT_EQ(r.fits[0].nuisance_chi2_held_out, f.nuisance_chi2_held_out);
   EXPECT_EQ(r.fits[0].noise_bound_held_out, f.noise_bound_held_out);
@@ -136,4 +147,22 @@ TEST(CalibrationFile, ARingBodyFormReadsBack) {
   test::TempDir dir;
   write_minimal_calibration(dir / "ring_body.toml", "housing_path = \"ring_body\"\n", false);
   EXPECT_EQ(io::read_calibration(dir / "ring_body.toml").form.housing_path, model::HousingPath::RingBody);
+}
+
+TEST(CalibrationFile, AFileWithoutCoverageReadsAndAnInvertedSpanIsAnInputError) {
+  // Files written before session 74 have no [[coverage]]: nothing is said about tested lines. A
+  // span whose lowest line lies above its highest cannot have come from calibrate.
+  test::TempDir dir;
+  write_minimal_calibration(dir / "old.toml", "", false);
+  EXPECT_TRUE(io::read_calibration(dir / "old.toml").coverage.empty());
+  write_minimal_calibration(dir / "bad.toml", "", false);
+  {
+    std::ofstream f(dir / "bad.toml", std::ios::app);
+    f << "[[coverage]]\nquantity = \"sun_speed\"\nlowest_Hz = 1552.0\nlowest_speed_rpm = 600.0\n"
+         "highest_Hz = 776.0\nhighest_speed_rpm = 600.0\nlines = 2\n";
+  }
+  const auto e = test::thrown<InputError>([&] { io::read_calibration(dir / "bad.toml"); });
+  ASSERT_TRUE(e);
+  EXPECT_TRUE(test::contains(e->what(), "coverage[0]"));
+  EXPECT_TRUE(test::contains(e->what(), "lowest_Hz <= highest_Hz"));
 }
