@@ -2,7 +2,7 @@
 """Runs `planetwear diagnose` on an indepsim corpus and scores it against truth.json.
 
     /usr/bin/python3 scripts/indepsim/confusion.py DIR --planetwear PATH/planetwear
-        [--jobs N] [--threads 1] [--include-held-out] [--calibration-per-rig | --calibrate [--rig-elements E,...] | --differential]
+        [--jobs N] [--threads 1] [--include-held-out] [--calibration-per-rig | --calibrate [--rig-elements E,...] [--ring-body] | --differential]
         [--timeout S]
         [--only NAME,...] [--gearset G] [--sensors all|rig|speeds] [--dry-run] [--check-reader]
 
@@ -29,7 +29,11 @@ that operating point (outputs under DIR/diagnosis_cal/).
 
 --calibrate: `planetwear calibrate` on each gear set's healthy baselines (held-out ones never),
 written to DIR/diagnosis_calibrated/<gearset>/calibration.toml; every other recording is then
-diagnosed with --calibration (docs/diagnose.md section 6a).
+diagnosed with --calibration (docs/diagnose.md section 6a). With --ring-body, `calibrate
+--ring-body` (section 6a item 12; outputs under DIR/diagnosis_calibrated_..._ringbody/).
+Each row also carries the report's coverage_gap share (section 6a item 13: the part of the
+located excess at frequencies no healthy line tested), and the summary counts the unexplained
+effects with more than half of it there.
 
 --differential: every recording that is not itself a baseline is diagnosed against its
 operating point's healthy baseline (truth.json "baseline"; also when that baseline is held out:
@@ -178,6 +182,17 @@ def located_family(report_path):
     return loc.get("screened_family")
 
 
+def coverage_gap_share(report_path):
+    """The share of a report's located excess outside the frequencies its calibration's (or
+    baseline's) healthy lines tested (report.json coverage_gap.share), or None (not known)."""
+    try:
+        with open(report_path) as f:
+            gap = json.load(f).get("coverage_gap")
+    except (OSError, ValueError):
+        return None
+    return gap.get("share") if isinstance(gap, dict) else None
+
+
 def run_one(exe, corpus, key, rec, outroot, threads, timeout, extra_args=(), sensors="all"):
     g, name = rec["gearset"], rec["name"]
     out = os.path.join(corpus, outroot, g, name)
@@ -258,6 +273,9 @@ def main(argv=None):
                     help="with --calibrate: passed to planetwear calibrate --rig-elements (e.g. "
                          "encoder_bandwidth,motor_inertia,load_inertia); outputs under "
                          "DIR/diagnosis_calibrated_<elements>/ so that runs with other rig elements are kept apart")
+    ap.add_argument("--ring-body", action="store_true",
+                    help="with --calibrate: passed to planetwear calibrate (the lateral-torsional ring body as a "
+                         "housing path); outputs under DIR/diagnosis_calibrated_..._ringbody/")
     ap.add_argument("--differential", action="store_true",
                     help="diagnose each recording against its operating point's healthy baseline (--baseline); "
                          "outputs under DIR/diagnosis_diff/")
@@ -297,6 +315,8 @@ def main(argv=None):
         ap.error("--calibrate, --calibration-per-rig and --differential are alternatives")
     if a.rig_elements and not a.calibrate:
         ap.error("--rig-elements needs --calibrate")
+    if a.ring_body and not a.calibrate:
+        ap.error("--ring-body needs --calibrate")
     outroot = ("diagnosis_calibrated" if a.calibrate else "diagnosis_cal" if a.calibration_per_rig
                else "diagnosis_diff" if a.differential else "diagnosis")
     if a.baseline_transfer != "additive":
@@ -305,6 +325,8 @@ def main(argv=None):
         outroot += "_ratio"
     if a.rig_elements:
         outroot += "_" + a.rig_elements.replace(",", "+")
+    if a.ring_body:
+        outroot += "_ringbody"
     if a.sensors != "all":
         outroot += "_" + a.sensors + "sensors"
     results = {}
@@ -367,6 +389,8 @@ def main(argv=None):
                        "--threads", str(a.threads)]
                 if a.rig_elements:
                     cmd += ["--rig-elements", a.rig_elements]
+                if a.ring_body:
+                    cmd += ["--ring-body"]
                 for b in bases:
                     csvp = os.path.join(a.corpus, recs[b]["csv"])
                     cmd += ["-r", csvp, "--meta", sidecar(a.corpus, recs[b]["csv"], outroot, a.sensors)]
@@ -413,13 +437,15 @@ def main(argv=None):
         r = recs[k]
         truth_eff = r["effect"]
         outcome = score(label, truth_eff, k in unobservable)
-        located = located_family(os.path.join(a.corpus, outroot, r["gearset"], r["name"], "report.json"))
+        report_path = os.path.join(a.corpus, outroot, r["gearset"], r["name"], "report.json")
+        located = located_family(report_path)
         located_right = None
         if families and truth_eff in families and located is not None:
             located_right = located in families[truth_eff]
         rows.append(dict(key=k, gearset=r["gearset"], name=r["name"], role=r["role"], truth=truth_eff,
                          reported=label, verdict=verdict, outcome=outcome, located=located,
-                         located_right=located_right, held_out=r.get("held_out", False),
+                         located_right=located_right, coverage_gap_share=coverage_gap_share(report_path),
+                         held_out=r.get("held_out", False),
                          reader_should_refuse=r.get("reader_should_refuse", False), op=r["operating_point"],
                          rpm=r["input_speed_rpm"], W=r["input_power_W"], duration_s=r["duration_s"],
                          seconds=round(dt, 1), summary=summary.replace("\n", " ")[:300]))
@@ -454,6 +480,8 @@ def main(argv=None):
         refusals_expected=sum(1 for r in rows if r["outcome"] == "refused" and r["reader_should_refuse"]),
         unexplained_effects_located=sum(1 for r in rows if r["outcome"] == "unexplained" and r["located"] is not None),
         unexplained_effects_located_right=sum(1 for r in rows if r["outcome"] == "unexplained" and r["located_right"]),
+        unexplained_effects_mostly_untested=sum(1 for r in rows if r["outcome"] == "unexplained"
+                                                and (r["coverage_gap_share"] or 0) > 0.5),
         wall_s=round(time.time() - t_start, 1))
     with open(os.path.join(odir, "results.json"), "w") as f:
         json.dump(dict(summary=summary, confusion=mat, rows=rows), f, indent=1)

@@ -67,7 +67,8 @@ std::string coverage_gap_text(const CoverageGap& gap) {
   const UncoveredLine& top = gap.lines.front();
   std::string s = "; " + fmt("%.0f", 100 * gap.share) + " % of the strongest lines' excess lies where no healthy line " +
                   "tested the calibrated model (" + where + "; tested: " + spans +
-                  "), so the model's transfer to the sensor there is unverified and no fit there can be judged";
+                  "): a fit there is judged through the model's transfer to the sensor at frequencies no healthy " +
+                  "recording checked";
   if (top.covering_speed_rpm > 0)
     s += " — a healthy recording at about " + fmt("%.0f", top.covering_speed_rpm) + " rpm would test " +
          fmt("%.0f Hz", top.frequency_Hz) + " on " + top.channel;

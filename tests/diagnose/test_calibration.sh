@@ -50,6 +50,17 @@ if h["verdict"] != "no_missing_physics":
     sys.exit(f"held-out healthy recording: verdict {h['verdict']}, expected no_missing_physics: {h['summary'][:300]}")
 if not h["calibration"].endswith("calibration.toml"):
     sys.exit("the report does not name the calibration")
+# Where the healthy lines tested the model (section 6a item 13): the file's spans, printed too, and
+# every diagnosis under the calibration reports the located excess against them.
+import tomllib
+cov = tomllib.load(open("calibration.toml", "rb")).get("coverage", [])
+if not cov or any(not 0 < c["lowest_Hz"] <= c["highest_Hz"] or c["lines"] < 1 for c in cov):
+    sys.exit("the calibration file's [[coverage]] is missing or malformed: " + str(cov))
+if "lines tested on" not in open("calibration.txt").read():
+    sys.exit("calibrate does not print the tested spans")
+g = s["coverage_gap"]
+if not isinstance(g, dict) or not 0 <= g["share"] <= 1 or len(g["tested"]) != len(cov):
+    sys.exit("the cracked sun tooth's report lacks its coverage gap: " + str(g))
 if s["verdict"] == "no_missing_physics":
     sys.exit("the cracked sun tooth was absorbed by the discrepancy budget: " + s["summary"][:300])
 if s["missing_physics"] not in (None, "sun_tooth_damage", "sun_defect"):

@@ -327,3 +327,17 @@ def test_located_family_is_read_from_the_report_and_missing_when_nothing_was_loc
     assert confusion.located_family(str(tmp_path / "absent.json")) is None
     # a binary without the `candidates` command gives no table, so no located_right is scored
     assert confusion.candidate_families("/bin/false") == {}
+
+
+def test_confusion_reads_the_coverage_gap_share_and_none_where_nothing_was_tested(tmp_path):
+    # report.json's coverage_gap (docs/diagnose.md section 6a item 13): null without a calibration
+    # or baseline, a share otherwise; a missing or broken report reads as not known.
+    import json
+    p = tmp_path / "report.json"
+    p.write_text(json.dumps({"coverage_gap": {"share": 0.978, "lines": [], "tested": []}}))
+    assert confusion.coverage_gap_share(str(p)) == 0.978
+    p.write_text(json.dumps({"coverage_gap": None}))
+    assert confusion.coverage_gap_share(str(p)) is None
+    p.write_text("{not json")
+    assert confusion.coverage_gap_share(str(p)) is None
+    assert confusion.coverage_gap_share(str(tmp_path / "missing.json")) is None
