@@ -498,6 +498,16 @@ void write_plot_data(const std::filesystem::path& data_dir, const dg::Diagnosis&
   }
 }
 
+/// Location::planet_pattern (planet_pattern.hpp): null where the split does not apply.
+json planet_pattern_json(const dg::PlanetPattern& p) {
+  if (!p.applies) return nullptr;
+  json orders = json::array();
+  for (const dg::PatternOrderExcess& o : p.orders)
+    orders.push_back({{"order", o.order}, {"excess", num(o.excess)}, {"cells", o.cells}, {"z", num(o.z)},
+                      {"mesh_harmonics", o.harmonics}});
+  return {{"orders", orders}, {"significance_z", num(p.significance_z)}};
+}
+
 /// report.json's "location": families, lines, rotations.
 json location_json(const dg::Diagnosis& d) {
   json fam = json::array();
@@ -521,7 +531,8 @@ json location_json(const dg::Diagnosis& d) {
                                            ? json(dg::to_string(static_cast<dg::Component>(d.location.screened_family)))
                                            : json(nullptr)},
                    {"screened_candidate", d.location.screened_candidate},
-                   {"rotations", rot}, {"input_orders", d.location.input_orders}};
+                   {"rotations", rot}, {"input_orders", d.location.input_orders},
+                   {"planet_pattern", planet_pattern_json(d.location.planet_pattern)}};
 }
 
 /// report.json "finding_class": the class a class finding named (null otherwise).

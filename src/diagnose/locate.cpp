@@ -14,6 +14,29 @@ namespace pw::diagnose {
 
 namespace {
 std::string family_label(const OrderLine& l) { return l.label + " (" + to_string(l.family) + ")"; }
+
+/// The cells of the speed channels (pure rotations of the sun and the carrier) that carry a mesh
+/// harmonic h f_m, with each half's rho^2 - 1: planet_pattern's input.
+std::vector<MeshHarmonicCell> speed_mesh_harmonic_cells(const ModelComparison& cmp, const WindowScore& fit,
+                                                        const WindowScore& held) {
+  const RecordingSpectra& sp = cmp.spectra();
+  const FeatureLayout& L = sp.layout;
+  const int ncell = cmp.cells();
+  std::vector<MeshHarmonicCell> out;
+  for (int c = 0; c < cmp.channels(); ++c) {
+    const Quantity q = cmp.recording().channels[static_cast<std::size_t>(sp.channels[static_cast<std::size_t>(c)])].quantity;
+    if (q != Quantity::SunSpeed && q != Quantity::CarrierSpeed) continue;
+    for (int i = 0; i < ncell; ++i)
+      for (int li : L.cells[static_cast<std::size_t>(i)].lines) {
+        const OrderLine& l = L.lines[static_cast<std::size_t>(li)];
+        if (l.family != Component::Mesh || l.sideband != 0 || l.mesh_harmonic < 1) continue;
+        const std::size_t f = static_cast<std::size_t>(c * ncell + i);
+        out.push_back({l.mesh_harmonic, {fit.rho[f] * fit.rho[f] - 1.0, held.rho[f] * held.rho[f] - 1.0}});
+        break;
+      }
+  }
+  return out;
+}
 } // namespace
 
 Location locate(const ModelComparison& cmp, const WindowScore& fit, const WindowScore& held,
@@ -82,6 +105,11 @@ Location locate(const ModelComparison& cmp, const WindowScore& fit, const Window
     for (int li : cell.lines) l.labels.push_back(family_label(L.lines[static_cast<std::size_t>(li)]));
     loc.lines.push_back(std::move(l));
   }
+
+  loc.planet_pattern = planet_pattern(speed_mesh_harmonic_cells(cmp, fit, held), kin);
+  if (loc.planet_pattern.applies)
+    loc.planet_pattern.significance_z =
+        normal_quantile(opt.family_alpha / static_cast<double>(loc.planet_pattern.orders.size()));
 
   // Input-shaft orders: excess per |b| over cells of input-shaft lines not shared with the mesh harmonics.
   {

@@ -21,6 +21,7 @@
 #include "diagnose/candidates/candidate.hpp"
 #include "diagnose/compare.hpp"
 #include "diagnose/kinematics.hpp"
+#include "diagnose/planet_pattern.hpp"
 
 #include <string>
 #include <vector>
@@ -68,6 +69,8 @@ struct Location {
   std::vector<LocatedLine> lines;         ///< strongest cells, largest chi2 first
   std::vector<RotationEvidence> rotations;
   std::vector<double> input_orders;       ///< input-shaft orders with the largest excess
+  /// The speed channels' mesh-harmonic excess by the planets' pattern order (planet_pattern.hpp).
+  PlanetPattern planet_pattern;
   LocatedEvidence evidence;               ///< the summary candidates use
   double significance_z = 0;              ///< z above which a family counts as located
   double excess = 0;                      ///< total chi-square excess (both halves)

@@ -91,6 +91,7 @@ std::string located_text(const Diagnosis& d) {
   }
   std::string s = fam;
   if (!orders.empty()) s += ", strongest lines at carrier orders " + orders;
+  s += planet_pattern_text(d.location.planet_pattern);
   if (!chans.empty()) s += "; channels " + chans + " (" + fmt("%.0f", 100 * share) + " % of the held-out excess)";
   return s;
 }
