@@ -28,7 +28,9 @@ std::string span_text(const LineCoverage& c) {
 
 } // namespace
 
-CoverageGap coverage_gap(const std::vector<LocatedLine>& lines, const std::vector<LineCoverage>& coverage) {
+CoverageGap coverage_gap(const std::vector<LocatedLine>& lines, const std::vector<LineCoverage>& coverage,
+                         double resolution_Hz) {
+  const double half_cell = 0.5 * std::max(0.0, resolution_Hz);
   CoverageGap gap;
   if (coverage.empty()) return gap;
   gap.known = true;
@@ -38,7 +40,7 @@ CoverageGap coverage_gap(const std::vector<LocatedLine>& lines, const std::vecto
     const double excess = std::max(0.0, l.chi2 - 1.0);
     total += excess;
     const LineCoverage* c = coverage_of(coverage, l.quantity);
-    if (c && l.frequency_Hz >= c->lowest_Hz && l.frequency_Hz <= c->highest_Hz) continue;
+    if (c && l.frequency_Hz >= c->lowest_Hz - half_cell && l.frequency_Hz <= c->highest_Hz + half_cell) continue;
     outside += excess;
     if (excess <= 0) continue;
     gap.lines.push_back({l.channel, l.quantity, l.frequency_Hz, l.order, excess, c ? covering_speed(*c, l.frequency_Hz) : 0.0});

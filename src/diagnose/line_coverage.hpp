@@ -59,9 +59,14 @@ struct CoverageGap {
 };
 
 /// The coverage of `lines` against `coverage`: each located line whose frequency lies outside
-/// [lowest_Hz, highest_Hz] of its kind of channel (or whose kind has no tested line) is
-/// uncovered; lines weigh by their excess rho^2 - 1 (those at or below 1 weigh nothing).
-CoverageGap coverage_gap(const std::vector<LocatedLine>& lines, const std::vector<LineCoverage>& coverage);
+/// [lowest_Hz - resolution_Hz / 2, highest_Hz + resolution_Hz / 2] of its kind of channel (or
+/// whose kind has no tested line) is uncovered; lines weigh by their excess rho^2 - 1 (those at
+/// or below 1 weigh nothing). `resolution_Hz` is the recording's cell spacing (carrier frequency
+/// over the carrier revolutions of an analysis window): a line within half of it of a tested end
+/// falls in the same cell as that end's line would, the recordings' speeds differing by their
+/// estimation error (the same carrier order at 1552.5002 Hz against a tested 1552.5000 Hz).
+CoverageGap coverage_gap(const std::vector<LocatedLine>& lines, const std::vector<LineCoverage>& coverage,
+                         double resolution_Hz);
 
 /// A sentence for the verdict: the uncovered share, the strongest uncovered lines and their
 /// channels' tested spans, and the speed that would test the strongest one; "" if nothing is

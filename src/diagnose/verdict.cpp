@@ -727,7 +727,9 @@ NearAlias blocking_near_alias(const std::vector<CandidateResult>& ranked, const 
 
 void decide_verdict(Diagnosis& d, const VerdictInputs& in) {
   d.excess_by_channel = channel_excess(d);
-  if (d.located) d.coverage_gap = coverage_gap(d.location.lines, in.line_coverage);
+  if (d.located)
+    d.coverage_gap = coverage_gap(d.location.lines, in.line_coverage,
+                                  d.window_revolutions > 0 ? d.kinematics.carrier_Hz / d.window_revolutions : 0.0);
   d.lead = assess_lead(d, in);
   const bool class_named = d.lead.candidate == 0 && !d.lead.named_class.empty();
   const bool named = d.lead.candidate == 0 && (d.lead.failed.empty() || class_named);

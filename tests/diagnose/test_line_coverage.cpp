@@ -76,7 +76,7 @@ TEST(CoverageGap, SharesTheExcessOfLinesOutsideTheTestedSpanAndNamesTheSpeedThat
       line(Quantity::CarrierSpeed, "carrier_speed", 194.0, 26.0),   // a kind never tested: 25
       line(Quantity::SunSpeed, "sun_speed", 3104.0, 0.5),           // no excess: weighs nothing
       line(Quantity::SunSpeed, "sun_speed", 1600.0, 26.0)};         // above: 25
-  const CoverageGap gap = coverage_gap(lines, sun_coverage());
+  const CoverageGap gap = coverage_gap(lines, sun_coverage(), 0.0);
   ASSERT_TRUE(gap.known);
   EXPECT_DOUBLE_EQ(gap.share, 150.0 / 200.0);
   ASSERT_EQ(gap.lines.size(), 3u);
@@ -97,14 +97,28 @@ TEST(CoverageGap, SharesTheExcessOfLinesOutsideTheTestedSpanAndNamesTheSpeedThat
 
 TEST(CoverageGap, NothingIsSaidWithoutCoverageOrWhenEveryLineWasTested) {
   const std::vector<LocatedLine> lines = {line(Quantity::SunSpeed, "sun_speed", 194.0, 101.0)};
-  const CoverageGap none = coverage_gap(lines, {});
+  const CoverageGap none = coverage_gap(lines, {}, 1.0);
   EXPECT_FALSE(none.known);
   EXPECT_EQ(coverage_gap_text(none), "");
   const CoverageGap inside = coverage_gap({line(Quantity::SunSpeed, "sun_speed", 776.0, 101.0),
                                            line(Quantity::SunSpeed, "sun_speed", 1552.0, 11.0)},
-                                          sun_coverage());
+                                          sun_coverage(), 0.0);
   EXPECT_TRUE(inside.known);
   EXPECT_EQ(inside.share, 0.0);
   EXPECT_TRUE(inside.lines.empty());
   EXPECT_EQ(coverage_gap_text(inside), "");
+}
+
+TEST(CoverageGap, ALineWithinHalfACellOfATestedEndIsThatEndsLine) {
+  // The same carrier order at another recording's speed estimate: 1552.5002 Hz against a tested
+  // 1552.5 Hz is the same cell for a recording resolving 1.875 Hz (5.625 Hz carrier, 3
+  // revolutions per window); half a cell beyond the end is not.
+  const double resolution = 5.625 / 3;
+  const CoverageGap same = coverage_gap({line(Quantity::SunSpeed, "sun_speed", 1552.0002, 101.0)},
+                                        {{Quantity::SunSpeed, 776.0, 600.0, 1552.0, 1200.0, 3}}, resolution);
+  EXPECT_TRUE(same.lines.empty());
+  const CoverageGap next = coverage_gap({line(Quantity::SunSpeed, "sun_speed", 1552.0 + 0.51 * resolution, 101.0),
+                                         line(Quantity::SunSpeed, "sun_speed", 776.0 - 0.51 * resolution, 101.0)},
+                                        {{Quantity::SunSpeed, 776.0, 600.0, 1552.0, 1200.0, 3}}, resolution);
+  EXPECT_EQ(next.lines.size(), 2u);
 }
