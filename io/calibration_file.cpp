@@ -100,6 +100,29 @@ diagnose::LineCoverage read_coverage(const toml::table* t, const std::filesystem
   return l;
 }
 
+/// One [[discrepancy]] entry.
+toml::table discrepancy_table(const diagnose::DiscrepancyEstimate& d) {
+  return toml::table{{"quantity", std::string(diagnose::to_string(d.quantity))},
+                     {"family", std::string(diagnose::to_string(d.family))},
+                     {"relative_variance", d.relative_variance},
+                     {"relative_variance_se", d.relative_variance_se},
+                     {"relative_cells", d.relative_cells},
+                     {"absolute_variance", d.absolute_variance},
+                     {"absolute_variance_se", d.absolute_variance_se},
+                     {"absolute_cells", d.absolute_cells},
+                     {"relative_variance_per_recording", to_array(d.relative_variance_per_recording)}};
+}
+
+/// One [[coverage]] entry (read_coverage reads it back).
+toml::table coverage_table(const diagnose::LineCoverage& l) {
+  return toml::table{{"quantity", std::string(diagnose::to_string(l.quantity))},
+                     {"lowest_Hz", l.lowest_Hz},
+                     {"lowest_speed_rpm", l.lowest_speed_rpm},
+                     {"highest_Hz", l.highest_Hz},
+                     {"highest_speed_rpm", l.highest_speed_rpm},
+                     {"lines", l.lines}};
+}
+
 } // namespace
 
 void write_calibration(const diagnose::Calibration& c, const std::filesystem::path& path) {
@@ -116,30 +139,9 @@ void write_calibration(const diagnose::Calibration& c, const std::filesystem::pa
   cal.insert("at_bound", to_array(c.at_bound));
   cal.insert("overrides", to_array(c.overrides));
   toml::array disc;
-  for (const diagnose::DiscrepancyEstimate& d : c.discrepancy) {
-    toml::table t;
-    t.insert("quantity", std::string(diagnose::to_string(d.quantity)));
-    t.insert("family", std::string(diagnose::to_string(d.family)));
-    t.insert("relative_variance", d.relative_variance);
-    t.insert("relative_variance_se", d.relative_variance_se);
-    t.insert("relative_cells", d.relative_cells);
-    t.insert("absolute_variance", d.absolute_variance);
-    t.insert("absolute_variance_se", d.absolute_variance_se);
-    t.insert("absolute_cells", d.absolute_cells);
-    t.insert("relative_variance_per_recording", to_array(d.relative_variance_per_recording));
-    disc.push_back(std::move(t));
-  }
+  for (const diagnose::DiscrepancyEstimate& d : c.discrepancy) disc.push_back(discrepancy_table(d));
   toml::array coverage;
-  for (const diagnose::LineCoverage& l : c.coverage) {
-    toml::table t;
-    t.insert("quantity", std::string(diagnose::to_string(l.quantity)));
-    t.insert("lowest_Hz", l.lowest_Hz);
-    t.insert("lowest_speed_rpm", l.lowest_speed_rpm);
-    t.insert("highest_Hz", l.highest_Hz);
-    t.insert("highest_speed_rpm", l.highest_speed_rpm);
-    t.insert("lines", l.lines);
-    coverage.push_back(std::move(t));
-  }
+  for (const diagnose::LineCoverage& l : c.coverage) coverage.push_back(coverage_table(l));
   toml::array fits;
   for (const diagnose::CalibrationFit& f : c.fits) {
     toml::table t;
