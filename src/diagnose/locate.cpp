@@ -106,10 +106,7 @@ Location locate(const ModelComparison& cmp, const WindowScore& fit, const Window
     loc.lines.push_back(std::move(l));
   }
 
-  loc.planet_pattern = planet_pattern(speed_mesh_harmonic_cells(cmp, fit, held), kin);
-  if (loc.planet_pattern.applies)
-    loc.planet_pattern.significance_z =
-        normal_quantile(opt.family_alpha / static_cast<double>(loc.planet_pattern.orders.size()));
+  loc.planet_pattern = planet_pattern(speed_mesh_harmonic_cells(cmp, fit, held), kin, opt.family_alpha);
 
   // Input-shaft orders: excess per |b| over cells of input-shaft lines not shared with the mesh harmonics.
   {

@@ -2,6 +2,7 @@
 
 #include "core/error.hpp"
 #include "core/format.hpp"
+#include "core/statistics.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -15,12 +16,13 @@ int planet_pattern_order(int mesh_harmonic, int sun_teeth, int planets) {
   return static_cast<int>(std::min<long long>(r, planets - r));
 }
 
-PlanetPattern planet_pattern(const std::vector<MeshHarmonicCell>& cells, const Kinematics& kin) {
+PlanetPattern planet_pattern(const std::vector<MeshHarmonicCell>& cells, const Kinematics& kin, double alpha) {
   PlanetPattern p;
   const int n = kin.planets, zs = kin.sun_teeth;
   if (n < 2 || zs < 1 || zs % n == 0 || cells.empty()) return p;
   p.applies = true;
   for (int k = 0; k <= n / 2; ++k) p.orders.push_back({k, 0.0, 0, 0.0, {}});
+  p.significance_z = normal_quantile(alpha / static_cast<double>(p.orders.size()));
   for (const MeshHarmonicCell& c : cells) {
     PatternOrderExcess& o = p.orders[static_cast<std::size_t>(planet_pattern_order(c.harmonic, zs, n))];
     o.excess += c.excess[0] + c.excess[1];

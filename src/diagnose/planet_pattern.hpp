@@ -41,8 +41,8 @@ struct PlanetPattern {
   /// false: planets in phase (N | Zs), a single planet, or no speed channel's mesh harmonic analysed.
   bool applies = false;
   std::vector<PatternOrderExcess> orders;  ///< k = 0 .. N/2
-  /// z above which an order counts: the upper family_alpha / (number of orders) normal quantile
-  /// (Bonferroni over the orders, as the families are over theirs; set by locate).
+  /// z above which an order counts: the upper alpha / (number of orders) normal quantile
+  /// (Bonferroni over the orders, as the families are over theirs).
   double significance_z = 0;
 };
 
@@ -52,8 +52,9 @@ struct MeshHarmonicCell {
   double excess[2] = {0, 0};
 };
 
-/// The split of `cells` by pattern order for a stage of `kin`'s teeth and planets.
-PlanetPattern planet_pattern(const std::vector<MeshHarmonicCell>& cells, const Kinematics& kin);
+/// The split of `cells` by pattern order for a stage of `kin`'s teeth and planets, each order
+/// tested at the family-wise false-alarm probability `alpha` (LocateOptions::family_alpha).
+PlanetPattern planet_pattern(const std::vector<MeshHarmonicCell>& cells, const Kinematics& kin, double alpha);
 
 /// A sentence on the orders whose z exceeds p.significance_z, and what they allow; "" when the
 /// split does not apply or no order is significant.

@@ -64,7 +64,7 @@ TEST(PlanetPattern, SplitsTheExcessByOrderWithItsZAndSaysWhatTheOrdersAllow) {
   // setD4's pin error: h = 1 and 2 and 6 in excess, h = 4 and 8 (the healthy lines) explained.
   const std::vector<MeshHarmonicCell> cells = {{1, {5000, 5200}}, {2, {300, 310}}, {4, {0.5, -0.8}},
                                                {6, {40, 38}}, {8, {-0.3, 1.1}}, {3, {0.2, -0.4}}};
-  PlanetPattern p = planet_pattern(cells, stage(27, 4));
+  const PlanetPattern p = planet_pattern(cells, stage(27, 4), 0.01);
   ASSERT_TRUE(p.applies);
   ASSERT_EQ(p.orders.size(), 3u);
   EXPECT_EQ(p.orders[1].harmonics, (std::vector<int>{1, 3}));
@@ -73,26 +73,24 @@ TEST(PlanetPattern, SplitsTheExcessByOrderWithItsZAndSaysWhatTheOrdersAllow) {
   EXPECT_DOUBLE_EQ(p.orders[2].excess, 688.0);
   EXPECT_EQ(p.orders[2].cells, 4);
   EXPECT_DOUBLE_EQ(p.orders[2].z, 688.0 / std::sqrt(8.0));
-  p.significance_z = 2.71;  // family_alpha 0.01 over 3 orders: normal_quantile(0.01 / 3)
+  EXPECT_NEAR(p.significance_z, 2.7131, 1e-4);  // alpha 0.01 over 3 orders: the upper 0.01/3 normal quantile
   const std::string pin = planet_pattern_text(p);
   EXPECT_NE(pin.find("k = 1 (h 1, 3;"), std::string::npos) << pin;
   EXPECT_NE(pin.find("k = 2 (h 2, 6;"), std::string::npos) << pin;
   EXPECT_EQ(pin.find("k = 0"), std::string::npos) << pin;  // not significant
   EXPECT_NE(pin.find("not in a first-order pattern alone"), std::string::npos) << pin;
   // A carrier runout: odd harmonics alone.
-  PlanetPattern runout = planet_pattern({{1, {9000, 9100}}, {7, {30, 28}}, {2, {0.1, 0.3}}}, stage(27, 4));
-  runout.significance_z = 2.71;
+  const PlanetPattern runout = planet_pattern({{1, {9000, 9100}}, {7, {30, 28}}, {2, {0.1, 0.3}}}, stage(27, 4), 0.01);
   EXPECT_NE(planet_pattern_text(runout).find("a first-order pattern (as a carrier runout makes)"), std::string::npos);
   // A change every planet shares: only the harmonics that survive the phasing.
-  PlanetPattern shared = planet_pattern({{4, {800, 790}}, {8, {90, 95}}, {1, {-0.5, 0.2}}}, stage(27, 4));
-  shared.significance_z = 2.71;
+  const PlanetPattern shared = planet_pattern({{4, {800, 790}}, {8, {90, 95}}, {1, {-0.5, 0.2}}}, stage(27, 4), 0.01);
   EXPECT_NE(planet_pattern_text(shared).find(": a change every planet shares"), std::string::npos);
 }
 
 TEST(PlanetPattern, PlanetsInPhaseOrNoSpeedChannelLeaveTheSplitUnmade) {
   const std::vector<MeshHarmonicCell> cells = {{1, {5000, 5200}}};
-  EXPECT_FALSE(planet_pattern(cells, stage(28, 4)).applies);  // 4 | 28: every h maps to k = 0
-  EXPECT_FALSE(planet_pattern(cells, stage(27, 1)).applies);
-  EXPECT_FALSE(planet_pattern({}, stage(27, 4)).applies);
-  EXPECT_EQ(planet_pattern_text(planet_pattern(cells, stage(28, 4))), "");
+  EXPECT_FALSE(planet_pattern(cells, stage(28, 4), 0.01).applies);  // 4 | 28: every h maps to k = 0
+  EXPECT_FALSE(planet_pattern(cells, stage(27, 1), 0.01).applies);
+  EXPECT_FALSE(planet_pattern({}, stage(27, 4), 0.01).applies);
+  EXPECT_EQ(planet_pattern_text(planet_pattern(cells, stage(28, 4), 0.01)), "");
 }
