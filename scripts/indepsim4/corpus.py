@@ -1,7 +1,7 @@
 #!/usr/bin/python3
 """indepsim4 corpus: recordings of two gear sets on their test rigs, for `planetwear diagnose`.
 
-    /usr/bin/python3 scripts/indepsim4/corpus.py -o DIR --seed S [--jobs 2] [--quick]
+    /usr/bin/python3 scripts/indepsim4/corpus.py -o DIR --seed S [--jobs 2] [--quick | --plan offpoint]
 
 Writes DIR/<gearset>/gearset.toml (what the stage's drawing gives: gears, friction, design backlash),
 DIR/<gearset>/recordings/rec_NN.csv + rec_NN.json (docs/recordings.md), DIR/truth.json (per recording:
@@ -56,7 +56,8 @@ GEARSETS = {
                          friction=0.05, backlash_sp_m=30e-6, backlash_pr_m=30e-6),
         rig=sim.Rig(J_motor=0.05, J_load=0.3, f_input_shaft_Hz=40.0, f_output_shaft_Hz=220.0, shaft_zeta=0.03,
                     speed_loop_bw_Hz=10.0, tacho_bw_Hz=1500.0),
-        ops={"op1": (600.0, 12000.0, 5000.0), "op2": (1200.0, 18000.0, 10000.0)}),
+        ops={"op1": (600.0, 12000.0, 5000.0), "op2": (1200.0, 18000.0, 10000.0)},
+        off_ops={"op3": (900.0, 15000.0, 10000.0), "op4": (750.0, 9000.0, 5000.0), "op5": (1500.0, 18000.0, 10000.0)}),
     # 4 planets, sequentially phased meshes (Zs/N = 6.75), module 3 mm. Session 66: was 28/17/62 with 5
     # planets, which planetwear refuses as involute interference (a standard internal ring's tips reach
     # 1.6 mm below the 17-tooth planet's base circle); this simulator has no interference check.
@@ -65,7 +66,8 @@ GEARSETS = {
                          friction=0.07, backlash_sp_m=40e-6, backlash_pr_m=40e-6),
         rig=sim.Rig(J_motor=0.08, J_load=0.5, f_input_shaft_Hz=50.0, f_output_shaft_Hz=180.0, shaft_zeta=0.03,
                     speed_loop_bw_Hz=12.0, tacho_bw_Hz=1200.0),
-        ops={"op1": (600.0, 40000.0, 5000.0), "op2": (1200.0, 50000.0, 10000.0)}),
+        ops={"op1": (600.0, 40000.0, 5000.0), "op2": (1200.0, 50000.0, 10000.0)},
+        off_ops={"op3": (900.0, 45000.0, 10000.0), "op4": (750.0, 25000.0, 5000.0), "op5": (1500.0, 50000.0, 10000.0)}),
 }
 
 EFFECTS = ("sun_tooth_damage", "planet_tooth_damage", "ring_tooth_damage", "pin_error", "sun_runout",
@@ -90,15 +92,28 @@ def effect_faults(effect, gs, rng):
     return sim.Faults(**kwargs), params
 
 
-def plan_entries(quick, seed):
+# The offpoint plan: operating points none of the main plan's recordings has (so no calibration made
+# on the main plan's baselines holds a reference there), a healthy control at each, and effects that
+# change the mesh lines alike (stiffness, friction) or one part (a planet tooth, a sun tooth, a pin)
+# or the input (torque ripple). Diagnosed with the main plan's calibration of the same rig.
+OFFPOINT_EFFECTS = ("pin_error", "friction", "planet_tooth_damage", "stiffness_level", "torque_ripple",
+                    "sun_tooth_damage")  # in turn at op3, op4, op5: the pin error at the higher torque
+
+
+def plan_entries(quick, seed, plan="main"):
     """Every recording of the corpus: list of dicts (gearset, role, effect, faults, parameters, op, duration)."""
     rng = np.random.default_rng(seed)
     entries = []
     for gname in sorted(GEARSETS):
         g = GEARSETS[gname]
         gs = g["gear"]
-        ops = g["ops"]
-        if quick:
+        ops = dict(g["ops"], **g["off_ops"]) if plan == "offpoint" else g["ops"]
+        if plan == "offpoint":
+            off = sorted(g["off_ops"])
+            spec = [("control", "none", op, 2.5) for op in off]
+            spec += [("effect", e, off[j % len(off)], float(rng.choice([2.5, 3.0])))
+                     for j, e in enumerate(OFFPOINT_EFFECTS)]
+        elif quick:
             if gname != "setC3":
                 continue
             spec = [("baseline", "none", "op2", 0.6), ("control", "none", "op2", 0.6),
@@ -223,12 +238,15 @@ def main(argv=None):
     ap.add_argument("--seed", type=int, default=1)
     ap.add_argument("--jobs", type=int, default=1)
     ap.add_argument("--quick", action="store_true", help="3 short recordings of one gear set (smoke test)")
+    ap.add_argument("--plan", choices=("main", "offpoint"), default="main",
+                    help="offpoint: healthy controls and six effects at three operating points the main plan "
+                         "has no recording at, to be diagnosed with the main plan's calibration of the same rig")
     a = ap.parse_args(argv)
     t0 = time.time()
     if os.path.exists(a.out) and os.listdir(a.out):
         sys.exit(f"corpus.py: {a.out} exists and is not empty")
     os.makedirs(a.out, exist_ok=True)
-    entries = plan_entries(a.quick, a.seed)
+    entries = plan_entries(a.quick, a.seed, a.plan)
     by_gs = {}
     for e in entries:
         by_gs.setdefault(e["gearset"], []).append(e)
@@ -247,13 +265,13 @@ def main(argv=None):
         g = GEARSETS[gname]
         gsets[gname] = dict(gear=asdict(g["gear"]), rig=asdict(g["rig"]), derived=desc,
                             operating_points={k: dict(input_speed_rpm=v[0], input_power_W=v[1], fs_Hz=v[2])
-                                              for k, v in g["ops"].items()})
+                                              for k, v in dict(g["ops"], **g["off_ops"]).items()})
     for k, r in recs.items():
         base = [kk for kk, rr in recs.items() if rr["gearset"] == r["gearset"] and rr["role"] == "baseline"
                 and rr["operating_point"] == r["operating_point"]]
         r["baseline"] = base[0] if base else None
     wall = time.time() - t0
-    truth = dict(generator=GENERATOR, seed=a.seed, plan="main", quick=a.quick, noise_fraction=NOISE_FRACTION, acc_noise_floor_m_s2=ACC_NOISE_FLOOR_M_S2,
+    truth = dict(generator=GENERATOR, seed=a.seed, plan=a.plan, quick=a.quick, noise_fraction=NOISE_FRACTION, acc_noise_floor_m_s2=ACC_NOISE_FLOOR_M_S2,
                  gearsets=gsets, batches=batches, generation_wall_s=round(wall, 1), jobs=a.jobs,
                  notes=("roles: baseline (healthy, one per operating point, the reference of the others), control "
                         "(healthy, held out), effect. parameters: the effect's true size (keys as "

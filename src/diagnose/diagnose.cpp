@@ -1495,9 +1495,7 @@ private:
   /// A level's ratio rho is a change: kRecalibration from 1 and |ln rho| beyond what the noise and
   /// the calibration's healthy scatter of that level allow (level_move_test, level_change.hpp;
   /// without a calibration of two or more recordings, `moved`).
-  static bool level_moved(double rho, const LevelMoveTest& t) {
-    return std::fabs(rho - 1) > kRecalibration && std::fabs(std::log(rho)) > t.threshold_ln;
-  }
+  static bool level_moved(double rho, const LevelMoveTest& t) { return diagnose::level_moved(rho, t.threshold_ln); }
 
   /// Each housing channel's gain since the baseline (its hypothesis; a note when it is at the
   /// edge of its range).
@@ -1598,6 +1596,7 @@ private:
   /// if no level explains the change as well.
   void check_changes_since_baseline() {
     if (!change_since_baseline_testable()) return;
+    const std::size_t summary_before = d_.summary.size();  // the hypotheses' notes follow it
     std::vector<ChangeHypothesis> hs;
     sensor_hypotheses(hs);
     level_hypotheses(hs);
@@ -1613,6 +1612,10 @@ private:
     double sum = 0;
     for (const ChangeHypothesis* r : rivals) sum += std::exp(-0.5 * std::min(r->total() - best.total(), 1400.0));
     const double posterior = 1.0 / sum;
+    auto what = [this](const ChangeHypothesis& h) {
+      return h.level ? h.name + " (x" + fmt("%.3g", h.level->rho) + ")"
+                     : "the gain of " + d_.channels[static_cast<std::size_t>(h.channel)] + " (x" + fmt("%.3g", h.sensor.rho) + ")";
+    };
     for (std::size_t i = 0; i < hs.size(); ++i)
       if (d_.baseline_changes[i].explains)
         d_.baseline_changes[i].posterior = std::exp(-0.5 * std::min(hs[i].total() - best.total(), 1400.0)) / sum;
@@ -1621,10 +1624,14 @@ private:
       else name_sensor_gain_change(d_.channels[static_cast<std::size_t>(best.channel)], best.sensor);
       return;
     }
-    auto what = [this](const ChangeHypothesis& h) {
-      return h.level ? h.name + " (x" + fmt("%.3g", h.level->rho) + ")"
-                     : "the gain of " + d_.channels[static_cast<std::size_t>(h.channel)] + " (x" + fmt("%.3g", h.sensor.rho) + ")";
-    };
+    // A level that moved is a change since the reference even when it cannot be named: the
+    // recording is then not the healthy reference's, and "no missing physics" would say it is.
+    if (const int i = unnamed_level_change(d_.baseline_changes); i >= 0 && d_.verdict == Verdict::NoMissingPhysics) {
+      const ChangeHypothesis& h = hs[static_cast<std::size_t>(i)];
+      lead_unnamed_level_change(h, d_.baseline_changes[static_cast<std::size_t>(i)].posterior,
+                                &h == &best ? "" : what(best), d_.summary.substr(summary_before));
+      return;
+    }
     std::string names;
     for (const ChangeHypothesis* r : rivals) names += (names.empty() ? "" : ", ") + what(*r);
     d_.summary += " Note: a single change since the baseline explains part of the recording -- " + names + " -- but " +
@@ -1771,8 +1778,10 @@ private:
   /// and none of them was fitted here, so nothing tells the level from them (fresh5's worn profile
   /// read stiffness x1.46 of its reference, explaining both halves, session 68's corpus). The
   /// level is what was fitted and its ratio the size, as a class finding's lead is.
-  void name_level_change(const LevelChange& lc, const OwnModelScore& own, const LevelMoveTest& test,
-                         double posterior) {
+  /// A level changed since the baseline as a candidate's result: the baseline's model with that
+  /// level times rho, its one parameter the fitted value (and its "one-sided" note, when the
+  /// baseline's level was at its box's edge: `one_sided`).
+  CandidateResult level_change_candidate(const LevelChange& lc, std::string* one_sided) {
     const Candidate* cand = find_candidate(lc.candidate);
     CandidateResult w = d_.nuisance;
     w.name = lc.candidate;
@@ -1791,9 +1800,9 @@ private:
     p.lower = spec.lower, p.upper = spec.upper, p.initial = lc.baseline_value;
     p.moved = true;
     const auto limit = o_.baseline_limits.find(lc.parameter);
-    const std::string one_sided = one_sided_ratio_note(lc.parameter, lc.baseline_value, lc.rho,
-                                                       limit == o_.baseline_limits.end() ? 0 : limit->second);
-    if (!one_sided.empty())
+    *one_sided = one_sided_ratio_note(lc.parameter, lc.baseline_value, lc.rho,
+                                      limit == o_.baseline_limits.end() ? 0 : limit->second);
+    if (!one_sided->empty())
       p.size_conditional_on = "the baseline's " + lc.parameter + " at the " + (limit->second > 0 ? "upper" : "lower") +
                               " edge of its box, a limit: a bound on the change";
     w.parameters = {p};
@@ -1801,6 +1810,14 @@ private:
     w.fit.chi2 = lc.chi2_fit;
     w.held_out.chi2 = lc.chi2_held;
     w.significant = w.holds = w.non_null = true;
+    return w;
+  }
+
+  void name_level_change(const LevelChange& lc, const OwnModelScore& own, const LevelMoveTest& test,
+                         double posterior) {
+    std::string one_sided;
+    CandidateResult w = level_change_candidate(lc, &one_sided);
+    const FittedParameter p = w.parameters.front();
     w.reason = "named: the baseline's model with " + lc.parameter + " x" + fmt("%.4g", lc.rho) +
                " explains the held-out half (chi2 " + fmt("%.0f", own.held_out_chi2) + own.budget_text() +
                " at its own model), the baseline's as it was does not as well (" + fmt("%.0f", lc.chi2_held_1) + ")";
@@ -1845,6 +1862,66 @@ private:
                "spread of it lies between operating points, and at one the steel's stiffness moves by less than " +
                fmt("%.0f", 100 * kRecalibration) + " % (level_change.hpp healthy_level_scatter_ln). A level named so is "
                "named as its class tooth_contact_change: the class's other members were not fitted.";
+  }
+
+  /// After a "no missing physics" under a reference at the recording's operating point: a level
+  /// that explains, moved beyond what the noise and the healthy scatter allow and lies off its
+  /// box's edge, but is not named (its own model falls short of condition (a)'s budget, or a rival
+  /// explains as well). The recording is then not the healthy reference's -- the nuisance fit
+  /// absorbed a change the reference rules out -- so the verdict is "unexplained residual" with
+  /// the level as the lead, never "no missing physics" (docs/diagnose.md section 6b item 7).
+  /// Why not named even so: one level alone does not reproduce the recording, and the nuisance
+  /// fit that does moves the other level too, within a scatter no test bounds.
+  /// `rival`: the better-scoring hypothesis that kept it unnamed, empty when it was the best.
+  /// `notes`: what the hypotheses' fits added to the summary, kept.
+  void lead_unnamed_level_change(const ChangeHypothesis& h, double posterior, const std::string& rival,
+                                 const std::string& notes) {
+    const LevelChange& lc = *h.level;
+    std::string one_sided;
+    CandidateResult w = level_change_candidate(lc, &one_sided);
+    const std::string size = lc.parameter + " x" + fmt("%.4g", lc.rho) + " ± " + fmt("%.2g", lc.rho * lc.ln_rho_std) +
+                             " of the baseline's " + fmt("%.4g", lc.baseline_value);
+    std::string why;
+    if (!h.own.within())
+      why = "its own model leaves " + fmt("%.0f", h.own.held_out_chi2) + " held out, above its budget max(" +
+            fmt("%.0f", h.own.bound_held_out) + ", " + fmt("%.0f", h.own.replicate_chi2) +
+            " of the recording's own fit half): the level alone does not explain the recording";
+    if (!rival.empty() || !(posterior >= 1 - o_.alpha / 2))
+      why += std::string(why.empty() ? "" : "; ") + "the data do not tell it from the other single changes that "
+             "explain part of the recording (posterior probability " + fmt("%.3f", posterior) + " < " +
+             fmt("%.3f", 1 - o_.alpha / 2) + (rival.empty() ? "" : ", best: " + rival) + ")";
+    w.reason = "a lead, not named: " + why;
+    d_.candidates.insert(d_.candidates.begin(), std::move(w));
+    d_.winner = -1;
+    d_.verdict = Verdict::Unexplained;
+    d_.lead = LeadAssessment{};
+    d_.lead.candidate = 0;
+    d_.lead.held_out_chi2 = h.own.held_out_chi2;
+    d_.lead.bound_held_out = h.own.bound_held_out;
+    d_.lead.bound_folded = h.own.bound_folded;
+    d_.lead.replicate_chi2 = h.own.replicate_chi2;
+    d_.lead.counts = true;
+    d_.lead.within_bound = h.own.within();
+    d_.lead.posterior = posterior;
+    d_.lead.rival = rival;
+    d_.lead.failed = why;
+    d_.summary = "Unexplained residual: the recording differs from its healthy reference at this operating point -- " +
+                 size +
+                 (one_sided.empty() ? "" : " (" + one_sided + ")") + " explains part of the change (chi2 " +
+                 fmt("%.0f", lc.chi2_fit_1) + " -> " + fmt("%.0f", lc.chi2_fit) + " on the fit half, " +
+                 fmt("%.0f", lc.chi2_held_1) + " -> " + fmt("%.0f", lc.chi2_held) + " held out), |ln rho| " +
+                 fmt("%.3g", std::fabs(std::log(lc.rho))) + " beyond the " + fmt("%.3g", h.level_test.threshold_ln) +
+                 (h.level_test.scatter_ln > 0 ? " the noise and the calibration's healthy scatter allow"
+                                              : " the noise allows") +
+                 " and more than " + fmt("%.0f", 100 * kRecalibration) + " % from 1 -- but " + why +
+                 ". With every nuisance parameter free the model reproduces the recording (" + nuisance_text(d_) +
+                 "; chi2 " + fmt("%.0f", d_.nuisance.held_out.chi2) + " <= " + fmt("%.0f", d_.bound_held_out) +
+                 " held out): the tooth contacts changed since the baseline in a way no single level reproduces; "
+                 "closest lead: " + lc.candidate + " — not a finding." + unresolved_text(d_) + notes;
+    d_.rule += " Differential: a mesh stiffness or damping level that explains (both halves by more than "
+               "chi2_{1-alpha}(1)), moved beyond its threshold and lies off its box's edge is a change since the "
+               "baseline: when it is not named, the verdict is 'unexplained residual' with it as the lead, not 'no "
+               "missing physics'. Result: unexplained_residual (" + why + ").";
   }
 
   /// Plot data: order spectra of the held-out half, residuals per cell, the located synchronous average.

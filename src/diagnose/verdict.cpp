@@ -444,6 +444,8 @@ LeadAssessment assess_lead(Diagnosis& d, const VerdictInputs& in) {
   return a;
 }
 
+} // namespace
+
 std::string nuisance_text(const Diagnosis& d) {
   std::string s;
   for (const auto& p : d.nuisance.parameters)
@@ -461,6 +463,8 @@ std::string nuisance_text(const Diagnosis& d) {
          "ring_body";
   return s;
 }
+
+namespace {
 
 /// " The housing channel ... reads as noise ..." for the housing gains at the low end of their
 /// profile search (condition (b)'s exception); empty when there are none.
@@ -611,6 +615,22 @@ bool change_since_baseline_testable(bool has_baseline, Verdict verdict, const st
   const bool any_counts =
       std::any_of(candidates.begin(), candidates.end(), [](const CandidateResult& c) { return c.counts(); });
   return verdict == Verdict::Unexplained && !any_counts;
+}
+
+bool level_moved(double rho, double threshold_ln) {
+  return std::fabs(rho - 1) > kRecalibration && std::fabs(std::log(rho)) > threshold_ln;
+}
+
+int unnamed_level_change(const std::vector<BaselineChange>& changes) {
+  int best = -1;
+  for (std::size_t i = 0; i < changes.size(); ++i) {
+    const BaselineChange& c = changes[i];
+    const bool level = c.name == "stiffness_level" || c.name == "damping_level";
+    if (!level || !c.explains || c.at_edge || !(c.ratio > 0) || !level_moved(c.ratio, c.ln_ratio_threshold)) continue;
+    const auto total = [](const BaselineChange& b) { return b.chi2_fit + b.chi2_held; };
+    if (best < 0 || total(c) < total(changes[static_cast<std::size_t>(best)])) best = static_cast<int>(i);
+  }
+  return best;
 }
 
 std::string budget_sensitivity_text(const std::vector<DiscrepancyEntry>& budgets) {

@@ -78,6 +78,10 @@ namespace pw::diagnose {
 /// value moved from initial by > z standard errors and > kRecalibration relative.
 bool recalibrated(const FittedParameter& p, double z);
 
+/// The nuisance-fitted values as the summaries state them ("stiffness.scale = 1.02 ± 0.001
+/// (recalibrated), ...", and the mesh phase and housing path where they are not the defaults).
+std::string nuisance_text(const Diagnosis& d);
+
 /// The nuisance parameters of r's joint fit that condition (b) withholds a name for and a held
 /// refit can hold (docs/diagnose.md §5, step 12b): moved (recalibrated at z) and at a bound of
 /// their box. Housing gains are profiled, not fitted, and are never listed.
@@ -167,6 +171,19 @@ NearAlias blocking_near_alias(const std::vector<CandidateResult>& ranked, const 
 /// restored in session 38 with the own V (four4p rec_33's housing x1.8 named, x1.8 +- 0.0008;
 /// docs/diagnose-log.md).
 bool change_since_baseline_testable(bool has_baseline, Verdict verdict, const std::vector<CandidateResult>& candidates);
+
+/// A level's ratio rho since the baseline is a change: kRecalibration from 1 and |ln rho| beyond
+/// `threshold_ln`, what the noise and the calibration's healthy scatter of that level allow
+/// (level_move_test, level_change.hpp).
+bool level_moved(double rho, double threshold_ln);
+
+/// After the differential check named nothing (docs/diagnose.md section 6b item 7): the index in
+/// `changes` of the level change that still rules out "no missing physics" -- a stiffness or
+/// damping level that explains (both halves by more than chi2_{1-alpha}(1)), moved
+/// (level_moved) and lies off its box's edge (at the edge its ratio is a bound, not a size) --
+/// the lowest chi2 over both halves first; -1 when there is none. Why: the recording is then not
+/// the healthy reference's, whatever kept the change unnamed (its own model's shortfall, a rival).
+int unnamed_level_change(const std::vector<BaselineChange>& changes);
 
 /// " Under the calibration's discrepancy budget ... not detectable" for the largest relative
 /// budgets (at least kReportedBudget), or "" if none is that large.

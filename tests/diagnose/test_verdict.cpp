@@ -1130,6 +1130,52 @@ TEST(ChangeSinceBaseline, IsTestedAfterNoMissingPhysicsAndAfterAnUnexplainedResi
   EXPECT_FALSE(change_since_baseline_testable(false, none.verdict, none.candidates));
 }
 
+namespace {
+/// A level hypothesis as check_changes_since_baseline records it: chi2 over both halves at rho
+/// and whether it improves both by more than chi2_{1-alpha}(1).
+BaselineChange level_record(const std::string& name, double ratio, double threshold_ln, double chi2_total, bool explains,
+                            bool at_edge = false) {
+  BaselineChange b;
+  b.name = name;
+  b.parameter = name == "stiffness_level" ? "stiffness.scale" : "contact.mesh_damping_ratio";
+  b.ratio = ratio;
+  b.ln_ratio_threshold = threshold_ln;
+  b.chi2_fit = 0.5 * chi2_total;
+  b.chi2_held = 0.5 * chi2_total;
+  b.explains = explains;
+  b.at_edge = at_edge;
+  return b;
+}
+} // namespace
+
+TEST(ChangeSinceBaseline, ALevelThatExplainsAndMovedRulesOutNoMissingPhysicsEvenWhenItIsNotNamed) {
+  // setD4 rec_12 (every stiffness x0.75, indepsim4) as recorded in session 74: the stiffness x0.777
+  // beyond its threshold 0.0041, the damping x5 at its box's edge, a housing gain x0.927.
+  BaselineChange sensor = level_record("sensor_transfer_path", 0.927, std::nan(""), 29400, true);
+  const std::vector<BaselineChange> rec12 = {sensor, level_record("stiffness_level", 0.777, 0.0041, 3513, true),
+                                             level_record("damping_level", 5.0, 154, 15684, true, true)};
+  EXPECT_EQ(unnamed_level_change(rec12), 1);
+  // The stiffness level a noise error away and within 5 % (setD4 rec_06: x1.0018, threshold 0.0011):
+  // no change, "no missing physics" stands.
+  EXPECT_EQ(unnamed_level_change({sensor, level_record("stiffness_level", 1.0018, 0.0011, 3087, true)}), -1);
+  // Beyond its noise threshold but within 5 % of 1 (the steel's own spread): no change.
+  EXPECT_EQ(unnamed_level_change({level_record("stiffness_level", 0.97, 0.001, 3000, true)}), -1);
+  // A damping within the calibration's healthy scatter (x0.738 against a threshold of 154 in ln): no change.
+  EXPECT_EQ(unnamed_level_change({level_record("damping_level", 0.738, 154, 3088, true)}), -1);
+  // Moved but not explaining both halves, or at its box's edge (a bound, not a size): no change.
+  EXPECT_EQ(unnamed_level_change({level_record("stiffness_level", 0.7, 0.004, 3000, false)}), -1);
+  EXPECT_EQ(unnamed_level_change({level_record("stiffness_level", 0.5, 0.004, 3000, true, true)}), -1);
+  // A sensor's gain is never a level, however far it moved.
+  EXPECT_EQ(unnamed_level_change({level_record("sensor_transfer_path", 0.3, 0.0, 2000, true)}), -1);
+  // Two levels that moved: the one with the lower chi2 over both halves leads.
+  EXPECT_EQ(unnamed_level_change({level_record("stiffness_level", 0.8, 0.004, 3000, true),
+                                  level_record("damping_level", 0.2, 0.5, 2500, true)}),
+            1);
+  EXPECT_TRUE(level_moved(0.777, 0.0041));
+  EXPECT_FALSE(level_moved(1.04, 0.0));   // within 5 %
+  EXPECT_FALSE(level_moved(0.5, 0.75));   // |ln 0.5| = 0.69 inside the threshold
+}
+
 } // namespace pw::diagnose
 
 namespace pw::diagnose {
