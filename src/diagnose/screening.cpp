@@ -44,10 +44,18 @@ Screening::Screening(FitContext& ctx, double alpha) : ctx_(ctx), alpha_(alpha) {
   ncols_.resize(nspec_.size());
   nstep_.resize(nspec_.size());
   // A parameter fitted at its upper bound takes its secant downwards (the step must stay
-  // within the key's range; e.g. a damping ratio at 1).
-  for (std::size_t i = 0; i < nspec_.size(); ++i)
-    nstep_[i] = ((1 + kNuisanceStep) * ctx.nuisance_x[i] <= nspec_[i].upper ? kNuisanceStep : -kNuisanceStep) *
-                ctx.nuisance_x[i];
+  // within the key's range; e.g. a damping ratio at 1). A value of exactly 0 has no scale of
+  // its own (an engagement ramp the calibration drove to its lower bound 0): its step is
+  // kNuisanceStep of its box's span. Until session 75 that step was 0, every secant 0/0, and
+  // the NaN in the joint step scored every candidate S = 0 (docs/diagnose-log.md).
+  for (std::size_t i = 0; i < nspec_.size(); ++i) nstep_[i] = nuisance_secant_step(ctx.nuisance_x[i], nspec_[i]);
+}
+
+double nuisance_secant_step(double x, const ParameterSpec& spec) {
+  const double scale = x != 0 ? std::fabs(x) : spec.upper - spec.lower;
+  if (!(std::isfinite(scale) && scale > 0)) return 0;
+  const double h = kNuisanceStep * scale;
+  return x + h <= spec.upper ? h : -h;
 }
 
 void Screening::add_variants(const std::function<bool(const Candidate&)>& wanted, const LocatedEvidence& evidence,
@@ -75,14 +83,17 @@ void Screening::add_variants(const std::function<bool(const Candidate&)>& wanted
 void Screening::simulate_secants() {
   // A failed simulation leaves its secant empty: a nuisance direction is then left out, a
   // candidate variant is marked failed (not fitted).
+  // A secant that is not finite (no step, a residual with a NaN) is no direction: left empty.
   const auto secant = [&](const std::vector<double>& r, double step) {
     std::vector<double> col(r.size());
     for (std::size_t k = 0; k < r.size(); ++k) col[k] = (r[k] - res0_[k]) / step;
+    if (step == 0 || !std::all_of(col.begin(), col.end(), [](double c) { return std::isfinite(c); })) col.clear();
     return col;
   };
   parallel_for(static_cast<int>(tasks_.size() + nspec_.size()), ctx_.threads, [&](int ti) {
     if (static_cast<std::size_t>(ti) >= tasks_.size()) {
       const std::size_t i = static_cast<std::size_t>(ti) - tasks_.size();
+      if (nstep_[i] == 0) return;  // no finite scale: the direction is left out
       std::vector<double> x = ctx_.nuisance_x;
       x[i] += nstep_[i];
       const auto r = ctx_.fit_residual(nullptr, Variant{}, {}, x);
@@ -105,10 +116,8 @@ void Screening::simulate_secants() {
     const ParameterSpec& ps = sc.spec[tk.param];
     x[tk.param] = ps.screen_value;
     const auto r = ctx_.fit_residual(sc.c, sc.v, x, ctx_.nuisance_x, sc.c->sensor_only());
-    if (r.empty())
-      sc.failed = true;
-    else
-      sc.cols[tk.param] = secant(r, ps.screen_value - ps.null_value);
+    if (!r.empty()) sc.cols[tk.param] = secant(r, ps.screen_value - ps.null_value);
+    if (sc.cols[tk.param].empty()) sc.failed = true;
   });
 }
 

@@ -17,6 +17,11 @@
 
 namespace pw::diagnose {
 
+/// The secant step of a nuisance parameter at its fitted value x: 2 % of x, or of its box's span
+/// (upper - lower) where x is exactly 0; downwards where upwards would leave the box; 0 (the
+/// direction left out) when neither gives a finite scale.
+double nuisance_secant_step(double x, const ParameterSpec& spec);
+
 /// One candidate variant, screened from the nuisance-fitted model.
 struct Screen {
   const Candidate* c = nullptr;

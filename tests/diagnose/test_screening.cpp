@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace pw::diagnose {
 namespace {
@@ -167,6 +168,28 @@ TEST(Screening, TheTransferGridCrossesEveryTransferParameterWithTheSizeAtItsScre
   const auto plain = transfer_grid({size}, {0.005});
   ASSERT_EQ(plain.size(), 1u);
   EXPECT_DOUBLE_EQ(plain[0][0], 0.02);
+}
+
+} // namespace pw::diagnose
+
+namespace pw::diagnose {
+
+TEST(Screening, ANuisanceParameterAtZeroTakesItsSecantStepFromItsBoxsSpan) {
+  // setD4's calibration put contact.engagement_ramp at its lower bound 0: a step of 2 % of the
+  // value was 0, the secant 0/0, and the NaN scored every candidate S = 0 (session 75).
+  const ParameterSpec ramp{.name = "contact.engagement_ramp", .unit = "1", .lower = 0.0, .upper = 0.25};
+  EXPECT_DOUBLE_EQ(nuisance_secant_step(0.0, ramp), 0.02 * 0.25);
+  // Elsewhere 2 % of the value, as before, bit for bit; downwards where upwards leaves the box.
+  const ParameterSpec scale{.name = "stiffness.scale", .unit = "1", .lower = 0.5, .upper = 2.0};
+  EXPECT_EQ(nuisance_secant_step(1.0225, scale), 0.02 * 1.0225);
+  EXPECT_EQ(nuisance_secant_step(2.0, scale), -0.02 * 2.0);
+  // At 0 with the upper end at 0 the step goes down into the box.
+  const ParameterSpec below{.name = "x", .unit = "1", .lower = -1.0, .upper = 0.0};
+  EXPECT_DOUBLE_EQ(nuisance_secant_step(0.0, below), -0.02);
+  // No finite scale: no step (the direction is left out rather than made NaN).
+  const ParameterSpec open{.name = "y", .unit = "1", .lower = 0.0, .upper = std::numeric_limits<double>::infinity()};
+  EXPECT_EQ(nuisance_secant_step(0.0, open), 0.0);
+  EXPECT_TRUE(std::isfinite(nuisance_secant_step(3.0, open)));
 }
 
 } // namespace pw::diagnose
