@@ -1,5 +1,6 @@
 #include "io/diagnosis_report.hpp"
 
+#include "diagnose/verdict.hpp"
 #include "io/atomic_output.hpp"
 #include "io/io_error.hpp"
 
@@ -589,6 +590,22 @@ json noise_json(const dg::Diagnosis& d) {
   return noise;
 }
 
+/// The best candidate of an unexplained or named verdict and its tests (null without one).
+json lead_json(const dg::Diagnosis& d) {
+  if (d.lead.candidate != 0) return nullptr;
+  const dg::CandidateResult& l = d.candidates.front();
+  return json{{"name", l.name}, {"variant", l.variant}, {"named", d.winner == 0}, {"counts", d.lead.counts},
+               {"held_out_chi2", num(d.lead.held_out_chi2)}, {"bound_held_out", num(d.lead.bound_held_out)},
+               {"bound_held_out_folded", num(d.lead.bound_folded)},
+               {"replicate_chi2", num(d.lead.replicate_chi2)}, {"within_bound", d.lead.within_bound}, {"explained_fraction", num(d.lead.explained_fraction)},
+               {"at_bound", d.lead.at_bound}, {"silent_channels", d.lead.silent_channels}, {"posterior", num(d.lead.posterior)},
+               {"class_posterior", num(d.lead.class_posterior)}, {"rival", d.lead.rival},
+               {"failed", d.lead.failed},
+               // The share of the speed channels' mesh-harmonic excess at planet pattern orders
+               // k >= 1 that a lead acting on every planet alike cannot make (0: no conflict).
+               {"planet_pattern_conflict_share", dg::planet_pattern_conflict_share(d)}};
+}
+
 } // namespace
 
 void write_diagnosis_report(const std::filesystem::path& dir, const dg::Diagnosis& d, const ReportContext& ctx) {
@@ -626,18 +643,7 @@ void write_diagnosis_report(const std::filesystem::path& dir, const dg::Diagnosi
   j["nuisance_mesh_phase"] = model::mesh_phase_name(d.nuisance_mesh_phase);
   j["nuisance_housing_path"] = model::housing_path_name(d.nuisance_housing_path);
   j["decision_rule"] = d.rule;
-  if (d.lead.candidate == 0) {
-    const dg::CandidateResult& l = d.candidates.front();
-    j["lead"] = {{"name", l.name}, {"variant", l.variant}, {"named", d.winner == 0}, {"counts", d.lead.counts},
-                 {"held_out_chi2", num(d.lead.held_out_chi2)}, {"bound_held_out", num(d.lead.bound_held_out)},
-                 {"bound_held_out_folded", num(d.lead.bound_folded)},
-                 {"replicate_chi2", num(d.lead.replicate_chi2)}, {"within_bound", d.lead.within_bound}, {"explained_fraction", num(d.lead.explained_fraction)},
-                 {"at_bound", d.lead.at_bound}, {"silent_channels", d.lead.silent_channels}, {"posterior", num(d.lead.posterior)},
-                 {"class_posterior", num(d.lead.class_posterior)}, {"rival", d.lead.rival},
-                 {"failed", d.lead.failed}};
-  } else {
-    j["lead"] = nullptr;
-  }
+  j["lead"] = lead_json(d);
   // Differential, after a "no missing physics": each single change since the baseline tested on
   // the baseline's own terms (docs/diagnose.md section 6b item 7); empty when the check did not run.
   json changes = json::array();

@@ -206,7 +206,13 @@ void Screening::joint_step(Screen& sc, const std::vector<std::size_t>& nuse, con
   }
   for (std::size_t a = 0; a < nuse.size(); ++a) B.col(static_cast<Eigen::Index>(a)) = column(ncols_[nuse[a]]);
   const BoxedLeastSquares step = boxed_least_squares(A, lower, upper, B, r_res);
-  sc.S = std::max(0.0, r_res.squaredNorm() - step.cost - S_nuis);
+  const double S = r_res.squaredNorm() - step.cost - S_nuis;
+  // A NaN would read as S = 0 through max(): a screen that cannot be scored failed instead.
+  if (!std::isfinite(S)) {
+    sc.failed = true;
+    return;
+  }
+  sc.S = std::max(0.0, S);
   for (std::size_t i = 0; i < p; ++i) sc.start[i] = sc.spec[i].null_value + step.a(static_cast<Eigen::Index>(i));
   for (std::size_t a = 0; a < nuse.size(); ++a) {
     const auto& ps = nspec_[nuse[a]];

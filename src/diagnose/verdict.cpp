@@ -26,6 +26,12 @@ std::string param_text(const FittedParameter& p) {
     std::snprintf(buf, sizeof buf, "%s = %.4g ± %.2g (model form ± %.2g: %.3g to %.3g) %s", p.name.c_str(), p.value,
                   p.std_error, p.model_form_std, p.model_form_lower, p.model_form_upper,
                   p.unit == "1" ? "" : p.unit.c_str());
+  else if (!std::isfinite(p.std_error))
+    // No standard error (a value on its box's edge, where the fit's curvature is one-sided): the
+    // value and why, not "± nan".
+    std::snprintf(buf, sizeof buf, "%s = %.4g%s%s (%s; no standard error)", p.name.c_str(), p.value,
+                  p.unit == "1" ? "" : " ", p.unit == "1" ? "" : p.unit.c_str(),
+                  p.at_bound ? "at a bound of its range" : "not identified");
   else
     std::snprintf(buf, sizeof buf, "%s = %.4g ± %.2g %s", p.name.c_str(), p.value, p.std_error,
                   p.unit == "1" ? "" : p.unit.c_str());
@@ -547,8 +553,15 @@ std::string unexplained_summary(const Diagnosis& d) {
   if (!lead) return s + "; no candidate in the library could be fitted.";
   const CandidateResult& w = d.candidates.front();
   s += "; closest lead: " + w.name + (w.variant.empty() ? "" : " (" + w.variant + ")");
+  // A best fit that removes none of the excess leads nowhere: said so, not as "explains -17 %".
   if (std::isfinite(d.lead.explained_fraction))
-    s += ", explains " + fmt("%.0f", 100 * d.lead.explained_fraction) + " % of the held-out excess";
+    s += d.lead.explained_fraction > 0
+             ? ", explains " + fmt("%.0f", 100 * d.lead.explained_fraction) + " % of the held-out excess"
+             : ", which explains none of the held-out excess";
+  const double conflict = planet_pattern_conflict_share(d);
+  if (conflict > 0)
+    s += ", though it acts on every planet alike and so cannot make the speed channels' mesh-harmonic excess at "
+         "pattern orders k >= 1, " + fmt("%.0f", 100 * conflict) + " % of it";
   return s + " — not a finding (" + d.lead.failed + ").";
 }
 
@@ -615,6 +628,24 @@ bool change_since_baseline_testable(bool has_baseline, Verdict verdict, const st
   const bool any_counts =
       std::any_of(candidates.begin(), candidates.end(), [](const CandidateResult& c) { return c.counts(); });
   return verdict == Verdict::Unexplained && !any_counts;
+}
+
+double planet_pattern_conflict_share(const Diagnosis& d) {
+  if (d.lead.candidate != 0 || d.candidates.empty() || !d.located) return 0;
+  const Candidate* c = find_candidate(d.candidates.front().name);
+  const PlanetPattern& p = d.location.planet_pattern;
+  if (!c || !c->every_planet_alike() || !p.applies) return 0;
+  double all = 0, higher = 0;
+  bool significant = false;
+  for (const PatternOrderExcess& o : p.orders) {
+    const double e = std::max(0.0, o.excess);
+    all += e;
+    if (o.order >= 1) {
+      higher += e;
+      significant = significant || o.z > p.significance_z;
+    }
+  }
+  return significant && all > 0 ? higher / all : 0;
 }
 
 bool level_moved(double rho, double threshold_ln) {

@@ -172,6 +172,12 @@ NearAlias blocking_near_alias(const std::vector<CandidateResult>& ranked, const 
 /// docs/diagnose-log.md).
 bool change_since_baseline_testable(bool has_baseline, Verdict verdict, const std::vector<CandidateResult>& candidates);
 
+/// Where the lead of an "unexplained residual" acts on every planet alike
+/// (Candidate::every_planet_alike) while the located planet pattern (planet_pattern.hpp) has a
+/// significant order k >= 1: the share of the speed channels' mesh-harmonic excess at k >= 1,
+/// which no such candidate can make; 0 otherwise (another lead, no pattern, none significant).
+double planet_pattern_conflict_share(const Diagnosis& d);
+
 /// A level's ratio rho since the baseline is a change: kRecalibration from 1 and |ln rho| beyond
 /// `threshold_ln`, what the noise and the calibration's healthy scatter of that level allow
 /// (level_move_test, level_change.hpp).

@@ -1192,3 +1192,75 @@ TEST(LimitedReference, NamesEachLimitWithItsEdgeAndNothingWithoutLimits) {
 
 } // namespace
 } // namespace pw::diagnose
+
+namespace pw::diagnose {
+
+namespace {
+/// The located planet pattern of a four-planet stage with Zs 27 (indepsim4 setD4): z per order.
+PlanetPattern four_planet_pattern(double z0, double z1, double z2) {
+  PlanetPattern p;
+  p.applies = true;
+  p.significance_z = 2.71;
+  const double zs[3] = {z0, z1, z2};
+  for (int k = 0; k < 3; ++k) {
+    PatternOrderExcess o;
+    o.order = k;
+    o.cells = 8;
+    o.z = zs[k];
+    o.excess = zs[k] * std::sqrt(2.0 * o.cells);  // z = excess / sqrt(2 cells)
+    p.orders.push_back(o);
+  }
+  return p;
+}
+} // namespace
+
+TEST(Verdict, ALeadActingOnEveryPlanetAlikeConflictsWithAnExcessAtPatternOrdersAboveZero) {
+  // indepsim4 setD4 rec_08 of the offpoint plan (a pin error): friction led the unexplained verdict,
+  // explaining -17 %, with the pattern at k = 1 (z 1690) and k = 2 (206) against k = 0 (7.0).
+  Diagnosis d = far_from_the_model(1100, 40000, 8000, 45000, 9000);
+  d.location.planet_pattern = four_planet_pattern(7.0, 1690, 206);
+  decide_verdict(d, inputs(1500));
+  ASSERT_EQ(d.verdict, Verdict::Unexplained) << d.summary;
+  ASSERT_EQ(d.lead.candidate, 0);
+  const double share = planet_pattern_conflict_share(d);
+  EXPECT_NEAR(share, (1690.0 + 206.0) / (7.0 + 1690.0 + 206.0), 1e-12);
+  EXPECT_NE(d.summary.find("acts on every planet alike"), std::string::npos) << d.summary;
+  EXPECT_NE(d.summary.find("explains none of the held-out excess"), std::string::npos) << d.summary;
+  EXPECT_EQ(d.summary.find("explains -"), std::string::npos) << d.summary;
+  // The excess at k = 0 alone (setD4 rec_14, a friction change: k = 0 z 1450): no conflict.
+  Diagnosis k0 = far_from_the_model(1100, 40000, 8000, 45000, 9000);
+  k0.location.planet_pattern = four_planet_pattern(1450, 1.0, -0.5);
+  decide_verdict(k0, inputs(1500));
+  EXPECT_EQ(planet_pattern_conflict_share(k0), 0.0);
+  EXPECT_EQ(k0.summary.find("acts on every planet alike"), std::string::npos) << k0.summary;
+  // A lead that may differ between the planets (a pin error) never conflicts; nor does a stage
+  // whose planets are in phase (no pattern).
+  Diagnosis pin = far_from_the_model(1100, 40000, 8000, 45000, 9000);
+  pin.candidates.front().name = "pin_error";
+  pin.location.planet_pattern = four_planet_pattern(7.0, 1690, 206);
+  decide_verdict(pin, inputs(1500));
+  EXPECT_EQ(planet_pattern_conflict_share(pin), 0.0);
+  Diagnosis in_phase = far_from_the_model(1100, 40000, 8000, 45000, 9000);
+  in_phase.location.planet_pattern = four_planet_pattern(7.0, 1690, 206);
+  in_phase.location.planet_pattern.applies = false;
+  decide_verdict(in_phase, inputs(1500));
+  EXPECT_EQ(planet_pattern_conflict_share(in_phase), 0.0);
+}
+
+} // namespace pw::diagnose
+
+namespace pw::diagnose {
+
+TEST(Verdict, AParameterWithoutAStandardErrorIsStatedAsSuchNotAsPlusMinusNan) {
+  // indepsim4 setD4 rec_07 of the offpoint plan: "contact.engagement_ramp = 0 ± nan" in the summary.
+  Diagnosis d = counting_friction();
+  FittedParameter ramp = parameter("contact.engagement_ramp", 0.0, std::nan(""), 0.0, 0.25, 0.0, true);
+  ramp.at_bound = true;
+  d.nuisance.parameters.push_back(ramp);
+  const std::string s = nuisance_text(d);
+  EXPECT_EQ(s.find("nan"), std::string::npos) << s;
+  EXPECT_NE(s.find("contact.engagement_ramp = 0 (at a bound of its range; no standard error)"), std::string::npos) << s;
+  EXPECT_NE(s.find("stiffness.scale = 1 ± 0.001"), std::string::npos) << s;  // the others as before
+}
+
+} // namespace pw::diagnose

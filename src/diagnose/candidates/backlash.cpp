@@ -21,6 +21,7 @@ namespace {
 class Backlash final : public Candidate {
 public:
   std::string name() const override { return "backlash"; }
+  bool every_planet_alike() const override { return true; }
   std::string physics() const override {
     return "the meshes have circumferential play, so teeth that the dynamic load drives apart lose contact "
            "(the mesh force cannot pull) and re-engage with an impact";

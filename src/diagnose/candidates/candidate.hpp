@@ -160,6 +160,10 @@ public:
                      std::vector<std::string>* overrides = nullptr) const = 0;
   /// Parameters that change only the housing-sensor channels (no new simulation needed).
   virtual bool sensor_only() const { return false; }
+  /// Acts on every planet alike (a contact property, a mesh level, the input torque): by the
+  /// planets' mesh phasing it changes the speed channels' mesh harmonics of pattern order k = 0
+  /// alone (planet_pattern.hpp), whatever the stiffness law, so it cannot make an excess at k >= 1.
+  virtual bool every_planet_alike() const { return false; }
   /// Whether the parameters change the model of configuration `base` at all (default: yes). A
   /// machine's inertia behind a shaft whose far end an ideal speed control holds does not: a fit
   /// of it would be flat, and the screening leaves it out.

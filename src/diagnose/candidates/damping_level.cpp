@@ -9,6 +9,7 @@ namespace {
 class DampingLevel final : public Candidate {
 public:
   std::string name() const override { return "damping_level"; }
+  bool every_planet_alike() const override { return true; }
   std::string physics() const override {
     return "the viscous mesh damping ratio differs from the assumed one (lubricant film, bearing and housing "
            "losses lumped into the meshes)";

@@ -7,6 +7,7 @@ namespace {
 class Friction final : public Candidate {
 public:
   std::string name() const override { return "friction"; }
+  bool every_planet_alike() const override { return true; }
   std::string physics() const override {
     return "the Coulomb friction coefficient of the tooth contacts differs (lubricant, surface finish); "
            "friction reverses at the pitch point and excites the mesh harmonics";

@@ -8,6 +8,7 @@ namespace {
 class StiffnessLevel final : public Candidate {
 public:
   std::string name() const override { return "stiffness_level"; }
+  bool every_planet_alike() const override { return true; }
   std::string physics() const override {
     return "every mesh stiffness differs from the computed one by a common factor (material, face load "
            "distribution, rim and body compliance the potential-energy model leaves out)";

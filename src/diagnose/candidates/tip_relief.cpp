@@ -29,6 +29,7 @@ constexpr double kScreen_m = 2e-6;
 class TipRelief final : public Candidate {
 public:
   std::string name() const override { return "tip_relief"; }
+  bool every_planet_alike() const override { return true; }
   std::string physics() const override {
     return "the gears carry tip relief the configuration lacks: relieved pairs take and shed their load "
            "gradually, so the higher mesh harmonics fall off faster than the unmodified involutes' do";

@@ -57,6 +57,7 @@ namespace {
 class TorqueRipple final : public Candidate {
 public:
   std::string name() const override { return "torque_ripple"; }
+  bool every_planet_alike() const override { return true; }
   std::string physics() const override {
     return "the input torque pulses at a fixed order of the input shaft (motor cogging, coupling, cardan "
            "shaft), which modulates the speeds and every mesh force at k f_s";

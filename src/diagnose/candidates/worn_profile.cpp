@@ -8,6 +8,7 @@ namespace {
 class WornProfile final : public Candidate {
 public:
   std::string name() const override { return "worn_profile"; }
+  bool every_planet_alike() const override { return true; }
   std::string physics() const override {
     return "all flanks carry an Archard-shaped worn profile (material lost in proportion to the slide-to-roll "
            "ratio), which acts like uneven tip and root relief and changes every mesh harmonic";
