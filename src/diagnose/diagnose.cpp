@@ -1772,12 +1772,6 @@ private:
     }
   }
 
-  /// The verdict for check_changes_since_baseline: the class tooth_contact_change, fitted as the
-  /// level's candidate (its parameter the fitted value). Why the class, not the level: friction, a
-  /// worn or relieved profile and the clearance change the mesh harmonics alone as a level does,
-  /// and none of them was fitted here, so nothing tells the level from them (fresh5's worn profile
-  /// read stiffness x1.46 of its reference, explaining both halves, session 68's corpus). The
-  /// level is what was fitted and its ratio the size, as a class finding's lead is.
   /// A level changed since the baseline as a candidate's result: the baseline's model with that
   /// level times rho, its one parameter the fitted value (and its "one-sided" note, when the
   /// baseline's level was at its box's edge: `one_sided`).
@@ -1813,6 +1807,12 @@ private:
     return w;
   }
 
+  /// The verdict for check_changes_since_baseline: the class tooth_contact_change, fitted as the
+  /// level's candidate (its parameter the fitted value). Why the class, not the level: friction, a
+  /// worn or relieved profile and the clearance change the mesh harmonics alone as a level does,
+  /// and none of them was fitted here, so nothing tells the level from them (fresh5's worn profile
+  /// read stiffness x1.46 of its reference, explaining both halves, session 68's corpus). The
+  /// level is what was fitted and its ratio the size, as a class finding's lead is.
   void name_level_change(const LevelChange& lc, const OwnModelScore& own, const LevelMoveTest& test,
                          double posterior) {
     std::string one_sided;
