@@ -20,7 +20,9 @@ location.screened_family). Writes
 DIR/diagnosis/results.csv and results.json. Held-out recordings (truth "held_out") are
 skipped unless --include-held-out. With DIR/observability.json (observability.py), an effect
 that no test could see in its recording is scored apart: "no missing physics" is right there
-(unobservable_clean), a name counts as a confident wrong name.
+(unobservable_clean), a name counts as a confident wrong name. So is, from truth.json alone, a
+backlash change in a recording where no flank separated (its diagnostics' separation fraction 0:
+the larger play is never traversed, the run is the healthy rig's).
 
 --calibration-per-rig: the healthy baseline of each operating point is diagnosed first;
 the nuisance values it recalibrated (the report's --set overrides of stiffness.scale,
@@ -139,6 +141,24 @@ def read_report(path):
     elif isinstance(ov, dict):
         overrides = [f"{k}={v}" for k, v in ov.items()]
     return label, verdict, summary, overrides
+
+
+# The clearance is traversed only where a flank separates: a larger backlash changes nothing of a
+# run in which no mesh ever left its drive flank. The independent simulators record that fraction
+# of their recorded steps in truth.json's diagnostics (indepsim3: of the recorded time, indepsim4:
+# of the recorded steps; indepsim3 also says so in the recording's notes).
+SEPARATION_KEYS = ("fraction_of_time_a_mesh_separated", "fraction_of_steps_a_mesh_in_backlash")
+
+
+def inert_by_truth(rec):
+    """True when the generator's own record proves the effect changed nothing in this recording: a
+    backlash change where no flank separated in the recorded window (the play is never traversed,
+    so the equations of the run are those of the healthy rig: no test can see it)."""
+    if rec.get("role") != "effect" or rec.get("effect") != "backlash":
+        return False
+    diag = rec.get("diagnostics") or {}
+    fractions = [diag[k] for k in SEPARATION_KEYS if k in diag]
+    return bool(fractions) and all(f == 0 for f in fractions)
 
 
 def score(label, truth_effect, unobservable=False):
@@ -425,6 +445,8 @@ def main(argv=None):
         with open(obs_path) as f:
             obs = json.load(f)
         unobservable = {r["key"] for r in obs["rows"] if r["d2_model_all"] < obs["unobservable_below_d2"]}
+    # Without a re-simulation, what the generator recorded: a backlash no flank ever reached.
+    unobservable |= {k for k in keys if inert_by_truth(recs[k])}
     # Where an effect is not named, whether the report's located family (by the candidates' own
     # signatures) is one the true effect's candidate lives in: what an "unexplained residual"
     # still tells its reader, scored with the tool's own candidate table.

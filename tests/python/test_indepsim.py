@@ -257,6 +257,23 @@ def test_scoring_counts_a_class_right_only_for_its_members_and_an_invisible_effe
     assert s("refused", "backlash", unobservable=True) == "refused"
 
 
+def test_a_backlash_no_flank_reached_is_inert_by_the_generators_own_record_and_nothing_else_is():
+    def rec(effect, **diag):
+        return {"role": "effect", "effect": effect, "diagnostics": diag}
+    inert = confusion.inert_by_truth
+    # indepsim4's and indepsim3's separation fractions: no separation, the play never traversed
+    assert inert(rec("backlash", fraction_of_steps_a_mesh_in_backlash=0.0))
+    assert inert(rec("backlash", fraction_of_time_a_mesh_separated=0.0))
+    # a single separated step makes the clearance matter, and without the record nothing is proven
+    assert not inert(rec("backlash", fraction_of_steps_a_mesh_in_backlash=1e-5))
+    assert not inert(rec("backlash"))
+    assert not inert({"role": "effect", "effect": "backlash"})
+    # only the clearance is inert without separation: friction acts on every loaded flank
+    assert not inert(rec("friction", fraction_of_steps_a_mesh_in_backlash=0.0))
+    assert not inert({"role": "control", "effect": "backlash",
+                      "diagnostics": {"fraction_of_steps_a_mesh_in_backlash": 0.0}})
+
+
 def final_check_plan(variant, seed, gearset):
     """A final-check plan's entries after the checks every such plan must pass: each effect once,
     a baseline and a control at every operating point, a gear set with equally spaced planets
