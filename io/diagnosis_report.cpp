@@ -659,6 +659,12 @@ void write_diagnosis_report(const std::filesystem::path& dir, const dg::Diagnosi
                        {"at_edge", c.at_edge}, {"explains", c.explains}, {"passes", c.passes},
                        {"posterior", num(c.posterior)}});
   j["changes_since_baseline"] = changes;
+  // A "no missing physics" whose nuisance fit moved a level that no reference at this operating
+  // point tested (docs/diagnose.md section 6b item 7): what the verdict does not rule out.
+  json untested = json::array();
+  for (const dg::UntestedLevel& l : d.untested_levels)
+    untested.push_back({{"parameter", l.parameter}, {"value", num(l.value)}, {"initial", num(l.initial)}});
+  j["levels_not_tested"] = untested;
   j["explained_fraction"] = num(d.lead.explained_fraction);
   j["at_bound"] = d.lead.at_bound;
   j["excess_by_channel"] = excess_by_channel_json(d);

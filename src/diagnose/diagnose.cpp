@@ -143,6 +143,7 @@ public:
     }
     decide();
     check_changes_since_baseline();
+    note_untested_levels();
     tabulate();
     return finish();
   }
@@ -1640,6 +1641,15 @@ private:
                                : "the best of them, " + what(best) + ", does not pass its own tests" +
                                      within_healthy_scatter(best) + own_model_shortfall(best)) +
                   ": not named.";
+  }
+
+  /// After a "no missing physics" that no reference at this operating point checked for level
+  /// changes: the levels its nuisance fit moved, in the summary and the report (verdict.hpp,
+  /// untested_level_moves: why).
+  void note_untested_levels() {
+    const bool tested = !co_.baseline.empty() && o_.baseline_at_operating_point;
+    d_.untested_levels = untested_level_moves(d_, tested);
+    d_.summary += untested_levels_text(d_.untested_levels, !co_.discrepancy.empty());
   }
 
   /// Why a level that explains is no change, when the calibration's healthy scatter is the reason

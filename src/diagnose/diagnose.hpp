@@ -340,6 +340,15 @@ struct BaselineChange {
   double posterior = std::numeric_limits<double>::quiet_NaN();
 };
 
+/// A mesh stiffness or damping level that a "no missing physics" nuisance fit moved where no
+/// healthy reference at the recording's operating point tested it as a change (docs/diagnose.md
+/// section 6b item 7): the verdict stands, but cannot rule out a change these levels absorb.
+struct UntestedLevel {
+  std::string parameter;  ///< its configuration key (stiffness.scale, contact.mesh_damping_ratio)
+  double value = 0;       ///< [-] the nuisance fit's value
+  double initial = 0;     ///< [-] where the fit started: the calibration's value, else the configuration's
+};
+
 struct Timing {
   double total_s = 0, analysis_s = 0, baseline_s = 0, nuisance_s = 0, locate_s = 0, screening_s = 0, candidates_s = 0,
          phase_s = 0,
@@ -415,6 +424,7 @@ struct Diagnosis {
   /// (DiagnoseOptions::line_coverage); not known without either.
   CoverageGap coverage_gap;
   std::vector<BaselineChange> baseline_changes;  ///< the change check's hypotheses (empty: not run)
+  std::vector<UntestedLevel> untested_levels;    ///< "no missing physics" only (untested_level_moves)
   std::vector<std::string> final_overrides;
   std::vector<PlotSeries> plots;
   std::vector<CalibrationCell> calibration_cells;  ///< DiagnoseOptions::nuisance_only only

@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <iterator>
 
 namespace pw::diagnose {
 
@@ -646,6 +647,33 @@ double planet_pattern_conflict_share(const Diagnosis& d) {
     }
   }
   return significant && all > 0 ? higher / all : 0;
+}
+
+std::vector<UntestedLevel> untested_level_moves(const Diagnosis& d, bool levels_tested) {
+  std::vector<UntestedLevel> out;
+  if (levels_tested || d.verdict != Verdict::NoMissingPhysics) return out;
+  for (const FittedParameter& p : d.nuisance.parameters) {
+    const bool level = std::any_of(std::begin(kLevelParameters), std::end(kLevelParameters),
+                                   [&](const char* key) { return p.name == key; });
+    if (level && p.moved) out.push_back({p.name, p.value, p.initial});
+  }
+  return out;
+}
+
+std::string untested_levels_text(const std::vector<UntestedLevel>& levels, bool calibrated) {
+  if (levels.empty()) return "";
+  std::string moves;
+  for (std::size_t i = 0; i < levels.size(); ++i) {
+    const UntestedLevel& l = levels[i];
+    moves += std::string(i == 0 ? "" : i + 1 == levels.size() ? " and " : ", ") + l.parameter + " to " +
+             fmt("%.4g", l.value) + " from " + (calibrated ? "the calibration's " : "the configuration's ") +
+             fmt("%.4g", l.initial) + (l.initial > 0 ? " (x" + fmt("%.3g", l.value / l.initial) + ")" : "");
+  }
+  return " Not ruled out: the nuisance fit moved " + moves +
+         ", and with no healthy recording at this operating point a level's change cannot be told from how it "
+         "moves with the speed and the load, so a change of the tooth contacts that the levels absorb (friction, "
+         "profile wear or relief, clearance, the mesh stiffness or damping level) was not tested; a healthy "
+         "recording at this operating point (in the calibration, or as --baseline) would test it.";
 }
 
 bool level_moved(double rho, double threshold_ln) {

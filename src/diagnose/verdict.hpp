@@ -191,6 +191,27 @@ bool level_moved(double rho, double threshold_ln);
 /// the healthy reference's, whatever kept the change unnamed (its own model's shortfall, a rival).
 int unnamed_level_change(const std::vector<BaselineChange>& changes);
 
+/// The configuration keys of the mesh stiffness and damping levels (the stiffness_level and
+/// damping_level candidates' parameters): what a nuisance fit absorbs a change of the tooth
+/// contacts into.
+inline constexpr const char* kLevelParameters[] = {"stiffness.scale", "contact.mesh_damping_ratio"};
+
+/// After a "no missing physics" (docs/diagnose.md section 6b item 7): the levels the nuisance fit
+/// moved (FittedParameter::moved: more than z_{1-alpha/2} standard errors and kRecalibration from
+/// where it started) when `levels_tested` is false, i.e. no healthy reference at the recording's
+/// operating point tested them as changes; empty for any other verdict or when they were tested.
+/// Why: a fit that moves a level freely absorbs a change of friction, wear, relief, clearance or
+/// the level itself (indepsim4's offpoint plan: a friction x1.95 at 750 rpm came out "no missing
+/// physics" with stiffness.scale 1.60 against the calibration's 1.02), while the healthy controls
+/// of the same plan moved it as far (0.49-1.25 against 0.98-1.02): without a reference the move is
+/// no evidence either way, and the verdict must say what it leaves open.
+std::vector<UntestedLevel> untested_level_moves(const Diagnosis& d, bool levels_tested);
+
+/// The summary's sentence for untested_level_moves ("" for none): each level from where to where,
+/// and what a "no missing physics" then does not rule out. `calibrated`: the start is the
+/// calibration's value (else the configuration's).
+std::string untested_levels_text(const std::vector<UntestedLevel>& levels, bool calibrated);
+
 /// " Under the calibration's discrepancy budget ... not detectable" for the largest relative
 /// budgets (at least kReportedBudget), or "" if none is that large.
 std::string budget_sensitivity_text(const std::vector<DiscrepancyEntry>& budgets);

@@ -1264,3 +1264,53 @@ TEST(Verdict, AParameterWithoutAStandardErrorIsStatedAsSuchNotAsPlusMinusNan) {
 }
 
 } // namespace pw::diagnose
+
+namespace pw::diagnose {
+
+// indepsim4's offpoint plan, setD4 rec_07 (friction x1.95 at 750 rpm, where the calibration has no
+// recording): "no missing physics" with stiffness.scale 1.598 ± 0.09 against the calibration's
+// 1.022 and the damping 0.0145 ± 0.015 against 0.0614. The verdict stands (the plan's healthy
+// controls moved the levels as far), but it must say that a tooth-contact change was not tested.
+TEST(Verdict, ANoMissingPhysicsWhoseFitMovedALevelNoReferenceTestedSaysWhatItDoesNotRuleOut) {
+  Diagnosis d = consistent_without_candidates();
+  d.nuisance.parameters = {parameter("stiffness.scale", 1.598, 0.09, 0.511, 2.045, 1.022, true),
+                           parameter("contact.mesh_damping_ratio", 0.0145, 0.015, 0.0123, 0.307, 0.0614, true),
+                           parameter("rig.input_shaft_stiffness_N_m_rad", 2.085e5, 4.7e4, 5.7e4, 5.7e6, 5.67e5, true)};
+  const double z = 2.5758;  // z_{1 - alpha/2} at alpha = 0.01
+  for (FittedParameter& p : d.nuisance.parameters) p.moved = recalibrated(p, z);
+  ASSERT_TRUE(d.nuisance.parameters[0].moved && d.nuisance.parameters[1].moved && d.nuisance.parameters[2].moved);
+  VerdictInputs in = inputs(std::nan(""));
+  in.noise_consistent = true;
+  decide_verdict(d, in);
+  ASSERT_EQ(d.verdict, Verdict::NoMissingPhysics) << d.summary;
+
+  // Both levels, not the rig's shaft (a rig element, not the tooth contacts).
+  const std::vector<UntestedLevel> untested = untested_level_moves(d, false);
+  ASSERT_EQ(untested.size(), 2u);
+  EXPECT_EQ(untested[0].parameter, "stiffness.scale");
+  EXPECT_DOUBLE_EQ(untested[0].value, 1.598);
+  EXPECT_DOUBLE_EQ(untested[0].initial, 1.022);
+  EXPECT_EQ(untested[1].parameter, "contact.mesh_damping_ratio");
+  const std::string text = untested_levels_text(untested, true);
+  EXPECT_NE(text.find("stiffness.scale to 1.598 from the calibration's 1.022 (x1.56)"), std::string::npos) << text;
+  EXPECT_NE(text.find("and contact.mesh_damping_ratio to 0.0145 from the calibration's 0.0614"), std::string::npos)
+      << text;
+  EXPECT_NE(text.find("friction"), std::string::npos) << text;
+  EXPECT_NE(untested_levels_text(untested, false).find("from the configuration's 1.022"), std::string::npos);
+
+  // A reference at the operating point tested them (section 6b item 7): nothing to add.
+  EXPECT_TRUE(untested_level_moves(d, true).empty());
+  // A level that stayed where it started is no move.
+  Diagnosis still = d;
+  still.nuisance.parameters[0].value = 1.03;
+  still.nuisance.parameters[0].moved = recalibrated(still.nuisance.parameters[0], z);
+  ASSERT_EQ(untested_level_moves(still, false).size(), 1u);
+  EXPECT_EQ(untested_level_moves(still, false).front().parameter, "contact.mesh_damping_ratio");
+  // Only after a "no missing physics": an unexplained residual already says the recording differs.
+  Diagnosis other = d;
+  other.verdict = Verdict::Unexplained;
+  EXPECT_TRUE(untested_level_moves(other, false).empty());
+  EXPECT_EQ(untested_levels_text({}, true), "");
+}
+
+} // namespace pw::diagnose
