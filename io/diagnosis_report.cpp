@@ -663,7 +663,8 @@ void write_diagnosis_report(const std::filesystem::path& dir, const dg::Diagnosi
   // point tested (docs/diagnose.md section 6b item 7): what the verdict does not rule out.
   json untested = json::array();
   for (const dg::UntestedLevel& l : d.untested_levels)
-    untested.push_back({{"parameter", l.parameter}, {"value", num(l.value)}, {"initial", num(l.initial)}});
+    untested.push_back({{"parameter", l.parameter}, {"value", num(l.value)}, {"initial", num(l.initial)},
+                        {"at_bound", l.at_bound}});
   j["levels_not_tested"] = untested;
   j["explained_fraction"] = num(d.lead.explained_fraction);
   j["at_bound"] = d.lead.at_bound;

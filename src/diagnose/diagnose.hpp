@@ -347,6 +347,7 @@ struct UntestedLevel {
   std::string parameter;  ///< its configuration key (stiffness.scale, contact.mesh_damping_ratio)
   double value = 0;       ///< [-] the nuisance fit's value
   double initial = 0;     ///< [-] where the fit started: the calibration's value, else the configuration's
+  bool at_bound = false;  ///< at an edge of its box: the fit asked for more (a limit, no standard error)
 };
 
 struct Timing {

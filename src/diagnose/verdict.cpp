@@ -655,7 +655,10 @@ std::vector<UntestedLevel> untested_level_moves(const Diagnosis& d, bool levels_
   for (const FittedParameter& p : d.nuisance.parameters) {
     const bool level = std::any_of(std::begin(kLevelParameters), std::end(kLevelParameters),
                                    [&](const char* key) { return p.name == key; });
-    if (level && p.moved) out.push_back({p.name, p.value, p.initial});
+    // A level at its box's edge has no standard error, so `moved` cannot hold; it moved if it left
+    // its start by kRecalibration, and the fit asked for more than the box allows.
+    const bool to_edge = p.at_bound && std::fabs(p.value - p.initial) > kRecalibration * std::fabs(p.initial);
+    if (level && (p.moved || to_edge)) out.push_back({p.name, p.value, p.initial, p.at_bound});
   }
   return out;
 }
@@ -667,7 +670,8 @@ std::string untested_levels_text(const std::vector<UntestedLevel>& levels, bool 
     const UntestedLevel& l = levels[i];
     moves += std::string(i == 0 ? "" : i + 1 == levels.size() ? " and " : ", ") + l.parameter + " to " +
              fmt("%.4g", l.value) + " from " + (calibrated ? "the calibration's " : "the configuration's ") +
-             fmt("%.4g", l.initial) + (l.initial > 0 ? " (x" + fmt("%.3g", l.value / l.initial) + ")" : "");
+             fmt("%.4g", l.initial) + (l.initial > 0 ? " (x" + fmt("%.3g", l.value / l.initial) : " (") +
+             (l.at_bound ? std::string(l.initial > 0 ? ", " : "") + "at the edge of its box)" : std::string(")"));
   }
   return " Not ruled out: the nuisance fit moved " + moves +
          ", and with no healthy recording at this operating point a level's change cannot be told from how it "

@@ -198,7 +198,8 @@ inline constexpr const char* kLevelParameters[] = {"stiffness.scale", "contact.m
 
 /// After a "no missing physics" (docs/diagnose.md section 6b item 7): the levels the nuisance fit
 /// moved (FittedParameter::moved: more than z_{1-alpha/2} standard errors and kRecalibration from
-/// where it started) when `levels_tested` is false, i.e. no healthy reference at the recording's
+/// where it started; or more than kRecalibration to an edge of its box, where it has no standard
+/// error) when `levels_tested` is false, i.e. no healthy reference at the recording's
 /// operating point tested them as changes; empty for any other verdict or when they were tested.
 /// Why: a fit that moves a level freely absorbs a change of friction, wear, relief, clearance or
 /// the level itself (indepsim4's offpoint plan: a friction x1.95 at 750 rpm came out "no missing

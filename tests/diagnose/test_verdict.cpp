@@ -1311,6 +1311,23 @@ TEST(Verdict, ANoMissingPhysicsWhoseFitMovedALevelNoReferenceTestedSaysWhatItDoe
   other.verdict = Verdict::Unexplained;
   EXPECT_TRUE(untested_level_moves(other, false).empty());
   EXPECT_EQ(untested_levels_text({}, true), "");
+  // setC3 rec_05 of the same plan (friction x1.9): the damping ran to the lower edge of its box,
+  // a fifth of the calibration's, without a standard error; the stiffness stayed (no error either).
+  Diagnosis edge = consistent_without_candidates();
+  edge.nuisance.parameters = {parameter("stiffness.scale", 1.0046, std::nan(""), 0.488, 1.954, 0.9769, true),
+                              parameter("contact.mesh_damping_ratio", 0.002846, std::nan(""), 0.002846, 0.0712, 0.01423, true)};
+  edge.nuisance.parameters[1].at_bound = true;
+  decide_verdict(edge, in);
+  ASSERT_EQ(edge.verdict, Verdict::NoMissingPhysics) << edge.summary;
+  const std::vector<UntestedLevel> at_edge = untested_level_moves(edge, false);
+  ASSERT_EQ(at_edge.size(), 1u);
+  EXPECT_EQ(at_edge[0].parameter, "contact.mesh_damping_ratio");
+  EXPECT_TRUE(at_edge[0].at_bound);
+  EXPECT_NE(untested_levels_text(at_edge, true).find("0.002846 from the calibration's 0.01423 (x0.2, at the edge of its box)"),
+            std::string::npos) << untested_levels_text(at_edge, true);
+  // A level on its box's edge that did not leave its start (a box that begins there) is no move.
+  edge.nuisance.parameters[1].initial = 0.002846;
+  EXPECT_TRUE(untested_level_moves(edge, false).empty());
 }
 
 } // namespace pw::diagnose
