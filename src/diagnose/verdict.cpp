@@ -668,10 +668,11 @@ std::string untested_levels_text(const std::vector<UntestedLevel>& levels, bool 
   std::string moves;
   for (std::size_t i = 0; i < levels.size(); ++i) {
     const UntestedLevel& l = levels[i];
+    std::string how = l.initial > 0 ? "x" + fmt("%.3g", l.value / l.initial) : "";  // a damping ratio may start at 0
+    if (l.at_bound) how += std::string(how.empty() ? "" : ", ") + "at the edge of its box";
     moves += std::string(i == 0 ? "" : i + 1 == levels.size() ? " and " : ", ") + l.parameter + " to " +
              fmt("%.4g", l.value) + " from " + (calibrated ? "the calibration's " : "the configuration's ") +
-             fmt("%.4g", l.initial) + (l.initial > 0 ? " (x" + fmt("%.3g", l.value / l.initial) : " (") +
-             (l.at_bound ? std::string(l.initial > 0 ? ", " : "") + "at the edge of its box)" : std::string(")"));
+             fmt("%.4g", l.initial) + (how.empty() ? "" : " (" + how + ")");
   }
   return " Not ruled out: the nuisance fit moved " + moves +
          ", and with no healthy recording at this operating point a level's change cannot be told from how it "

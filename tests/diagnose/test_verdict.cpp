@@ -1325,6 +1325,10 @@ TEST(Verdict, ANoMissingPhysicsWhoseFitMovedALevelNoReferenceTestedSaysWhatItDoe
   EXPECT_TRUE(at_edge[0].at_bound);
   EXPECT_NE(untested_levels_text(at_edge, true).find("0.002846 from the calibration's 0.01423 (x0.2, at the edge of its box)"),
             std::string::npos) << untested_levels_text(at_edge, true);
+  // A damping ratio configured at 0 has no ratio to state; the move is said without one.
+  const std::string from_zero = untested_levels_text({{"contact.mesh_damping_ratio", 0.05, 0.0, false}}, false);
+  EXPECT_NE(from_zero.find("contact.mesh_damping_ratio to 0.05 from the configuration's 0, and"), std::string::npos)
+      << from_zero;
   // A level on its box's edge that did not leave its start (a box that begins there) is no move.
   edge.nuisance.parameters[1].initial = 0.002846;
   EXPECT_TRUE(untested_level_moves(edge, false).empty());
