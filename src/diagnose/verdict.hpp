@@ -191,10 +191,8 @@ bool level_moved(double rho, double threshold_ln);
 /// the healthy reference's, whatever kept the change unnamed (its own model's shortfall, a rival).
 int unnamed_level_change(const std::vector<BaselineChange>& changes);
 
-/// The configuration keys of the mesh stiffness and damping levels (the stiffness_level and
-/// damping_level candidates' parameters): what a nuisance fit absorbs a change of the tooth
-/// contacts into.
-inline constexpr const char* kLevelParameters[] = {"stiffness.scale", "contact.mesh_damping_ratio"};
+/// The mesh levels' configuration keys (candidates/candidate.hpp).
+inline constexpr const char* kLevelParameters[] = {kStiffnessLevelKey, kDampingLevelKey};
 
 /// After a "no missing physics" (docs/diagnose.md section 6b item 7): the levels the nuisance fit
 /// moved (FittedParameter::moved: more than z_{1-alpha/2} standard errors and kRecalibration from

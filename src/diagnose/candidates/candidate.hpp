@@ -25,6 +25,12 @@
 
 namespace pw::diagnose {
 
+/// The configuration keys of the mesh stiffness and damping levels: the stiffness_level and
+/// damping_level candidates' parameters, and what a nuisance fit absorbs a change of the tooth
+/// contacts into (verdict.hpp, untested_level_moves).
+inline constexpr const char* kStiffnessLevelKey = "stiffness.scale";
+inline constexpr const char* kDampingLevelKey = "contact.mesh_damping_ratio";
+
 /// One continuous parameter of a candidate.
 struct ParameterSpec {
   std::string name;   ///< e.g. "stiffness_factor"

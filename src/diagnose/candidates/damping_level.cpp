@@ -22,13 +22,13 @@ public:
     // points down instead of beyond the key's range.
     const double upper = std::min(1.0, 5 * z);
     const double screen = 1.2 * z <= upper ? 1.2 * z : z / 1.2;
-    return {ParameterSpec{.name = "contact.mesh_damping_ratio", .unit = "1", .lower = std::max(1e-3, z / 5),
+    return {ParameterSpec{.name = kDampingLevelKey, .unit = "1", .lower = std::max(1e-3, z / 5),
         .upper = upper,
         .log_scale = true, .initial = z, .null_value = z, .screen_value = screen}};
   }
   void apply(model::SimulationConfig& c, const Variant&, std::span<const double> x,
              std::vector<std::string>* o) const override {
-    set_parameter(c, "contact.mesh_damping_ratio", x[0], o);
+    set_parameter(c, kDampingLevelKey, x[0], o);
   }
 };
 } // namespace

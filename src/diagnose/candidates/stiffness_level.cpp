@@ -16,14 +16,14 @@ public:
   std::vector<Component> families() const override { return {Component::Mesh}; }
   bool nuisance() const override { return true; }
   std::vector<ParameterSpec> parameters(const model::SimulationConfig& b) const override {
-    return {ParameterSpec{.name = "stiffness.scale", .unit = "1", .lower = 0.5 * b.stiffness.scale,
+    return {ParameterSpec{.name = kStiffnessLevelKey, .unit = "1", .lower = 0.5 * b.stiffness.scale,
         .upper = 2.0 * b.stiffness.scale,
         .log_scale = true, .initial = b.stiffness.scale, .null_value = b.stiffness.scale,
         .screen_value = 1.05 * b.stiffness.scale}};
   }
   void apply(model::SimulationConfig& c, const Variant&, std::span<const double> x,
              std::vector<std::string>* o) const override {
-    set_parameter(c, "stiffness.scale", x[0], o);
+    set_parameter(c, kStiffnessLevelKey, x[0], o);
   }
 };
 } // namespace
